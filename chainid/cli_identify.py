@@ -1,0 +1,330 @@
+"""CLI subcommands ``identify``, ``simulate`` and ``audit``.
+
+``chainid/cli.py`` calls :func:`add_subparsers` with its argparse subparsers;
+each subcommand sets ``func(args) -> int`` (exit code).
+
+* ``chainid identify DATA.csv [--chain F.toml] [--model chain|linear] [--law NAME]
+  [--side F.csv] [--json F] [--plots DIR] [--force]``
+* ``chainid simulate OUT.csv [--plan F.csv|paper] [--law NAME --params ...]
+  [--noise-x MM] [--noise-F N] [--seed S] [--force]``
+* ``chainid audit [--chain F.toml] [--json F] [--force]``
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+__all__ = ["add_subparsers", "cmd_identify", "cmd_simulate", "cmd_audit", "main"]
+
+LAW_NAMES = ("polynomial", "viscous", "coulomb", "hysteretic", "viscous+coulomb", "viscous+hysteretic")
+
+
+# ----------------------------------------------------------------------------
+# helpers
+# ----------------------------------------------------------------------------
+def _jsonable(o: Any) -> Any:
+    if isinstance(o, dict):
+        return {str(k): _jsonable(v) for k, v in o.items() if k != "fitted"}
+    if isinstance(o, (list, tuple)):
+        return [_jsonable(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return [_jsonable(v) for v in o.tolist()]
+    if isinstance(o, (np.floating, float)):
+        v = float(o)
+        return v if math.isfinite(v) else None
+    if isinstance(o, (np.integer,)):
+        return int(o)
+    if isinstance(o, (np.bool_,)):
+        return bool(o)
+    return o
+
+
+def _check_out(path: str | None, force: bool, what: str = "--json") -> None:
+    if path is not None and Path(path).exists() and not force:
+        raise ValueError(f"{what} file {path!r} already exists; refusing to overwrite it (use --force)")
+
+
+def _write_json(path: str, data: dict, force: bool) -> None:
+    _check_out(path, force)
+    Path(path).write_text(json.dumps(_jsonable(data), indent=2) + "\n")
+
+
+def _table(headers: Sequence[str], rows: Sequence[Sequence[Any]], fmts: Sequence[str]) -> str:
+    cells = [[(f"{v:{f}}" if isinstance(v, (int, float, np.floating)) and f else str(v)) for v, f in zip(r, fmts)]
+             for r in rows]
+    widths = [max(len(h), *(len(c[i]) for c in cells)) if cells else len(h) for i, h in enumerate(headers)]
+    line = "  ".join(h.rjust(w) for h, w in zip(headers, widths))
+    out = [line, "  ".join("-" * w for w in widths)]
+    out += ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in cells]
+    return "\n".join(out)
+
+
+def _model(args: argparse.Namespace) -> Any:
+    """The stiffness model selected on the command line (chain by default)."""
+    from . import models  # the lead's module: ChainModel, LinearModel, model_for
+    from .spec import load_chain
+
+    if getattr(args, "model", "chain") == "linear":
+        k = getattr(args, "k", None)
+        if k is None:
+            return None  # fitted from the data by the caller
+        return models.LinearModel(float(k), float(args.x_ref), mass=float(args.mass or 0.0))
+    chain = load_chain(getattr(args, "chain", None))
+    return models.model_for(chain, getattr(args, "variant", "paper"))
+
+
+def _law(name: str, params: Sequence[float] | None, model: Any) -> Any:
+    from .identify import law_from_dict
+
+    return law_from_dict({"name": name, "params": params}, model=model)
+
+
+# ----------------------------------------------------------------------------
+# identify
+# ----------------------------------------------------------------------------
+def cmd_identify(args: argparse.Namespace) -> int:
+    """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking."""
+    from .identify import MIN_TESTS, identify_records, inertia_force_N, rank_laws
+    from .records import analyse_record, read_records, read_side_file, write_side_file
+
+    _check_out(args.json, args.force)
+    if args.write_side:
+        _check_out(args.write_side, args.force, "--write-side")
+    allow_comp = bool(args.allow_compression or args.model == "linear")
+    records = read_records(args.data, allow_compression=allow_comp)
+    side = read_side_file(args.side) if args.side else None
+    if side:
+        unknown = sorted(set(side) - {r.test for r in records})
+        if unknown:
+            raise ValueError(f"side file {args.side!r}: test(s) {unknown} are not in {args.data!r}")
+
+    model = _model(args)
+    if model is None:  # --model linear without --k: fit F - m xddot = k (x - x_ref) on the steady cycles
+        from . import models
+
+        xs, Fs = [], []
+        for r in records:
+            est = analyse_record(r, side.get(r.test) if side else None, allow_compression=True)
+            mwin = (r.t >= est.window.t_start) & (r.t < est.window.t_end)
+            xs.append(r.x[mwin])
+            Fs.append(r.F[mwin] - inertia_force_N(args.mass or 0.0, est.xddot(r.t[mwin])))
+        model = models.LinearModel.fit(np.concatenate(xs), np.concatenate(Fs), mass=float(args.mass or 0.0))
+
+    def progress(i: int, n: int, test: str) -> None:
+        if not args.quiet:
+            print(f"[{i + 1}/{n}] identifying test {test}", file=sys.stderr, flush=True)
+
+    mass = args.mass if args.mass is not None else None
+    results = identify_records(records, model, side=side, mass_kg=mass, allow_compression=allow_comp, progress=progress)
+
+    print(f"model: {getattr(model, 'name', type(model).__name__)}, mass m = {results[0].mass_kg:.4g} kg")
+    print(_table(
+        ["test", "omega rad/s", "x0 mm", "A mm", "F0 N", "F_A N", "phi rad", "R2", "F_ac N", "c_e N.s/mm",
+         "W N.mm", "W/visc", "cycles kept", "window s"],
+        [[r.test, r.omega, r.x0, r.A, r.F0, r.FA, r.phi, r.r2, r.F_ac, r.c_e, r.W, r.W_ratio,
+          f"{r.cycles_kept[0]}-{r.cycles_kept[-1]} ({r.n_cycles})" if r.cycles_kept else "-",
+          f"{r.t_start:.4g}-{r.t_end:.4g}"] for r in results],
+        ["", ".5g", ".4g", ".4g", ".6g", ".6g", ".4f", ".5f", ".5g", ".5g", ".5g", ".3f", "", ""],
+    ))
+    out: dict[str, Any] = {
+        "tests": [r.to_dict() for r in results],
+        "model": {"name": getattr(model, "name", None), "mass_kg": results[0].mass_kg},
+        "law": None,
+    }
+    if args.write_side:
+        ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True) for r in records}
+        write_side_file(args.write_side, ests, overwrite=args.force)
+
+    omega = [r.omega for r in results]
+    A = [r.A for r in results]
+    ce = [r.c_e for r in results]
+    x0 = [r.x0 for r in results]
+    rc = 0
+    if len(results) < MIN_TESTS:
+        msg = (f"only {len(results)} test(s): fitting a damping law needs at least {MIN_TESTS} "
+               f"(paper Eq. 22: M > 5); per-test results only")
+        print(f"\nerror: {msg}", file=sys.stderr)
+        out["law_error"] = msg
+        rc = 2
+        law = None
+    else:
+        law = _law(args.law, None, model)
+        law.fit(omega, A, ce, x0)
+        f = law.fit_
+        print(f"\ndamping law {law.name}: {law.formula()}")
+        print(_table(
+            ["param", "lstsq", "std err", "normal eq. (Eq. 23)"],
+            [[n, p, s, pn] for n, p, s, pn in zip(law.param_names, f.params, f.stderr, f.params_normal)],
+            ["", ".6g", ".4g", ".6g"],
+        ))
+        print(f"cond(X) = {f.cond_X:.4g}, cond(G = X'X) = {f.cond_G:.4g}, RMSE = {f.rmse:.4g} N.s/mm, "
+              f"LOO RMSE = {f.loo_rmse:.4g} N.s/mm, dof = {f.dof}")
+        print("residuals [N.s/mm]: " + ", ".join(f"{r.test}: {v:.4g}" for r, v in zip(results, f.residuals)))
+        out["law"] = law.to_dict()
+        ranking = rank_laws(omega, A, ce, x0, model=model)
+        print("\nlaws ranked by leave-one-out RMSE:")
+        print(_table(
+            ["law", "params", "RMSE N.s/mm", "LOO RMSE N.s/mm"],
+            [[r["law"], r.get("n_params"), r.get("rmse", float("nan")), r["loo_rmse"]] for r in ranking],
+            ["", "", ".4g", ".4g"],
+        ))
+        out["ranking"] = [{k: v for k, v in r.items() if k != "fitted"} for r in ranking]
+    if args.plots:
+        from .plots_identify import plot_all
+
+        paths = plot_all(records, results, model, args.plots, law=law)
+        print(f"\nwrote {len(paths)} plot(s) to {args.plots}")
+    if args.json:
+        _write_json(args.json, out, args.force)
+        print(f"wrote {args.json}")
+    return rc
+
+
+# ----------------------------------------------------------------------------
+# simulate
+# ----------------------------------------------------------------------------
+def _parse_floats(s: str | None) -> list[float] | None:
+    if s is None:
+        return None
+    try:
+        return [float(v) for v in s.split(",") if v.strip()]
+    except ValueError:
+        raise ValueError(f"--params {s!r}: expected comma-separated numbers") from None
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    """``chainid simulate``: test plan + chain + damping law + noise → records CSV."""
+    from .records import write_records
+    from .simulate import paper_plan, read_plan, simulate
+
+    _check_out(args.out, args.force, "output")
+    plan = paper_plan() if args.plan in (None, "paper") else read_plan(args.plan)
+    if args.model == "linear" and args.k is None:
+        raise ValueError("--model linear needs --k [N/mm] (and --x-ref [mm]) for simulation")
+    model = _model(args)
+    params = _parse_floats(args.params)
+    if params is None:
+        defaults = {"viscous": [2834.4], "polynomial": [28.02, -651.57, -8386.50, 7394.84, 4378.89]}
+        if args.law not in defaults:
+            raise ValueError(f"--law {args.law} needs --params")
+        params = defaults[args.law]
+    law = _law(args.law, params, model)
+    ramp = None if args.ramp_rate <= 0 else args.ramp_rate
+    recs = simulate(plan, model, law, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
+                    ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F)
+    write_records(args.out, recs, overwrite=args.force)
+    print(_table(["test", "omega rad/s", "x0 mm", "A mm", "c_e N.s/mm", "samples", "duration s"],
+                 [[s.test, s.omega, s.x0, s.A, float(law.predict(s.omega, s.A, s.x0)[0]), r.t.size, r.t[-1]]
+                  for s, r in zip(plan, recs)],
+                 ["", ".5g", ".4g", ".4g", ".5g", "d", ".4g"]))
+    print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}, noise x {args.noise_x} mm, "
+          f"F {args.noise_F} N, seed {args.seed})")
+    return 0
+
+
+# ----------------------------------------------------------------------------
+# audit
+# ----------------------------------------------------------------------------
+def cmd_audit(args: argparse.Namespace) -> int:
+    """``chainid audit``: Eq. 28 from Table 1 and findings (a)–(e)."""
+    from .audit import audit, format_audit
+
+    _check_out(args.json, args.force)
+    model = None
+    try:
+        model = _model(args)
+    except ImportError:
+        print("warning: stiffness model unavailable; finding (c) without k_e", file=sys.stderr)
+    rep = audit(model)
+    print(format_audit(rep))
+    if args.json:
+        _write_json(args.json, rep, args.force)
+        print(f"wrote {args.json}")
+    return 0
+
+
+# ----------------------------------------------------------------------------
+# registration
+# ----------------------------------------------------------------------------
+def _wrap(fn: Any) -> Any:
+    def run(args: argparse.Namespace) -> int:
+        try:
+            return fn(args)
+        except ValueError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+
+    run.__doc__ = fn.__doc__
+    return run
+
+
+def _model_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--chain", metavar="FILE.toml", help="chain TOML file (default: the paper's 14x50 chain)")
+    p.add_argument("--variant", default="paper", help="stiffness model variant (default: paper)")
+    p.add_argument("--model", choices=("chain", "linear"), default="chain",
+                   help="stiffness model: the chain (default) or linear F = k (x - x_ref) (allows compressive force)")
+    p.add_argument("--k", type=float, help="linear model stiffness [N/mm] (identify: fitted from the data if omitted)")
+    p.add_argument("--x-ref", dest="x_ref", type=float, default=0.0, help="linear model unloaded length offset [mm]")
+    p.add_argument("--mass", type=float, default=None, help="mass m [kg] (default: the chain's / 0 for linear)")
+
+
+def add_subparsers(subparsers: Any) -> None:
+    """Register ``identify``, ``simulate`` and ``audit`` on an argparse subparsers object."""
+    p = subparsers.add_parser("identify", help="identify damping from force-displacement records (Eq. 17-28)",
+                              description=cmd_identify.__doc__)
+    p.add_argument("data", help="records CSV: test,t,x,F (s, mm, N)")
+    _model_options(p)
+    p.add_argument("--law", choices=LAW_NAMES, default="polynomial", help="damping law to report (default Eq. 21)")
+    p.add_argument("--side", metavar="FILE.csv", help="side file test,omega,x0,A (rad/s, mm, mm) to use instead of estimates")
+    p.add_argument("--write-side", dest="write_side", metavar="FILE.csv", help="write the estimated omega,x0,A per test")
+    p.add_argument("--allow-compression", action="store_true", help="accept F < 0 (implied by --model linear)")
+    p.add_argument("--json", metavar="FILE", help="write results as JSON")
+    p.add_argument("--plots", metavar="DIR", help="write loop and damping-surface PNGs")
+    p.add_argument("--force", action="store_true", help="overwrite existing output files")
+    p.add_argument("--quiet", action="store_true", help="no progress messages")
+    p.set_defaults(func=_wrap(cmd_identify))
+
+    s = subparsers.add_parser("simulate", help="simulate a test series into a records CSV",
+                              description=cmd_simulate.__doc__)
+    s.add_argument("out", help="output records CSV")
+    _model_options(s)
+    s.add_argument("--plan", default="paper", help="plan CSV test,omega,x0,A (rad/s, mm, mm) or 'paper' (Table 1)")
+    s.add_argument("--law", choices=LAW_NAMES, default="viscous", help="damping law (default viscous)")
+    s.add_argument("--params", help="law parameters, comma separated (viscous default 2834.4 N.s/mm, Eq. 27)")
+    s.add_argument("--noise-x", dest="noise_x", type=float, default=0.0, help="displacement noise std [mm]")
+    s.add_argument("--noise-F", dest="noise_F", type=float, default=0.0, help="force noise std [N]")
+    s.add_argument("--seed", type=int, default=0, help="noise seed")
+    s.add_argument("--cycles", type=float, default=6, help="oscillation cycles per test")
+    s.add_argument("--samples-per-cycle", dest="samples_per_cycle", type=int, default=200)
+    s.add_argument("--ramp-rate", dest="ramp_rate", type=float, default=0.08973,
+                   help="ramp rate to x0 [mm/s] (paper Eq. 25: 0.08973; 0 = no ramp)")
+    s.add_argument("--taper-cycles", dest="taper_cycles", type=float, default=0.0, help="amplitude taper in/out [cycles]")
+    s.add_argument("--force", action="store_true", help="overwrite the output file")
+    s.set_defaults(func=_wrap(cmd_simulate))
+
+    a = subparsers.add_parser("audit", help="reproduce Eq. 28 and audit the paper's damping numbers",
+                              description=cmd_audit.__doc__)
+    a.add_argument("--chain", metavar="FILE.toml", help="chain TOML file for finding (c)")
+    a.add_argument("--variant", default="paper")
+    a.add_argument("--json", metavar="FILE", help="write the report as JSON (includes eq28_alpha)")
+    a.add_argument("--force", action="store_true", help="overwrite an existing JSON file")
+    a.set_defaults(func=_wrap(cmd_audit))
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Stand-alone entry point (for testing without chainid.cli)."""
+    parser = argparse.ArgumentParser(prog="chainid")
+    sub = parser.add_subparsers(dest="command", required=True)
+    add_subparsers(sub)
+    args = parser.parse_args(argv)
+    return int(args.func(args))
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -1,0 +1,156 @@
+"""Stiffness models: the chain of the paper, and a linear spring for other parts.
+
+A :class:`StiffnessModel` maps elongation x [mm] to the elastic force [N]
+and the tangent stiffness [N/mm], and knows the moving mass [kg].  The
+identification and the gap diagnosis work with any of them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from . import kernels
+from .spec import ChainSpec, default_chain
+
+__all__ = ["StiffnessModel", "ChainModel", "LinearModel", "model_for"]
+
+
+@runtime_checkable
+class StiffnessModel(Protocol):
+    """What the identification needs of a spring model."""
+
+    name: str
+
+    @property
+    def mass_kg(self) -> float:  # pragma: no cover - protocol
+        """Moving mass [kg]."""
+
+    def force(self, x: np.ndarray) -> np.ndarray:  # pragma: no cover - protocol
+        """Elastic force [N] at elongation x [mm]."""
+
+    def stiffness(self, x: np.ndarray) -> np.ndarray:  # pragma: no cover - protocol
+        """Tangent stiffness [N/mm] at elongation x [mm]."""
+
+
+@dataclass(frozen=True)
+class ChainModel:
+    """The paper's chain spring F_k(x) from the generated kernels (Eq. 15–16).
+
+    Parameters
+    ----------
+    chain : ChainSpec, optional
+        The chain (``None``: the built-in 14x50 chain).
+    variant : str
+        Kernel variant: "paper", "inner_bend", "shear", "inner_bend_shear".
+    slack : float
+        Displacement offset [mm]: the chain starts to carry load at x = slack
+        (permanent elongation, clearance or a sensor zero shift; may be negative).
+    compliance : float
+        Extra series compliance [mm/N] (test machine / fixture spring, >= 0).
+        A series spring adds to the linear term of Eq. 15, so it is the same
+        kernel with c_lin + compliance.
+    """
+
+    chain: ChainSpec = field(default_factory=default_chain)
+    variant: str = "paper"
+    slack: float = 0.0
+    compliance: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.chain is None:
+            object.__setattr__(self, "chain", default_chain())
+        if not np.isfinite(self.slack):
+            raise ValueError(f"ChainModel.slack = {self.slack!r} is invalid: must be a finite number of mm")
+        if not (np.isfinite(self.compliance) and self.compliance >= 0):
+            raise ValueError(f"ChainModel.compliance = {self.compliance!r} is invalid: valid range >= 0 mm/N")
+        kernels.variant_module(self.variant)  # validates the name
+
+    @property
+    def name(self) -> str:
+        return f"chain[{self.variant}]"
+
+    @property
+    def mass_kg(self) -> float:
+        """Total mass of the links [kg]."""
+        return self.chain.mass_kg
+
+    @property
+    def coefficients(self) -> tuple[float, float]:
+        """(c_lin + compliance [mm/N], c_hertz [mm/N^(2/3)])."""
+        c_lin, c_h = kernels.coefficients(self.chain, self.variant)
+        return c_lin + self.compliance, c_h
+
+    def _call(self, kernel: str, x: np.ndarray) -> np.ndarray:
+        mod = kernels.variant_module(self.variant)
+        arr = np.asarray(x, dtype=np.float64) - self.slack
+        flat = np.ascontiguousarray(arr).reshape(-1)
+        return getattr(mod, kernel)(flat, *self.coefficients).reshape(arr.shape)
+
+    def force(self, x: np.ndarray) -> np.ndarray:
+        """F_k [N] at elongation x [mm]."""
+        return self._call("force_array", x)
+
+    def stiffness(self, x: np.ndarray) -> np.ndarray:
+        """Tangent k_e [N/mm] at elongation x [mm]."""
+        return self._call("stiffness_array", x)
+
+
+@dataclass(frozen=True)
+class LinearModel:
+    """A linear spring F = k·(x − x_ref), for parts other than chains (``--model linear``).
+
+    Parameters
+    ----------
+    k : float
+        Stiffness [N/mm], >= 0.
+    x_ref : float
+        Elongation at zero force [mm].
+    mass : float
+        Moving mass [kg], >= 0.
+    """
+
+    k: float
+    x_ref: float = 0.0
+    mass: float = 0.0
+    name: str = "linear"
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.k) and self.k >= 0):
+            raise ValueError(f"LinearModel.k = {self.k!r} is invalid: valid range >= 0 N/mm")
+        if not np.isfinite(self.x_ref):
+            raise ValueError(f"LinearModel.x_ref = {self.x_ref!r} is invalid: must be finite (mm)")
+        if not (np.isfinite(self.mass) and self.mass >= 0):
+            raise ValueError(f"LinearModel.mass = {self.mass!r} is invalid: valid range >= 0 kg")
+
+    @property
+    def mass_kg(self) -> float:
+        """Moving mass [kg]."""
+        return self.mass
+
+    def force(self, x: np.ndarray) -> np.ndarray:
+        """k·(x − x_ref) [N]."""
+        return self.k * (np.asarray(x, dtype=np.float64) - self.x_ref)
+
+    def stiffness(self, x: np.ndarray) -> np.ndarray:
+        """k [N/mm] everywhere."""
+        return np.full(np.shape(x), self.k, dtype=np.float64)
+
+    @classmethod
+    def fit(cls, x: np.ndarray, F: np.ndarray, mass: float = 0.0) -> "LinearModel":
+        """Least-squares F = k(x − x_ref) on samples x [mm], F [N] (numpy.linalg.lstsq)."""
+        x = np.asarray(x, dtype=np.float64).reshape(-1)
+        F = np.asarray(F, dtype=np.float64).reshape(-1)
+        if x.shape != F.shape or x.size < 2:
+            raise ValueError(f"LinearModel.fit needs x and F of equal length >= 2; got {x.size} and {F.size}")
+        A = np.column_stack([x, np.ones_like(x)])
+        (k, b), *_ = np.linalg.lstsq(A, F, rcond=None)
+        k = max(float(k), 0.0)
+        x_ref = -float(b) / k if k > 0 else 0.0
+        return cls(k=k, x_ref=x_ref, mass=mass)
+
+
+def model_for(chain: ChainSpec | None = None, variant: str = "paper") -> ChainModel:
+    """The chain model of a spec (``None``: the built-in chain)."""
+    return ChainModel(chain or default_chain(), variant)

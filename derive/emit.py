@@ -1,0 +1,293 @@
+"""Print the numba kernels into generated/ (``chainid generate``).
+
+One self-contained module per model variant, ``stiffness_<variant>.py``
+(numba's cache does not notice changes in other modules, so nothing is
+imported across generated files).  Every expression comes from the
+derivation: the chain coefficients (Eq. 15) with common-subexpression
+elimination, the displacement, the Newton update of the inverse cubic and
+the tangent stiffness (Eq. 16).  The template around them adds only the
+domain guards and the loops.
+
+Output is byte-for-byte reproducible for a given SymPy version (pinned in
+pyproject.toml); the header records a hash of the derivation source.
+"""
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+from . import chain
+from .symbols import E, c_hertz, c_lin, d, mu, n, pitch, u, width, x
+
+__all__ = ["REQUIRED_SYMPY", "source_hash", "module_source", "generate", "GenerateResult"]
+
+#: The SymPy version the committed generated/ files were printed with.
+REQUIRED_SYMPY = "1.14.0"
+
+_DERIVE_DIR = Path(__file__).resolve().parent
+
+
+def source_hash() -> str:
+    """SHA-256 (first 16 hex digits) of the derivation source files, in name order."""
+    h = hashlib.sha256()
+    for p in sorted(_DERIVE_DIR.glob("*.py")):
+        h.update(p.name.encode())
+        h.update(p.read_bytes().replace(b"\r\n", b"\n"))
+    return h.hexdigest()[:16]
+
+
+class _Printer(PythonCodePrinter):
+    """math.* code; rationals as float literals; x**(1/3) as a guarded cube root."""
+
+    def __init__(self) -> None:
+        super().__init__({"fully_qualified_modules": True, "standard": "python3"})
+
+    def _print_Rational(self, expr: sp.Rational) -> str:
+        return repr(float(expr))
+
+    def _print_Integer(self, expr: sp.Integer) -> str:
+        return repr(float(expr))
+
+    def _print_Pow(self, expr: sp.Pow, rational: bool = False) -> str:
+        b, ex = expr.as_base_exp()
+        if ex == sp.Rational(1, 3):
+            return f"np.cbrt({self._print(b)})"
+        if ex == -sp.Rational(1, 3):
+            return f"(1.0/np.cbrt({self._print(b)}))"
+        if ex == sp.Rational(2, 3):
+            return f"np.cbrt({self._print(b)})**2"
+        if ex == -sp.Rational(2, 3):
+            return f"(1.0/np.cbrt({self._print(b)})**2)"
+        if ex.is_Integer and 1 < ex <= 4 and b.is_Symbol:
+            base = self.parenthesize(b, sp.printing.precedence.PRECEDENCE["Pow"])
+            return "*".join([base] * int(ex))
+        return super()._print_Pow(expr, rational=rational)
+
+
+_P = _Printer()
+
+
+def _code(expr: sp.Expr) -> str:
+    return _P.doprint(expr)
+
+
+def _coefficient_body(a: chain.Assumptions) -> str:
+    lin, hz = chain.chain_coefficients(a)
+    nu = sp.Symbol("nu", positive=True)
+    names = {d: sp.Symbol("d", positive=True), pitch: sp.Symbol("pitch", positive=True),
+             width: sp.Symbol("width", positive=True), n: sp.Symbol("n", positive=True), E: E, mu: nu}
+    lin = lin.xreplace(names)
+    hz = hz.xreplace(names)
+    reps, (lin_r, hz_r) = sp.cse([lin, hz], symbols=sp.numbered_symbols("t"), optimizations="basic")
+    lines = [f"    {s} = {_code(v)}" for s, v in reps]
+    lines.append(f"    c_lin = {_code(lin_r)}")
+    lines.append(f"    c_hertz = {_code(hz_r)}")
+    return "\n".join(lines)
+
+
+_TEMPLATE = '''\
+# GENERATED FILE - DO NOT EDIT.
+# Written by `chainid generate` from chainid.derive (the repository's derive/).
+# variant: {name} - {description}
+# derivation source hash: {hash}
+# generator: SymPy {sympy}
+# To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
+"""Kernels of the chain stiffness, variant ``{name}`` ({description}).
+
+x(F) = c_lin*F + c_hertz*F**(2/3)  (paper Eq. 15); k_e = (dx/dF)**-1 (Eq. 16).
+Units: mm, N, MPa.  Guards: F_k(x <= 0) = 0 (a slack chain carries no
+compression); x(F < 0) = NaN; NaN in gives NaN out.
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+VARIANT = "{name}"
+SOURCE_HASH = "{hash}"
+SYMPY_VERSION = "{sympy}"
+CONTACT = "{contact}"
+SHEAR_FACTOR = {shear}
+
+
+@njit(cache=True)
+def coefficients(d, pitch, width, n, E, nu):
+    """(c_lin [mm/N], c_hertz [mm/N**(2/3)]) of a chain: d, pitch, width mm; n links; E MPa; nu."""
+    if not (d > 0.0 and width > 0.0 and pitch > width and n >= 1.0 and E > 0.0 and 0.0 < nu < 0.5):
+        return math.nan, math.nan
+{coeff_body}
+    return c_lin, c_hertz
+
+
+@njit(cache=True)
+def displacement(F, c_lin, c_hertz):
+    """Chain elongation x [mm] at tension F [N] (Eq. 15)."""
+    if F != F or F < 0.0:
+        return math.nan
+    u = np.cbrt(F)
+    return {disp}
+
+
+@njit(cache=True)
+def force(x, c_lin, c_hertz):
+    """Tension F_k [N] at elongation x [mm]: positive root u of c_lin*u**3 + c_hertz*u**2 = x, F = u**3."""
+    if x != x:
+        return math.nan
+    if x <= 0.0:
+        return 0.0
+    # start below the root: 1/u0**2 = c_hertz/x + (c_lin/x)**(2/3) (each term alone bounds u from above)
+    g = np.cbrt(c_lin / x)
+    u = 1.0 / math.sqrt(c_hertz / x + g * g)
+    for _ in range(60):
+        un = {newton}
+        if abs(un - u) <= 1e-15 * un:
+            u = un
+            break
+        u = un
+    return u * u * u
+
+
+@njit(cache=True)
+def stiffness(x, c_lin, c_hertz):
+    """Tangent stiffness k_e [N/mm] at elongation x [mm] (Eq. 16); 0 for a slack chain (x < 0)."""
+    if x != x:
+        return math.nan
+    if x < 0.0:
+        return 0.0
+    if x == 0.0:
+        return 0.0 if c_hertz > 0.0 else 1.0 / c_lin
+    u = np.cbrt(force(x, c_lin, c_hertz))
+    return {stiff}
+
+
+@njit(cache=True)
+def damping_residual(F, x, xddot, mass_kg, c_lin, c_hertz):
+    """F_c = F - m*xddot*1e-3 - F_k(x) [N] (Eq. 17, 20): F N, x mm, xddot mm/s**2, m kg."""
+    return F - mass_kg * xddot * 1e-3 - force(x, c_lin, c_hertz)
+
+
+@njit(cache=True)
+def force_array(x, c_lin, c_hertz):
+    """force() over a 1-D float64 array [mm] -> [N]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = force(x[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True)
+def displacement_array(F, c_lin, c_hertz):
+    """displacement() over a 1-D float64 array [N] -> [mm]."""
+    out = np.empty(F.shape[0])
+    for i in range(F.shape[0]):
+        out[i] = displacement(F[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True)
+def stiffness_array(x, c_lin, c_hertz):
+    """stiffness() over a 1-D float64 array [mm] -> [N/mm]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = stiffness(x[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True)
+def damping_residual_array(F, x, xddot, mass_kg, c_lin, c_hertz):
+    """damping_residual() over 1-D float64 arrays -> [N]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = damping_residual(F[i], x[i], xddot[i], mass_kg, c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True, parallel=True)
+def force_parallel(x, c_lin, c_hertz):
+    """force() over a 1-D float64 array on all cores (prange)."""
+    out = np.empty(x.shape[0])
+    for i in prange(x.shape[0]):
+        out[i] = force(x[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True, parallel=True)
+def stiffness_parallel(x, c_lin, c_hertz):
+    """stiffness() over a 1-D float64 array on all cores (prange)."""
+    out = np.empty(x.shape[0])
+    for i in prange(x.shape[0]):
+        out[i] = stiffness(x[i], c_lin, c_hertz)
+    return out
+'''
+
+
+def module_source(a: chain.Assumptions, sympy_version: str | None = None) -> str:
+    """Full text of ``generated/stiffness_<a.name>.py``."""
+    return _TEMPLATE.format(
+        name=a.name,
+        description=a.description,
+        hash=source_hash(),
+        sympy=sympy_version or sp.__version__,
+        contact=a.contact,
+        shear=repr(float(a.shear_factor)),
+        coeff_body=_coefficient_body(a),
+        disp=_code(chain.generic_displacement()),
+        newton=_code(chain.newton_update()),
+        stiff=_code(chain.stiffness_in_u()),
+    )
+
+
+def _init_source() -> str:
+    names = sorted(chain.VARIANTS)
+    return (
+        "# GENERATED FILE - DO NOT EDIT.  Written by `chainid generate`.\n"
+        f"# derivation source hash: {source_hash()}\n"
+        '"""Generated numba kernels, one module per model variant (see derive/)."""\n\n'
+        f"VARIANTS = {tuple(names)!r}\n"
+    )
+
+
+class GenerateResult(dict):
+    """Mapping file name -> "written" | "unchanged" | "stale" | "missing"."""
+
+
+def expected_files() -> dict[str, str]:
+    """File name -> expected text of every generated file."""
+    files = {"__init__.py": _init_source()}
+    for name, a in sorted(chain.VARIANTS.items()):
+        files[f"stiffness_{name}.py"] = module_source(a)
+    return files
+
+
+def generate(out_dir: Path, check: bool = False) -> GenerateResult:
+    """Write (or, with ``check``, compare) every generated file in ``out_dir``.
+
+    Raises
+    ------
+    RuntimeError
+        If the running SymPy is not :data:`REQUIRED_SYMPY` (CSE output differs
+        between versions, so the files would not be byte-for-byte reproducible).
+    """
+    if sp.__version__ != REQUIRED_SYMPY:
+        raise RuntimeError(
+            f"SymPy version mismatch: generated/ is printed with SymPy {REQUIRED_SYMPY}, this environment has "
+            f"SymPy {sp.__version__}; install sympy=={REQUIRED_SYMPY} (pip install 'sympy=={REQUIRED_SYMPY}')"
+        )
+    out_dir = Path(out_dir)
+    res = GenerateResult()
+    for fname, text in expected_files().items():
+        p = out_dir / fname
+        old = p.read_text(encoding="utf-8") if p.exists() else None
+        if check:
+            res[fname] = "missing" if old is None else ("unchanged" if old == text else "stale")
+        else:
+            if old != text:
+                out_dir.mkdir(parents=True, exist_ok=True)
+                p.write_text(text, encoding="utf-8", newline="\n")
+                res[fname] = "written"
+            else:
+                res[fname] = "unchanged"
+    return res

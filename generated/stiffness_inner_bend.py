@@ -1,0 +1,153 @@
+# GENERATED FILE - DO NOT EDIT.
+# Written by `chainid generate` from chainid.derive (the repository's derive/).
+# variant: inner_bend - contact on the inner bend surface, radius -(R - d/2)
+# derivation source hash: 35ebc0a8c8c8aa81
+# generator: SymPy 1.14.0
+# To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
+"""Kernels of the chain stiffness, variant ``inner_bend`` (contact on the inner bend surface, radius -(R - d/2)).
+
+x(F) = c_lin*F + c_hertz*F**(2/3)  (paper Eq. 15); k_e = (dx/dF)**-1 (Eq. 16).
+Units: mm, N, MPa.  Guards: F_k(x <= 0) = 0 (a slack chain carries no
+compression); x(F < 0) = NaN; NaN in gives NaN out.
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+VARIANT = "inner_bend"
+SOURCE_HASH = "35ebc0a8c8c8aa81"
+SYMPY_VERSION = "1.14.0"
+CONTACT = "inner"
+SHEAR_FACTOR = 1.0
+
+
+@njit(cache=True)
+def coefficients(d, pitch, width, n, E, nu):
+    """(c_lin [mm/N], c_hertz [mm/N**(2/3)]) of a chain: d, pitch, width mm; n links; E MPa; nu."""
+    if not (d > 0.0 and width > 0.0 and pitch > width and n >= 1.0 and E > 0.0 and 0.0 < nu < 0.5):
+        return math.nan, math.nan
+    t0 = nu + 1.0
+    t1 = d*d
+    t2 = d + width
+    t3 = t2*t2
+    t4 = t1/(t2 + math.sqrt(-t1 + t3))**2.0 + 1.0
+    t5 = math.pi*t2
+    t6 = -width
+    t7 = pitch + t6
+    t8 = t4*t7
+    t9 = 1.0/t0
+    t10 = t2*t2*t2*t2*t9
+    t11 = math.pi**2.0
+    t12 = 2.0*t1
+    t13 = t11*t3*t4
+    t14 = t4*t4
+    t15 = t14*t5*t7
+    t16 = 4.0*t1
+    t17 = t8*t9
+    t18 = t17*t2*t2*t2
+    t19 = t1*t9
+    c_lin = (0.5)*n*t0*(4.0*t10*t11 - 32.0*t10 + t12*t13 + t12*t15*t9 + t13*t19 + 8.0*t14*t19*t7*t7 + t15*t16 + t16*t17*t5 - 64.0*t18 + 24.0*math.pi*t18)/(math.pi*E*d*d*d*d*t4*(t5 + 2.0*t8))
+    c_hertz = (0.5)*np.cbrt(6.0)**2*np.cbrt(1.0 - nu*nu)**2*np.cbrt(-d - t6)*(n - 1.0)/(np.cbrt(E)**2*np.cbrt(d)*np.cbrt(width))
+    return c_lin, c_hertz
+
+
+@njit(cache=True)
+def displacement(F, c_lin, c_hertz):
+    """Chain elongation x [mm] at tension F [N] (Eq. 15)."""
+    if F != F or F < 0.0:
+        return math.nan
+    u = np.cbrt(F)
+    return c_hertz*u*u + c_lin*u*u*u
+
+
+@njit(cache=True)
+def force(x, c_lin, c_hertz):
+    """Tension F_k [N] at elongation x [mm]: positive root u of c_lin*u**3 + c_hertz*u**2 = x, F = u**3."""
+    if x != x:
+        return math.nan
+    if x <= 0.0:
+        return 0.0
+    # start below the root: 1/u0**2 = c_hertz/x + (c_lin/x)**(2/3) (each term alone bounds u from above)
+    g = np.cbrt(c_lin / x)
+    u = 1.0 / math.sqrt(c_hertz / x + g * g)
+    for _ in range(60):
+        un = (c_hertz*u*u + 2.0*c_lin*u*u*u + x)/(u*(2.0*c_hertz + 3.0*c_lin*u))
+        if abs(un - u) <= 1e-15 * un:
+            u = un
+            break
+        u = un
+    return u * u * u
+
+
+@njit(cache=True)
+def stiffness(x, c_lin, c_hertz):
+    """Tangent stiffness k_e [N/mm] at elongation x [mm] (Eq. 16); 0 for a slack chain (x < 0)."""
+    if x != x:
+        return math.nan
+    if x < 0.0:
+        return 0.0
+    if x == 0.0:
+        return 0.0 if c_hertz > 0.0 else 1.0 / c_lin
+    u = np.cbrt(force(x, c_lin, c_hertz))
+    return 3.0*u/(2.0*c_hertz + 3.0*c_lin*u)
+
+
+@njit(cache=True)
+def damping_residual(F, x, xddot, mass_kg, c_lin, c_hertz):
+    """F_c = F - m*xddot*1e-3 - F_k(x) [N] (Eq. 17, 20): F N, x mm, xddot mm/s**2, m kg."""
+    return F - mass_kg * xddot * 1e-3 - force(x, c_lin, c_hertz)
+
+
+@njit(cache=True)
+def force_array(x, c_lin, c_hertz):
+    """force() over a 1-D float64 array [mm] -> [N]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = force(x[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True)
+def displacement_array(F, c_lin, c_hertz):
+    """displacement() over a 1-D float64 array [N] -> [mm]."""
+    out = np.empty(F.shape[0])
+    for i in range(F.shape[0]):
+        out[i] = displacement(F[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True)
+def stiffness_array(x, c_lin, c_hertz):
+    """stiffness() over a 1-D float64 array [mm] -> [N/mm]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = stiffness(x[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True)
+def damping_residual_array(F, x, xddot, mass_kg, c_lin, c_hertz):
+    """damping_residual() over 1-D float64 arrays -> [N]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = damping_residual(F[i], x[i], xddot[i], mass_kg, c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True, parallel=True)
+def force_parallel(x, c_lin, c_hertz):
+    """force() over a 1-D float64 array on all cores (prange)."""
+    out = np.empty(x.shape[0])
+    for i in prange(x.shape[0]):
+        out[i] = force(x[i], c_lin, c_hertz)
+    return out
+
+
+@njit(cache=True, parallel=True)
+def stiffness_parallel(x, c_lin, c_hertz):
+    """stiffness() over a 1-D float64 array on all cores (prange)."""
+    out = np.empty(x.shape[0])
+    for i in prange(x.shape[0]):
+        out[i] = stiffness(x[i], c_lin, c_hertz)
+    return out

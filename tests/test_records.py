@@ -1,0 +1,192 @@
+"""Records: CSV in/out, validation errors, harmonic estimation, steady-cycle selection."""
+from __future__ import annotations
+
+import hashlib
+import math
+
+import numpy as np
+import pytest
+
+from chainid.records import (
+    Record,
+    analyse_record,
+    estimate_harmonic,
+    read_records,
+    read_side_file,
+    validate_record,
+    write_records,
+    write_side_file,
+)
+
+
+def harmonic_record(
+    test="T1", omega=2.0, x0=2.2, A=0.25, cycles=6.0, spc=200, ramp=None, noise=0.0, seed=0, F0=20000.0, k=20000.0
+):
+    """x = x0 + A sin(omega (t - t0)) after a ramp; F = F0 + k (x - x0)."""
+    T = 2 * math.pi / omega
+    t0 = x0 / ramp if ramp else 0.0
+    t = np.arange(int(round((t0 + cycles * T) / (T / spc)))) * (T / spc)
+    x = np.where(t > t0, x0 + A * np.sin(omega * (t - t0)), (ramp or 0.0) * t if ramp else x0)
+    rng = np.random.default_rng(seed)
+    xm = x + rng.normal(0, noise, t.size) if noise else x
+    return Record(test, t, xm, F0 + k * (x - x0))
+
+
+def write_csv(path, text):
+    path.write_text(text)
+    return path
+
+
+# --------------------------------------------------------------------------- I/O
+def test_roundtrip_and_no_overwrite(tmp_path):
+    recs = [harmonic_record("A"), harmonic_record("B", omega=3.0)]
+    p = tmp_path / "r.csv"
+    write_records(p, recs)
+    back = read_records(p)
+    assert [r.test for r in back] == ["A", "B"]
+    for a, b in zip(recs, back):
+        np.testing.assert_allclose(b.t, a.t, rtol=1e-8, atol=1e-12)
+        np.testing.assert_allclose(b.x, a.x, rtol=1e-8)
+        np.testing.assert_allclose(b.F, a.F, rtol=1e-8)
+    before = p.read_bytes()
+    with pytest.raises(ValueError, match="r.csv.*already exists"):
+        write_records(p, recs[:1])
+    assert p.read_bytes() == before
+    write_records(p, recs[:1], overwrite=True)
+    assert [r.test for r in read_records(p)] == ["A"]
+
+
+def test_read_does_not_modify_file(tmp_path):
+    p = tmp_path / "r.csv"
+    write_records(p, [harmonic_record("A")])
+    h = hashlib.sha256(p.read_bytes()).hexdigest()
+    read_records(p)
+    assert hashlib.sha256(p.read_bytes()).hexdigest() == h
+
+
+def test_missing_columns(tmp_path):
+    p = write_csv(tmp_path / "m.csv", "test,t,x\nA,0,1\n")
+    with pytest.raises(ValueError, match=r"missing column\(s\) \['F'\]"):
+        read_records(p)
+
+
+def test_non_numeric_names_line_and_test(tmp_path):
+    p = write_csv(tmp_path / "n.csv", "test,t,x,F\nA,0,1,2\nA,0.1,abc,2\n")
+    with pytest.raises(ValueError, match=r"line 3: test 'A': column 'x' value 'abc' is not a number"):
+        read_records(p)
+
+
+def test_nan_names_line_and_test(tmp_path):
+    p = write_csv(tmp_path / "nan.csv", "test,t,x,F\nB,0,1,2\nB,0.1,1,nan\n")
+    with pytest.raises(ValueError, match=r"line 3: test 'B': column 'F' is NaN"):
+        read_records(p)
+
+
+def test_non_contiguous_rows(tmp_path):
+    p = write_csv(tmp_path / "c.csv", "test,t,x,F\nA,0,1,2\nB,0,1,2\nA,0.1,1,2\n")
+    with pytest.raises(ValueError, match=r"line 4: test 'A'.*not contiguous"):
+        read_records(p, validate=False)
+
+
+def test_time_not_increasing(tmp_path):
+    r = harmonic_record("T")
+    r.t[50] = r.t[49]
+    p = tmp_path / "t.csv"
+    write_records(p, [r])
+    with pytest.raises(ValueError, match=r"test 'T': t is not strictly increasing at sample 50"):
+        read_records(p)
+
+
+def test_fewer_than_two_cycles(tmp_path):
+    p = tmp_path / "few.csv"
+    write_records(p, [harmonic_record("short", cycles=1.6)])
+    with pytest.raises(ValueError, match=r"test 'short': fewer than 2 full cycles"):
+        read_records(p)
+
+
+def test_amplitude_below_noise(tmp_path):
+    p = tmp_path / "noise.csv"
+    write_records(p, [harmonic_record("quiet", A=1e-3, noise=0.01, cycles=8)])
+    with pytest.raises(ValueError, match=r"test 'quiet': amplitude below the noise"):
+        read_records(p)
+
+
+def test_compression_optional(tmp_path):
+    r = harmonic_record("damper", F0=0.0, k=1000.0)  # force changes sign
+    p = tmp_path / "comp.csv"
+    write_records(p, [r])
+    with pytest.raises(ValueError, match=r"test 'damper': force goes compressive"):
+        read_records(p)
+    assert read_records(p, allow_compression=True)[0].test == "damper"
+
+
+def test_empty_and_missing_file(tmp_path):
+    with pytest.raises(ValueError, match="does not exist"):
+        read_records(tmp_path / "nope.csv")
+    p = write_csv(tmp_path / "e.csv", "")
+    with pytest.raises(ValueError, match="empty"):
+        read_records(p)
+    p = write_csv(tmp_path / "h.csv", "test,t,x,F\n")
+    with pytest.raises(ValueError, match="no data rows"):
+        read_records(p)
+
+
+# --------------------------------------------------------------------------- estimation
+@pytest.mark.parametrize("omega", [0.3141592653589793, 1.884, 10.0, 150.0])
+def test_harmonic_estimate_with_ramp_and_noise(omega):
+    r = harmonic_record(omega=omega, ramp=0.08973 * max(1.0, omega), noise=1e-3, seed=3)
+    est = estimate_harmonic(r.t, r.x)
+    # 1e-3 mm noise on ~1000 samples: amplitude/mean errors ~ 1e-3 * sqrt(2/N) ~ 5e-5 mm
+    assert est.omega == pytest.approx(omega, rel=2e-4)
+    assert est.x0 == pytest.approx(2.2, abs=3e-4)
+    assert est.A == pytest.approx(0.25, abs=3e-4)
+    assert est.noise == pytest.approx(1e-3, rel=0.15)
+    # ramp dropped: window starts after the ramp end plus one cycle
+    t0 = 2.2 / (0.08973 * max(1.0, omega))
+    T = 2 * math.pi / omega
+    assert est.window.t_start >= t0 + T - 0.02 * T
+    assert est.window.n_cycles == 5  # 6 whole cycles after the ramp, the first dropped
+    assert est.window.t_end - est.window.t_start == pytest.approx(est.window.n_cycles * T, rel=1e-3)
+
+
+def test_steady_selection_with_taper():
+    omega, A = 2.0, 0.25
+    T = 2 * math.pi / omega
+    t = np.arange(0, 16 * T, T / 100)
+    env = np.clip(np.minimum(t / (4 * T), (16 * T - t) / (4 * T)), 0, 1)
+    x = 2.2 + A * env * np.sin(omega * t)
+    est = estimate_harmonic(t, x)
+    w = est.window
+    # amplitude full only for t in [4T, 12T]: cycles 4..11 steady; first steady one dropped
+    assert w.cycles_kept == list(range(5, 12))
+    assert w.t_start == pytest.approx(5 * T, rel=1e-6)
+    assert w.t_end == pytest.approx(12 * T, rel=1e-6)
+    assert est.A == pytest.approx(A, rel=1e-6)
+    assert "cycles 5-11 of" in w.describe()
+
+
+def test_side_file(tmp_path):
+    r = harmonic_record("S", omega=2.0)
+    p = tmp_path / "side.csv"
+    est = estimate_harmonic(r.t, r.x)
+    write_side_file(p, {"S": est})
+    side = read_side_file(p)
+    assert side["S"][0] == pytest.approx(2.0, rel=1e-6)
+    e2 = analyse_record(r, side["S"])
+    assert e2.source == "side file"
+    assert e2.A == pytest.approx(0.25, rel=1e-6)
+    with pytest.raises(ValueError, match="already exists"):
+        write_side_file(p, {"S": est})
+    bad = write_csv(tmp_path / "bad.csv", "test,omega,x0,A\nS,-1,2,0.2\n")
+    with pytest.raises(ValueError, match=r"test 'S': omega = -1.0 rad/s must be > 0"):
+        read_side_file(bad)
+    bad = write_csv(tmp_path / "bad2.csv", "test,omega,x0\nS,1,2\n")
+    with pytest.raises(ValueError, match=r"missing column"):
+        read_side_file(bad)
+
+
+def test_validate_nan_in_memory():
+    r = harmonic_record("M")
+    r.x[10] = np.nan
+    with pytest.raises(ValueError, match=r"test 'M': column 'x' has a NaN"):
+        validate_record(r)
