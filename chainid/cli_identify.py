@@ -126,11 +126,11 @@ def cmd_identify(args: argparse.Namespace) -> int:
     print(f"model: {getattr(model, 'name', type(model).__name__)}, mass m = {results[0].mass_kg:.4g} kg")
     print(_table(
         ["test", "omega rad/s", "x0 mm", "A mm", "F0 N", "F_A N", "phi rad", "R2", "F_ac N", "c_e N.s/mm",
-         "W N.mm", "W/visc", "cycles kept", "window s"],
-        [[r.test, r.omega, r.x0, r.A, r.F0, r.FA, r.phi, r.r2, r.F_ac, r.c_e, r.W, r.W_ratio,
+         "W N.mm", "W/visc", "R2(F_c)", "cycles kept", "window s"],
+        [[r.test, r.omega, r.x0, r.A, r.F0, r.FA, r.phi, r.r2, r.F_ac, r.c_e, r.W, r.W_ratio, r.r2_c,
           f"{r.cycles_kept[0]}-{r.cycles_kept[-1]} ({r.n_cycles})" if r.cycles_kept else "-",
           f"{r.t_start:.4g}-{r.t_end:.4g}"] for r in results],
-        ["", ".5g", ".4g", ".4g", ".6g", ".6g", ".4f", ".5f", ".5g", ".5g", ".5g", ".3f", "", ""],
+        ["", ".5g", ".4g", ".4g", ".6g", ".6g", ".4f", ".5f", ".5g", ".5g", ".5g", ".3f", ".4f", "", ""],
     ))
     out: dict[str, Any] = {
         "tests": [r.to_dict() for r in results],

@@ -12,7 +12,9 @@ Per test (:func:`identify_test`)
 * ``F_ac``, the component of F_c in phase with the velocity (``cos psi``), and
   ``c_e = F_ac / (omega A)`` [N·s/mm] (Eq. 20, 27);
 * energy dissipated per cycle ``W = ∮ F dx`` [N·mm = mJ] from the loop area,
-  and the ratio ``W / (pi c_e omega A²)`` (1 for a viscous loop).
+  and the ratio ``W / (pi c_e omega A²)`` (1 whenever x(t) is harmonic, whatever
+  the force law), plus ``r2_c``, the share of F_c explained by its fundamental
+  (1 for a viscous loop, 8/π² for Coulomb friction).
 
 Across tests: damping laws c_e(omega, A, x0) with a scikit-learn-like
 ``fit``/``predict`` interface (:class:`PolynomialLaw` = Eq. 21,
@@ -162,7 +164,13 @@ class TestResult:
     W : float
         Energy dissipated per cycle, loop area ∮F dx [N·mm = mJ].
     W_ratio : float
-        W / (pi c_e omega A²); 1 for a viscous loop.
+        W / (pi c_e omega A²).  Note: when x(t) is a pure harmonic, ∮F dx picks up
+        only the fundamental velocity component of F, so this ratio is 1 for ANY
+        force law (viscous, friction, …); it departs from 1 only when x(t) is not
+        harmonic.  Use ``r2_c`` to judge whether the loop is viscous.
+    r2_c : float
+        R² of the one-harmonic fit of F_c: ≈ 1 for a viscous (elliptic) loop,
+        ≈ 8/π² ≈ 0.81 for a Coulomb friction (rectangular) loop.
     F_as : float
         Amplitude of F_c in phase with the displacement [N]; ≈ 0 if the
         stiffness model is right (a stiffness-mismatch indicator).
@@ -196,6 +204,7 @@ class TestResult:
     c_e: float
     W: float
     W_ratio: float = float("nan")
+    r2_c: float = float("nan")
     F_as: float = float("nan")
     Fc0: float = float("nan")
     theta: float = 0.0
@@ -286,6 +295,7 @@ def identify_test(
         c_e=c_e,
         W=W,
         W_ratio=W / W_visc if W_visc != 0 else float("nan"),
+        r2_c=hc.r2,
         F_as=hc.a,
         Fc0=hc.F0,
         theta=est.theta,

@@ -716,9 +716,10 @@ def validate_record(
         )
     if cycles_in_record < min_cycles or win is None or n_whole < min_cycles or win.n_cycles < 1:
         raise ValueError(
-            f"test {name!r}: fewer than {min_cycles:g} full cycles: the record spans "
-            f"{cycles_in_record:.3g} periods of {2 * math.pi / est.omega:.4g} s, "
-            f"{win.n_cycles if win else 0} steady cycle(s) after dropping the ramp and the first cycle"
+            f"test {name!r}: fewer than {min_cycles:g} full cycles of steady oscillation: the record spans "
+            f"{cycles_in_record:.3g} periods of {2 * math.pi / est.omega:.4g} s and has {n_whole} contiguous "
+            f"whole cycle(s) with amplitude and mean within {100 * (win.rel_tol if win else 0.03):g} % of the "
+            f"plateau ({win.n_cycles if win else 0} left after dropping the ramp and the first cycle)"
         )
     return est
 

@@ -190,3 +190,27 @@ def test_validate_nan_in_memory():
     r.x[10] = np.nan
     with pytest.raises(ValueError, match=r"test 'M': column 'x' has a NaN"):
         validate_record(r)
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    logw=st.floats(-1.0, 2.5),
+    A=st.floats(0.02, 1.0),
+    x0=st.floats(0.5, 5.0),
+    cycles=st.integers(3, 10),
+    ramp_periods=st.one_of(st.none(), st.floats(0.2, 4.0)),
+    spc=st.integers(20, 300),
+)
+def test_estimate_property(logw, A, x0, cycles, ramp_periods, spc):
+    omega = 10.0**logw
+    T = 2 * math.pi / omega
+    ramp = None if ramp_periods is None else x0 / (ramp_periods * T)
+    r = harmonic_record(omega=omega, x0=x0, A=A, cycles=cycles, spc=spc, ramp=ramp)
+    est = estimate_harmonic(r.t, r.x)
+    assert est.omega == pytest.approx(omega, rel=1e-6)
+    assert est.A == pytest.approx(A, rel=1e-6)
+    assert est.x0 == pytest.approx(x0, abs=1e-6 * A)
+    assert est.window.n_cycles >= cycles - 1  # all whole cycles after the ramp, the first dropped

@@ -1,0 +1,285 @@
+"""``chainid report``: the main job — every step on the built-in chain into one report folder.
+
+Steps (each writes its figures and JSON into the folder and a section of
+``report.md``):
+
+1. verification: the paper checked equation by equation (SymPy);
+2. stiffness: the paper's Fig. 8a/8b and the model variants;
+3. damping: Table 1 audit, Eq. 28 reproduced, damping surface (Fig. 11), the
+   validation case (Fig. 12) under both readings of ω — or, with ``--data``,
+   the identification of the user's records;
+4. gap: a diagnosis on a built-in simulated series with a hidden effect and on
+   the paper's Eq. 26 record — or on the user's records.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import shutil
+import sys
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+__all__ = ["run_report", "add_subparsers"]
+
+Progress = Callable[[str], None]
+
+
+def _say(msg: str) -> None:
+    print(f"[chainid report] {msg}", file=sys.stderr, flush=True)
+
+
+def _dump(folder: Path, name: str, doc: Any) -> str:
+    from .cli import _json_default
+
+    p = folder / "json" / name
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(json.dumps(doc, indent=2, ensure_ascii=False, default=_json_default) + "\n", encoding="utf-8")
+    return f"json/{name}"
+
+
+def _md_table(headers: list[str], rows: list[list[Any]]) -> str:
+    out = ["| " + " | ".join(headers) + " |", "|" + "|".join("---" for _ in headers) + "|"]
+    for r in rows:
+        out.append("| " + " | ".join(str(c).replace("|", "/") for c in r) + " |")
+    return "\n".join(out)
+
+
+# -- step 1 ----------------------------------------------------------------------
+
+def step_verification(folder: Path, say: Progress) -> str:
+    """Equation-by-equation table, derived vs the paper (SymPy; ~30 s)."""
+    from .derive import verify
+
+    checks = verify.run_checks(progress=lambda s: say(f"verification: {s}"))
+    doc = verify.as_json(checks)
+    j = _dump(folder, "verify.json", doc)
+    rows = [[c.equation, c.status, c.detail] for c in checks]
+    s = doc["summary"]
+    return (
+        "## 1. Verification: the paper, equation by equation\n\n"
+        f"SymPy re-derivation from internal forces to the chain displacement, compared with each printed closed "
+        f"form: {s['agrees']} agree, {s['differs']} differ (findings, with the reason). JSON: `{j}`.\n\n"
+        + _md_table(["Eq.", "status", "detail"], rows) + "\n"
+    )
+
+
+# -- step 2 ----------------------------------------------------------------------
+
+def step_stiffness(folder: Path, chain: Any, say: Progress) -> str:
+    """Fig. 8a, 8b and the variants from the generated kernels."""
+    from . import kernels, plots
+
+    say("stiffness figures")
+    fig = folder / "figures"
+    fig.mkdir(exist_ok=True)
+    plots.plot_stiffness_vs_length(fig / "fig8a_stiffness_vs_length.png", chain)
+    plots.plot_stiffness_vs_modulus(fig / "fig8b_stiffness_vs_modulus.png", chain)
+    plots.plot_variants(fig / "stiffness_variants.png", chain)
+    xs = [0.5, 1.0, 2.2, 3.0, 5.0]
+    rows, doc = [], {"chain": chain.to_dict(), "points": []}
+    for x in xs:
+        r = {"x_mm": x}
+        for v in kernels.VARIANTS:
+            try:
+                r[f"F_k_{v}_N"] = kernels.force(x, chain, v)
+                r[f"k_e_{v}_N_per_mm"] = kernels.stiffness(x, chain, v)
+            except ValueError:
+                pass
+        doc["points"].append(r)
+        rows.append([x] + [f"{r.get(f'F_k_{v}_N', float('nan')):.0f} / {r.get(f'k_e_{v}_N_per_mm', float('nan')):.0f}"
+                           for v in kernels.VARIANTS])
+    c_lin, c_h = kernels.coefficients(chain)
+    doc["c_lin_mm_per_N"], doc["c_hertz_mm_per_N23"] = c_lin, c_h
+    doc["x_at_11117N_mm"] = kernels.displacement(11117.0, chain)
+    j = _dump(folder, "stiffness.json", doc)
+    return (
+        "## 2. Stiffness\n\n"
+        f"Chain: d = {chain.d:g} mm, pitch = {chain.pitch:g} mm, width = {chain.width:g} mm, n = {chain.n}, "
+        f"E = {chain.E:g} MPa, ν = {chain.nu:g}. x = {c_lin:.4e}·F + {c_h:.4e}·F^(2/3) [mm, N]; "
+        f"x(11117 N) = {doc['x_at_11117N_mm']:.4f} mm (the paper's test: F₀ = 11117 N at x₀ = 2.2 mm). JSON: `{j}`.\n\n"
+        "![Fig. 8a](figures/fig8a_stiffness_vs_length.png)\n\n![Fig. 8b](figures/fig8b_stiffness_vs_modulus.png)\n\n"
+        "![variants](figures/stiffness_variants.png)\n\n"
+        "F_k [N] / k_e [N/mm] by variant:\n\n" + _md_table(["x [mm]"] + list(kernels.VARIANTS), rows) + "\n"
+    )
+
+
+# -- step 3 ----------------------------------------------------------------------
+
+def _plot_table1_surface(path: Path, alpha: list[float], tb: dict) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    w = np.linspace(0.5, 20, 120)
+    A = np.linspace(0.15, 0.45, 100)
+    W, AA = np.meshgrid(w, A)
+    C = alpha[0] * W**2 + alpha[1] * W + alpha[2] * AA**2 + alpha[3] * AA + alpha[4]
+    fig, ax = plt.subplots(figsize=(7.2, 4.6))
+    cs = ax.contourf(W, AA, C, levels=20, cmap="viridis")
+    fig.colorbar(cs, ax=ax, label="$c_e$ (Eq. 21, 28) [N·s/mm]")
+    sc = ax.scatter(tb["omega_col"], tb["A"], c=tb["c_e"], cmap="viridis", edgecolors="k", s=60,
+                    vmin=cs.get_clim()[0], vmax=cs.get_clim()[1], label="Table 1 tests")
+    ax.set_xlabel("ω, Table 1 column (as used by Eq. 28) [paper: rad/s]")
+    ax.set_ylabel("amplitude A [mm]")
+    ax.set_title("Damping surface of Eq. 28 with the Table 1 tests (paper Fig. 11)")
+    ax.legend(loc="upper right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _plot_validation(path: Path, model: Any, alpha: list[float]) -> dict:
+    """Paper Fig. 12: x = 2.25 + 0.32 sin(14πt) with c_e of Eq. 21 fed ω = 7 or ω = 14π."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .identify import predict_force
+
+    x0, A, w = 2.25, 0.32, 14 * math.pi
+    t = np.linspace(0, 2 * math.pi / w, 400)
+    x = x0 + A * np.sin(w * t)
+
+    def ce(om: float) -> float:
+        return alpha[0] * om**2 + alpha[1] * om + alpha[2] * A**2 + alpha[3] * A + alpha[4]
+
+    out = {}
+    fig, ax = plt.subplots(figsize=(7.2, 4.6))
+    for label, om in (("ω = 7 in Eq. 21 (as the paper)", 7.0), ("ω = 14π rad/s in Eq. 21", w)):
+        c = ce(om)
+        F = predict_force(t, x, model, c, omega=w, A=A, x0=x0)
+        ax.plot(x, F / 1000, label=f"{label}: c_e = {c:.0f} N·s/mm")
+        out[label] = {"omega_in_eq21": om, "c_e_N_s_per_mm": c, "F_min_N": float(F.min()), "F_max_N": float(F.max())}
+    ax.plot(x, model.force(x) / 1000, "k--", label="elastic force F_k(x) alone")
+    ax.set_xlabel("chain elongation x [mm]")
+    ax.set_ylabel("force F [kN]")
+    ax.set_title("Validation case x = 2.25 + 0.32 sin(14πt) mm (paper Fig. 12)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return out
+
+
+def step_damping(folder: Path, model: Any, say: Progress) -> str:
+    """Table 1 audit, Eq. 28, damping surface, validation case under both readings of ω."""
+    from . import audit
+
+    say("damping: Table 1 audit")
+    rep = audit.audit(model)
+    j = _dump(folder, "audit.json", rep)
+    tb = audit.load_table1()
+    _plot_table1_surface(folder / "figures" / "fig11_damping_surface.png", rep["eq28_alpha"], tb)
+    say("damping: validation case")
+    val = _plot_validation(folder / "figures" / "fig12_validation.png", model, rep["eq28_alpha"])
+    j2 = _dump(folder, "validation.json", val)
+    return (
+        "## 3. Damping: Table 1, Eq. 28 and the validation case\n\n"
+        f"Eq. 28 reproduced from Table 1: α = {[round(a, 2) for a in rep['eq28_alpha']]} "
+        f"(paper: [28.02, −651.57, −8386.50, 7394.84, 4378.89]). JSON: `{j}`, `{j2}`.\n\n"
+        "```\n" + audit.format_audit(rep) + "\n```\n\n"
+        "![Fig. 11](figures/fig11_damping_surface.png)\n\n![Fig. 12](figures/fig12_validation.png)\n"
+    )
+
+
+def step_identify_data(folder: Path, data: Path, model: Any, say: Progress) -> str:
+    """Identification of the user's records (``--data``)."""
+    from . import identify, plots_identify, records
+
+    recs = records.read_records(data)
+    say(f"identification of {len(recs)} tests from {data}")
+    res = identify.identify_records(recs, model, progress=lambda i, n, t: say(f"identify {i}/{n}: {t}"))
+    doc: dict[str, Any] = {"tests": [r.to_dict() for r in res]}
+    text = [f"## 3. Damping identification of `{data.name}`\n"]
+    law = None
+    if len(res) >= identify.MIN_TESTS:
+        ranking = identify.rank_laws(res, identify.default_laws(model))
+        doc["laws"] = [r.to_dict() if hasattr(r, "to_dict") else r for r in ranking]
+        best = ranking[0]
+        law = getattr(best, "law", None)
+        text.append(f"Damping laws ranked by leave-one-out error; best: {getattr(best, 'name', law)}.\n")
+    else:
+        text.append(f"{len(res)} tests: fewer than {identify.MIN_TESTS}, no damping law fitted.\n")
+    plots_identify.plot_all(recs, res, model, folder / "figures", law=law)
+    j = _dump(folder, "identify.json", doc)
+    rows = [[r.test, f"{r.omega:.3f}", f"{r.x0:.3f}", f"{r.A:.3f}", f"{r.F0:.1f}", f"{r.FA:.1f}", f"{r.c_e:.2f}",
+             f"{r.W:.1f}"] for r in res]
+    text.append(_md_table(["test", "ω [rad/s]", "x₀ [mm]", "A [mm]", "F₀ [N]", "F_A [N]", "c_e [N·s/mm]", "W [N·mm]"],
+                          rows))
+    text.append(f"\nJSON: `{j}`; loops in `figures/loop_*.png`.\n")
+    return "\n".join(text)
+
+
+# -- step 4 ----------------------------------------------------------------------
+
+def step_gap(folder: Path, model: Any, data: Path | None, say: Progress) -> str:
+    """Gap diagnosis (chainid.gap): built-in simulated series with a hidden effect and Eq. 26, or the user's data."""
+    try:
+        from .gap import report_steps
+    except ImportError:
+        return "## 4. Gap diagnosis\n\nThe gap diagnosis module is not available in this build.\n"
+    return report_steps.report_section(folder, model, data, say)
+
+
+# -- driver ----------------------------------------------------------------------
+
+def run_report(out: Path, chain_path: str | None = None, data: str | None = None, force: bool = False,
+               say: Progress = _say) -> Path:
+    """Run every step and write ``out/report.md`` with figures/ and json/.
+
+    Raises
+    ------
+    ValueError
+        If ``out`` exists and is not empty and ``force`` is not set.
+    """
+    from .models import ChainModel
+    from .spec import load_chain
+
+    out = Path(out)
+    if out.exists() and any(out.iterdir()):
+        if not force:
+            raise ValueError(f"report folder {str(out)!r} exists and is not empty; pass --force to overwrite it")
+        for sub in ("figures", "json"):
+            shutil.rmtree(out / sub, ignore_errors=True)
+    (out / "figures").mkdir(parents=True, exist_ok=True)
+    chain = load_chain(chain_path)
+    model = ChainModel(chain)
+    datap = Path(data) if data else None
+    if datap is not None and not datap.is_file():
+        raise ValueError(f"--data {str(datap)!r} does not exist")
+    t0 = time.time()
+    parts = ["# chainid report\n",
+             f"Chain: {'built-in 14x50 (paper)' if chain_path is None else chain_path}. "
+             f"Data: {datap.name if datap else 'built-in (paper Table 1, Eq. 26, simulated series)'}. "
+             "Units: mm, N, s, MPa, kg.\n"]
+    parts.append(step_verification(out, say))
+    parts.append(step_stiffness(out, chain, say))
+    parts.append(step_identify_data(out, datap, model, say) if datap else step_damping(out, model, say))
+    parts.append(step_gap(out, model, datap, say))
+    parts.append(f"\n_Generated by `chainid report` in {time.time() - t0:.0f} s._\n")
+    (out / "report.md").write_text("\n".join(parts), encoding="utf-8")
+    return out / "report.md"
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    path = run_report(Path(args.out), args.chain, args.data, args.force)
+    print(f"report written: {path.resolve()}")
+    return 0
+
+
+def add_subparsers(subparsers: Any) -> None:
+    """Register ``chainid report``."""
+    p = subparsers.add_parser("report", help="the main job: verification, stiffness, damping and gap report")
+    p.add_argument("--out", default="chainid-report", metavar="DIR", help="report folder (default ./chainid-report)")
+    p.add_argument("--chain", metavar="FILE.toml", help="chain file (default: the built-in 14x50 chain)")
+    p.add_argument("--data", metavar="DATA.csv", help="run steps 3-4 on these records (header test,t,x,F)")
+    p.add_argument("--force", action="store_true", help="re-run into an existing folder")
+    p.set_defaults(func=cmd_report)
