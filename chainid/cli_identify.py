@@ -132,6 +132,11 @@ def cmd_identify(args: argparse.Namespace) -> int:
           f"{r.t_start:.4g}-{r.t_end:.4g}"] for r in results],
         ["", ".5g", ".4g", ".4g", ".6g", ".6g", ".4f", ".5f", ".5g", ".5g", ".5g", ".3f", ".4f", "", ""],
     ))
+    odd = [r.test for r in results if r.r2_c < 0.97]
+    if odd:
+        print(f"note: F_c of test(s) {', '.join(odd)} is far from one harmonic (R2(F_c) < 0.97): the loop is not "
+              f"elliptic, so the damping is not viscous (friction, backlash, ...); c_e is then the equivalent "
+              f"viscous damping of the fundamental.")
     out: dict[str, Any] = {
         "tests": [r.to_dict() for r in results],
         "model": {"name": getattr(model, "name", None), "mass_kg": results[0].mass_kg},

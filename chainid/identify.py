@@ -43,6 +43,7 @@ __all__ = [
     "HarmonicFit",
     "fit_harmonic",
     "TestResult",
+    "loop_energy",
     "identify_test",
     "identify_records",
     "DampingLaw",
@@ -54,6 +55,7 @@ __all__ = [
     "LawFit",
     "fit_law",
     "rank_laws",
+    "default_laws",
     "law_from_dict",
     "predict_force",
     "MIN_TESTS",
@@ -192,6 +194,8 @@ class TestResult:
         "estimated" or "side file" (origin of omega, x0, A).
     """
 
+    __test__ = False  # not a pytest test class
+
     test: str
     omega: float
     x0: float
@@ -223,7 +227,21 @@ class TestResult:
 
 
 def loop_energy(x: np.ndarray, F: np.ndarray) -> float:
-    """Loop integral ∮ F dx [N·mm] by the trapezoidal rule over the given samples."""
+    """Loop integral ∮ F dx by the trapezoidal rule over the given samples.
+
+    Parameters
+    ----------
+    x : ndarray
+        Elongation [mm]; close the loop by repeating the first sample.
+    F : ndarray
+        Force [N].
+
+    Returns
+    -------
+    float
+        Energy [N·mm = mJ]; positive for a dissipative loop traversed with the
+        force leading the displacement.
+    """
     x = np.asarray(x, dtype=float)
     F = np.asarray(F, dtype=float)
     return float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(x)))
