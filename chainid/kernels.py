@@ -34,6 +34,11 @@ def variant_module(variant: str = "paper") -> ModuleType:
     return importlib.import_module(f"chainid.generated.stiffness_{variant}")
 
 
+def power_module() -> ModuleType:
+    """The generated kernel module of the free-exponent contact law, ``chainid.generated.contact_power``."""
+    return importlib.import_module("chainid.generated.contact_power")
+
+
 @lru_cache(maxsize=256)
 def coefficients(chain: ChainSpec | None = None, variant: str = "paper") -> tuple[float, float]:
     """(c_lin [mm/N], c_hertz [mm/N^(2/3)]) with x = c_lin·F + c_hertz·F^(2/3) (paper Eq. 15).

@@ -51,12 +51,25 @@ class ChainModel:
         Extra series compliance [mm/N] (test machine / fixture spring, >= 0).
         A series spring adds to the linear term of Eq. 15, so it is the same
         kernel with c_lin + compliance.
+    hertz_scale : float
+        Factor (> 0) on the contact coefficient c_hertz: < 1 a more conformal
+        contact (plastic set after proof loading), > 1 a softer one.
+    contact_exponent : float or None
+        Contact exponent β in δ = c·F^β (None: Hertz, 2/3, the variant's kernel).
+        With β set, the generated ``contact_power`` kernel is used and c is chosen
+        so that δ equals the variant's Hertz approach (times ``hertz_scale``) at
+        ``contact_ref_force``.
+    contact_ref_force : float
+        Reference force [N] for ``contact_exponent`` (default 10 kN).
     """
 
     chain: ChainSpec = field(default_factory=default_chain)
     variant: str = "paper"
     slack: float = 0.0
     compliance: float = 0.0
+    hertz_scale: float = 1.0
+    contact_exponent: float | None = None
+    contact_ref_force: float = 1.0e4
 
     def __post_init__(self) -> None:
         if self.chain is None:
@@ -65,6 +78,15 @@ class ChainModel:
             raise ValueError(f"ChainModel.slack = {self.slack!r} is invalid: must be a finite number of mm")
         if not (np.isfinite(self.compliance) and self.compliance >= 0):
             raise ValueError(f"ChainModel.compliance = {self.compliance!r} is invalid: valid range >= 0 mm/N")
+        if not (np.isfinite(self.hertz_scale) and self.hertz_scale > 0):
+            raise ValueError(f"ChainModel.hertz_scale = {self.hertz_scale!r} is invalid: valid range > 0")
+        if self.contact_exponent is not None and not (0.2 <= self.contact_exponent <= 1.5):
+            raise ValueError(
+                f"ChainModel.contact_exponent = {self.contact_exponent!r} is invalid: valid range 0.2 to 1.5 "
+                "(Hertz: 2/3)"
+            )
+        if not (np.isfinite(self.contact_ref_force) and self.contact_ref_force > 0):
+            raise ValueError(f"ChainModel.contact_ref_force = {self.contact_ref_force!r} is invalid: valid range > 0 N")
         kernels.variant_module(self.variant)  # validates the name
 
     @property
@@ -77,13 +99,20 @@ class ChainModel:
         return self.chain.mass_kg
 
     @property
-    def coefficients(self) -> tuple[float, float]:
-        """(c_lin + compliance [mm/N], c_hertz [mm/N^(2/3)])."""
+    def coefficients(self) -> tuple[float, ...]:
+        """Kernel coefficients: (c_lin + compliance [mm/N], c_hertz [mm/N^β]) and β if set."""
         c_lin, c_h = kernels.coefficients(self.chain, self.variant)
-        return c_lin + self.compliance, c_h
+        c_h *= self.hertz_scale
+        if self.contact_exponent is None:
+            return c_lin + self.compliance, c_h
+        beta = float(self.contact_exponent)
+        return c_lin + self.compliance, c_h * self.contact_ref_force ** (2.0 / 3.0 - beta), beta
 
     def _call(self, kernel: str, x: np.ndarray) -> np.ndarray:
-        mod = kernels.variant_module(self.variant)
+        if self.contact_exponent is None:
+            mod = kernels.variant_module(self.variant)
+        else:
+            mod = kernels.power_module()
         arr = np.asarray(x, dtype=np.float64) - self.slack
         flat = np.ascontiguousarray(arr).reshape(-1)
         return getattr(mod, kernel)(flat, *self.coefficients).reshape(arr.shape)

@@ -565,7 +565,8 @@ def estimate_harmonic(
 
     1. FFT peak of the velocity (``numpy.gradient`` of x; a ramp becomes a
        near-constant and does not mask the oscillation), Hann window, zero
-       padding and parabolic peak interpolation.
+       padding and parabolic peak interpolation; over the whole record and its
+       last half and third (distinct peaks are all tried).
     2. Nonlinear least-squares refinement of x = x0 + A sin(omega t + theta)
        (``scipy.optimize.least_squares``) on candidate segments: provisional
        whole cycles at that frequency (lenient :func:`select_steady`), the
@@ -602,35 +603,46 @@ def estimate_harmonic(
     x = np.asarray(x, dtype=float)
     if t.size < 16:
         raise ValueError(f"test {test!r}: only {t.size} samples; need at least 16")
-    # 1. FFT peak of the velocity: a ramp becomes a (near) constant, the oscillation dominates
-    w0 = _fft_peak_omega(t, np.gradient(x, t))
-    if not (w0 > 0 and math.isfinite(w0)):
-        raise ValueError(f"test {test!r}: no harmonic oscillation found in x(t)")
-    # 2. NLS refinement on candidate segments (provisional steady cycles at w0, the
-    #    second half, the last third, the whole record); keep the candidate whose
-    #    steady window has the most cycles (ties: smallest residual)
+    # 1. FFT peak of the velocity: a ramp becomes a (near) constant, the oscillation
+    #    dominates -- over the whole record and over its last half and third (where a
+    #    slow ramp that outweighs a small oscillation has ended)
     span = t[-1] - t[0]
-    # (lenient provisional selection: w0 may be off by a fraction of a per cent, which
-    #  shows up as drift and amplitude wobble in the per-cycle fits)
-    win0 = select_steady(t, x, w0, 0.0, rel_tol=max(rel_tol, 0.1), drop_first=False, drift_tol=math.inf)
-    segments = []
-    if win0.n_cycles >= 1:
-        segments.append((t >= win0.t_start) & (t < win0.t_end))
-    segments += [t >= t[0] + f * span for f in (0.5, 0.67, 0.8)] + [np.ones(t.size, dtype=bool)]
-    best = None
-    for seg in segments:
+    v = np.gradient(x, t)
+    w0s: list[float] = []
+    for f in (0.0, 0.5, 0.67):
+        seg = t >= t[0] + f * span
         if seg.sum() < 16:
             continue
-        try:
-            w, x0, A, theta, rms = _nls_harmonic(t[seg], x[seg], w0)
-        except (ValueError, np.linalg.LinAlgError):
-            continue
-        if not (w > 0 and math.isfinite(w)):
-            continue
-        win_c = select_steady(t, x, w, theta, rel_tol=rel_tol, drop_first=drop_first)
-        score = (win_c.n_cycles, -rms)
-        if best is None or score > best[0]:
-            best = (score, (w, x0, A, theta, rms))
+        w0 = _fft_peak_omega(t[seg], v[seg])
+        if w0 > 0 and math.isfinite(w0) and all(abs(w0 - u) > 0.01 * u for u in w0s):
+            w0s.append(w0)
+    if not w0s:
+        raise ValueError(f"test {test!r}: no harmonic oscillation found in x(t)")
+    # 2. NLS refinement on candidate segments (provisional steady cycles at w0, the
+    #    second half, the last third and fifth, the whole record); keep the candidate
+    #    whose steady window has the most cycles (ties: smallest residual)
+    best = None
+    for w0 in w0s:
+        # (lenient provisional selection: w0 may be off by a fraction of a per cent,
+        #  which shows up as drift and amplitude wobble in the per-cycle fits)
+        win0 = select_steady(t, x, w0, 0.0, rel_tol=max(rel_tol, 0.1), drop_first=False, drift_tol=math.inf)
+        segments = []
+        if win0.n_cycles >= 1:
+            segments.append((t >= win0.t_start) & (t < win0.t_end))
+        segments += [t >= t[0] + f * span for f in (0.5, 0.67, 0.8)] + [np.ones(t.size, dtype=bool)]
+        for seg in segments:
+            if seg.sum() < 16:
+                continue
+            try:
+                w, x0, A, theta, rms = _nls_harmonic(t[seg], x[seg], w0)
+            except (ValueError, np.linalg.LinAlgError):
+                continue
+            if not (w > 0 and math.isfinite(w)):
+                continue
+            win_c = select_steady(t, x, w, theta, rel_tol=rel_tol, drop_first=drop_first)
+            score = (win_c.n_cycles, -rms)
+            if best is None or score > best[0]:
+                best = (score, (w, x0, A, theta, rms))
     if best is None:
         raise ValueError(f"test {test!r}: no harmonic oscillation found in x(t)")
     w, x0, A, theta, rms = best[1]

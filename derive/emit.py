@@ -19,7 +19,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from . import chain
+from . import chain, power
 from .symbols import E, c_hertz, c_lin, d, mu, n, pitch, u, width, x
 
 __all__ = ["REQUIRED_SYMPY", "source_hash", "module_source", "generate", "GenerateResult"]
@@ -240,6 +240,114 @@ def module_source(a: chain.Assumptions, sympy_version: str | None = None) -> str
     )
 
 
+_POWER_TEMPLATE = '''\
+# GENERATED FILE - DO NOT EDIT.
+# Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
+# variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
+# derivation source hash: {hash}
+# generator: SymPy {sympy}
+# To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
+"""Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
+
+Used by the gap diagnosis (effect ``contact_law``).  Units: mm, N.  Guards:
+F_k(x <= 0) = 0; x(F < 0) = NaN; NaN in gives NaN out.  The inverse is Newton
+in s = ln F (monotone from an upper bound: the residual is convex in s).
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+VARIANT = "contact_power"
+SOURCE_HASH = "{hash}"
+SYMPY_VERSION = "{sympy}"
+
+
+@njit(cache=True)
+def displacement(F, c_lin, c_hertz, beta):
+    """Elongation x [mm] at tension F [N]."""
+    if F != F or F < 0.0:
+        return math.nan
+    if F == 0.0:
+        return 0.0
+    return {disp}
+
+
+@njit(cache=True)
+def force(x, c_lin, c_hertz, beta):
+    """Tension F_k [N] at elongation x [mm]."""
+    if x != x:
+        return math.nan
+    if x <= 0.0:
+        return 0.0
+    s = math.log(x / c_lin)
+    if c_hertz > 0.0:
+        s = min(s, math.log(x / c_hertz) / beta)
+    for _ in range(200):
+        F = math.exp(s)
+        step = {newton}
+        s -= step
+        if abs(step) <= 1e-15:
+            break
+    return math.exp(s)
+
+
+@njit(cache=True)
+def stiffness(x, c_lin, c_hertz, beta):
+    """Tangent stiffness k_e [N/mm] at elongation x [mm]; 0 for x < 0."""
+    if x != x:
+        return math.nan
+    if x < 0.0:
+        return 0.0
+    if x == 0.0:
+        if c_hertz > 0.0 and beta < 1.0:
+            return 0.0
+        if c_hertz > 0.0 and beta == 1.0:
+            return 1.0 / (c_lin + c_hertz)
+        return 1.0 / c_lin
+    F = force(x, c_lin, c_hertz, beta)
+    return {stiff}
+
+
+@njit(cache=True)
+def force_array(x, c_lin, c_hertz, beta):
+    """force() over a 1-D float64 array [mm] -> [N]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = force(x[i], c_lin, c_hertz, beta)
+    return out
+
+
+@njit(cache=True)
+def stiffness_array(x, c_lin, c_hertz, beta):
+    """stiffness() over a 1-D float64 array [mm] -> [N/mm]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = stiffness(x[i], c_lin, c_hertz, beta)
+    return out
+
+
+@njit(cache=True)
+def displacement_array(F, c_lin, c_hertz, beta):
+    """displacement() over a 1-D float64 array [N] -> [mm]."""
+    out = np.empty(F.shape[0])
+    for i in range(F.shape[0]):
+        out[i] = displacement(F[i], c_lin, c_hertz, beta)
+    return out
+'''
+
+
+def power_module_source(sympy_version: str | None = None) -> str:
+    """Full text of ``generated/contact_power.py`` (derive/power.py)."""
+    return _POWER_TEMPLATE.format(
+        hash=source_hash(),
+        sympy=sympy_version or sp.__version__,
+        disp=_code(power.displacement()),
+        newton=_code(power.newton_update_log()),
+        stiff=_code(power.stiffness()),
+    )
+
+
 def _init_source() -> str:
     names = sorted(chain.VARIANTS)
     return (
@@ -256,7 +364,7 @@ class GenerateResult(dict):
 
 def expected_files() -> dict[str, str]:
     """File name -> expected text of every generated file."""
-    files = {"__init__.py": _init_source()}
+    files = {"__init__.py": _init_source(), "contact_power.py": power_module_source()}
     for name, a in sorted(chain.VARIANTS.items()):
         files[f"stiffness_{name}.py"] = module_source(a)
     return files

@@ -166,3 +166,33 @@ def test_linear_model_fit():
 def test_unknown_variant():
     with pytest.raises(ValueError, match="variant = 'foo' is invalid"):
         kernels.force(1.0, None, "foo")
+
+
+def test_contact_power_kernel_reduces_to_hertz():
+    x = np.logspace(-6, 2.5, 500)
+    hertz = ChainModel()
+    same = ChainModel(contact_exponent=2.0 / 3.0)
+    assert np.allclose(same.force(x), hertz.force(x), rtol=1e-12, atol=0)
+    assert np.allclose(same.stiffness(x), hertz.stiffness(x), rtol=1e-11, atol=0)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.floats(-9, 3), st.floats(0.3, 1.4))
+def test_contact_power_round_trip_and_derivative(log_x, beta):
+    m = ChainModel(contact_exponent=beta)
+    mod = kernels.power_module()
+    x = 10.0**log_x
+    F = float(m.force(np.array([x]))[0])
+    assert abs(mod.displacement(F, *m.coefficients) - x) <= 1e-12 * x
+    h = 1e-4 * x
+    fd = (m.force(np.array([x + h]))[0] - m.force(np.array([x - h]))[0]) / (2 * h)
+    assert float(m.stiffness(np.array([x]))[0]) == pytest.approx(fd, rel=1e-6)
+
+
+def test_conformal_contact_is_stiffer_at_small_x():
+    # β → 1 (conformal, plastic set) at the same approach at 10 kN: stiffer below 10 kN
+    x = np.array([0.3])
+    assert ChainModel(contact_exponent=0.95).stiffness(x)[0] > ChainModel().stiffness(x)[0]
+    assert ChainModel(hertz_scale=0.5).force(x)[0] > ChainModel().force(x)[0]
+    with pytest.raises(ValueError, match="contact_exponent"):
+        ChainModel(contact_exponent=3.0)

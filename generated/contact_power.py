@@ -1,0 +1,93 @@
+# GENERATED FILE - DO NOT EDIT.
+# Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
+# variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
+# derivation source hash: aefe9e993c6876f3
+# generator: SymPy 1.14.0
+# To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
+"""Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
+
+Used by the gap diagnosis (effect ``contact_law``).  Units: mm, N.  Guards:
+F_k(x <= 0) = 0; x(F < 0) = NaN; NaN in gives NaN out.  The inverse is Newton
+in s = ln F (monotone from an upper bound: the residual is convex in s).
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+VARIANT = "contact_power"
+SOURCE_HASH = "aefe9e993c6876f3"
+SYMPY_VERSION = "1.14.0"
+
+
+@njit(cache=True)
+def displacement(F, c_lin, c_hertz, beta):
+    """Elongation x [mm] at tension F [N]."""
+    if F != F or F < 0.0:
+        return math.nan
+    if F == 0.0:
+        return 0.0
+    return F*c_lin + F**beta*c_hertz
+
+
+@njit(cache=True)
+def force(x, c_lin, c_hertz, beta):
+    """Tension F_k [N] at elongation x [mm]."""
+    if x != x:
+        return math.nan
+    if x <= 0.0:
+        return 0.0
+    s = math.log(x / c_lin)
+    if c_hertz > 0.0:
+        s = min(s, math.log(x / c_hertz) / beta)
+    for _ in range(200):
+        F = math.exp(s)
+        step = (F*c_lin + F**beta*c_hertz - x)/(F*c_lin + F**beta*beta*c_hertz)
+        s -= step
+        if abs(step) <= 1e-15:
+            break
+    return math.exp(s)
+
+
+@njit(cache=True)
+def stiffness(x, c_lin, c_hertz, beta):
+    """Tangent stiffness k_e [N/mm] at elongation x [mm]; 0 for x < 0."""
+    if x != x:
+        return math.nan
+    if x < 0.0:
+        return 0.0
+    if x == 0.0:
+        if c_hertz > 0.0 and beta < 1.0:
+            return 0.0
+        if c_hertz > 0.0 and beta == 1.0:
+            return 1.0 / (c_lin + c_hertz)
+        return 1.0 / c_lin
+    F = force(x, c_lin, c_hertz, beta)
+    return F/(F*c_lin + F**beta*beta*c_hertz)
+
+
+@njit(cache=True)
+def force_array(x, c_lin, c_hertz, beta):
+    """force() over a 1-D float64 array [mm] -> [N]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = force(x[i], c_lin, c_hertz, beta)
+    return out
+
+
+@njit(cache=True)
+def stiffness_array(x, c_lin, c_hertz, beta):
+    """stiffness() over a 1-D float64 array [mm] -> [N/mm]."""
+    out = np.empty(x.shape[0])
+    for i in range(x.shape[0]):
+        out[i] = stiffness(x[i], c_lin, c_hertz, beta)
+    return out
+
+
+@njit(cache=True)
+def displacement_array(F, c_lin, c_hertz, beta):
+    """displacement() over a 1-D float64 array [N] -> [mm]."""
+    out = np.empty(F.shape[0])
+    for i in range(F.shape[0]):
+        out[i] = displacement(F[i], c_lin, c_hertz, beta)
+    return out
