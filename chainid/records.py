@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import csv
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable
 
@@ -71,12 +71,16 @@ class Record:
         Elongation [mm].
     F : ndarray
         Axial force (tension positive) [N].
+    estimate : HarmonicEstimate or None
+        Harmonic estimate and steady window found when the record was
+        validated by :func:`read_records` (reused by :func:`analyse_record`).
     """
 
     test: str
     t: np.ndarray
     x: np.ndarray
     F: np.ndarray
+    estimate: "HarmonicEstimate | None" = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.test = str(self.test)
@@ -311,7 +315,9 @@ def read_records(
         rec = Record(test, a[:, 0], a[:, 1], a[:, 2])
         if validate:
             try:
-                validate_record(rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr)
+                rec.estimate = validate_record(
+                    rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr
+                )
             except ValueError as exc:
                 raise ValueError(f"{spath}: {exc}") from None
         records.append(rec)
@@ -408,7 +414,12 @@ def _nls_harmonic(t: np.ndarray, x: np.ndarray, omega0: float) -> tuple[float, f
         w, c0, aa, bb = p
         return c0 + aa * np.sin(w * tt) + bb * np.cos(w * tt) - x
 
-    sol = least_squares(resid, np.array([omega0, x0, a, b]), method="lm", x_scale="jac")
+    def jac(p: np.ndarray) -> np.ndarray:
+        w, _, aa, bb = p
+        s, c = np.sin(w * tt), np.cos(w * tt)
+        return np.column_stack([tt * (aa * c - bb * s), np.ones_like(tt), s, c])
+
+    sol = least_squares(resid, np.array([omega0, x0, a, b]), jac=jac, method="lm", x_scale="jac")
     w, c0, aa, bb = sol.x
     if w < 0:  # sin(-wt) = -sin(wt): normalise to w > 0
         w, aa = -w, -aa
@@ -804,7 +815,11 @@ def analyse_record(
         Validated with :func:`validate_record`.
     """
     if side is None:
-        est = estimate_harmonic(rec.t, rec.x, rel_tol=rel_tol, test=rec.test)
+        cached = rec.estimate
+        if cached is not None and cached.window is not None and cached.window.rel_tol == rel_tol:
+            est = cached
+        else:
+            est = estimate_harmonic(rec.t, rec.x, rel_tol=rel_tol, test=rec.test)
     else:
         w, x0, A = side
         _, a, b = _linear_harmonic(rec.t, rec.x, w)
