@@ -201,11 +201,14 @@ def step_identify_data(folder: Path, data: Path, model: Any, say: Progress) -> s
     text = [f"## 3. Damping identification of `{data.name}`\n"]
     law = None
     if len(res) >= identify.MIN_TESTS:
-        ranking = identify.rank_laws(res, identify.default_laws(model))
-        doc["laws"] = [r.to_dict() if hasattr(r, "to_dict") else r for r in ranking]
-        best = ranking[0]
-        law = getattr(best, "law", None)
-        text.append(f"Damping laws ranked by leave-one-out error; best: {getattr(best, 'name', law)}.\n")
+        arr = {k: np.array([getattr(r, k) for r in res]) for k in ("omega", "A", "c_e", "x0")}
+        ranking = identify.rank_laws(arr["omega"], arr["A"], arr["c_e"], arr["x0"], model=model)
+        doc["laws"] = [{k: v for k, v in r.items() if k != "fitted"} for r in ranking]
+        law = ranking[0].get("fitted")
+        text.append("Damping laws ranked by leave-one-out error (best first):\n")
+        text.append(_md_table(["law", "parameters", "RMSE [N·s/mm]", "LOO RMSE [N·s/mm]"],
+                              [[r["law"], r.get("n_params", ""), f"{r.get('rmse', float('nan')):.4g}",
+                                f"{r.get('loo_rmse', float('nan')):.4g}"] for r in ranking]) + "\n")
     else:
         text.append(f"{len(res)} tests: fewer than {identify.MIN_TESTS}, no damping law fitted.\n")
     plots_identify.plot_all(recs, res, model, folder / "figures", law=law)

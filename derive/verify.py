@@ -8,6 +8,7 @@ not failures.
 """
 from __future__ import annotations
 
+import copy
 import math
 import random
 from dataclasses import asdict, dataclass, field
@@ -319,8 +320,16 @@ def check_units() -> list[Check]:
     ]
 
 
+_CACHE: list[Check] | None = None
+
+
 def run_checks(progress: Callable[[str], None] | None = None) -> list[Check]:
-    """Run every derived-vs-paper check (takes ~30 s: the SymPy integrals)."""
+    """Run every derived-vs-paper check (~30 s: the SymPy integrals; cached for the process)."""
+    global _CACHE
+    if _CACHE is not None:
+        if progress:
+            progress("checks already run in this process")
+        return copy.deepcopy(_CACHE)
     steps = [("Eq. 2–3", check_eq2_eq3), ("Eq. 4", check_eq4), ("Eq. 5", check_eq5), ("Eq. 7", check_eq7),
              ("Eq. 8–10", check_eq8_10), ("Eq. 11–14", check_eq11_14), ("Eq. 15–16", check_eq15_16),
              ("assumptions", check_assumptions), ("units", check_units)]
@@ -330,6 +339,7 @@ def run_checks(progress: Callable[[str], None] | None = None) -> list[Check]:
             progress(label)
         res = fn()
         out.extend(res if isinstance(res, list) else [res])
+    _CACHE = copy.deepcopy(out)
     return out
 
 

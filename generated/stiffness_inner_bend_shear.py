@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/).
 # variant: inner_bend_shear - inner bend contact and shear form factor 10/9
-# derivation source hash: aefe9e993c6876f3
+# derivation source hash: 019f9a63c9409ee7
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of the chain stiffness, variant ``inner_bend_shear`` (inner bend contact and shear form factor 10/9).
@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit, prange
 
 VARIANT = "inner_bend_shear"
-SOURCE_HASH = "aefe9e993c6876f3"
+SOURCE_HASH = "019f9a63c9409ee7"
 SYMPY_VERSION = "1.14.0"
 CONTACT = "inner"
 SHEAR_FACTOR = 1.1111111111111112
