@@ -118,7 +118,12 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
     from .spec import load_chain
 
     chain = load_chain(args.chain)
-    x = np.asarray(args.x, dtype=float)
+    if args.x is None and args.F is None:
+        raise ValueError("give --x X [X ...] (elongations, mm) and/or --F F [F ...] (tensions, N)")
+    xs = list(args.x or [])
+    if args.F:
+        xs += [float(v) for v in np.atleast_1d(kernels.displacement(np.asarray(args.F, dtype=float), chain, args.variant))]
+    x = np.asarray(xs, dtype=float)
     F = kernels.force(x, chain, args.variant)
     k = kernels.stiffness(x, chain, args.variant)
     c_lin, c_h = kernels.coefficients(chain, args.variant)
@@ -155,8 +160,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--out", metavar="DIR", help="target directory (default: the chainid.generated package)")
     g.set_defaults(func=cmd_generate)
 
-    s = sub.add_parser("stiffness", help="F_k and k_e at given elongations")
-    s.add_argument("--x", type=float, nargs="+", required=True, metavar="X", help="elongations [mm]")
+    s = sub.add_parser("stiffness", help="F_k and k_e at given elongations (or tensions)")
+    s.add_argument("--x", type=float, nargs="+", metavar="X", help="elongations [mm]")
+    s.add_argument("--F", type=float, nargs="+", metavar="F", help="tensions [N] (their elongations are added)")
     s.add_argument("--chain", metavar="FILE.toml", help="chain file (default: the built-in 14x50 chain)")
     s.add_argument("--variant", default="paper", choices=VARIANTS, help="model variant")
     s.add_argument("--json", nargs="?", const="-", metavar="FILE", help="JSON to FILE, or to stdout with no FILE")

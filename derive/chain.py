@@ -22,7 +22,8 @@ __all__ = [
     "chain_coefficients",
     "stiffness",
     "inverse_cubic",
-    "newton_update",
+    "halley_terms",
+    "start_value",
     "cardano_root",
     "stiffness_in_u",
 ]
@@ -124,10 +125,25 @@ def inverse_cubic() -> sp.Expr:
     return sp.expand(generic_displacement() - x)
 
 
-def newton_update() -> sp.Expr:
-    """Newton step u − P(u)/P′(u) for the cubic, simplified (the kernel's polish step)."""
+def halley_terms() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """P(u), P′(u), P″(u) of the inverse cubic, factored for Horner evaluation.
+
+    The kernel takes Halley steps u ← u − 2PP′/(2P′² − PP″) (cubic convergence),
+    a fixed number of them so that the loop over an array vectorises.
+    """
     P = inverse_cubic()
-    return sp.simplify(u - P / sp.diff(P, u))
+    d1 = sp.diff(P, u)
+    d2 = sp.diff(P, u, 2)
+    return sp.horner(P + x, u) - x, sp.horner(d1, u), sp.horner(d2, u)
+
+
+def start_value() -> sp.Expr:
+    """Starting value u₀ of the inverse: 1/u₀² = c_hertz/x + (c_lin/x)^(2/3).
+
+    Each term alone is the root of the cubic with the other coefficient set to
+    zero, an upper bound of u; the root-sum of squares blends them within ~6 %.
+    """
+    return 1 / sp.sqrt(c_hertz / x + (c_lin / x) ** sp.Rational(2, 3))
 
 
 def cardano_root() -> sp.Expr:

@@ -95,27 +95,60 @@ _TEMPLATE = '''\
 # derivation source hash: {hash}
 # generator: SymPy {sympy}
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
-"""Kernels of the chain stiffness, variant ``{name}`` ({description}).
+\"\"\"Kernels of the chain stiffness, variant ``{name}`` ({description}).
 
 x(F) = c_lin*F + c_hertz*F**(2/3)  (paper Eq. 15); k_e = (dx/dF)**-1 (Eq. 16).
 Units: mm, N, MPa.  Guards: F_k(x <= 0) = 0 (a slack chain carries no
-compression); x(F < 0) = NaN; NaN in gives NaN out.
-"""
+compression; x below X_TINY mm, where F_k underflows, counts as 0);
+x(F < 0) = NaN; NaN in gives NaN out.
+
+The inverse solves c_lin*u**3 + c_hertz*u**2 = x for u = F**(1/3): a start
+value within ~10 % (a bit-level cube-root estimate in the blend of the two
+one-term roots) and three Halley steps (cubic convergence: 1e-1 -> 1e-3 ->
+1e-9 -> round-off).  No data-dependent loop or branch, and the numpy error
+model, so that numba vectorises the array loops.
+\"\"\"
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
+from numba.extending import intrinsic
 
 VARIANT = "{name}"
 SOURCE_HASH = "{hash}"
 SYMPY_VERSION = "{sympy}"
 CONTACT = "{contact}"
 SHEAR_FACTOR = {shear}
+X_TINY = 1e-290
+_CBRT_MAGIC = 0x2A9F7893782DA1CE  # bits of 2**(1023*2/3 - 1023)..., the classic cube-root bias
+_FASTMATH = {{"contract", "arcp", "nsz"}}
+
+
+@intrinsic
+def _bits(typingctx, v):
+    \"\"\"The IEEE-754 bit pattern of a float64, as int64.\"\"\"
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], context.get_value_type(types.int64))
+    return types.int64(types.float64), codegen
+
+
+@intrinsic
+def _from_bits(typingctx, v):
+    \"\"\"The float64 with a given int64 bit pattern.\"\"\"
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], context.get_value_type(types.float64))
+    return types.float64(types.int64), codegen
+
+
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy", inline="always")
+def _cbrt_estimate(y):
+    \"\"\"y**(1/3) within ~3.5 % for y > 0 (exponent / 3 on the bit pattern).\"\"\"
+    return _from_bits(np.int64(_bits(y) * 0.3333333333333333) + _CBRT_MAGIC)
 
 
 @njit(cache=True)
 def coefficients(d, pitch, width, n, E, nu):
-    """(c_lin [mm/N], c_hertz [mm/N**(2/3)]) of a chain: d, pitch, width mm; n links; E MPa; nu."""
+    \"\"\"(c_lin [mm/N], c_hertz [mm/N**(2/3)]) of a chain: d, pitch, width mm; n links; E MPa; nu.\"\"\"
     if not (d > 0.0 and width > 0.0 and pitch > width and n >= 1.0 and E > 0.0 and 0.0 < nu < 0.5):
         return math.nan, math.nan
 {coeff_body}
@@ -124,54 +157,53 @@ def coefficients(d, pitch, width, n, E, nu):
 
 @njit(cache=True)
 def displacement(F, c_lin, c_hertz):
-    """Chain elongation x [mm] at tension F [N] (Eq. 15)."""
+    \"\"\"Chain elongation x [mm] at tension F [N] (Eq. 15).\"\"\"
     if F != F or F < 0.0:
         return math.nan
     u = np.cbrt(F)
     return {disp}
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy", inline="always")
+def root_u(x, c_lin, c_hertz):
+    \"\"\"u = F_k**(1/3) [N**(1/3)] at elongation x > X_TINY [mm]: positive root of c_lin*u**3 + c_hertz*u**2 = x.\"\"\"
+    u = {start}
+    for _ in range(3):
+        P = {P}
+        dP = {dP}
+        d2P = {d2P}
+        u = u - 2.0 * P * dP / (2.0 * dP * dP - P * d2P)
+    return u
+
+
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy", inline="always")
 def force(x, c_lin, c_hertz):
-    """Tension F_k [N] at elongation x [mm]: positive root u of c_lin*u**3 + c_hertz*u**2 = x, F = u**3."""
-    if x != x:
-        return math.nan
-    if x <= 0.0:
-        return 0.0
-    # start below the root: 1/u0**2 = c_hertz/x + (c_lin/x)**(2/3) (each term alone bounds u from above)
-    g = np.cbrt(c_lin / x)
-    u = 1.0 / math.sqrt(c_hertz / x + g * g)
-    for _ in range(60):
-        un = {newton}
-        if abs(un - u) <= 1e-15 * un:
-            u = un
-            break
-        u = un
-    return u * u * u
+    \"\"\"Tension F_k [N] at elongation x [mm] (inverse of Eq. 15); 0 for x <= 0, NaN for NaN.\"\"\"
+    xs = x if x > X_TINY else 1.0
+    u = root_u(xs, c_lin, c_hertz)
+    F = u * u * u
+    return F if x > X_TINY else (0.0 if x <= X_TINY else x)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy", inline="always")
 def stiffness(x, c_lin, c_hertz):
-    """Tangent stiffness k_e [N/mm] at elongation x [mm] (Eq. 16); 0 for a slack chain (x < 0)."""
-    if x != x:
-        return math.nan
-    if x < 0.0:
-        return 0.0
-    if x == 0.0:
-        return 0.0 if c_hertz > 0.0 else 1.0 / c_lin
-    u = np.cbrt(force(x, c_lin, c_hertz))
-    return {stiff}
+    \"\"\"Tangent stiffness k_e [N/mm] at elongation x [mm] (Eq. 16); 0 for x < 0 (slack), NaN for NaN.\"\"\"
+    xs = x if x > X_TINY else 1.0
+    u = root_u(xs, c_lin, c_hertz)
+    k = {stiff}
+    k0 = 0.0 if (x < 0.0 or c_hertz > 0.0) else 1.0 / c_lin
+    return k if x > X_TINY else (k0 if x <= X_TINY else x)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy", inline="always")
 def damping_residual(F, x, xddot, mass_kg, c_lin, c_hertz):
-    """F_c = F - m*xddot*1e-3 - F_k(x) [N] (Eq. 17, 20): F N, x mm, xddot mm/s**2, m kg."""
+    \"\"\"F_c = F - m*xddot*1e-3 - F_k(x) [N] (Eq. 17, 20): F N, x mm, xddot mm/s**2, m kg.\"\"\"
     return F - mass_kg * xddot * 1e-3 - force(x, c_lin, c_hertz)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy")
 def force_array(x, c_lin, c_hertz):
-    """force() over a 1-D float64 array [mm] -> [N]."""
+    \"\"\"force() over a 1-D float64 array [mm] -> [N].\"\"\"
     out = np.empty(x.shape[0])
     for i in range(x.shape[0]):
         out[i] = force(x[i], c_lin, c_hertz)
@@ -180,48 +212,66 @@ def force_array(x, c_lin, c_hertz):
 
 @njit(cache=True)
 def displacement_array(F, c_lin, c_hertz):
-    """displacement() over a 1-D float64 array [N] -> [mm]."""
+    \"\"\"displacement() over a 1-D float64 array [N] -> [mm].\"\"\"
     out = np.empty(F.shape[0])
     for i in range(F.shape[0]):
         out[i] = displacement(F[i], c_lin, c_hertz)
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy")
 def stiffness_array(x, c_lin, c_hertz):
-    """stiffness() over a 1-D float64 array [mm] -> [N/mm]."""
+    \"\"\"stiffness() over a 1-D float64 array [mm] -> [N/mm].\"\"\"
     out = np.empty(x.shape[0])
     for i in range(x.shape[0]):
         out[i] = stiffness(x[i], c_lin, c_hertz)
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy")
 def damping_residual_array(F, x, xddot, mass_kg, c_lin, c_hertz):
-    """damping_residual() over 1-D float64 arrays -> [N]."""
+    \"\"\"damping_residual() over 1-D float64 arrays -> [N].\"\"\"
     out = np.empty(x.shape[0])
     for i in range(x.shape[0]):
         out[i] = damping_residual(F[i], x[i], xddot[i], mass_kg, c_lin, c_hertz)
     return out
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, fastmath=_FASTMATH, error_model="numpy")
 def force_parallel(x, c_lin, c_hertz):
-    """force() over a 1-D float64 array on all cores (prange)."""
+    \"\"\"force() over a 1-D float64 array on all cores (prange).\"\"\"
     out = np.empty(x.shape[0])
     for i in prange(x.shape[0]):
         out[i] = force(x[i], c_lin, c_hertz)
     return out
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, fastmath=_FASTMATH, error_model="numpy")
 def stiffness_parallel(x, c_lin, c_hertz):
-    """stiffness() over a 1-D float64 array on all cores (prange)."""
+    \"\"\"stiffness() over a 1-D float64 array on all cores (prange).\"\"\"
     out = np.empty(x.shape[0])
     for i in prange(x.shape[0]):
         out[i] = stiffness(x[i], c_lin, c_hertz)
     return out
 '''
+
+
+class _FastPrinter(_Printer):
+    """As :class:`_Printer`, but cube roots by the kernel's bit-level estimate (start values only)."""
+
+    def _print_Pow(self, expr: sp.Pow, rational: bool = False) -> str:
+        b, ex = expr.as_base_exp()
+        if ex == sp.Rational(2, 3):
+            return f"_cbrt_estimate({self._print(b)})**2"
+        return super()._print_Pow(expr, rational=rational)
+
+
+def _start_code() -> str:
+    """The start value of :func:`chain.start_value` with (c_lin/x)^(2/3) as one estimated cube root."""
+    expr = chain.start_value()
+    combined = 1 / sp.sqrt(c_hertz / x + sp.Pow(c_lin / x, sp.Rational(2, 3), evaluate=False))
+    assert sp.simplify(expr - combined) == 0
+    return _FastPrinter().doprint(combined)
 
 
 def module_source(a: chain.Assumptions, sympy_version: str | None = None) -> str:
@@ -235,7 +285,10 @@ def module_source(a: chain.Assumptions, sympy_version: str | None = None) -> str
         shear=repr(float(a.shear_factor)),
         coeff_body=_coefficient_body(a),
         disp=_code(chain.generic_displacement()),
-        newton=_code(chain.newton_update()),
+        start=_start_code(),
+        P=_code(chain.halley_terms()[0]),
+        dP=_code(chain.halley_terms()[1]),
+        d2P=_code(chain.halley_terms()[2]),
         stiff=_code(chain.stiffness_in_u()),
     )
 

@@ -196,3 +196,17 @@ def test_conformal_contact_is_stiffer_at_small_x():
     assert ChainModel(hertz_scale=0.5).force(x)[0] > ChainModel().force(x)[0]
     with pytest.raises(ValueError, match="contact_exponent"):
         ChainModel(contact_exponent=3.0)
+
+
+def test_cli_stiffness_json(capsys):
+    import json
+
+    from chainid import cli
+
+    assert cli.main(["stiffness", "--x", "2.2", "--F", "11117", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    pts = doc["points"]
+    assert pts[0]["x_mm"] == 2.2 and pts[0]["F_k_N"] == pytest.approx(chainid.force(2.2), rel=1e-12)
+    assert pts[1]["F_k_N"] == pytest.approx(11117.0, rel=1e-12)
+    assert pts[1]["x_mm"] == pytest.approx(1.9058, abs=5e-4)
+    assert cli.main(["stiffness"]) == 2
