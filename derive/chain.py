@@ -128,8 +128,9 @@ def inverse_cubic() -> sp.Expr:
 def halley_terms() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """P(u), P′(u), P″(u) of the inverse cubic, factored for Horner evaluation.
 
-    The kernel takes Halley steps u ← u − 2PP′/(2P′² − PP″) (cubic convergence),
-    a fixed number of them so that the loop over an array vectorises.
+    The kernel takes two Halley steps u ← u − 2PP′/(2P′² − PP″) (cubic
+    convergence) and a final Newton step u ← u − P/P′, a fixed number so that
+    the loop over an array vectorises.
     """
     P = inverse_cubic()
     d1 = sp.diff(P, u)
