@@ -221,14 +221,21 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         params = defaults[args.law]
     law = _law(args.law, params, model)
     ramp = None if args.ramp_rate <= 0 else args.ramp_rate
+    force_fn = None
+    if args.effect:
+        from .gap.effects import parse_effect
+
+        force_fn = parse_effect(args.effect, model)
     recs = simulate(plan, model, law, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
-                    ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F)
+                    ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F,
+                    force_fn=force_fn)
     write_records(args.out, recs, overwrite=args.force)
     print(_table(["test", "omega rad/s", "x0 mm", "A mm", "c_e N.s/mm", "samples", "duration s"],
                  [[s.test, s.omega, s.x0, s.A, float(law.predict(s.omega, s.A, s.x0)[0]), r.t.size, r.t[-1]]
                   for s, r in zip(plan, recs)],
                  ["", ".5g", ".4g", ".4g", ".5g", "d", ".4g"]))
-    print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}, noise x {args.noise_x} mm, "
+    effect = f", effect {args.effect}" if args.effect else ""
+    print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}{effect}, noise x {args.noise_x} mm, "
           f"F {args.noise_F} N, seed {args.seed})")
     return 0
 
@@ -310,6 +317,11 @@ def add_subparsers(subparsers: Any) -> None:
     s.add_argument("--ramp-rate", dest="ramp_rate", type=float, default=0.08973,
                    help="ramp rate to x0 [mm/s] (paper Eq. 25: 0.08973; 0 = no ramp)")
     s.add_argument("--taper-cycles", dest="taper_cycles", type=float, default=0.0, help="amplitude taper in/out [cycles]")
+    s.add_argument("--effect", metavar="NAME[:p=v,...]",
+                   help="add an unmodelled effect from the gap library, e.g. friction:F_c=150 (N), "
+                        "hysteresis:F_h=300,x_h=0.05, backlash:b=0.02 (mm), slack:s=0.1 (mm), "
+                        "machine_compliance:c=2e-5 (mm/N), contact_law:scale=1.2,beta=0.6, "
+                        "sensor_delay:tau=0.01 (s), damping_law:eta=0.3,F_f=100")
     s.add_argument("--force", action="store_true", help="overwrite the output file")
     s.set_defaults(func=_wrap(cmd_simulate))
 

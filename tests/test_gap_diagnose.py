@@ -53,6 +53,10 @@ CASES = [
 def test_effect_recovered(spec, verdict, params):
     res = diagnose(records(spec), HOLD, MODEL, max_combo=1, uncertainty=False)
     assert res["verdict"] == verdict, (res["verdict"], res["ranking"][:2])
+    # x_h = 0.03 mm is well below the smallest amplitude (0.1 mm): Dahl hysteresis reads as friction
+    expected = {"hysteresis": "friction", "backlash": "play", "slack": "displacement offset",
+                "machine_compliance": "stiffness", "contact_law": "stiffness"}.get(verdict, verdict)
+    assert res["mechanism"] == expected
     best = res["best"]
     assert best["shrinkage"] >= 0.7
     for k, (true, tol) in params.items():
@@ -107,6 +111,7 @@ def test_real_friction_damper_linear():
     assert res["best"]["shrinkage"] >= 0.5
     # the winner is a friction model (Coulomb or Dahl-type smooth pre-sliding friction)
     assert set(res["verdict"].split("+")) & {"friction", "hysteresis"}
+    assert "friction" in res["mechanism"].split("+")
 
 
 def test_bad_input():

@@ -152,6 +152,7 @@ def diagnose(
             interp = (f"Dahl-type hysteresis with transition travel x_h = {xh:.3g} mm << A (>= {amin:.3g} mm): "
                       "rate-independent frictional sliding with smooth pre-sliding (Dahl friction)")
     summary = {
+        "mechanism": _mechanism(verdict, interp),
         "baseline": {"nrmse_train": base["nrmse_train"], "nrmse_holdout": base_hold, "model": getattr(model, "name", "?"),
                      "damping_law": "polynomial", "law_params": base["law_params"],
                      "excess_rms_N": excess, "noise_sigma_N": sig_hold, "chi2_ratio": chi_ratio,
@@ -173,6 +174,29 @@ def diagnose(
     summary["_problem"] = prob
     summary["_best"] = best
     return summary
+
+
+#: The physical family of each library effect, in an engineer's words (JSON field ``mechanism``).
+MECHANISM = {"friction": "friction", "hysteresis": "hysteresis", "backlash": "play",
+             "slack": "displacement offset", "machine_compliance": "stiffness", "contact_law": "stiffness",
+             "sensor_delay": "instrumentation", "damping_law": "damping form"}
+
+
+def _mechanism(verdict: str, interpretation: str) -> str:
+    """The verdict's physical families joined by ``+`` (Dahl hysteresis with x_h << A counts as friction).
+
+    ``none`` and ``unexplained`` map to themselves.
+    """
+    if verdict in ("none", "unexplained"):
+        return verdict
+    fams: list[str] = []
+    for name in verdict.split("+"):
+        fam = MECHANISM.get(name, name)
+        if name == "hysteresis" and "Dahl friction" in interpretation:
+            fam = "friction"
+        if fam not in fams:
+            fams.append(fam)
+    return "+".join(fams)
 
 
 def _separating_test(a: str, b: str) -> str:

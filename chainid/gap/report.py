@@ -73,6 +73,8 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
                      f"(shrinkage {100 * best['shrinkage']:.0f} %)")
     if result.get("interpretation"):
         lines.append(f"  meaning: {result['interpretation']}")
+    if result.get("mechanism") and result["mechanism"] not in ("none", "unexplained"):
+        lines.append(f"  mechanism: {result['mechanism']}")
     for w in result.get("warnings", []):
         lines.append(f"WARNING: {w}")
     return "\n".join(lines)
