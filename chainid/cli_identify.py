@@ -106,15 +106,9 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
     model = _model(args)
     if model is None:  # --model linear without --k: fit F - m xddot = k (x - x_ref) on the steady cycles
-        from . import models
+        from .identify import linear_model_from_records
 
-        xs, Fs = [], []
-        for r in records:
-            est = analyse_record(r, side.get(r.test) if side else None, allow_compression=True)
-            mwin = (r.t >= est.window.t_start) & (r.t < est.window.t_end)
-            xs.append(r.x[mwin])
-            Fs.append(r.F[mwin] - inertia_force_N(args.mass or 0.0, est.xddot(r.t[mwin])))
-        model = models.LinearModel.fit(np.concatenate(xs), np.concatenate(Fs), mass=float(args.mass or 0.0))
+        model = linear_model_from_records(records, float(args.mass or 0.0), side)
 
     def progress(i: int, n: int, test: str) -> None:
         if not args.quiet:

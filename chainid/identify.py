@@ -95,6 +95,37 @@ def inertia_force_N(m_kg: float | np.ndarray, xddot_mm_s2: float | np.ndarray) -
     return np.multiply(m_kg, xddot_mm_s2) * 1e-3
 
 
+def linear_model_from_records(records: Sequence[Record], mass_kg: float = 0.0,
+                               side: dict[str, tuple[float, float, float]] | None = None) -> Any:
+    """A linear spring F − m·ẍ = k·(x − x_ref) fitted on the steady cycles of all records.
+
+    For parts that are not chains (``--model linear`` without ``--k``).
+
+    Parameters
+    ----------
+    records : sequence of Record
+        Tests (t s, x mm, F N); compressive force allowed.
+    mass_kg : float
+        Moving mass m [kg] (default 0); its inertia m·ẍ·1e-3 [N] is removed before the fit.
+    side : dict, optional
+        test id → (omega rad/s, x0 mm, A mm) instead of the estimates.
+
+    Returns
+    -------
+    chainid.models.LinearModel
+        k [N/mm], x_ref [mm].
+    """
+    from . import models
+
+    xs, Fs = [], []
+    for r in records:
+        est = analyse_record(r, side.get(r.test) if side else None, allow_compression=True)
+        mwin = (r.t >= est.window.t_start) & (r.t < est.window.t_end)
+        xs.append(r.x[mwin])
+        Fs.append(r.F[mwin] - inertia_force_N(mass_kg, est.xddot(r.t[mwin])))
+    return models.LinearModel.fit(np.concatenate(xs), np.concatenate(Fs), mass=float(mass_kg))
+
+
 # ----------------------------------------------------------------------------
 # Harmonic fit of the force (Eq. 19, 26)
 # ----------------------------------------------------------------------------

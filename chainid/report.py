@@ -194,11 +194,24 @@ def step_identify_data(folder: Path, data: Path, model: Any, say: Progress) -> s
     """Identification of the user's records (``--data``)."""
     from . import identify, plots_identify, records
 
-    recs = records.read_records(data)
+    note = ""
+    try:
+        recs = records.read_records(data)
+    except ValueError as exc:
+        if "compress" not in str(exc):
+            raise
+        # the force changes sign: not a chain under tension; identify with a fitted linear spring
+        recs = records.read_records(data, allow_compression=True)
+        model = identify.linear_model_from_records(recs)
+        fmin = min(float(r.F.min()) for r in recs)
+        note = (f"The force goes compressive (min F = {fmin:.6g} N); a chain carries none, so this step uses a linear "
+                f"spring fitted on the steady cycles, k = {model.k:.4g} N/mm, x_ref = {model.x_ref:.4g} mm "
+                "(as `chainid identify --model linear`).\n")
     say(f"identification of {len(recs)} tests from {data}")
-    res = identify.identify_records(recs, model, progress=lambda i, n, t: say(f"identify {i}/{n}: {t}"))
-    doc: dict[str, Any] = {"tests": [r.to_dict() for r in res]}
-    text = [f"## 3. Damping identification of `{data.name}`\n"]
+    res = identify.identify_records(recs, model,
+                                    progress=lambda i, n, t: say(f"identify {i}/{n}: {t}"))
+    doc: dict[str, Any] = {"tests": [r.to_dict() for r in res], "model": getattr(model, "name", "?")}
+    text = [f"## 3. Damping identification of `{data.name}`\n"] + ([note] if note else [])
     law = None
     if len(res) >= identify.MIN_TESTS:
         arr = {k: np.array([getattr(r, k) for r in res]) for k in ("omega", "A", "c_e", "x0")}

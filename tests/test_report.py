@@ -24,3 +24,27 @@ def test_report_on_builtin_chain(tmp_path):
     # a second run into the same folder needs --force
     assert cli.main(["report", "--out", str(out)]) == 2
     assert cli.main(["report", "--out", str(out), "--force"]) == 0
+
+
+def test_report_data_step_with_compressive_records_uses_a_linear_spring(tmp_path):
+    """--data records whose force changes sign (not a chain): step 3 says so and fits k, not the chain."""
+    import json
+
+    from chainid.models import ChainModel, LinearModel
+    from chainid.records import write_records
+    from chainid.report import step_identify_data
+    from chainid.simulate import TestSpec, simulate
+
+    true = LinearModel(150.0, 5.0, mass=0.0)  # k = 150 N/mm, F = 0 at x = 5 mm: F swings through zero
+    plan = [TestSpec(str(i), w, 5.0, A) for i, (w, A) in enumerate([(1, 1), (2, 1), (3, 2), (1, 2), (2, 3), (3, 3)])]
+    recs = simulate(plan, true, 20.0, seed=0, noise_F=1.0)  # viscous c_e = 20 N·s/mm
+    data = tmp_path / "lin.csv"
+    write_records(data, recs)
+    (tmp_path / "out").mkdir()
+    text = step_identify_data(tmp_path / "out", data, ChainModel(), lambda msg: None)
+    assert "compressive" in text and "linear spring" in text
+    assert "k = 150 N/mm" in text  # fitted k to 4 significant figures
+    doc = json.loads((tmp_path / "out" / "json" / "identify.json").read_text())
+    assert doc["model"].startswith("linear")
+    ce = [t["c_e"] for t in doc["tests"]]
+    assert ce == pytest.approx([20.0] * len(ce), rel=0.02)

@@ -94,10 +94,12 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
     after = np.array([aug["per_test"][d.test] for d in prob.data])
     vmax = float(np.nanmax(before)) or 1.0
     for ax, val, title in ((axs[0], before, "baseline NRMSE"), (axs[1], after, f"with {best.name if best else '-'}")):
-        sc = ax.scatter(w, A, c=val, s=260, cmap="viridis", vmin=0, vmax=vmax, marker="s",
-                        edgecolors=["r" if d in hold else "none" for d in prob.data])
-        for wi, ai, v in zip(w, A, val):
-            ax.annotate(f"{v:.2g}", (wi, ai), fontsize=6, ha="center", va="center", color="w")
+        sc = ax.scatter(w, A, c=val, s=700, cmap="viridis", vmin=0, vmax=vmax, marker="s",
+                        edgecolors=["r" if d in hold else "none" for d in prob.data], linewidths=1.5)
+        for wi, ai, v in zip(w, A, val):  # dark text on the bright end of viridis
+            ax.annotate(f"{v:.2g}", (wi, ai), fontsize=7, ha="center", va="center",
+                        color="k" if np.isfinite(v) and v > 0.6 * vmax else "w")
+        ax.margins(0.12)
         ax.set_xlabel("ω [rad/s]")
         ax.set_title(title + " (red edge: held-out)", fontsize=9)
     axs[0].set_ylabel("A [mm]")

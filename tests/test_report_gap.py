@@ -1,0 +1,192 @@
+"""Step 4 of `chainid report` (chainid.gap.report_steps): simulated blind diagnosis, Eq. 26, Table 1, --data."""
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from chainid.gap import report_steps
+from chainid.identify import PolynomialLaw
+from chainid.models import ChainModel, LinearModel
+from chainid.records import write_records
+from chainid.simulate import TestSpec, simulate
+
+MODEL = ChainModel()
+TABLE1 = Path(report_steps.__file__).parents[1] / "data" / "table1.csv"
+# Eq. 25/26 as printed in the paper (test 3)
+X0, A3, W3 = 2.2, 0.25, 1.884
+F0, FA, PHI = 11117.21, 19522.1, -0.8350
+
+
+@pytest.fixture(scope="module")
+def builtin(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("rep")
+    msgs: list[str] = []
+    md = report_steps.report_section(folder, MODEL, None, msgs.append)
+    return folder, md, msgs
+
+
+def _images(md: str) -> list[str]:
+    return re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
+
+
+def test_builtin_markdown_and_figures(builtin):
+    folder, md, msgs = builtin
+    assert md.startswith("## 4. Gap")
+    assert "### 4a." in md and "### 4b." in md
+    assert "hidden effect (withheld from the model)" in md.lower()
+    assert msgs and all(m.startswith("gap:") for m in msgs)
+    imgs = _images(md)
+    assert len(imgs) == 6  # 4 diagnosis figures + Eq. 26 record + Table 1 energy
+    for rel in imgs:
+        assert not Path(rel).is_absolute()
+        assert (folder / rel).stat().st_size > 5_000, rel
+    for name in ("gap_simulated.json", "gap_eq26.json"):
+        assert f"json/{name}" in md
+        json.loads((folder / "json" / name).read_text())
+
+
+def test_simulated_blind_diagnosis_finds_hidden_effect(builtin):
+    folder, md, _ = builtin
+    doc = json.loads((folder / "json" / "gap_simulated.json").read_text())
+    hidden = doc["simulation"]["hidden_effect"].split(":")[0]
+    assert hidden == report_steps.SIM_EFFECT.split(":")[0] == "friction"
+    assert doc["verdict"] == hidden
+    assert doc["check"]["matches"] is True
+    assert doc["holdout"] == list(report_steps.SIM_HOLDOUT) and len(doc["holdout"]) == 3
+    assert len(doc["tests"]) == 11
+    b, best = doc["baseline"], doc["best"]
+    assert best["nrmse_holdout"] < b["nrmse_holdout"]
+    assert best["shrinkage"] == pytest.approx(1 - best["nrmse_holdout"] / b["nrmse_holdout"], rel=1e-9)
+    assert best["shrinkage"] >= 0.7
+    # recovered friction force at x0 = 2.2 mm: F_c + mu·F_k(x0) against the hidden 150 N
+    Fk0 = float(MODEL.force(np.array([2.2]))[0])
+    total = best["params"]["friction.F_c"] + best["params"]["friction.mu"] * Fk0
+    assert total == pytest.approx(150.0, rel=0.05)
+    assert doc["check"]["friction_force_at_x0"]["recovered_N"] == pytest.approx(total, rel=1e-9)
+    # plan inside the paper's tested range, around its operating point
+    for p in doc["simulation"]["plan"]:
+        assert 0.3 <= p["omega_rad_s"] <= 3.2 and 0.1 <= p["A_mm"] <= 0.4 and abs(p["x0_mm"] - 2.2) <= 0.1
+    assert f"**Verdict: {hidden}**" in md
+    assert f"{100 * best['shrinkage']:.0f} %" in md
+    assert doc["simulation"]["diagnosis_seconds"] < 10.0
+
+
+def test_eq26_numbers(builtin):
+    folder, md, _ = builtin
+    d = json.loads((folder / "json" / "gap_eq26.json").read_text())["eq26"]
+    k_in = FA * math.cos(PHI) / A3
+    assert d["in_phase"]["k_in_phase_N_per_mm"] == pytest.approx(k_in, rel=1e-9)
+    assert d["in_phase"]["k_e_x0_N_per_mm"] == pytest.approx(float(MODEL.stiffness(np.array([X0]))[0]), rel=1e-9)
+    assert d["in_phase"]["ratio_in_phase_over_k_e"] > 5  # several times the model's stiffness
+    m = MODEL.mass_kg
+    assert d["in_phase"]["inertia_m_omega2_N_per_mm"] == pytest.approx(m * W3**2 * 1e-3, rel=1e-9)
+    assert d["in_phase"]["inertia_m_omega2_N_per_mm"] < 1e-4 * k_in  # negligible
+    q = FA * math.sin(PHI)
+    assert q < 0
+    assert d["quadrature"]["F_A_sin_phi_N"] == pytest.approx(q, rel=1e-9)
+    assert d["quadrature"]["W_record_Nmm"] == pytest.approx(math.pi * A3 * q, rel=1e-9)
+    assert d["quadrature"]["W_record_Nmm"] < 0 < d["quadrature"]["W_eq27_Nmm"]
+    assert d["quadrature"]["ratio_abs_over_eq27"] == pytest.approx(abs(q) / 1335.0, rel=1e-9)
+    assert d["stiffness_level"]["F_k_x0_N"] == pytest.approx(float(MODEL.force(np.array([X0]))[0]), rel=1e-9)
+    xF0 = d["stiffness_level"]["x_where_F_k_equals_F0_mm"]
+    assert float(MODEL.force(np.array([xF0]))[0]) == pytest.approx(F0, rel=1e-6)
+    # residual harmonics, computed independently on a fine grid
+    psi = np.linspace(0, 2 * np.pi, 20001)[:-1]
+    x = X0 + A3 * np.sin(psi)
+    r = F0 + FA * np.sin(psi + PHI) - (MODEL.force(x) - m * W3**2 * A3 * np.sin(psi) * 1e-3)
+    h = d["residual_harmonics"]
+    assert h["mean"] == pytest.approx(float(np.mean(r)), abs=0.5)
+    assert h["h1_x"] == pytest.approx(2 * float(np.mean(r * np.sin(psi))), abs=0.5)
+    assert h["h1_xdot"] == pytest.approx(q, abs=0.5)
+    assert h["h2"] < 1e-2 * abs(q)
+    # findings in the Markdown, with the computed numbers
+    assert f"{k_in:.0f} N/mm" in md
+    assert f"{q:.0f} N" in md and "negative damping" in md
+
+
+def test_table1_slopes(builtin):
+    folder, md, _ = builtin
+    t1 = json.loads((folder / "json" / "gap_eq26.json").read_text())["table1"]
+    rows = [ln.split(",") for ln in TABLE1.read_text().splitlines() if ln and not ln.startswith(("#", "test"))]
+    tb = np.array([[float(v) for v in r] for r in rows])
+    test, col, x0, A, Fac, ce = tb.T
+    w = col * np.pi / 10
+    W = np.pi * Fac * A
+    iA = np.isin(test, [3, 6, 7, 8, 9])
+    iw = np.isin(test, [2, 3, 4, 5])
+    sA = np.polyfit(np.log(A[iA]), np.log(W[iA]), 1)[0]
+    sw = np.polyfit(np.log(w[iw]), np.log(W[iw]), 1)[0]
+    assert t1["slope_A"] == pytest.approx(sA, rel=1e-9)
+    assert t1["slope_omega"] == pytest.approx(sw, rel=1e-9)
+    assert 2.0 < sA < 2.5 and 0.2 < sw < 0.5
+    assert t1["class"] == "hysteretic"  # (2, 0) is nearer than viscous (2, 1)
+    # c_e = F_ac/(ω A) for tests 2-9, so its exponents are the W slopes minus (1, 2) up to rounding of the table
+    assert t1["c_e_exponent_omega"] == pytest.approx(sw - 1, abs=0.01)
+    assert t1["c_e_exponent_A"] == pytest.approx(sA - 2, abs=0.01)
+    assert [t["W_Nmm"] for t in t1["tests"]] == pytest.approx(list(W), rel=1e-12)
+    assert f"A^{sA:.2f}" in md and f"ω^{sw:.2f}" in md
+
+
+def _plan(n: int, x0: float = 2.1) -> list[TestSpec]:
+    pts = [(1.0, 0.1), (1.0, 0.2), (2.0, 0.3), (2.0, 0.15), (3.0, 0.2), (3.0, 0.3), (1.5, 0.25), (2.5, 0.12)]
+    return [TestSpec(str(i), w, x0, a) for i, (w, a) in enumerate(pts[:n], 1)]
+
+
+LAW = PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0])
+
+
+def test_data_diagnosis(tmp_path):
+    from chainid.gap.effects import parse_effect
+
+    recs = simulate(_plan(8), MODEL, LAW, n_cycles=6, samples_per_cycle=128, noise_F=20.0, seed=3,
+                    force_fn=parse_effect("backlash:b=0.02", MODEL))
+    data = write_records(tmp_path / "d.csv", recs)
+    folder = tmp_path / "rep"
+    md = report_steps.report_section(folder, MODEL, data, lambda s: None)
+    assert md.startswith("## 4. Gap") and "d.csv" in md
+    assert "4b." not in md  # with --data only the user's records
+    doc = json.loads((folder / "json" / "gap_data.json").read_text())
+    assert doc["holdout"] == ["7", "8"]  # last 25 % of 8 tests
+    assert doc["data"]["baseline_model"] == "chain"
+    assert doc["verdict"] == "backlash"
+    assert doc["best"]["params"]["backlash.b"] == pytest.approx(0.02, rel=0.1)
+    for rel in _images(md):
+        assert (folder / rel).stat().st_size > 5_000
+    assert not (folder / "json" / "gap_eq26.json").exists()
+
+
+def test_data_too_few_tests_is_skipped(tmp_path):
+    recs = simulate(_plan(5), MODEL, LAW, n_cycles=4, samples_per_cycle=64, noise_F=20.0, seed=3)
+    data = write_records(tmp_path / "few.csv", recs)
+    md = report_steps.report_section(tmp_path / "rep", MODEL, data, lambda s: None)
+    assert "Skipped" in md and "5 tests" in md and "at least 7" in md
+    assert not _images(md)
+
+
+def test_data_not_a_chain_uses_linear_spring(tmp_path):
+    from chainid.gap.effects import parse_effect
+
+    spring = LinearModel(k=200.0)
+    recs = simulate(_plan(8, x0=1.0), spring, 5.0, n_cycles=6, samples_per_cycle=128, noise_F=0.5, seed=3,
+                    force_fn=parse_effect("friction:F_c=10", spring))
+    data = write_records(tmp_path / "lin.csv", recs)
+    md = report_steps.report_section(tmp_path / "rep", MODEL, data, lambda s: None)
+    doc = json.loads((tmp_path / "rep" / "json" / "gap_data.json").read_text())
+    assert doc["data"]["chain_check"]["is_chain"] is False
+    assert doc["data"]["baseline_model"] == "linear" and doc["baseline"]["model"] == "linear"
+    assert "linear spring" in md
+    assert doc["verdict"] == "friction"
+
+
+def test_choose_holdout():
+    ids = [str(i) for i in range(1, 13)]
+    assert report_steps.choose_holdout(ids) == ["10", "11", "12"]
+    assert report_steps.choose_holdout(ids[:7]) == ["7"]  # keeps 6 for training
+    assert report_steps.choose_holdout(ids[:8]) == ["7", "8"]
+    with pytest.raises(ValueError, match="at least 7"):
+        report_steps.choose_holdout(ids[:6])
