@@ -112,6 +112,9 @@ def test_real_friction_damper_linear():
     # the winner is a friction model (Coulomb or Dahl-type smooth pre-sliding friction)
     assert set(res["verdict"].split("+")) & {"friction", "hysteresis"}
     assert "friction" in res["mechanism"].split("+")
+    # plain Coulomb friction needs the largest load-proportional part allowed: flagged as at its bound
+    assert "friction.mu" in rank["friction"]["at_bound"]
+    assert not res["best"]["at_bound"]
 
 
 def test_bad_input():

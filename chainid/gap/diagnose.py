@@ -132,6 +132,9 @@ def diagnose(
             simplest = min(ties, key=lambda c: (c.n_params, c.bic))
             if simplest.n_params < best.n_params:
                 best = simplest
+    if best is not None and best.at_bound and best.shrinkage >= 0.5:
+        warn.append(f"{best.name}: parameter(s) {', '.join(best.at_bound)} at the bound of their physical range; "
+                    "the effect's form may not match the data there (read the value as a limit, not an estimate)")
     if best is not None and uncertainty and best.n_params > 0:
         best.param_sd = _jackknife(prob, best)
     if consistent:

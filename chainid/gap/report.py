@@ -51,7 +51,9 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
     lines += ["", "WHICH effect (fitted on training tests; scored leave-one-test-out; held-out shown):"]
     lines.append(f"  {'effect':<30} {'LOTO':>8} {'held-out':>9} {'shrink':>7}  params")
     for c in result["ranking"][:n_rank]:
-        ps = ", ".join(f"{k}={v:.4g}" for k, v in c["params"].items() if v is not None and not k.startswith("law."))
+        ab = set(c.get("at_bound", []))
+        ps = ", ".join(f"{k}={v:.4g}" + (" (at bound)" if k in ab else "") for k, v in c["params"].items()
+                       if v is not None and not k.startswith("law."))
         lines.append(f"  {c['effect']:<30} {c['nrmse_loto']:>8.4g} {c['nrmse_holdout']:>9.4g} {100 * c['shrinkage']:>6.1f}%  {ps}")
     for cf in result.get("confounded", []):
         lines.append(f"  confounded: {cf['pair'][0]} ~ {cf['pair'][1]}; to separate them: {cf['separate_by']}")

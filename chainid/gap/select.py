@@ -193,6 +193,7 @@ class Candidate:
     chi2_train: float = float("nan")
     param_sd: dict[str, float] = field(default_factory=dict)
     per_test: dict[str, float] = field(default_factory=dict)
+    at_bound: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
@@ -207,6 +208,7 @@ class Candidate:
             "shrinkage": f(self.shrinkage),
             "bic": f(self.bic),
             "n_params": self.n_params,
+            "at_bound": list(self.at_bound),
         }
 
 
@@ -390,9 +392,12 @@ class Problem:
                     if best is None or r.cost < best.cost:
                         best = r
                 p = unpack(best.x)
+                # a parameter pinned at a physical bound (other than a zero lower bound, "effect absent")
+                ub = np.clip(best.x, 0, 1)
+                at_bound = [k for k, v, a in zip(keys, ub, lo_a) if v >= 1 - 1e-6 or (v <= 1e-6 and a != 0.0)]
             else:
-                p = {}
-            return Candidate("+".join(names), p, len(keys))
+                p, at_bound = {}, []
+            return Candidate("+".join(names), p, len(keys), at_bound=at_bound)
         finally:
             self.train = saved
 
