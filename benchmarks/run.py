@@ -317,9 +317,10 @@ def child_workflow(which: str) -> None:
 
         from chainid.identify import PolynomialLaw, identify_records
         from chainid.models import ChainModel
-        from chainid.simulate import TestSpec, paper_plan, simulate
+        from chainid.simulate import paper_plan, simulate
         if which == "gap":
             from chainid.gap import diagnose
+            from chainid.gap.benchmark import grid3x3_plan
     except Exception as e:  # noqa: BLE001
         print(json.dumps({"skip": f"{type(e).__name__}: {e}"}))
         return
@@ -335,13 +336,7 @@ def child_workflow(which: str) -> None:
             def work():
                 return identify_records(recs, model)
         else:
-            plan = []
-            i = 0
-            for w in (1.0, 2.0, 4.0):
-                for A in (0.1, 0.2, 0.3):
-                    i += 1
-                    plan.append(TestSpec(f"a{i}", w, 2.0, A))
-            plan += [TestSpec("a10", 3.0, 2.2, 0.15), TestSpec("a11", 1.5, 1.8, 0.25)]
+            plan = grid3x3_plan("a")
             k = float(np.median(model.stiffness(np.array([p.x0 for p in plan]))))
             law = PolynomialLaw([0.0, 0.0, 0.0, 0.0, 0.02 * k / 4.0])
             recs = simulate(plan, model, law, n_cycles=8, samples_per_cycle=256, noise_F=0.01, seed=0)

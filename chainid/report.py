@@ -195,15 +195,11 @@ def step_identify_data(folder: Path, data: Path, model: Any, say: Progress) -> s
     from . import identify, plots_identify, records
 
     note = ""
-    try:
-        recs = records.read_records(data)
-    except ValueError as exc:
-        if "compress" not in str(exc):
-            raise
+    recs = records.read_records(data, allow_compression=True)
+    fmin = min(float(r.F.min()) for r in recs)
+    if fmin < 0:
         # the force changes sign: not a chain under tension; identify with a fitted linear spring
-        recs = records.read_records(data, allow_compression=True)
         model = identify.linear_model_from_records(recs)
-        fmin = min(float(r.F.min()) for r in recs)
         note = (f"The force goes compressive (min F = {fmin:.6g} N); a chain carries none, so this step uses a linear "
                 f"spring fitted on the steady cycles, k = {model.k:.4g} N/mm, x_ref = {model.x_ref:.4g} mm "
                 "(as `chainid identify --model linear`).\n")

@@ -109,6 +109,36 @@ def paper_plan() -> list[TestSpec]:
     ]
 
 
+def grid_plan(
+    omegas: Sequence[float],
+    amplitudes: Sequence[float],
+    x0: float,
+    extra: Sequence[tuple[float, float, float]] = (),
+    prefix: str = "",
+) -> list[TestSpec]:
+    """A test plan: the grid ω × A at one mean elongation, then extra off-grid tests.
+
+    Parameters
+    ----------
+    omegas : sequence of float
+        Angular frequencies [rad/s] (outer loop).
+    amplitudes : sequence of float
+        Amplitudes A [mm] (inner loop).
+    x0 : float
+        Mean elongation of the grid tests [mm].
+    extra : sequence of (omega, x0, A)
+        Further tests [rad/s, mm, mm], appended in order.
+    prefix : str
+        Test ids are ``prefix + "1"``, ``prefix + "2"``, … in plan order.
+
+    Returns
+    -------
+    list of TestSpec
+    """
+    specs = [(w, x0, A) for w in omegas for A in amplitudes] + [tuple(e) for e in extra]
+    return [TestSpec(f"{prefix}{i}", float(w), float(xm), float(A)) for i, (w, xm, A) in enumerate(specs, start=1)]
+
+
 def read_plan(path: str | Path) -> list[TestSpec]:
     """Read a plan CSV ``test,omega,x0,A`` (omega rad/s, x0 mm, A mm).
 

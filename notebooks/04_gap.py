@@ -37,7 +37,7 @@ from chainid.gap.effects import EFFECT_NAMES
 from chainid.gap.report import summary
 from chainid.identify import PolynomialLaw
 from chainid.models import ChainModel
-from chainid.simulate import TestSpec, simulate
+from chainid.simulate import grid_plan, simulate
 
 print("effect library:", ", ".join(EFFECT_NAMES))
 
@@ -50,9 +50,8 @@ print("effect library:", ", ".join(EFFECT_NAMES))
 # %%
 model = ChainModel()  # built-in 14x50 chain, n = 16 links
 law = PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0])  # c_e(ω, A) of Eq. 21 [N·s/mm], ω rad/s, A mm
-plan = [TestSpec(str(3 * i + j + 1), w, 2.0, A) for i, w in enumerate((1.0, 2.0, 4.0))
-        for j, A in enumerate((0.1, 0.2, 0.3))]
-plan += [TestSpec("10", 3.0, 2.2, 0.15), TestSpec("11", 1.5, 1.8, 0.25)]
+# ω × A grid at x₀ = 2 mm, then two off-grid tests (ω rad/s, x₀ mm, A mm); ids "1" … "11"
+plan = grid_plan((1.0, 2.0, 4.0), (0.1, 0.2, 0.3), 2.0, extra=[(3.0, 2.2, 0.15), (1.5, 1.8, 0.25)])
 hidden = "hysteresis:F_h=300,x_h=0.03"
 records = simulate(plan, model, law, n_cycles=8, samples_per_cycle=128, noise_F=20.0, seed=1,
                    force_fn=parse_effect(hidden, model))

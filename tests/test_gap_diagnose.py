@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from chainid.gap.benchmark import grid3x3_plan
 from chainid.gap.diagnose import diagnose
 from chainid.gap.effects import parse_effect, play_operator, stick_slip
 from chainid.identify import PolynomialLaw
@@ -20,12 +21,7 @@ HOLD = ["3", "7", "11"]
 
 
 def plan() -> list[TestSpec]:
-    out, i = [], 0
-    for w in (1.0, 2.0, 4.0):
-        for A in (0.1, 0.2, 0.3):
-            i += 1
-            out.append(TestSpec(str(i), w, 2.0, A))
-    return out + [TestSpec("10", 3.0, 2.2, 0.15), TestSpec("11", 1.5, 1.8, 0.25)]
+    return grid3x3_plan(prefix="")  # tests "1" … "11"
 
 
 MODEL = ChainModel()
@@ -150,7 +146,7 @@ def test_parse_effect_errors_and_operators():
 
 
 def test_cli_json_contract(tmp_path):
-    from chainid.cli_gap import main
+    from chainid.cli import main
     from chainid.records import write_records
 
     data = tmp_path / "d.csv"

@@ -139,3 +139,14 @@ def test_bad_settings():
     with pytest.raises(ValueError, match=r"test 'z': A = 0.0 is invalid"):
         TestSpec("z", 1.0, 2.0, 0.0)
     assert ViscousLaw([3.0]).predict(1.0, 1.0)[0] == 3.0
+
+
+def test_grid_plan_order_ids_and_extras():
+    from chainid.simulate import grid_plan
+
+    plan = grid_plan((1.0, 2.0), (0.1, 0.3), 2.0, extra=[(3.0, 2.2, 0.15)], prefix="g")
+    assert [p.test for p in plan] == ["g1", "g2", "g3", "g4", "g5"]
+    assert [(p.omega, p.x0, p.A) for p in plan] == [(1.0, 2.0, 0.1), (1.0, 2.0, 0.3), (2.0, 2.0, 0.1),
+                                                    (2.0, 2.0, 0.3), (3.0, 2.2, 0.15)]
+    with pytest.raises(ValueError, match="A"):
+        grid_plan((1.0,), (-0.1,), 2.0)

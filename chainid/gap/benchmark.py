@@ -24,16 +24,18 @@ from .effects import EFFECT_NAMES, parse_effect
 LABELS = ("none",) + EFFECT_NAMES + ("unexplained", "other")
 
 
+def grid3x3_plan(prefix: str = "a") -> list[Any]:
+    """The 11-test plan of the benchmark: ω ∈ {1, 2, 4} rad/s × A ∈ {0.1, 0.2, 0.3} mm at x0 = 2 mm,
+    plus (ω, x0, A) = (3 rad/s, 2.2 mm, 0.15 mm) and (1.5 rad/s, 1.8 mm, 0.25 mm); ids ``prefix1`` … ``prefix11``."""
+    from ..simulate import grid_plan
+
+    return grid_plan((1.0, 2.0, 4.0), (0.1, 0.2, 0.3), 2.0, extra=[(3.0, 2.2, 0.15), (1.5, 1.8, 0.25)], prefix=prefix)
+
+
 def _plans() -> dict[str, list[Any]]:
     from ..simulate import TestSpec
 
-    a, b = [], []
-    i = 0
-    for w in (1.0, 2.0, 4.0):
-        for A in (0.1, 0.2, 0.3):
-            i += 1
-            a.append(TestSpec(f"a{i}", w, 2.0, A))
-    a += [TestSpec("a10", 3.0, 2.2, 0.15), TestSpec("a11", 1.5, 1.8, 0.25)]
+    a, b = grid3x3_plan("a"), []
     i = 0
     for w in (0.8, 1.6, 3.2, 6.4):
         for A, x0 in ((0.08, 1.6), (0.16, 2.0), (0.24, 2.4)):

@@ -32,6 +32,13 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
     names = best.name.split("+") if best is not None and best.name else []
     aug = prob.evaluate(names, best.params, best.law) if best is not None else base
     paths = []
+
+    def save(fig: Any, name: str) -> Path:
+        p = out / name
+        fig.savefig(p, dpi=90)
+        plt.close(fig)
+        return p
+
     # loops
     hold = prob.hold
     fig, axs = plt.subplots(1, len(hold), figsize=(4.2 * len(hold), 3.6), squeeze=False)
@@ -47,10 +54,7 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
         ax.set_ylabel("F [N]")
     axs[0][0].legend(fontsize=7)
     fig.tight_layout()
-    p = out / "loops.png"
-    fig.savefig(p, dpi=90)
-    plt.close(fig)
-    paths.append(p)
+    paths.append(save(fig, "loops.png"))
     # residual vs phase
     fig, ax = plt.subplots(figsize=(6.5, 4))
     for d in prob.data:
@@ -63,10 +67,7 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
     ax.set_title("residual vs cycle phase (thick: held-out)", fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    p = out / "residual_phase.png"
-    fig.savefig(p, dpi=90)
-    plt.close(fig)
-    paths.append(p)
+    paths.append(save(fig, "residual_phase.png"))
     # residual surface over (x - x0)/A, xdot/(ωA)
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     allr = np.concatenate([base["res"][d.test] for d in prob.data])
@@ -82,10 +83,7 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
     ax.set_aspect("equal")
     ax.set_title("residual restoring-force surface (all tests)", fontsize=9)
     fig.tight_layout()
-    p = out / "residual_surface.png"
-    fig.savefig(p, dpi=90)
-    plt.close(fig)
-    paths.append(p)
+    paths.append(save(fig, "residual_surface.png"))
     # heat map before / after over (ω, A)
     fig, axs = plt.subplots(1, 2, figsize=(9, 3.8), sharey=True)
     w = np.array([d.omega for d in prob.data])
@@ -105,8 +103,5 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
     axs[0].set_ylabel("A [mm]")
     fig.subplots_adjust(bottom=0.16, right=0.84)
     fig.colorbar(sc, cax=fig.add_axes([0.87, 0.16, 0.02, 0.72]), label="NRMSE per test")
-    p = out / "heatmap.png"
-    fig.savefig(p, dpi=90)
-    plt.close(fig)
-    paths.append(p)
+    paths.append(save(fig, "heatmap.png"))
     return paths

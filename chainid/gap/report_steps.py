@@ -80,14 +80,9 @@ def simulated_plan() -> list[Any]:
     list of TestSpec
         Tests "1" … "11".
     """
-    from ..simulate import TestSpec
+    from ..simulate import grid_plan
 
-    out, i = [], 0
-    for w in (0.5, 1.5, 3.0):
-        for A in (0.1, 0.25, 0.4):
-            i += 1
-            out.append(TestSpec(str(i), w, 2.2, A))
-    return out + [TestSpec("10", 2.2, 2.15, 0.2), TestSpec("11", 1.0, 2.3, 0.3)]
+    return grid_plan((0.5, 1.5, 3.0), (0.1, 0.25, 0.4), 2.2, extra=[(2.2, 2.15, 0.2), (1.0, 2.3, 0.3)])
 
 
 def simulated_law() -> Any:
