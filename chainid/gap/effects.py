@@ -30,6 +30,7 @@ except Exception:  # pragma: no cover
         return deco if not (a and callable(a[0])) else a[0]
 
 EFFECT_NAMES = (
+    "stiffness_level",
     "friction",
     "hysteresis",
     "contact_law",
@@ -127,6 +128,31 @@ def series_compliance_force(model: Any, x: np.ndarray, c: float, iters: int = 8)
     return F
 
 
+#: effects that change the stiffness model itself (composed first; the other effects act on the result)
+STIFFNESS_SIDE = ("stiffness_level", "contact_law", "slack", "machine_compliance")
+
+
+def modify_model(name: str, p: dict[str, float], model: Any) -> Any:
+    """The chain model with the stiffness-side effect ``name`` applied (parameters ``p`` in its units).
+
+    Composition is what makes effects combine physically: a delay or friction then acts on the corrected
+    stiffness (a sum of separate force corrections would miss their cross terms).
+    """
+    if not _is_chain(model):
+        raise ValueError(f"effect {name!r} needs a chain model (not --model linear)")
+    if name == "stiffness_level":
+        return replace(model, ea_scale=model.ea_scale * p.get("scale", 1.0))
+    if name == "slack":
+        return replace(model, slack=model.slack + p.get("s", 0.0))
+    if name == "machine_compliance":
+        return replace(model, compliance=model.compliance + p.get("c", 0.0))
+    if name == "contact_law":
+        beta = p.get("beta", 2.0 / 3.0)
+        return replace(model, hertz_scale=model.hertz_scale * p.get("scale", 1.0),
+                       contact_exponent=None if abs(beta - 2.0 / 3.0) < 1e-9 else beta)
+    raise ValueError(f"effect {name!r} is not a stiffness-side effect; those are: {', '.join(STIFFNESS_SIDE)}")
+
+
 def _is_chain(model: Any) -> bool:
     return hasattr(model, "hertz_scale") and hasattr(model, "compliance") and hasattr(model, "slack")
 
@@ -202,6 +228,11 @@ class Effect:
             F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0))), dtype=float)
         elif self.name == "slack":
             F = inert + np.asarray(model.force(x - p.get("s", 0.0)), dtype=float)
+        elif self.name == "stiffness_level":
+            if not _is_chain(model):
+                raise ValueError("effect 'stiffness_level' needs a chain model (a linear spring's k is fitted already)")
+            mod = replace(model, ea_scale=model.ea_scale * p.get("scale", 1.0))
+            F = inert + np.asarray(mod.force(x), dtype=float)
         elif self.name == "machine_compliance":
             c = p.get("c", 0.0)
             if _is_chain(model):
@@ -267,6 +298,10 @@ def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max
     if name == "slack":
         return Effect(name, ("s",), ("mm",), ((-5.0 * x_scale, 5.0 * x_scale),), (0.0,), chain_only=True,
                       description="displacement offset s (permanent elongation, clearance, sensor zero)")
+    if name == "stiffness_level":
+        return Effect(name, ("scale",), ("-",), ((0.2, 5.0),), (1.0,), chain_only=True,
+                      description="stiffness level of the base model: factor on the links' linear axial "
+                                  "stiffness EA (compliance c_lin/scale); < 1 softer, > 1 stiffer")
     if name == "machine_compliance":
         return Effect(name, ("c",), ("mm/N",), ((0.0, 1e-2),), (1e-6,), chain_only=True,
                       description="series compliance c of test machine / fixture")
@@ -307,6 +342,7 @@ def parse_spec(spec: str) -> tuple[str, dict[str, float]]:
 
 
 DEFAULTS = {
+    "stiffness_level": {"scale": 1.0},
     "friction": {"F_c": 0.0, "mu": 0.0, "x_s": 0.0},
     "hysteresis": {"F_h": 0.0, "x_h": 0.05},
     "backlash": {"b": 0.0},
