@@ -123,27 +123,40 @@ def _estimate(rec: Any, allow_compression: bool, steady_tol: float | None) -> An
 
 def cycle_stats(t: np.ndarray, F: np.ndarray, omega: float, theta: float,
                 x: np.ndarray | None = None) -> dict[str, np.ndarray]:
-    """Per whole cycle of ψ = ωt + θ: mid time [s], mean force, sin ψ and cos ψ force amplitudes [N];
-    with ``x`` also the cycle's mean displacement ``xm`` and amplitude ``xa`` [mm] (covariates of the trend test)."""
+    """Per whole cycle of ψ = ωt + θ (cycles counted from ψ = 0, only those fully inside the window):
+    mid time [s], mean force and its sin ψ / cos ψ amplitudes [N] (least squares per cycle); with ``x`` also
+    the cycle's mean displacement ``xm`` and amplitude ``xa`` [mm] (covariates of the trend test), and the
+    number of samples ``n``."""
+    z = np.zeros(0)
+    empty = {"t": z, "mean": z, "a": z, "b": z, "xm": z, "xa": z, "n": z}
     psi = omega * t + theta
-    k = np.floor((psi - psi[0]) / (2 * math.pi)).astype(np.int64)
-    n = int(k[-1])  # the last cycle is partial unless the window ends exactly on one
-    keep = k < n
-    if n < 1 or not np.any(keep):
-        z = np.zeros(0)
-        return {"t": z, "mean": z, "a": z, "b": z, "xm": z, "xa": z}
-    k, tk, Fk, pk = k[keep], t[keep], F[keep], psi[keep]
-    xk = (x if x is not None else np.zeros_like(t))[keep]
+    k = np.floor(psi / (2 * math.pi)).astype(np.int64)
+    k -= k[0]
+    n = int(k[-1]) + 1
+    if n < 3:
+        return empty
     cnt = np.bincount(k, minlength=n).astype(float)
-    ok = cnt > 0
-    tm = np.bincount(k, weights=tk, minlength=n)[ok] / cnt[ok]
-    mean = np.bincount(k, weights=Fk, minlength=n)[ok] / cnt[ok]
-    a = 2 * np.bincount(k, weights=Fk * np.sin(pk), minlength=n)[ok] / cnt[ok]
-    b = 2 * np.bincount(k, weights=Fk * np.cos(pk), minlength=n)[ok] / cnt[ok]
-    xm = np.bincount(k, weights=xk, minlength=n)[ok] / cnt[ok]
-    xs = 2 * np.bincount(k, weights=xk * np.sin(pk), minlength=n)[ok] / cnt[ok]
-    xc = 2 * np.bincount(k, weights=xk * np.cos(pk), minlength=n)[ok] / cnt[ok]
-    return {"t": tm, "mean": mean, "a": a, "b": b, "xm": xm, "xa": np.hypot(xs, xc)}
+    # whole cycles only: not the first or last (partial unless the window is phase-aligned), full sample count
+    full = np.zeros(n, bool)
+    full[1:-1] = True
+    med = np.median(cnt[1:-1]) if n > 2 else 0.0
+    full &= cnt >= 0.9 * med
+    if not np.any(full):
+        return empty
+    sn, cs = np.sin(psi), np.cos(psi)
+
+    def S(w: np.ndarray) -> np.ndarray:
+        return np.bincount(k, weights=w, minlength=n)
+
+    xx = x if x is not None else np.zeros_like(t)
+    M = np.stack([np.stack([cnt, S(sn), S(cs)], -1), np.stack([S(sn), S(sn * sn), S(sn * cs)], -1),
+                  np.stack([S(cs), S(sn * cs), S(cs * cs)], -1)], 1)[full]
+    rf = np.stack([S(F), S(F * sn), S(F * cs)], -1)[full]
+    rx = np.stack([S(xx), S(xx * sn), S(xx * cs)], -1)[full]
+    cf = np.linalg.solve(M, rf[..., None])[..., 0]
+    cx = np.linalg.solve(M, rx[..., None])[..., 0]
+    return {"t": S(t)[full] / cnt[full], "mean": cf[:, 0], "a": cf[:, 1], "b": cf[:, 2],
+            "xm": cx[:, 0], "xa": np.hypot(cx[:, 1], cx[:, 2]), "n": cnt[full]}
 
 
 def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,

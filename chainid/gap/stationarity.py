@@ -30,9 +30,15 @@ Z_TREND = 4.0
 MIN_CYCLES = 4
 
 
-def trend(t: np.ndarray, y: np.ndarray, cov: np.ndarray | None = None) -> tuple[float, float, float]:
+def trend(t: np.ndarray, y: np.ndarray, cov: np.ndarray | None = None,
+          sd_floor: float = 0.0) -> tuple[float, float, float]:
     """Time slope [N/s] of y (given the covariate ``cov`` when it varies), its standard error, and the change
-    of the trend over the span, |slope|·span [N]."""
+    of the trend over the span, |slope|·span [N].
+
+    The standard error uses the larger of the scatter about the fit and ``sd_floor`` (the white-noise
+    standard deviation of one cycle's value, σ·sqrt(c/n)): with a handful of cycles the scatter alone is
+    too uncertain to judge a trend by.
+    """
     n = t.size
     if n < 3 or float(np.ptp(t)) <= 0:
         return 0.0, float("inf"), 0.0
@@ -45,7 +51,7 @@ def trend(t: np.ndarray, y: np.ndarray, cov: np.ndarray | None = None) -> tuple[
     dof = n - X.shape[1]
     if dof < 1:
         return 0.0, float("inf"), 0.0
-    s2 = float(r @ r) / dof
+    s2 = max(float(r @ r) / dof, sd_floor**2)
     cov_b = np.linalg.pinv(X.T @ X) * s2
     sl = float(coef[1])
     se = math.sqrt(max(float(cov_b[1, 1]), 0.0)) or 1e-300
@@ -72,8 +78,11 @@ def check(data: Sequence[Any]) -> dict[str, Any]:
         if t.size < MIN_CYCLES:
             continue
         row: dict[str, Any] = {"test": d.test, "n_cycles": int(t.size)}
+        n_mean = float(np.mean(cy["n"])) if "n" in cy and cy["n"].size else 1.0
         for q in ("mean", "a", "b"):
-            sl, se, chg = trend(t, cy[q], cy.get("xm" if q == "mean" else "xa"))
+            # one cycle's mean has variance σ²/n, a harmonic amplitude 2σ²/n (white noise)
+            floor = d.sigma * math.sqrt((1.0 if q == "mean" else 2.0) / max(n_mean, 1.0))
+            sl, se, chg = trend(t, cy[q], cy.get("xm" if q == "mean" else "xa"), floor)
             row[q] = {"slope_N_per_s": sl, "z": abs(sl) / se if se > 0 else float("inf"), "change_N": chg}
         rows.append(row)
     if not rows:
