@@ -183,5 +183,6 @@ def test_plots(tmp_path):
 
     res = diagnose(records("backlash:b=0.02"), HOLD, MODEL, max_combo=1, uncertainty=False)
     paths = make_plots(res, tmp_path / "figs")
-    assert [p.name for p in paths] == ["loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png"]
+    assert [p.name for p in paths] == ["loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png",
+                                     "waterfall.png"]
     assert all(p.stat().st_size > 5000 for p in paths)

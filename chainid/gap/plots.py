@@ -3,7 +3,8 @@
 loops.png — measured (cycle-averaged) / baseline / augmented loops per held-out test;
 residual_phase.png — baseline residual vs cycle phase per test;
 residual_surface.png — baseline residual over (x, ẋ) (multi-valued = memory);
-heatmap.png — per-test NRMSE before / after over (ω, A).
+heatmap.png — per-test NRMSE before / after over (ω, A);
+waterfall.png — the explanation chain: held-out NRMSE after each step, down to the noise floor.
 """
 
 from __future__ import annotations
@@ -104,4 +105,7 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
     fig.subplots_adjust(bottom=0.16, right=0.84)
     fig.colorbar(sc, cax=fig.add_axes([0.87, 0.16, 0.02, 0.72]), label="NRMSE per test")
     paths.append(save(fig, "heatmap.png"))
+    from .plot_steps import waterfall_figure
+
+    paths.append(save(waterfall_figure(result), "waterfall.png"))
     return paths
