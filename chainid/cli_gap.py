@@ -54,7 +54,8 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
     from .gap.benchmark import run_benchmark
 
     try:
-        run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed)
+        run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed,
+                      scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress)
     except ValueError as exc:
         print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
         return 2
@@ -89,6 +90,11 @@ def add_subparsers(subparsers: Any) -> None:
     b.add_argument("--small", action="store_true", help="a small, fast grid")
     b.add_argument("--json", metavar="FILE", help="write the JSON summary")
     b.add_argument("--seed", type=int, default=0)
+    b.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="dask scheduler address of an existing cluster, or local (default: a dask LocalCluster "
+                        "when dask is installed, else a process pool), processes, serial")
+    b.add_argument("--workers", type=int, default=None, help="worker processes (default: the machine's cores)")
+    b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
     b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     b.set_defaults(func=cmd_benchmark)
 

@@ -20,7 +20,8 @@ The acceptance rule (stated, tested, and the same for every data set):
    what is left: an effect that explains less is not worth a name.
 
 Near-ties at a step (LOTO within ``TIE`` of the best) go to the effect with fewer
-parameters, then BIC; they are reported as confounded.
+parameters pinned at a bound, then fewer parameters, then BIC; they are reported
+as confounded.
 """
 
 from __future__ import annotations
@@ -83,11 +84,13 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
 
 
 def _pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
-    """Best LOTO candidate; near-ties to fewer parameters, then BIC.  Returns (chosen, tied others)."""
+    """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
+    pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
+    Returns (chosen, tied others)."""
     cands = sorted(cands, key=lambda c: c.nrmse_loto)
     best = cands[0]
     ties = [c for c in cands if c.nrmse_loto <= (1 + TIE) * best.nrmse_loto]
-    chosen = min(ties, key=lambda c: (c.n_params, c.bic))
+    chosen = min(ties, key=lambda c: (len(c.at_bound), c.n_params, c.bic))
     return chosen, [c for c in ties if c is not chosen]
 
 
@@ -186,7 +189,8 @@ def _exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold:
                 start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
                 c = _fit_score(prob, names, start, base_hold)
                 better = c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
-                    c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and c.n_params < full.n_params)
+                    c.nrmse_loto <= (1 + TIE) * full.nrmse_loto
+                    and (len(c.at_bound), c.n_params) < (len(full.at_bound), full.n_params))
                 if better:
                     swaps.append(f"{n} -> {m}")
                     full, improved = c, True
