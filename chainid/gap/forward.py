@@ -114,6 +114,17 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         ``dropped`` (effects removed by the backward pass).
     """
     _attach_vars(prob, base)
+    cache: dict[tuple[str, ...], Candidate] = {}
+
+    def cached(cur: Candidate, n: str) -> Candidate:
+        names_k = cur.names + [n]
+        key = tuple(sorted(names_k))
+        if key not in cache:
+            c = prob.score(prob.fit(names_k, start=cur.params), names_k, base_hold)
+            _attach_vars(prob, c)
+            cache[key] = c
+        return cache[key]
+
     path = [base]
     cur = base
     remaining = [n for n in names]
@@ -130,14 +141,11 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         if not remaining:
             stop = "no library effect left"
             break
-        cands = []
-        for n in remaining:
-            c = prob.score(prob.fit(cur.names + [n], start=cur.params), cur.names + [n], base_hold)
-            _attach_vars(prob, c)
-            cands.append(c)
+        cands = [cached(cur, n) for n in remaining]
         if not singles:
             singles = list(cands)
         chosen, ties = _pick(cands)
+        chosen = _look_ahead(prob, cur, chosen, cands, remaining, cached, max_effects)
         delta, se = loto_jackknife(cur, chosen)
         gain = 1.0 - chosen.nrmse_loto / cur.nrmse_loto if cur.nrmse_loto > 0 else 0.0
         chosen.step_test = {"delta_loto": delta, "se_jackknife": se, "z": delta / se if se > 0 else float("inf"),  # type: ignore[attr-defined]
@@ -162,6 +170,34 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     dropped = _backward(prob, path, base_hold)
     return {"path": path, "singles": singles, "stop": stop, "confounded": confounded, "dropped": dropped,
             "swapped": swaps}
+
+
+#: a runner-up within this relative LOTO NRMSE of the step's choice is explored one step further
+LOOKAHEAD = 0.3
+
+
+def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Candidate], remaining: list[str],
+                cached: Any, max_effects: int) -> Candidate:
+    """Greedy selection with a one-step look-ahead.
+
+    Two effects can explain part of each other's signature (a delayed Coulomb switch looks like Dahl
+    hysteresis with a short travel), so the best single step can block the best pair.  When a runner-up is
+    within ``LOOKAHEAD`` of the choice, both are extended by every remaining effect; the runner-up is taken
+    when its best extension beats the choice's best extension by more than ``TIE``.
+    """
+    if len(cur.names) + 2 > max_effects or len(remaining) < 2:
+        return chosen
+    alts = sorted((c for c in cands if c is not chosen and c.nrmse_loto <= (1 + LOOKAHEAD) * chosen.nrmse_loto),
+                  key=lambda c: c.nrmse_loto)[:1]
+    if not alts:
+        return chosen
+
+    def best_next(c: Candidate) -> float:
+        return min(cached(c, n).nrmse_loto for n in remaining if n not in c.names)
+
+    mine = best_next(chosen)
+    alt = alts[0]
+    return alt if best_next(alt) < (1 - TIE) * mine else chosen
 
 
 #: effects that can stand in for each other (same physical family): the exchange pass swaps within these

@@ -208,18 +208,20 @@ class Problem:
         names = rest
         m = float(getattr(model, "mass_kg", 0.0))
         g = d.grid
-        base = m * g["xdd"] * 1e-3 + np.asarray(model.force(g["x"]), float)
+        t, x, xd, xdd = g["t"], g["x"], g["xd"], g["xdd"]
+        if "sensor_delay" in names:  # the force channel lags the whole force: evaluate everything at t − τ
+            tau = float(p.get("sensor_delay.tau", 0.0))
+            x, xd, xdd = d.xfun(t - tau)
+        base = m * xdd * 1e-3 + np.asarray(model.force(x), float)
         Fn = base.copy()
-        v = g["xd"]
         for n in names:
-            if n == "damping_law":
+            if n in ("damping_law", "sensor_delay"):
                 continue
             e = self.effects[n]
             pp = {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")}
-            Fe, ve, _ = e.force(pp, model, g["t"], g["x"], g["xd"], g["xdd"], d.omega, d.A, d.x0, d.xfun)
+            Fe, _, _ = e.force(pp, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun)
             Fn += Fe - base
-            if n == "sensor_delay":
-                v = ve
+        v = xd
         return d.gridmean(Fn), d.gridmean(v)
 
     def evaluate(self, names: Sequence[str], p: dict[str, float], law: str | None = None) -> dict[str, Any]:
