@@ -107,7 +107,11 @@ def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True)
     sgn(ẋ), pure Coulomb sliding friction.
     """
     if x_s <= 0:
-        return np.sign(xd)
+        # sgn(0) = 0: at a sampled reversal the set-valued Coulomb force is taken at its midpoint (velocities
+        # within 1e-9 of the peak speed count as zero, so round-off cannot pick a side)
+        xd = np.asarray(xd, dtype=float)
+        tol = 1e-9 * float(np.max(np.abs(xd))) if xd.size else 0.0
+        return np.where(np.abs(xd) <= tol, 0.0, np.sign(xd))
     return (np.asarray(x, float) - play_operator(x, x_s, periodic)) / x_s
 
 

@@ -71,12 +71,15 @@ def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callab
     In the steady window x(t) is periodic in ψ = ωt + θ, so every model force
     (static, memory operators in their periodic steady state, a delay) is a
     function of ψ alone: it is evaluated once per distinct phase, rounded to
-    1/Q of a bin, weighted by how many samples fall there.  Exact for
-    commensurate sampling, and the cost no longer grows with the record length.
+    1/Q of a bin (each cell at the mean phase of its samples), weighted by how
+    many samples fall there.  Exact for commensurate sampling, and the cost no
+    longer grows with the record length.
     """
     q = np.minimum((psi / (2 * math.pi) * B * Q).astype(np.int64), B * Q - 1)
-    uq, w = np.unique(q, return_counts=True)
-    pg = (uq + 0.5) / (B * Q) * 2 * math.pi
+    uq, inv, w = np.unique(q, return_inverse=True, return_counts=True)
+    # the mean sample phase of each cell (exact when the sampling is commensurate with the cycle: a switch
+    # of sgn(ẋ) then falls between the same samples as in the record)
+    pg = np.bincount(inv, weights=psi, minlength=uq.size) / w
     tg = (pg - theta) / omega
     xg, xdg, xddg = xfun(tg)
     return {"t": tg, "x": xg, "xd": xdg, "xdd": xddg, "bin": (uq // Q).astype(np.int64), "w": w.astype(float)}
