@@ -103,10 +103,12 @@ def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True)
     """Normalised Coulomb friction with elastic stick (Jenkins element), in [-1, 1].
 
     After a reversal the contact sticks elastically over a travel 2·x_s [mm]
-    before sliding again (stop operator (x − play(x, x_s))/x_s); x_s = 0 gives
-    sgn(ẋ), pure Coulomb sliding friction.
+    before sliding again (stop operator (x − play(x, x_s))/x_s); x_s = 0 (or below
+    1e-4 of the stroke) gives sgn(ẋ), pure Coulomb sliding friction.
     """
-    if x_s <= 0:
+    x = np.asarray(x, dtype=float)
+    if x_s <= 1e-4 * (float(np.ptp(x)) if x.size else 0.0):
+        # a stick travel below 1e-4 of the stroke is not resolved by any record: pure Coulomb sliding.
         # sgn(0) = 0: at a sampled reversal the set-valued Coulomb force is taken at its midpoint (velocities
         # within 1e-9 of the peak speed count as zero, so round-off cannot pick a side)
         xd = np.asarray(xd, dtype=float)

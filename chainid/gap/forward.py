@@ -9,8 +9,8 @@ effect that the later ones made redundant.
 The acceptance rule (stated, tested, and the same for every data set):
 
 1. **Above the noise floor.** The current model's LOTO residual on the training
-   tests is not yet consistent with the noise (same test as the verdict
-   ``none``: :func:`at_noise_floor`).
+   tests is not yet statistically consistent with the noise (χ² ratio test,
+   :func:`train_floor`).
 2. **Significant over tests.** Per training test, the log ratio of its LOTO
    error before and after the step, g_i = ½·ln(SSE_{k−1,i}/SSE_{k,i}); the mean
    of g over the tests must exceed ``Z`` times its jack-knife standard error
@@ -76,11 +76,14 @@ def loto_jackknife(prev: Candidate, new: Candidate) -> tuple[float, float]:
 
 
 def train_floor(prob: Problem, cand: Candidate) -> bool:
-    """Whether the candidate's LOTO residual on the training tests is at the noise floor."""
+    """Whether the candidate's LOTO residual on the training tests is statistically at the noise floor:
+    the ratio of the mean squared bin residual to its noise floor within 5 standard deviations of a χ²
+    mean (the stricter half of :func:`at_noise_floor`; a residual a little above the noise can still hold a
+    second effect, and the step rule decides whether it does)."""
     ev = cand._ev  # type: ignore[attr-defined]
     r2, f2, _ = prob.noise_db(ev, "train")
-    sig = math.sqrt(np.mean([d.sigma**2 for d in prob.train]))
-    return at_noise_floor(r2, f2, sig, sum(d.counts.size for d in prob.train))
+    n = sum(d.counts.size for d in prob.train)
+    return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
 
 
 def _pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
