@@ -139,7 +139,11 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
     ids = [p.test for p in plan]
     hold = [ids[2], ids[len(ids) // 2], ids[-1]]
     t0 = time.perf_counter()
-    res = diagnose(recs, hold, nominal, uncertainty=False, quiet=True)
+    try:
+        res = diagnose(recs, hold, nominal, uncertainty=False, quiet=True)
+    except Exception as exc:  # a crash is a miss to report, not the end of the run
+        return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
+                "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None}
     best = res.get("best") or {}
     b = res["baseline"]
     last = res["steps"][-1] if res.get("steps") else {}

@@ -54,6 +54,8 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "outside_n": len(fam["outside"]),
         "outside_verdicts": {v: sum(r["verdict"] == v for r in fam["outside"])
                              for v in sorted({r["verdict"] for r in fam["outside"]})},
+        "errors": [{"case": {k: r[k] for k in ("family", "truth", "chain", "plan", "noise", "seed")},
+                    "error": r["verdict"]} for r in rows if r["verdict"].startswith("error:")],
         "median_shrinkage_when_right": float(np.median(shr)) if shr else None,
         "median_seconds": float(np.median([r["seconds"] for r in rows])) if rows else None,
         "confusion": conf,
@@ -95,6 +97,8 @@ def format_summary(s: dict[str, Any]) -> str:
                   " " * 22 + "".join(f"{c[:w - 1]:>{w}}" for c in cols)]
         for t, row in conf.items():
             lines.append(f"{t[:21]:<22}" + "".join(f"{row.get(c, 0):>{w}}" for c in cols))
+    if s.get("errors"):
+        lines.append(f"\n{len(s['errors'])} case(s) raised an error (counted as misses), e.g. {s['errors'][0]['error']}")
     if s.get("misses"):
         lines.append(f"\n{len(s['misses'])} miss(es), e.g.:")
         for m in s["misses"][:10]:

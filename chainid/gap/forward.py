@@ -244,9 +244,9 @@ def _rebuild(prob: Problem, base: Candidate, final: Candidate, base_hold: float)
     left = list(final.names)
     path = [base]
     while left:
-        if len(left) == 1:
+        if len(left) == 1:  # the final fit, named in the chain's order
             ck = final
-            cands = [final]
+            ck.name = "+".join(path[-1].names + left)
         else:
             cands = []
             for n in left:
