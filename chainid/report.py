@@ -291,7 +291,7 @@ def add_subparsers(subparsers: Any) -> None:
     """Register ``chainid report``."""
     p = subparsers.add_parser("report", help="the main job: verification, stiffness, damping and gap report")
     p.add_argument("--out", default="chainid-report", metavar="DIR", help="report folder (default ./chainid-report)")
-    p.add_argument("--chain", metavar="FILE.toml", help="chain file (default: the built-in 14x50 chain)")
+    p.add_argument("--chain", metavar="FILE.toml", help="chain file or preset name, e.g. din22252:26x92 (default: the built-in 14x50 chain)")
     p.add_argument("--data", metavar="DATA.csv", help="run steps 3-4 on these records (header test,t,x,F)")
     p.add_argument("--force", action="store_true", help="re-run into an existing folder")
     p.set_defaults(func=cmd_report)

@@ -122,6 +122,13 @@ class ChainSpec:
         """Fields as a plain dict (TOML/JSON keys), units as in the class docstring."""
         return asdict(self)
 
+    @classmethod
+    def preset(cls, name: str, n: int | None = None) -> "ChainSpec":
+        """A standard chain by name, e.g. ``"din22252:26x92"``, ``"studless:76"`` (see :mod:`chainid.presets`)."""
+        from .presets import chain  # lazy: presets imports this module
+
+        return chain(name, n=n)
+
 
 PAPER_CHAIN = ChainSpec(d=14.0, pitch=50.0, width=17.0, n=16, E=210000.0, nu=0.3, mass_per_m=4.0)
 
@@ -158,10 +165,15 @@ def load_chain(path: str | Path | None) -> ChainSpec:
     Parameters
     ----------
     path : str or Path or None
-        TOML file with keys d, pitch, width, n, E, nu, mass_per_m (units mm, MPa, kg/m).
+        TOML file with keys d, pitch, width, n, E, nu, mass_per_m (units mm, MPa, kg/m),
+        or a preset name such as ``"din22252:14x50"`` (:mod:`chainid.presets`).
     """
     if path is None:
         return default_chain()
+    from .presets import is_preset_name  # lazy: presets imports this module
+
+    if not Path(path).is_file() and is_preset_name(str(path)):  # e.g. "din22252:14x50"
+        return ChainSpec.preset(str(path))
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"chain file {str(p)!r} does not exist")
