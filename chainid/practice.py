@@ -24,7 +24,7 @@ from .spec import ChainSpec, default_chain
 __all__ = [
     "PAPER_TEST_LOAD_N", "FIRST_YIELD_FACTOR", "catalogue_ea_N", "grade", "breaking_load_N", "proof_load_N",
     "working_load_N", "sigma_max_MPa", "contact_limit_load_N", "model_ea_N", "tangent_ea_N", "chain_practice",
-    "comparison_table", "load_warnings", "practice_section", "format_practice",
+    "comparison_table", "explain_ratio", "load_warnings", "practice_section", "format_practice",
 ]
 
 #: The paper's test pretension F₀ [N] (Eq. 26).
@@ -284,14 +284,38 @@ def load_warnings(F_max_N: float, chain: ChainSpec | None = None, grade_name: st
     return out
 
 
+def explain_ratio(chain: ChainSpec | None = None) -> dict[str, float]:
+    """Numbers behind the model/catalogue EA ratio of one chain (all ratios to the OrcaFlex studless EA).
+
+    ``bar_model`` / ``bar_catalogue``: EA over that of two straight bars E·2A (the link's bending share);
+    ``width_minus_1mm`` / ``width_minus_2mm``: the model with the inner width reduced as by proof-load set;
+    ``shear``: with the shear term (variant ``shear``); ``secant_10_50_mbl``: the model's secant EA between 10 %
+    and 50 % of the breaking force including the Hertz term; ``tangent_proof``: tangent EA at the proof force.
+    """
+    chain = chain or default_chain()
+    p = chain_practice(chain)
+    cat, bar = p["EA_catalogue_orcaflex_N"], p["EA_bar_N"]
+    mbl = p["breaking_load_N"]
+    x1, x2 = kernels.displacement(0.1 * mbl, chain), kernels.displacement(0.5 * mbl, chain)
+    out = {"ratio": p["ratio_model_catalogue"], "bar_model": p["EA_model_N"] / bar, "bar_catalogue": cat / bar,
+           "shear": p["EA_model_shear_N"] / cat,
+           "secant_10_50_mbl": 0.4 * mbl / (x2 - x1) * chain.length_mm / cat,
+           "tangent_proof": p["ratio_tangent_proof_catalogue"]}
+    for dw in (1.0, 2.0):
+        if chain.width - dw > chain.d:
+            out[f"width_minus_{dw:g}mm"] = model_ea_N(chain.replace(width=chain.width - dw)) / cat
+    return out
+
+
 def practice_section(chain: ChainSpec | None = None) -> dict[str, Any]:
-    """The audit's practice section: the given chain and the table over the listed presets."""
+    """The audit's practice section: the given chain, the reasons for its EA ratio, the table over the presets."""
     chain = chain or default_chain()
     rows = comparison_table()
     din = [r for r in rows if r["family"] == "din22252"]
     sl = [r for r in rows if r["family"] == "studless"]
     return {
         "chain": chain_practice(chain),
+        "explanation": explain_ratio(chain),
         "table": rows,
         "summary": {
             "ratio_model_catalogue_din22252": [min(r["ratio_model_catalogue"] for r in din),
@@ -319,6 +343,8 @@ def format_practice(sec: dict[str, Any]) -> str:
         f"{c['first_yield_load_N']:.4g} N; proof {c['proof_load_N']:.4g} N, breaking {c['breaking_load_N']:.4g} N",
         f"  -> the elastic contact holds up to {100 * c['contact_limit_over_proof']:.3g} % of the proof force "
         f"({100 * c['first_yield_over_proof']:.3g} % to first yield)",
+        "  why the model is softer (ratios to the catalogue EA): "
+        + ", ".join(f"{k} {v:.3f}" for k, v in sec.get("explanation", {}).items()),
         "",
         f"  {'preset':16s} {'d':>5s} {'EA model N':>11s} {'EA cat. N':>11s} {'ratio':>6s} {'F_lim N':>9s} "
         f"{'proof N':>10s} {'F_lim/proof':>11s}",
