@@ -140,3 +140,40 @@ def test_chain_practice_of_presets():
 def test_bad_input_raises(call):
     with pytest.raises(ValueError):
         call()
+
+
+def test_report_step_writes_table_and_figures(tmp_path):
+    import json
+
+    from chainid.report import step_practice
+
+    md = step_practice(tmp_path, PAPER_CHAIN, lambda s: None)
+    assert "## 2b. The model against practice" in md and "| din22252:42x146 |" in md
+    for fig in ("practice_ea.png", "practice_limits.png"):
+        assert (tmp_path / "figures" / fig).stat().st_size > 10_000
+    doc = json.loads((tmp_path / "json" / "practice.json").read_text())
+    assert doc["chain"]["ratio_model_catalogue"] == pytest.approx(0.7543, abs=5e-4)
+    assert doc["explanation"]["bar_catalogue"] == pytest.approx(0.854e8 * 1e-3 / (210000 * math.pi / 2), rel=1e-9)
+
+
+def test_cli_stiffness_warns_beyond_the_contact_limit(capsys):
+    import json
+
+    from chainid.cli import main
+
+    assert main(["stiffness", "--x", "2.2", "--chain", "din22252:14x50", "--json"]) == 0
+    cap = capsys.readouterr()
+    doc = json.loads(cap.out)
+    assert len(doc["warnings"]) == 1 and "elastic-contact limit" in doc["warnings"][0]
+    assert "warning: F_max" in cap.err
+
+
+def test_cli_identify_warns(tmp_path, capsys):
+    from chainid.cli import main
+
+    data = tmp_path / "sim.csv"
+    assert main(["simulate", str(data), "--law", "viscous", "--params", "2834.4", "--seed", "3", "--cycles", "3",
+                 "--samples-per-cycle", "64"]) == 0
+    capsys.readouterr()
+    assert main(["identify", str(data), "--quiet", "--chain", "din22252:14x50"]) == 0
+    assert "exceeds the elastic-contact limit" in capsys.readouterr().err
