@@ -146,10 +146,13 @@ def chain_from_mapping(data: dict[str, Any], source: str = "chain") -> ChainSpec
     """Build a :class:`ChainSpec` from a mapping with the TOML keys.
 
     Keys: ``d`` mm, ``pitch`` mm, ``width`` mm, ``n``, ``E`` MPa (default 210000),
-    ``nu`` (default 0.3), ``mass_per_m`` kg/m.  A ``[chain]`` table is accepted too.
+    ``nu`` (default 0.3), ``mass_per_m`` kg/m.  A ``[chain]`` table is accepted too, and
+    ``preset = "din22252:14x50"`` (:mod:`chainid.presets`) with any of the keys overriding it.
     """
     if "chain" in data and isinstance(data["chain"], dict):
         data = data["chain"]
+    if "preset" in data:  # preset = "din22252:14x50"; other keys override the preset's fields
+        data = {**ChainSpec.preset(str(data["preset"])).to_dict(), **{k: v for k, v in data.items() if k != "preset"}}
     unknown = set(data) - _KEYS
     if unknown:
         raise ValueError(f"{source}: unknown key(s) {sorted(unknown)}; valid keys are {sorted(_KEYS)}")

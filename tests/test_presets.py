@@ -122,3 +122,13 @@ def test_cli_chains_json(capsys):
     doc = json.loads(capsys.readouterr().out)
     assert [p["name"] for p in doc["presets"]] == [f"din22252:{s}" for s in DIN22252]
     assert doc["presets"][0]["width_mm"] == 17.0
+
+
+def test_preset_in_a_chain_toml(tmp_path):
+    f = tmp_path / "c.toml"
+    f.write_text('[chain]\npreset = "din22252:26x92"\nn = 8\n', encoding="utf-8")
+    c = load_chain(f)
+    assert (c.d, c.pitch, c.width, c.n, c.mass_per_m) == (26.0, 92.0, 30.0, 8, 13.7)
+    f.write_text('preset = "din22252:99x1"\n', encoding="utf-8")
+    with pytest.raises(ValueError, match="99x1"):
+        load_chain(f)
