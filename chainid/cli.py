@@ -17,7 +17,7 @@ from typing import Any, Sequence
 __all__ = ["main", "write_json", "build_parser"]
 
 #: Modules that add their own subcommands via ``add_subparsers(subparsers)``.
-SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report")
+SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report", "chainid.cli_practice")
 
 
 def write_json(doc: Any, target: str | None, force: bool = False) -> None:
@@ -130,6 +130,10 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
     rows = [{"x_mm": float(a), "F_k_N": float(b), "k_e_N_per_mm": float(c)} for a, b, c in zip(x, F, k)]
     doc = {"chain": chain.to_dict(), "variant": args.variant, "c_lin_mm_per_N": c_lin,
            "c_hertz_mm_per_N23": c_h, "points": rows}
+    if len(F) and np.isfinite(F).any():
+        from .cli_practice import warn_loads
+
+        warn_loads(float(np.nanmax(F)), chain, doc)
     if args.json == "-":
         write_json(doc, "-")
         return 0
@@ -163,7 +167,7 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("stiffness", help="F_k and k_e at given elongations (or tensions)")
     s.add_argument("--x", type=float, nargs="+", metavar="X", help="elongations [mm]")
     s.add_argument("--F", type=float, nargs="+", metavar="F", help="tensions [N] (their elongations are added)")
-    s.add_argument("--chain", metavar="FILE.toml", help="chain file (default: the built-in 14x50 chain)")
+    s.add_argument("--chain", metavar="FILE.toml", help="chain file or preset name, e.g. din22252:26x92 (default: the built-in 14x50 chain)")
     s.add_argument("--variant", default="paper", choices=VARIANTS, help="model variant")
     s.add_argument("--json", nargs="?", const="-", metavar="FILE", help="JSON to FILE, or to stdout with no FILE")
     s.add_argument("--force", action="store_true", help="overwrite an existing output file")

@@ -136,6 +136,10 @@ def cmd_identify(args: argparse.Namespace) -> int:
         "model": {"name": getattr(model, "name", None), "mass_kg": results[0].mass_kg},
         "law": None,
     }
+    if getattr(model, "chain", None) is not None:  # record force beyond the chain's elastic/working range
+        from .cli_practice import warn_loads
+
+        warn_loads(max(float(r.F.max()) for r in records), model.chain, out)
     if args.write_side:
         ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True) for r in records}
         write_side_file(args.write_side, ests, overwrite=args.force)
@@ -271,7 +275,7 @@ def _wrap(fn: Any) -> Any:
 
 
 def _model_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--chain", metavar="FILE.toml", help="chain TOML file (default: the paper's 14x50 chain)")
+    p.add_argument("--chain", metavar="FILE.toml", help="chain TOML file or preset name, e.g. din22252:26x92 (default: the paper's 14x50 chain)")
     p.add_argument("--variant", default="paper", help="stiffness model variant (default: paper)")
     p.add_argument("--model", choices=("chain", "linear"), default="chain",
                    help="stiffness model: the chain (default) or linear F = k (x - x_ref) (allows compressive force)")

@@ -122,6 +122,13 @@ class ChainSpec:
         """Fields as a plain dict (TOML/JSON keys), units as in the class docstring."""
         return asdict(self)
 
+    @classmethod
+    def preset(cls, name: str, n: int | None = None) -> "ChainSpec":
+        """A standard chain by name, e.g. ``"din22252:26x92"``, ``"studless:76"`` (see :mod:`chainid.presets`)."""
+        from .presets import chain  # lazy: presets imports this module
+
+        return chain(name, n=n)
+
 
 PAPER_CHAIN = ChainSpec(d=14.0, pitch=50.0, width=17.0, n=16, E=210000.0, nu=0.3, mass_per_m=4.0)
 
@@ -139,10 +146,13 @@ def chain_from_mapping(data: dict[str, Any], source: str = "chain") -> ChainSpec
     """Build a :class:`ChainSpec` from a mapping with the TOML keys.
 
     Keys: ``d`` mm, ``pitch`` mm, ``width`` mm, ``n``, ``E`` MPa (default 210000),
-    ``nu`` (default 0.3), ``mass_per_m`` kg/m.  A ``[chain]`` table is accepted too.
+    ``nu`` (default 0.3), ``mass_per_m`` kg/m.  A ``[chain]`` table is accepted too, and
+    ``preset = "din22252:14x50"`` (:mod:`chainid.presets`) with any of the keys overriding it.
     """
     if "chain" in data and isinstance(data["chain"], dict):
         data = data["chain"]
+    if "preset" in data:  # preset = "din22252:14x50"; other keys override the preset's fields
+        data = {**ChainSpec.preset(str(data["preset"])).to_dict(), **{k: v for k, v in data.items() if k != "preset"}}
     unknown = set(data) - _KEYS
     if unknown:
         raise ValueError(f"{source}: unknown key(s) {sorted(unknown)}; valid keys are {sorted(_KEYS)}")
@@ -158,10 +168,15 @@ def load_chain(path: str | Path | None) -> ChainSpec:
     Parameters
     ----------
     path : str or Path or None
-        TOML file with keys d, pitch, width, n, E, nu, mass_per_m (units mm, MPa, kg/m).
+        TOML file with keys d, pitch, width, n, E, nu, mass_per_m (units mm, MPa, kg/m),
+        or a preset name such as ``"din22252:14x50"`` (:mod:`chainid.presets`).
     """
     if path is None:
         return default_chain()
+    from .presets import is_preset_name  # lazy: presets imports this module
+
+    if not Path(path).is_file() and is_preset_name(str(path)):  # e.g. "din22252:14x50"
+        return ChainSpec.preset(str(path))
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"chain file {str(p)!r} does not exist")
