@@ -183,9 +183,11 @@ def _recovering_cache_class():
             try:
                 return super().load_overload(sig, target_context)
             except Exception as exc:  # any failure to read or rebuild an entry: compile from source instead
+                name = getattr(self._py_func, "__qualname__", "?")
                 _warn_once(f"corrupt:{self.cache_path}", (
-                    f"numba cache entry in {self.cache_path!r} is unreadable ({type(exc).__name__}: {exc}); "
-                    "recompiling the kernel and rewriting its entry"
+                    f"numba cache entry of kernel {name!r} ({self._impl.filename_base}.*) in {self.cache_path!r} "
+                    f"is unreadable ({type(exc).__name__}: {exc}); recompiling the kernel and rewriting its entry "
+                    "(further unreadable entries in this folder are recovered silently)"
                 ))
                 return None
 

@@ -196,7 +196,8 @@ def _elastic(kind: str, x: Any, chain: ChainLike, variant: str) -> Any:
     arr, mask, scalar = as_real_array(x, "x", "mm")
     c = coefficients(chain, variant)
     flat = arr.reshape(-1)
-    out = getattr(variant_module(variant), f"{kind}_array")(flat, *c)
+    with np.errstate(all="ignore"):  # the numpy error model of the kernels (also on the NUMBA_DISABLE_JIT path)
+        out = getattr(variant_module(variant), f"{kind}_array")(flat, *c)
     _large_x(flat, out, kind, *c)
     return _finish(out.reshape(arr.shape), mask, scalar)
 
@@ -255,7 +256,8 @@ def displacement(F: ArrayLike, chain: ChainLike = None, variant: str = "paper") 
         raise ValueError(f"F = {bad!r} N is invalid: a chain carries no compression; valid range F >= 0 N")
     c = coefficients(chain, variant)
     flat = arr.reshape(-1)
-    out = variant_module(variant).displacement_array(flat, *c)
+    with np.errstate(all="ignore"):
+        out = variant_module(variant).displacement_array(flat, *c)
     out[np.isposinf(flat)] = np.inf
     return _finish(out.reshape(arr.shape), mask, scalar)
 
@@ -294,4 +296,6 @@ def damping_residual(
     Fa, xa, aa = (np.ascontiguousarray(np.asarray(v, dtype=np.float64)).reshape(-1) for v in (F, x, xddot))
     if not (Fa.shape == xa.shape == aa.shape):
         raise ValueError(f"F, x, xddot must have the same shape; got {Fa.shape}, {xa.shape}, {aa.shape}")
-    return variant_module(variant).damping_residual_array(Fa, xa, aa, m, *c).reshape(np.shape(x))
+    with np.errstate(all="ignore"):
+        out = variant_module(variant).damping_residual_array(Fa, xa, aa, m, *c)
+    return out.reshape(np.shape(x))
