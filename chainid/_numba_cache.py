@@ -34,8 +34,10 @@ truncated ``.nbi``/``.nbc`` file raises ``UnpicklingError`` there.  With
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import importlib.util
+import inspect
 import os
 import sys
 import tempfile
@@ -44,11 +46,11 @@ import warnings
 from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
-from typing import Iterator
+from typing import Any, Callable, Iterator
 
 import numpy as np
 
-__all__ = ["NumbaCacheWarning", "load_kernel_module", "cache_mode"]
+__all__ = ["NumbaCacheWarning", "load_kernel_module", "njit_cached", "cache_mode"]
 
 
 class NumbaCacheWarning(RuntimeWarning):
@@ -76,7 +78,8 @@ def cache_mode() -> str:
 def _warn_once(key: str, message: str) -> None:
     if key not in _WARNED:
         _WARNED.add(key)
-        warnings.warn(message, NumbaCacheWarning, stacklevel=3)
+        # line 0: no source line under the message, so the warning is one line on stderr
+        warnings.warn_explicit(message, NumbaCacheWarning, __file__, 0, module=__name__)
 
 
 def _probe(py_file: str) -> bool:
@@ -173,6 +176,7 @@ def _without_disk_cache() -> Iterator[None]:
         config.CACHE_LOCATOR_CLASSES = old
 
 
+@functools.lru_cache(maxsize=None)
 def _recovering_cache_class():
     from numba.core.caching import FunctionCache
 
@@ -209,6 +213,16 @@ def _recovering_cache_class():
     return _RecoveringCache
 
 
+def _harden_dispatcher(obj, mode: str) -> None:
+    """Give one numba dispatcher numba's NullCache (mode "none") or the recovering cache."""
+    from numba.core.caching import FunctionCache, NullCache
+
+    if mode == "none":
+        obj._cache = NullCache()
+    elif type(obj._cache) is FunctionCache:
+        obj._cache.__class__ = _recovering_cache_class()
+
+
 def _harden(mod: ModuleType, mode: str) -> None:
     """Give every kernel of ``mod`` a recovering cache (or none), or the pure-Python bit casts under nojit."""
     if getattr(mod, "_chainid_cache_mode", None) == mode:
@@ -219,18 +233,41 @@ def _harden(mod: ModuleType, mode: str) -> None:
         if hasattr(mod, "_from_bits"):
             mod._from_bits = lambda v: np.int64(v).view(np.float64)
     else:
-        from numba.core.caching import FunctionCache, NullCache
         from numba.core.dispatcher import Dispatcher
 
-        recovering = _recovering_cache_class()
         for obj in list(vars(mod).values()):
-            if not isinstance(obj, Dispatcher):
-                continue
-            if mode == "none":
-                obj._cache = NullCache()
-            elif type(obj._cache) is FunctionCache:
-                obj._cache.__class__ = recovering
+            if isinstance(obj, Dispatcher):
+                _harden_dispatcher(obj, mode)
     mod._chainid_cache_mode = mode
+
+
+def njit_cached(func: Callable | None = None, **options: Any) -> Any:
+    """``numba.njit(cache=True, **options)`` that never fails because of the cache.
+
+    For chainid's own hand-written numba functions (the generated kernels go through
+    :func:`load_kernel_module`): the same fallbacks (temporary folder, then no disk
+    cache, one warning each) and corrupt-entry recovery.  With ``NUMBA_DISABLE_JIT=1``
+    it returns the Python function.  Use as ``@njit_cached`` or ``@njit_cached(fastmath=True)``.
+    """
+    def decorate(f: Callable) -> Any:
+        try:
+            from numba import njit
+        except ImportError:  # pragma: no cover - numba is a dependency; plain Python then
+            return f
+
+        with _LOCK:
+            mode = _choose_cache(inspect.getfile(f))
+            _STATE["mode"] = _STATE["mode"] or mode
+            if mode == "none":
+                with _without_disk_cache():
+                    disp = njit(cache=True, **options)(f)
+            else:
+                disp = njit(cache=True, **options)(f)
+            if mode != "nojit":
+                _harden_dispatcher(disp, mode)
+        return disp
+
+    return decorate(func) if func is not None else decorate
 
 
 def load_kernel_module(name: str) -> ModuleType:
