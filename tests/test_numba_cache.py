@@ -40,7 +40,8 @@ from numba.core import config
 with warnings.catch_warnings(record=True) as w:
     warnings.simplefilter("always")
     F = chainid.force(2.2)
-print(json.dumps({{"F": F, "mode": _numba_cache.cache_mode(), "cache_dir": config.CACHE_DIR,
+    {post}
+print(json.dumps({{"F": F, "extra": locals().get("extra"), "mode": _numba_cache.cache_mode(), "cache_dir": config.CACHE_DIR,
                   "warnings": [str(m.message) for m in w if m.category.__name__ == "NumbaCacheWarning"]}}))
 """
 
@@ -52,8 +53,8 @@ def _env(**extra: str) -> dict[str, str]:
     return env
 
 
-def _run(env: dict[str, str], pre: str = "", cwd: Path | None = None) -> dict:
-    proc = subprocess.run([sys.executable, "-c", SCRIPT.format(pre=pre)], env=env, cwd=cwd, capture_output=True,
+def _run(env: dict[str, str], pre: str = "", cwd: Path | None = None, post: str = "pass") -> dict:
+    proc = subprocess.run([sys.executable, "-c", SCRIPT.format(pre=pre, post=post)], env=env, cwd=cwd, capture_output=True,
                           text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -85,7 +86,12 @@ def test_readonly_install_falls_back_to_a_temp_cache(readonly_install, tmp_path)
     tmp.mkdir()
     before = _files(pkg)
     env = _env(PYTHONPATH=str(pkg), HOME=str(home), TMPDIR=str(tmp))
-    first = _run(env, cwd=tmp_path)
+    # the hand-written numba operators of the gap effects (chainid/gap/effects.py) use the same fallback
+    post = ("from chainid.gap import effects; import numpy as np; "
+            "extra = effects.play_operator(np.array([0.0, 1.0, 0.4, -1.0]), 0.25, periodic=False).tolist()")
+    first = _run(env, cwd=tmp_path, post=post)
+    # play operator, half width 0.25, by hand: starts at x0 = 0, moves only when x leaves y ± 0.25
+    assert first["extra"] == pytest.approx([0.0, 0.75, 0.65, -0.75], abs=1e-15)
     assert first["F"] == pytest.approx(chainid.force(2.2), rel=1e-14)
     assert first["mode"] == "temp"
     assert len(first["warnings"]) == 1 and "caching the compiled kernels in" in first["warnings"][0]
