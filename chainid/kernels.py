@@ -22,6 +22,7 @@ datetime64/timedelta64, None, strings and object arrays raise ``TypeError``.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 from functools import lru_cache
 from types import ModuleType
@@ -29,7 +30,7 @@ from typing import Any, Union
 
 import numpy as np
 
-from ._numba_cache import load_kernel_module
+from ._numba_cache import cache_mode, load_kernel_module
 from .spec import ChainSpec, default_chain, load_chain
 
 __all__ = [
@@ -43,11 +44,17 @@ ChainLike = Union[ChainSpec, str, "os.PathLike[str]", None]
 VARIANTS: tuple[str, ...] = ("paper", "inner_bend", "shear", "inner_bend_shear")
 
 
+_MODULES: dict[str, ModuleType] = {}
+
+
 def variant_module(variant: str = "paper") -> ModuleType:
     """The generated kernel module ``chainid.generated.stiffness_<variant>``."""
-    if variant not in VARIANTS:
-        raise ValueError(f"variant = {variant!r} is invalid: valid variants are {list(VARIANTS)}")
-    return load_kernel_module(f"stiffness_{variant}")
+    mod = _MODULES.get(variant) if isinstance(variant, str) else None
+    if mod is None:
+        if variant not in VARIANTS:
+            raise ValueError(f"variant = {variant!r} is invalid: valid variants are {list(VARIANTS)}")
+        mod = _MODULES[variant] = load_kernel_module(f"stiffness_{variant}")
+    return mod
 
 
 def power_module() -> ModuleType:
@@ -183,6 +190,9 @@ X_LINEAR = 1e60
 
 def _large_x(flat: np.ndarray, out: np.ndarray, kind: str, c_lin: float, c_hertz: float) -> None:
     """Overwrite ``out`` where x > :data:`X_LINEAR` (incl. +inf) by the asymptote of Eq. 15/16."""
+    if flat.size == 1:  # the common scalar call: a float comparison instead of array operations
+        if not flat[0] > X_LINEAR:
+            return
     big = flat > X_LINEAR
     if not big.any():
         return
@@ -192,11 +202,16 @@ def _large_x(flat: np.ndarray, out: np.ndarray, kind: str, c_lin: float, c_hertz
         out[big] = F if kind == "force" else 1.0 / (c_lin + (2.0 / 3.0) * c_hertz / np.cbrt(F))
 
 
+def _quiet() -> Any:
+    """The kernels' numpy error model (no warnings) on the NUMBA_DISABLE_JIT path; compiled code needs nothing."""
+    return np.errstate(all="ignore") if cache_mode() == "nojit" else contextlib.nullcontext()
+
+
 def _elastic(kind: str, x: Any, chain: ChainLike, variant: str) -> Any:
     arr, mask, scalar = as_real_array(x, "x", "mm")
     c = coefficients(chain, variant)
     flat = arr.reshape(-1)
-    with np.errstate(all="ignore"):  # the numpy error model of the kernels (also on the NUMBA_DISABLE_JIT path)
+    with _quiet():
         out = getattr(variant_module(variant), f"{kind}_array")(flat, *c)
     _large_x(flat, out, kind, *c)
     return _finish(out.reshape(arr.shape), mask, scalar)
@@ -256,7 +271,7 @@ def displacement(F: ArrayLike, chain: ChainLike = None, variant: str = "paper") 
         raise ValueError(f"F = {bad!r} N is invalid: a chain carries no compression; valid range F >= 0 N")
     c = coefficients(chain, variant)
     flat = arr.reshape(-1)
-    with np.errstate(all="ignore"):
+    with _quiet():
         out = variant_module(variant).displacement_array(flat, *c)
     out[np.isposinf(flat)] = np.inf
     return _finish(out.reshape(arr.shape), mask, scalar)
@@ -296,6 +311,6 @@ def damping_residual(
     Fa, xa, aa = (np.ascontiguousarray(np.asarray(v, dtype=np.float64)).reshape(-1) for v in (F, x, xddot))
     if not (Fa.shape == xa.shape == aa.shape):
         raise ValueError(f"F, x, xddot must have the same shape; got {Fa.shape}, {xa.shape}, {aa.shape}")
-    with np.errstate(all="ignore"):
+    with _quiet():
         out = variant_module(variant).damping_residual_array(Fa, xa, aa, m, *c)
     return out.reshape(np.shape(x))

@@ -116,7 +116,7 @@ class ChainModel:
         arr = np.asarray(x, dtype=np.float64) - self.slack
         flat = np.ascontiguousarray(arr).reshape(-1)
         c = self.coefficients
-        with np.errstate(all="ignore"):  # the kernels' numpy error model, also with NUMBA_DISABLE_JIT=1
+        with kernels._quiet():  # the kernels' numpy error model, also with NUMBA_DISABLE_JIT=1
             out = getattr(mod, kernel)(flat, *c)
         if self.contact_exponent is None:
             kernels._large_x(flat, out, kernel.removesuffix("_array"), *c)
