@@ -173,9 +173,10 @@ def test_chain_argument_accepts_spec_none_and_toml_path(tmp_path):
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.floats(-6, 100), st.floats(-6, 100))
+@given(st.floats(-6, 300), st.floats(-6, 300))
 def test_round_trip_and_monotonic_across_the_asymptote(a, b):
-    x1, x2 = sorted((10.0**a, 10.0**b))  # 1e-6 mm to 1e100 mm, across kernels.X_LINEAR = 1e60 mm
+    x1, x2 = sorted((10.0**a, 10.0**b))  # 1e-6 to 1e300 mm, across kernels.X_LINEAR = 1e60 mm (the iteration
+    # of the kernels alone gives NaN from about 1e200 mm)
     F1, F2 = chainid.force(np.array([x1, x2]))
     assert F1 <= F2
     assert chainid.displacement(F1) == pytest.approx(x1, rel=1e-12)
