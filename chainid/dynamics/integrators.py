@@ -390,6 +390,8 @@ def simulate(
     peak_force: float | None = None,
     safety: float = 0.9,
     n_out: int = 500,
+    initial_u: np.ndarray | None = None,
+    initial_v: np.ndarray | None = None,
 ) -> SimResult:
     """Integrate the chain line under a drive law from the pre-tensioned static state.
 
@@ -411,6 +413,9 @@ def simulate(
     n_out : int
         Output samples (>= 2) besides t = 0, at most; every ``ceil(n_steps / n_out)``-th step is stored and the
         step is shortened slightly so that the last sample is at ``t_end``.
+    initial_u, initial_v : ndarray, optional
+        Node displacements [mm] and speeds [mm/s] at t = 0 (length N+1; default 0, the static state).  The
+        drive node follows its law and a fixed far end stays at 0 whatever is given for them.
 
     Returns
     -------
@@ -455,7 +460,16 @@ def simulate(
     c_lin, c_h = line.segment_coefficients()
     code, p = drive.params(line.chain.pitch)
     loads = line.loads
-    args = (np.zeros(nn), np.zeros(nn), line.node_masses(), c_lin, c_h, line.segment_damping(),
+    u_init, v_init = np.zeros(nn), np.zeros(nn)
+    for name, arr, tgt in (("initial_u", initial_u, u_init), ("initial_v", initial_v, v_init)):
+        if arr is not None:
+            a = np.asarray(arr, dtype=float)
+            if a.shape != (nn,) or not np.all(np.isfinite(a)):
+                raise _bad(name, f"array of shape {a.shape}", f"finite values, shape ({nn},) (one per node)")
+            tgt[:] = a
+    if line.far_end == "fixed":
+        u_init[-1] = v_init[-1] = 0.0
+    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(),
             line.pretension_elongation(), line.resistance_per_node(), float(line.resistance_v_eps),
             np.array([ld.node for ld in loads], dtype=np.int64), np.array([ld.force_N for ld in loads], dtype=float),
             np.array([ld.t_on for ld in loads], dtype=float), line.far_end == "tensioner",
