@@ -15,7 +15,7 @@ import numpy as np
 
 from ..parallel import run_cases
 from .drives import Drive
-from .integrators import simulate
+from .simulation import simulate
 from .model import ChainLine
 
 __all__ = ["sweep", "run_case", "sweep_cases", "as_table"]
