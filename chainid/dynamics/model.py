@@ -34,8 +34,8 @@ segment with a fixed far end is the paper's one-mass test model F = m·ẍ + F_k
 adds a tensioner carriage mass on node N.
 
 Loads.  ``resistance_N``: the total moving resistance of the strand (friction of chain and load on the
-trough), distributed over the moving nodes in proportion to their mass and smoothed around zero speed,
-f_i = −R_i·tanh(v_i / resistance_v_eps).  ``loads``: load steps (node, force N, switch-on time s) opposing
+trough), distributed over the moving nodes in proportion to their mass: a Coulomb force regularised by
+a steep viscous branch around standstill, f_i = −R_i·clip(v_i / resistance_v_eps, −1, 1).  ``loads``: load steps (node, force N, switch-on time s) opposing
 the motion.
 """
 from __future__ import annotations
@@ -106,7 +106,7 @@ class ChainLine:
     resistance_N : float
         Total moving resistance [N], >= 0.
     resistance_v_eps : float
-        Speed [mm/s] of the tanh smoothing of the resistance at standstill, > 0.
+        Speed [mm/s] below which the resistance is viscous (R·v/ε) instead of Coulomb (R), > 0.
     loads : tuple of LoadStep
         Load steps.
     lumping : str
