@@ -183,3 +183,54 @@ def test_stable_step_is_the_linear_chain_limit():
     k = 1 / line.segment_coefficients()[0][0]
     m = line.node_masses()[1]
     assert stable_step(line) == pytest.approx(math.sqrt(m / (1e3 * k)), rel=1e-12)
+
+
+def test_steady_running_tension_carries_the_resistance():
+    """Running at speed: T_j = pretension + the resistance of the nodes behind segment j (statics, 1 %)."""
+    line = ChainLine(n_links=200, n_masses=20, pretension_N=2_000.0, resistance_N=3_000.0, damping=20.0)
+    res = simulate(line, Drive("ramp", v=500.0, t_ramp=0.2), 1.5, peak_force=10_000.0)
+    R = line.resistance_per_node()
+    expected = line.pretension_N + np.cumsum(R[::-1])[::-1][1:]  # segment j pulls nodes j+1..N
+    assert expected[0] == pytest.approx(2_000.0 + 3_000.0)
+    np.testing.assert_allclose(res.tension[-1], expected, rtol=1e-2)
+    assert res.v[-1, 1:] == pytest.approx(np.full(line.n_masses, 500.0), rel=1e-2)
+    assert res.energy_balance()["relative_error"] < 1e-3
+    assert res.dynamic_factor == pytest.approx(res.peak_tension / 5_000.0)
+
+
+def test_implicit_and_explicit_agree_on_a_start_up():
+    line = ChainLine(n_links=100, n_masses=10, pretension_N=1_000.0, resistance_N=500.0, damping=10.0)
+    d = Drive("ramp", v=300.0, t_ramp=0.05)
+    a = simulate(line, d, 0.2, peak_force=5_000.0, n_out=20)
+    b = simulate(line, d, 0.2, scheme="implicit", dt=a.dt, n_out=20)
+    np.testing.assert_allclose(b.tension, a.tension, rtol=0, atol=1e-2 * a.peak_tension)
+    assert b.energy_balance()["relative_error"] < 1e-3
+
+
+def test_cli_dynamics_json_and_plots(tmp_path, capsys):
+    import json
+
+    from chainid.cli import main
+    out = tmp_path / "dyn.json"
+    argv = ["dynamics", "--links", "100", "--masses", "10", "--pretension", "1000", "--speed", "200",
+            "--t-ramp", "0.05", "--t-end", "0.1", "--json", str(out), "--plots", str(tmp_path / "figs"), "--quiet"]
+    assert main(argv) == 0
+    doc = json.loads(out.read_text())
+    assert doc["summary"]["peak_tension_N"] >= 1000.0 and len(doc["modes"]["frequency_hz"]) == 4
+    assert sorted(p.name for p in (tmp_path / "figs").iterdir()) == [
+        "dynamics_drive_tension.png", "dynamics_heatmap.png", "dynamics_modes.png"]
+    before = out.read_text()
+    assert main(argv) == 2  # exists, no --force: refused before any work, file untouched
+    assert "exists" in capsys.readouterr().err and out.read_text() == before
+    assert main(["dynamics", "--masses", "0"]) == 2
+    assert "n_masses = 0" in capsys.readouterr().err
+
+
+def test_sweep_product_order_serial():
+    from chainid.dynamics.sweeps import sweep
+    line = ChainLine(n_links=60, n_masses=6, pretension_N=1_000.0)
+    rows = sweep(line, Drive("ramp", v=100.0, t_ramp=0.02), 0.05, pretensions=[1_000.0, 2_000.0],
+                 speeds=[100.0, 200.0], n_masses=[3, 6], scheduler="serial", progress=False, peak_force=5_000.0)
+    assert [(r["pretension_N"], r["v"], r["n_masses"]) for r in rows] == [
+        (p, v, n) for p in (1_000.0, 2_000.0) for v in (100.0, 200.0) for n in (3, 6)]
+    assert all(r["peak_tension_N"] >= r["pretension_N"] for r in rows)
