@@ -35,6 +35,19 @@ def test_processes_same_as_serial():
 @pytest.mark.skipif(not dask_available(), reason="dask.distributed not installed")
 def test_local_cluster_same_as_serial():
     assert run_cases(_square_plus, CASES, scheduler="local", n_workers=2, progress=False) == EXPECTED
+    assert multiprocessing.active_children() == []
+
+
+@pytest.mark.skipif(not dask_available(), reason="dask.distributed not installed")
+def test_existing_cluster_by_address_results_and_errors():
+    """An existing scheduler (here an in-process one: fast) is used by address and left running."""
+    from distributed import LocalCluster
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+        addr = cluster.scheduler_address
+        assert run_cases(_square_plus, CASES, scheduler=addr, progress=False) == EXPECTED
+        with pytest.raises(RuntimeError, match="case 3 failed"):
+            run_cases(_fail_on_three, range(6), scheduler=addr, progress=False)
+        assert run_cases(_square_plus, CASES[:2], scheduler=addr, progress=False) == EXPECTED[:2]  # still up
 
 
 def test_empty_cases():
