@@ -82,7 +82,9 @@ def test_small_oscillations_match_eigh(scheme):
 def test_energy_balance_without_damping():
     line = ChainLine(n_links=200, n_masses=20, pretension_N=3_000.0, far_end="tensioner", tensioner_stiffness=5.0,
                      loads=(LoadStep(node=12, force_N=2_000.0, t_on=0.05),))
-    res = simulate(line, Drive("ramp", v=800.0, t_ramp=0.05), 0.2, peak_force=20_000.0)
+    # the residual is the scheme's O(dt²) shadow-energy error (the load step's jump dominates): 7.6e-4 at
+    # 0.9·dt_stable, 1.7e-8 at dt = 2 µs; half the stable step keeps it well inside the 1e-3 requirement
+    res = simulate(line, Drive("ramp", v=800.0, t_ramp=0.05), 0.2, peak_force=20_000.0, safety=0.45)
     eb = res.energy_balance()
     assert eb["dissipated"] == 0.0
     assert eb["work_in"] > 1e4  # N·mm: the drive did work
