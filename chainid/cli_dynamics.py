@@ -84,6 +84,9 @@ def add_subparsers(subparsers: Any) -> None:
 
 
 def _check_targets(args: argparse.Namespace, sweeping: bool) -> None:
+    if sweeping and args.plots:
+        raise ValueError(f"--plots = {args.plots!r} is invalid with a sweep: figures are drawn for a single run "
+                         "(use --json for the sweep table)")
     targets = []
     if args.json and args.json != "-":
         targets.append(Path(args.json))
