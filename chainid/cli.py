@@ -17,7 +17,8 @@ from typing import Any, Sequence
 __all__ = ["main", "write_json", "build_parser"]
 
 #: Modules that add their own subcommands via ``add_subparsers(subparsers)``.
-SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report", "chainid.cli_practice")
+SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report", "chainid.cli_practice",
+                      "chainid.cli_dynamics")
 
 
 def write_json(doc: Any, target: str | None, force: bool = False) -> None:
