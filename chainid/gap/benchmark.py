@@ -10,11 +10,9 @@ the effect leaves after the baseline absorbs what it can).
 
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import replace
 from multiprocessing import get_context
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -184,8 +182,10 @@ def format_summary(s: dict[str, Any]) -> str:
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   processes: int = 2) -> dict[str, Any]:
     """Run the grid, print the confusion matrix and summary, optionally write JSON."""
-    if json_path and Path(json_path).exists() and not overwrite:
-        raise ValueError(f"--json {json_path!r} already exists; refusing to overwrite it (use --force)")
+    if json_path:  # before the grid runs
+        from ..fileio import check_output_file
+
+        check_output_file(json_path, force=overwrite, what="--json")
     cases = grid(small, seed)
     if processes > 1:
         with get_context("fork").Pool(processes) as pool:
@@ -195,5 +195,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     s = summarise(rows)
     print(format_summary(s))
     if json_path:
-        Path(json_path).write_text(json.dumps(s, indent=1, default=float))
+        from ..fileio import write_json  # strict JSON (null for NaN), temp file + rename
+
+        write_json(s, json_path, force=overwrite, what="--json")
     return s
