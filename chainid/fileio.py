@@ -268,13 +268,13 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", *, force: bool = 
             fh.flush()
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o666 & ~_umask())
-    except BaseException as exc:
+        _commit(tmp, p, force, what)
+    except BaseException as exc:  # incl. KeyboardInterrupt: the temporary file goes, the target is untouched
         with contextlib.suppress(OSError):
-            os.unlink(tmp)
+            os.unlink(tmp)  # (already gone if the rename happened)
         if isinstance(exc, OSError):
             raise OutputError(f"{what} {str(p)!r} cannot be written: {exc.strerror or exc}") from None
         raise
-    _commit(tmp, p, force, what)
 
 
 def _umask() -> int:

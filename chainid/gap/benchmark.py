@@ -179,6 +179,13 @@ def format_summary(s: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def _ignore_sigint() -> None:
+    """Pool workers leave Ctrl-C to the parent (which stops the pool): one message, no worker tracebacks."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   processes: int = 2) -> dict[str, Any]:
     """Run the grid, print the confusion matrix and summary, optionally write JSON."""
@@ -188,7 +195,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
         check_output_file(json_path, force=overwrite, what="--json")
     cases = grid(small, seed)
     if processes > 1:
-        with get_context("fork").Pool(processes) as pool:
+        with get_context("fork").Pool(processes, initializer=_ignore_sigint) as pool:
             rows = pool.map(run_case, cases, chunksize=1)
     else:
         rows = [run_case(c) for c in cases]
