@@ -291,12 +291,10 @@ def _swap_in(tmp: Path, out: Path) -> None:
 
     new = _files_under(tmp)
     manifest = dumps_json({"written_by": "chainid report", "files": new}) + "\n"
-    if not out.exists() or (out.is_dir() and not any(out.iterdir())):
+    if not out.exists():  # a new folder: one rename
         (tmp / MANIFEST).write_text(manifest, encoding="utf-8")
         os.chmod(tmp, 0o777 & ~_umask())
         with deferred_sigint():
-            if out.exists():
-                out.rmdir()
             os.rename(tmp, out)
         return
     _check_swap(tmp, out, new)
@@ -364,8 +362,13 @@ def run_report(out: Path, chain_path: str | None = None, data: str | None = None
         if not datap.is_file():
             raise ValueError(f"--data {str(datap)!r} does not exist")
         recs = read_records(datap, allow_compression=True)  # every cell checked before the first step
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.building-", dir=out.parent))
+    base = out.resolve()
+    try:  # beside the target (same file system: the final moves are renames)
+        base.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{base.name}.building-", dir=base.parent))
+    except OSError:  # e.g. --out . in a folder whose parent is read-only: build inside the target
+        base.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=".chainid-report.building-", dir=base))
     try:
         t0 = time.time()
         (tmp / "figures").mkdir()

@@ -320,3 +320,12 @@ def test_report_force_replaces_only_the_files_it_wrote(tmp_path, capsys, fake_st
     assert tree["figures/mine.png"] == b"user figure" and tree["notes.txt"] == b"user notes"
     manifest = json.loads(tree[".chainid-manifest.json"])
     assert manifest["files"] == ["figures/b.png", "json/verify.json", "report.md"]
+
+
+def test_report_into_the_current_folder(tmp_path, capsys, fake_steps, monkeypatch):
+    here = tmp_path / "P"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    assert _run(capsys, ["report", "--out", "."])[0] == 0
+    assert sorted(_tree(here)) == [".chainid-manifest.json", "figures/a.png", "json/verify.json", "report.md"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["P"]
