@@ -149,7 +149,16 @@ def test_simulate_memory_estimate_matches_the_allocation():
     assert rec.t.size == round(n_hand)
 
 
-def test_simulate_refuses_a_huge_plan_fast_and_max_memory_raises_the_limit(tmp_path, capsys):
+def test_simulate_refuses_a_huge_plan_fast_and_max_memory_raises_the_limit(tmp_path, capsys, monkeypatch):
+    import chainid.simulate as sim
+
+    real = sim.simulate_test
+
+    def guarded(spec, *a, **k):  # a regression must fail here, not allocate 160 GiB
+        assert spec.omega < 1e5, "simulate started a test beyond the memory limit"
+        return real(spec, *a, **k)
+
+    monkeypatch.setattr(sim, "simulate_test", guarded)
     (tmp_path / "fast.csv").write_text("test,omega,x0,A\n1,1e6,2.2,0.3\n")
     rc, _, err = _run(capsys, ["simulate", tmp_path / "a.csv", "--plan", tmp_path / "fast.csv"])
     assert rc == 2
