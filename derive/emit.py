@@ -449,10 +449,8 @@ def generate(out_dir: Path, check: bool = False) -> GenerateResult:
             res[fname] = "missing" if old is None else ("unchanged" if old == text else "stale")
         else:
             if old != text:
-                from chainid.fileio import atomic_open  # temp file + rename: no half-written kernel
-
-                with atomic_open(p, "w", force=True, what="generate --out", newline="\n") as fh:
-                    fh.write(text)
+                out_dir.mkdir(parents=True, exist_ok=True)
+                p.write_text(text, encoding="utf-8", newline="\n")
                 res[fname] = "written"
             else:
                 res[fname] = "unchanged"
