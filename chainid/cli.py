@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import sys
 from pathlib import Path
 from typing import Any, Sequence
@@ -21,19 +20,14 @@ SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report
                       "chainid.cli_dynamics")
 
 
-def write_json(doc: Any, target: str | None, force: bool = False) -> None:
-    """Write ``doc`` as JSON to ``target`` ("-" = stdout); refuse to overwrite without ``force``."""
-    if target is None:
-        return
-    text = json.dumps(doc, indent=2, ensure_ascii=False, default=_json_default)
-    if target == "-":
-        print(text)
-        return
-    p = Path(target)
-    if p.exists() and not force:
-        raise ValueError(f"output file {str(p)!r} exists; pass --force to overwrite it")
-    p.parent.mkdir(parents=True, exist_ok=True)
-    p.write_text(text + "\n", encoding="utf-8")
+def write_json(doc: Any, target: str | None, force: bool = False, what: str = "--json") -> None:
+    """Write ``doc`` as strict JSON to ``target`` ("-" = stdout) atomically; refuse to overwrite without ``force``.
+
+    Non-finite numbers are written as ``null`` (see :func:`chainid.fileio.write_json`).
+    """
+    from .fileio import write_json as _write
+
+    _write(doc, target, force=force, what=what)
 
 
 def _json_default(o: Any) -> Any:
@@ -46,6 +40,14 @@ def _json_default(o: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(o)}")
 
 
+def check_json_target(target: str | None, force: bool, what: str = "--json") -> None:
+    """Check a ``--json`` target before the work starts ("-" and None need no check)."""
+    from .fileio import check_output_file
+
+    if target is not None and target != "-":
+        check_output_file(target, force=force, what=what)
+
+
 def _progress(msg: str) -> None:
     print(f"  ... {msg}", file=sys.stderr, flush=True)
 
@@ -53,6 +55,7 @@ def _progress(msg: str) -> None:
 # -- verify ------------------------------------------------------------------
 
 def cmd_verify(args: argparse.Namespace) -> int:
+    check_json_target(args.json, args.force)
     from .derive import verify  # SymPy is imported here, and only here (and in generate)
 
     checks = verify.run_checks(progress=_progress)
@@ -78,9 +81,15 @@ def default_generated_dir() -> Path:
 
 
 def cmd_generate(args: argparse.Namespace) -> int:
-    from .derive import emit
+    from .fileio import check_output_dir
 
     out = Path(args.out) if args.out else default_generated_dir()
+    if not args.check:
+        check_output_dir(out, what="--out")  # generate always refreshes its own files
+    elif out.exists() and not out.is_dir():
+        raise ValueError(f"--out {str(out)!r} is a file; give the generated/ folder")
+    from .derive import emit
+
     try:
         res = emit.generate(out, check=args.check)
     except RuntimeError as exc:  # SymPy version mismatch
@@ -118,6 +127,7 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
     from . import kernels
     from .spec import load_chain
 
+    check_json_target(args.json, args.force)
     chain = load_chain(args.chain)
     if args.x is None and args.F is None:
         raise ValueError("give --x X [X ...] (elongations, mm) and/or --F F [F ...] (tensions, N)")
@@ -197,6 +207,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `chainid audit | head`
         sys.stderr.close()
         return 0
+    except OSError as exc:  # a file system fault not caught by chainid.fileio: one line, no traceback
+        name = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        print(f"chainid {args.command}: error:{name} {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:  # SIGINT: outputs are atomic, so nothing partial is left
+        from .fileio import interrupted
+
+        return interrupted(args.command)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -13,6 +13,14 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     from .records import read_records
 
     try:
+        from .fileio import check_output_dir, check_output_file
+
+        if args.json:  # output targets first: the diagnosis takes a while
+            check_output_file(args.json, force=args.force, what="--json")
+        if args.plots:
+            from .gap.plots import PLOT_NAMES
+
+            check_output_dir(args.plots, "--plots", PLOT_NAMES, force=args.force)
         recs = read_records(args.data, allow_compression=True)
         if args.model == "linear":
             model = None
@@ -29,7 +37,7 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         if args.plots:
             from .gap.plots import make_plots
 
-            for p in make_plots(res, args.plots):
+            for p in make_plots(res, args.plots, force=args.force):
                 print(f"wrote {p}")
     except ValueError as exc:
         print(f"chainid diagnose: error: {exc}", file=sys.stderr)
@@ -41,6 +49,10 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
     from .gap.benchmark import run_benchmark
 
     try:
+        if args.json:  # before the grid runs (minutes)
+            from .fileio import check_output_file
+
+            check_output_file(args.json, force=args.force, what="--json")
         run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed)
     except ValueError as exc:
         print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
@@ -61,7 +73,7 @@ def add_subparsers(subparsers: Any) -> None:
                    help="largest combination of effects (default 2)")
     p.add_argument("--json", metavar="FILE", help="write the JSON result")
     p.add_argument("--plots", metavar="DIR", help="write figures to DIR")
-    p.add_argument("--force", action="store_true", help="overwrite an existing --json file")
+    p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots files")
     p.set_defaults(func=cmd_diagnose)
     b = subparsers.add_parser("benchmark-gap", help="blind benchmark of the diagnosis on simulated effects")
     b.add_argument("--small", action="store_true", help="a small, fast grid")

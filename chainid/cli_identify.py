@@ -12,10 +12,8 @@ each subcommand sets ``func(args) -> int`` (exit code).
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
-from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
@@ -46,13 +44,17 @@ def _jsonable(o: Any) -> Any:
 
 
 def _check_out(path: str | None, force: bool, what: str = "--json") -> None:
-    if path is not None and Path(path).exists() and not force:
-        raise ValueError(f"{what} file {path!r} already exists; refusing to overwrite it (use --force)")
+    """Check an output file target before the work starts (see :func:`chainid.fileio.check_output_file`)."""
+    from .fileio import check_output_file
+
+    if path is not None and path != "-":
+        check_output_file(path, force=force, what=what)
 
 
 def _write_json(path: str, data: dict, force: bool) -> None:
-    _check_out(path, force)
-    Path(path).write_text(json.dumps(_jsonable(data), indent=2) + "\n")
+    from .fileio import write_json
+
+    write_json(_jsonable(data), path, force=force)
 
 
 def _table(headers: Sequence[str], rows: Sequence[Sequence[Any]], fmts: Sequence[str]) -> str:
@@ -97,7 +99,16 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if args.write_side:
         _check_out(args.write_side, args.force, "--write-side")
     allow_comp = bool(args.allow_compression or args.model == "linear")
+    if args.plots:
+        from .fileio import check_output_dir
+
+        check_output_dir(args.plots, "--plots")
     records = read_records(args.data, allow_compression=allow_comp)
+    if args.plots:
+        from .plots_identify import plot_names
+
+        check_output_dir(args.plots, "--plots", plot_names([r.test for r in records], len(records) >= MIN_TESTS),
+                         force=args.force)
     side = read_side_file(args.side) if args.side else None
     if side:
         unknown = sorted(set(side) - {r.test for r in records})
@@ -181,7 +192,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if args.plots:
         from .plots_identify import plot_all
 
-        paths = plot_all(records, results, model, args.plots, law=law)
+        paths = plot_all(records, results, model, args.plots, law=law, force=args.force)
         print(f"\nwrote {len(paths)} plot(s) to {args.plots}")
     if args.json:
         _write_json(args.json, out, args.force)
@@ -207,11 +218,15 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from .simulate import paper_plan, read_plan, simulate
 
     _check_out(args.out, args.force, "output")
+    _check_simulate_options(args)
     plan = paper_plan() if args.plan in (None, "paper") else read_plan(args.plan)
     if args.model == "linear" and args.k is None:
         raise ValueError("--model linear needs --k [N/mm] (and --x-ref [mm]) for simulation")
     model = _model(args)
     params = _parse_floats(args.params)
+    bad = [v for v in (params or []) if not math.isfinite(v)]
+    if bad:
+        raise ValueError(f"--params {args.params!r}: value {bad[0]!r} is invalid: valid range finite numbers")
     if params is None:
         defaults = {"viscous": [2834.4], "polynomial": [28.02, -651.57, -8386.50, 7394.84, 4378.89]}
         if args.law not in defaults:
@@ -226,7 +241,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         force_fn = parse_effect(args.effect, model)
     recs = simulate(plan, model, law, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
                     ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F,
-                    force_fn=force_fn)
+                    force_fn=force_fn, mass_kg=args.mass, max_memory=args.max_memory * 1024**3)
     write_records(args.out, recs, overwrite=args.force)
     print(_table(["test", "omega rad/s", "x0 mm", "A mm", "c_e N.s/mm", "samples", "duration s"],
                  [[s.test, s.omega, s.x0, s.A, float(law.predict(s.omega, s.A, s.x0)[0]), r.t.size, r.t[-1]]
@@ -236,6 +251,26 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}{effect}, noise x {args.noise_x} mm, "
           f"F {args.noise_F} N, seed {args.seed})")
     return 0
+
+
+def _check_simulate_options(args: argparse.Namespace) -> None:
+    """Range checks of ``simulate``'s numeric options, before anything is computed."""
+    checks = (
+        ("--noise-x", args.noise_x, args.noise_x is None or args.noise_x >= 0, ">= 0 mm"),
+        ("--noise-F", args.noise_F, args.noise_F is None or args.noise_F >= 0, ">= 0 N"),
+        ("--mass", args.mass, args.mass is None or args.mass >= 0, ">= 0 kg"),
+        ("--k", args.k, args.k is None or args.k > 0, "> 0 N/mm"),
+        ("--x-ref", args.x_ref, True, "finite mm"),
+        ("--cycles", args.cycles, args.cycles > 0, "> 0"),
+        ("--ramp-rate", args.ramp_rate, args.ramp_rate >= 0, ">= 0 mm/s (0 = no ramp)"),
+        ("--taper-cycles", args.taper_cycles, 0 <= args.taper_cycles <= args.cycles / 2, "0 to --cycles/2"),
+        ("--max-memory", args.max_memory, args.max_memory > 0, "> 0 GiB"),
+    )
+    for name, v, ok, rng in checks:
+        if v is not None and not (math.isfinite(v) and ok):
+            raise ValueError(f"{name} = {v!r} is invalid: valid range {rng} (finite)")
+    if args.samples_per_cycle < 16:
+        raise ValueError(f"--samples-per-cycle = {args.samples_per_cycle!r} is invalid: valid range >= 16")
 
 
 # ----------------------------------------------------------------------------
@@ -320,6 +355,8 @@ def add_subparsers(subparsers: Any) -> None:
                         "hysteresis:F_h=300,x_h=0.05, backlash:b=0.02 (mm), slack:s=0.1 (mm), "
                         "machine_compliance:c=2e-5 (mm/N), contact_law:scale=1.2,beta=0.6, "
                         "sensor_delay:tau=0.01 (s), damping_law:eta=0.3,F_f=100")
+    s.add_argument("--max-memory", dest="max_memory", type=float, default=2.0, metavar="GIB",
+                   help="refuse a simulation whose estimated memory exceeds this many GiB (default 2)")
     s.add_argument("--force", action="store_true", help="overwrite the output file")
     s.set_defaults(func=_wrap(cmd_simulate))
 

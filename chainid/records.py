@@ -347,14 +347,14 @@ def write_records(path: str | Path, records: Iterable[Record], overwrite: bool =
         If ``path`` exists and ``overwrite`` is False (naming the path), or if a
         test id contains a comma or newline.
     """
+    from .fileio import atomic_open  # temp file in the target folder + rename: never a partial CSV
+
     p = Path(path)
-    if p.exists() and not overwrite:
-        raise ValueError(f"{str(p)!r} already exists; refusing to overwrite it (use overwrite=True / --force)")
     records = list(records)
     for r in records:
         if any(ch in r.test for ch in ",\n\r\""):
             raise ValueError(f"test id {r.test!r} must not contain commas, quotes or newlines")
-    with p.open("w", newline="") as fh:
+    with atomic_open(p, "w", force=overwrite, what="records", newline="") as fh:
         fh.write("test,t,x,F\n")
         for r in records:
             for ti, xi, Fi in zip(r.t, r.x, r.F):
@@ -784,10 +784,10 @@ def read_side_file(path: str | Path) -> dict[str, tuple[float, float, float]]:
 
 def write_side_file(path: str | Path, estimates: dict[str, HarmonicEstimate], overwrite: bool = False) -> Path:
     """Write ``test,omega,x0,A`` (rad/s, mm, mm) for the given estimates."""
+    from .fileio import atomic_open
+
     p = Path(path)
-    if p.exists() and not overwrite:
-        raise ValueError(f"{str(p)!r} already exists; refusing to overwrite it (use overwrite=True / --force)")
-    with p.open("w", newline="") as fh:
+    with atomic_open(p, "w", force=overwrite, what="side file", newline="") as fh:
         fh.write("test,omega,x0,A\n")
         for k, e in estimates.items():
             fh.write(f"{k},{e.omega:.10g},{e.x0:.10g},{e.A:.10g}\n")

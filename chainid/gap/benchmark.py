@@ -10,11 +10,9 @@ the effect leaves after the baseline absorbs what it can).
 
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import replace
 from multiprocessing import get_context
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -181,19 +179,30 @@ def format_summary(s: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def _ignore_sigint() -> None:
+    """Pool workers leave Ctrl-C to the parent (which stops the pool): one message, no worker tracebacks."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   processes: int = 2) -> dict[str, Any]:
     """Run the grid, print the confusion matrix and summary, optionally write JSON."""
-    if json_path and Path(json_path).exists() and not overwrite:
-        raise ValueError(f"--json {json_path!r} already exists; refusing to overwrite it (use --force)")
+    if json_path:  # before the grid runs
+        from ..fileio import check_output_file
+
+        check_output_file(json_path, force=overwrite, what="--json")
     cases = grid(small, seed)
     if processes > 1:
-        with get_context("fork").Pool(processes) as pool:
+        with get_context("fork").Pool(processes, initializer=_ignore_sigint) as pool:
             rows = pool.map(run_case, cases, chunksize=1)
     else:
         rows = [run_case(c) for c in cases]
     s = summarise(rows)
     print(format_summary(s))
     if json_path:
-        Path(json_path).write_text(json.dumps(s, indent=1, default=float))
+        from ..fileio import write_json  # strict JSON (null for NaN), temp file + rename
+
+        write_json(s, json_path, force=overwrite, what="--json")
     return s
