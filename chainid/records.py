@@ -29,9 +29,10 @@ from __future__ import annotations
 
 import csv
 import math
+from array import array
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Iterator
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -225,6 +226,35 @@ def _parse_float(text: str, *, path: str, line: int, test: str, column: str) -> 
     return v
 
 
+#: Rows parsed per chunk by :func:`read_records` (bounds the temporary memory).
+_CHUNK_ROWS = 65536
+
+
+def _iter_rows(p: Path, spath: str) -> Iterator[tuple[int, list[str]]]:
+    """Yield ``(line number, fields)`` of a CSV file; UTF-8 (a BOM is accepted).
+
+    Undecodable bytes or NUL characters (a binary or garbage file) raise a
+    ValueError naming the file and the line.
+    """
+    line_no = 0
+    try:
+        with p.open(newline="", encoding="utf-8-sig") as fh:
+            reader = csv.reader(fh)
+            for row in reader:
+                line_no = reader.line_num
+                yield line_no, row
+    except UnicodeDecodeError as exc:
+        raise ValueError(
+            f"{spath}: not a UTF-8 text CSV file (undecodable byte at file offset {exc.start} near line "
+            f"{line_no + 1}); expected a CSV with header {','.join(REQUIRED_COLUMNS)}"
+        ) from None
+    except csv.Error as exc:
+        raise ValueError(
+            f"{spath}, line {line_no + 1}: not a readable CSV file ({exc}); expected a CSV with header "
+            f"{','.join(REQUIRED_COLUMNS)}"
+        ) from None
+
+
 def read_records(
     path: str | Path,
     *,
@@ -235,11 +265,18 @@ def read_records(
 ) -> list[Record]:
     """Read a long-format CSV ``test,t,x,F`` into a list of :class:`Record`.
 
+    The file is read row by row into preallocated float arrays (8 bytes per
+    value, 24 bytes per row), so the peak memory stays below the file size
+    plus the arrays themselves (measured in ``benchmarks/records_bench.py``).
+
     Parameters
     ----------
     path : str or Path
-        CSV file; header must contain the columns ``test``, ``t`` [s], ``x`` [mm],
-        ``F`` [N].  The file is only read, never modified.
+        CSV file (UTF-8, a byte-order mark is accepted); header must contain the
+        columns ``test``, ``t`` [s], ``x`` [mm], ``F`` [N].  Every row must have
+        as many fields as the header (a decimal comma ``261,004688`` in an
+        unquoted cell is an error, never read as 261).  The file is only read,
+        never modified.
     validate : bool
         Run :func:`validate_record` on every test (default True).
     allow_compression : bool
@@ -259,60 +296,78 @@ def read_records(
     Raises
     ------
     ValueError
-        Naming the file, line and test: missing columns, non-numeric value,
-        NaN, non-contiguous test rows, and every :func:`validate_record` problem.
+        Naming the file, line and test: missing columns, a row whose field
+        count differs from the header's, non-numeric value, NaN, non-contiguous
+        test rows, a binary/non-UTF-8 file, and every :func:`validate_record`
+        problem.
     """
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"records file {str(p)!r} does not exist")
     spath = str(p)
-    tests: dict[str, list[list[float]]] = {}
+    rows = _iter_rows(p, spath)
+    header: list[str] | None = None
+    for _, row in rows:
+        if row and any(c.strip() for c in row):
+            header = [h.strip() for h in row]
+            break
+    if header is None:
+        raise ValueError(f"{spath}: file is empty; expected header {','.join(REQUIRED_COLUMNS)}")
+    missing = [c for c in REQUIRED_COLUMNS if c not in header]
+    if missing:
+        raise ValueError(
+            f"{spath}: missing column(s) {missing}; header is {header}, "
+            f"required columns are {list(REQUIRED_COLUMNS)}"
+        )
+    nf = len(header)
+    it_, ix_, iF_ = (header.index(c) for c in ("t", "x", "F"))
+    itest = header.index("test")
+    # per test: growable float64 buffers (array.array: amortised O(1) append, ~8 bytes/value)
+    cols: dict[str, tuple[array, array, array]] = {}
     order: list[str] = []
     last: str | None = None
-    with p.open(newline="") as fh:
-        reader = csv.reader(fh)
-        try:
-            header = next(reader)
-        except StopIteration:
-            raise ValueError(f"{spath}: file is empty; expected header {','.join(REQUIRED_COLUMNS)}") from None
-        header = [h.strip() for h in header]
-        missing = [c for c in REQUIRED_COLUMNS if c not in header]
-        if missing:
-            raise ValueError(
-                f"{spath}: missing column(s) {missing}; header is {header}, "
-                f"required columns are {list(REQUIRED_COLUMNS)}"
-            )
-        idx = {c: header.index(c) for c in REQUIRED_COLUMNS}
-        for line_no, row in enumerate(reader, start=2):
+    cur: tuple[array, array, array] | None = None
+    for line_no, row in rows:
+        if len(row) != nf:
             if not row or all(not c.strip() for c in row):
                 continue
-            if len(row) < len(header):
-                raise ValueError(
-                    f"{spath}, line {line_no}: expected {len(header)} fields, got {len(row)}"
-                )
-            test = row[idx["test"]].strip()
+            raise ValueError(
+                f"{spath}, line {line_no}: {len(row)} fields but the header has {nf} "
+                f"({','.join(header)}); a decimal comma or a stray separator? "
+                f"(row starts {','.join(row[:nf + 1])[:80]!r})"
+            )
+        test = row[itest].strip()
+        if test != last:
             if test == "":
+                if all(not c.strip() for c in row):
+                    continue
                 raise ValueError(f"{spath}, line {line_no}: empty test id")
-            if test != last:
-                if test in tests:
-                    raise ValueError(
-                        f"{spath}, line {line_no}: test {test!r}: rows are not contiguous "
-                        f"(the test appears again after other tests)"
-                    )
-                tests[test] = []
-                order.append(test)
-                last = test
-            vals = [
-                _parse_float(row[idx[c]].strip(), path=spath, line=line_no, test=test, column=c)
-                for c in ("t", "x", "F")
-            ]
-            tests[test].append(vals)
+            if test in cols:
+                raise ValueError(
+                    f"{spath}, line {line_no}: test {test!r}: rows are not contiguous "
+                    f"(the test appears again after other tests)"
+                )
+            cur = (array("d"), array("d"), array("d"))
+            cols[test] = cur
+            order.append(test)
+            last = test
+        assert cur is not None
+        for buf, j, c in ((cur[0], it_, "t"), (cur[1], ix_, "x"), (cur[2], iF_, "F")):
+            cell = row[j]
+            try:
+                v = float(cell)
+            except ValueError:
+                v = _parse_float(cell.strip(), path=spath, line=line_no, test=test, column=c)
+            if not math.isfinite(v):
+                _parse_float(cell.strip(), path=spath, line=line_no, test=test, column=c)
+            buf.append(v)
     if not order:
         raise ValueError(f"{spath}: no data rows")
     records = []
     for test in order:
-        a = np.asarray(tests[test], dtype=float)
-        rec = Record(test, a[:, 0], a[:, 1], a[:, 2])
+        bt, bx, bF = cols.pop(test)
+        rec = Record(test, np.frombuffer(bt, dtype=float), np.frombuffer(bx, dtype=float),
+                     np.frombuffer(bF, dtype=float))
         if validate:
             try:
                 rec.estimate = validate_record(
@@ -672,6 +727,42 @@ def estimate_harmonic(
     return HarmonicEstimate(omega=w, x0=x0, A=A, theta=theta, noise=rms, window=win)
 
 
+def _spanned_cycles(t: np.ndarray, x: np.ndarray) -> tuple[float, float]:
+    """Best single-sinusoid fit of x(t) with 0.3..3 periods in the record.
+
+    Returns ``(periods spanned, R²)``; used only to say "less than one whole
+    cycle" when the regular estimate finds no oscillation.
+    """
+    step = max(1, t.size // 4096)
+    tt, xx = t[::step], x[::step]
+    span = float(tt[-1] - tt[0])
+    if tt.size < 8 or span <= 0:
+        return 0.0, 0.0
+    ss = float(np.sum((xx - xx.mean()) ** 2))
+    if ss <= 0:
+        return 0.0, 0.0
+    best = (0.0, -math.inf)
+    u = (tt - tt[0]) / span
+    for c in np.arange(0.3, 3.0001, 0.05):
+        X = np.column_stack([np.ones_like(u), np.sin(2 * math.pi * c * u), np.cos(2 * math.pi * c * u)])
+        sol, *_ = np.linalg.lstsq(X, xx, rcond=None)
+        r2 = 1.0 - float(np.sum((xx - X @ sol) ** 2)) / ss
+        if r2 > best[1]:
+            best = (float(c), r2)
+    return best
+
+
+def _raise_if_under_one_cycle(rec: Record) -> None:
+    """Raise "less than one whole cycle" if x(t) spans under one period of its oscillation."""
+    c, r2 = _spanned_cycles(rec.t, rec.x)
+    if c < 1.0 and r2 > 0.5:
+        span = float(rec.t[-1] - rec.t[0])
+        raise ValueError(
+            f"test {rec.test!r}: less than one whole cycle: x(t) spans about {c:.2g} period(s) of its "
+            f"oscillation (period ~{span / c:.4g} s, record {span:.4g} s); at least 2 whole cycles are needed"
+        )
+
+
 def validate_record(
     rec: Record,
     *,
@@ -727,7 +818,13 @@ def validate_record(
             f"a chain cannot carry compression. Use allow_compression=True (--allow-compression) "
             f"for parts whose force changes sign"
         )
-    est = estimate if estimate is not None else estimate_harmonic(rec.t, rec.x, test=name)
+    try:
+        est = estimate if estimate is not None else estimate_harmonic(rec.t, rec.x, test=name)
+    except ValueError:
+        _raise_if_under_one_cycle(rec)
+        raise
+    if not (est.A >= min_snr * est.noise and est.A > 0) or est.window is None or est.window.n_cycles < 1:
+        _raise_if_under_one_cycle(rec)
     cycles_in_record = (rec.t[-1] - rec.t[0]) * est.omega / (2 * math.pi)
     win = est.window
     # whole steady cycles found, counting the first one that selection drops
