@@ -433,7 +433,7 @@ def _fft_peak_omega(t: np.ndarray, x: np.ndarray) -> float:
     coef = np.polyfit(tu - tu[0], xu, 1)
     xu = xu - np.polyval(coef, tu - tu[0])
     xu = xu * np.hanning(n)
-    nfft = 1 << int(math.ceil(math.log2(max(4 * n, 1024))))
+    nfft = 1 << int(math.ceil(math.log2(max((4 if n <= 65536 else 2) * n, 1024))))
     spec = np.abs(np.fft.rfft(xu, nfft))
     freqs = np.fft.rfftfreq(nfft, d=(tu[1] - tu[0]))
     # ignore the lowest bins: at least ~1.5 cycles in the record
@@ -486,6 +486,82 @@ def _nls_harmonic(t: np.ndarray, x: np.ndarray, omega0: float) -> tuple[float, f
     return float(w), float(c0), float(A), float(theta), rms
 
 
+def _cycle_stats(
+    t: np.ndarray, x: np.ndarray, omega: float, theta: float
+) -> tuple[list[float], np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per whole cycle: fit x = c0 + slope (t - tc) + a sin psi + b cos psi at fixed omega.
+
+    Cycle k spans ``omega t + theta`` in [2 pi k, 2 pi (k+1)); all cycles are
+    fitted at once (per-cycle normal equations accumulated with ``np.bincount``
+    and solved as one batch), so the cost is O(N) in the number of samples.
+
+    Returns
+    -------
+    bounds : list of float
+        Cycle boundaries [s] (n + 1 values).
+    amps, means, drifts, resid_sd : ndarray
+        Amplitude [mm], mean [mm], drift per period [mm] and residual SD [mm];
+        0, NaN, inf, NaN for an incomplete cycle (< 6 samples or a gap).
+    n_in : ndarray of int
+        Samples per cycle.
+    """
+    T = 2 * math.pi / omega
+    psi0 = omega * t[0] + theta
+    psi1 = omega * t[-1] + theta
+    k0 = math.ceil(psi0 / (2 * math.pi) - 1e-9)
+    dt_med = float(np.median(np.diff(t))) if t.size > 1 else T
+    # last boundary: a cycle is whole if its last sample (one step before the boundary) is present
+    k1 = math.floor((psi1 + 1.5 * omega * dt_med) / (2 * math.pi) + 1e-9)
+    ks = np.arange(k0, k1 + 1, dtype=float)
+    b_arr = (2 * math.pi * ks - theta) / omega
+    bounds = [float(v) for v in b_arr]
+    n = max(len(bounds) - 1, 0)
+    if n == 0:
+        e = np.zeros(0)
+        return bounds, e, e, e, e, np.zeros(0, dtype=int)
+    idx = np.searchsorted(t, b_arr - 1e-9 * T, side="left")
+    lo, hi = idx[:-1], idx[1:]
+    n_in = (hi - lo).astype(int)
+    span = np.where(n_in > 0, t[np.maximum(hi - 1, 0)] - t[np.minimum(lo, t.size - 1)], -np.inf)
+    valid = (n_in >= 6) & (span >= T - 2.5 * dt_med)
+    cyc = np.repeat(np.arange(n), n_in)
+    sl = slice(int(lo[0]), int(hi[-1]))
+    ts, xs = t[sl], x[sl]
+    tc = 0.5 * (b_arr[:-1] + b_arr[1:])
+    u = (ts - tc[cyc]) / T  # in [-0.5, 0.5): well scaled against sin/cos
+    ph = omega * ts + theta
+    s, c = np.sin(ph), np.cos(ph)
+    feats = (np.ones_like(u), u, s, c)
+    G = np.empty((n, 4, 4))
+    r = np.empty((n, 4))
+    for i in range(4):
+        r[:, i] = np.bincount(cyc, feats[i] * xs, minlength=n)
+        for j in range(i, 4):
+            g = np.bincount(cyc, feats[i] * feats[j], minlength=n)
+            G[:, i, j] = g
+            G[:, j, i] = g
+    G[~valid] = np.eye(4)
+    r[~valid] = 0.0
+    beta = np.linalg.solve(G, r[:, :, None])[:, :, 0]
+    bc = beta[cyc]
+    res = xs - (bc[:, 0] + bc[:, 1] * u + bc[:, 2] * s + bc[:, 3] * c)
+    rss = np.bincount(cyc, res * res, minlength=n)
+    nf = np.maximum(n_in, 1).astype(float)
+    amps = np.where(valid, np.hypot(beta[:, 2], beta[:, 3]), 0.0)
+    means = np.where(valid, beta[:, 0], np.nan)
+    drifts = np.where(valid, np.abs(beta[:, 1]), np.inf)  # slope [mm/s] * T = coefficient of u
+    resid_sd = np.where(valid, np.sqrt(rss / nf), np.nan)
+    return bounds, amps, means, drifts, resid_sd, n_in
+
+
+def _count_within(amps: np.ndarray, rel_tol: float) -> np.ndarray:
+    """For each amplitude a > 0: how many amplitudes lie within ``rel_tol * a`` of it (O(n log n))."""
+    srt = np.sort(amps)
+    lo = np.searchsorted(srt, amps - rel_tol * amps, side="left")
+    hi = np.searchsorted(srt, amps + rel_tol * amps, side="right")
+    return np.where(amps > 0, hi - lo, 0)
+
+
 def select_steady(
     t: np.ndarray,
     x: np.ndarray,
@@ -533,51 +609,21 @@ def select_steady(
     if not omega > 0:
         raise ValueError(f"omega = {omega!r} rad/s is invalid: must be > 0")
     T = 2 * math.pi / omega
-    psi0 = omega * t[0] + theta
-    psi1 = omega * t[-1] + theta
-    k0 = math.ceil(psi0 / (2 * math.pi) - 1e-9)
-    dt_med = float(np.median(np.diff(t))) if t.size > 1 else T
-    # last boundary: a cycle is whole if its last sample (one step before the boundary) is present
-    k1 = math.floor((psi1 + 1.5 * omega * dt_med) / (2 * math.pi) + 1e-9)
-    bounds = [((2 * math.pi * k - theta) / omega) for k in range(k0, k1 + 1)]
-    amps: list[float] = []
-    means: list[float] = []
-    drifts: list[float] = []
-    resid_sd: list[float] = []
-    n_in: list[int] = []
-    for i in range(len(bounds) - 1):
-        m = (t >= bounds[i] - 1e-9 * T) & (t < bounds[i + 1] - 1e-9 * T)
-        if m.sum() < 6 or (t[m][-1] - t[m][0]) < T - 2.5 * dt_med:
-            amps.append(0.0)
-            means.append(float("nan"))
-            drifts.append(float("inf"))
-            resid_sd.append(float("nan"))
-            n_in.append(int(m.sum()))
-            continue
-        tm = t[m]
-        tc = 0.5 * (bounds[i] + bounds[i + 1])
-        X = np.column_stack([np.ones(tm.size), tm - tc, np.sin(omega * tm + theta), np.cos(omega * tm + theta)])
-        (c0, slope, a, b), *_ = np.linalg.lstsq(X, x[m], rcond=None)
-        res = x[m] - X @ np.array([c0, slope, a, b])
-        resid_sd.append(float(np.std(res)))
-        n_in.append(int(m.sum()))
-        amps.append(math.hypot(a, b))
-        means.append(float(c0))
-        drifts.append(abs(float(slope)) * T)
-    n = len(amps)
+    bounds, amps_a, means_a, drifts_a, sds, nn_i = _cycle_stats(t, x, omega, theta)
+    n = amps_a.size
     if n == 0:
         return SteadyWindow(float(t[0]), float(t[0]), [], 0, [], [], 0.0, rel_tol)
-    amps_a = np.asarray(amps)
+    amps = amps_a.tolist()
+    means = means_a.tolist()
     # measurement-noise allowance: 4 standard errors of the per-cycle estimates, from the
     # median residual over the cycles (robust to the few transient cycles)
-    sds = np.asarray(resid_sd)
     s_med = float(np.nanmedian(sds)) if np.any(np.isfinite(sds)) else 0.0
-    nn = np.maximum(np.asarray(n_in, dtype=float), 1.0)
+    nn = np.maximum(nn_i.astype(float), 1.0)
     se_amp = 4.0 * s_med * np.sqrt(2.0 / nn)
     se_mean = 4.0 * s_med / np.sqrt(nn)
     se_drift = 4.0 * s_med * np.sqrt(12.0 / nn)
     # plateau: the amplitude most cycles agree with (ties -> the larger one)
-    counts = np.array([np.sum(np.abs(amps_a - a) <= rel_tol * a) if a > 0 else 0 for a in amps_a])
+    counts = _count_within(amps_a, rel_tol)
     if counts.max() > 0:
         best_i = max(range(n), key=lambda i: (counts[i], amps_a[i]))
         near = np.abs(amps_a - amps_a[best_i]) <= rel_tol * amps_a[best_i]
@@ -585,13 +631,12 @@ def select_steady(
     else:
         plateau = 0.0
     ok_amp = (np.abs(amps_a - plateau) <= rel_tol * plateau + se_amp) & (amps_a > 0)
-    means_a = np.asarray(means)
     if ok_amp.any():
         mean_ref = float(np.nanmedian(means_a[ok_amp]))
         ok = (
             ok_amp
             & (np.abs(means_a - mean_ref) <= rel_tol * plateau + se_mean + 1e-12)
-            & (np.asarray(drifts) <= (rel_tol if drift_tol is None else drift_tol) * plateau + se_drift + 1e-12)
+            & (drifts_a <= (rel_tol if drift_tol is None else drift_tol) * plateau + se_drift + 1e-12)
         )
     else:
         ok = ok_amp
@@ -617,6 +662,23 @@ def select_steady(
     else:
         ts = te = float(t[0])
     return SteadyWindow(float(ts), float(te), run, n, [float(a) for a in amps], [float(m) for m in means], plateau, rel_tol)
+
+
+#: Candidate search of :func:`estimate_harmonic` on long records: at least this many
+#: samples per period and in total are kept when decimating (records shorter than
+#: ``2 * _SEARCH_N`` samples are never decimated).
+_SEARCH_SPC = 64
+_SEARCH_N = 50_000
+
+
+def _search_stride(t: np.ndarray, omega: float) -> int:
+    """Decimation step for the candidate search (1 = every sample)."""
+    n = t.size
+    if n < 2 * _SEARCH_N:
+        return 1
+    dt = (t[-1] - t[0]) / (n - 1)
+    spc = 2 * math.pi / (omega * dt)
+    return max(1, min(n // _SEARCH_N, int(spc // _SEARCH_SPC)))
 
 
 def estimate_harmonic(
@@ -684,6 +746,13 @@ def estimate_harmonic(
             w0s.append(w0)
     if not w0s:
         raise ValueError(f"test {test!r}: no harmonic oscillation found in x(t)")
+    # long records: the candidate search (step 2) runs on every k-th sample, keeping
+    # >= _SEARCH_SPC samples per period and >= _SEARCH_N samples, so its cost does not grow
+    # with N; the final window, refinement and fit (step 3) use every sample
+    t_full, x_full = t, x
+    stride = _search_stride(t, min(w0s))
+    if stride > 1:
+        t, x = t[::stride], x[::stride]
     # 2. NLS refinement on candidate segments (provisional steady cycles at w0, the
     #    second half, the last third and fifth, the whole record); keep the candidate
     #    whose steady window has the most cycles (ties: smallest residual)
@@ -712,10 +781,11 @@ def estimate_harmonic(
     if best is None:
         raise ValueError(f"test {test!r}: no harmonic oscillation found in x(t)")
     w, x0, A, theta, rms = best[1]
+    t, x = t_full, x_full
     win = select_steady(t, x, w, theta, rel_tol=rel_tol, drop_first=drop_first)
     if win.n_cycles >= 1:  # one more refinement on the steady cycles themselves
-        m = (t >= win.t_start) & (t < win.t_end)
-        w, x0, A, theta, rms = _nls_harmonic(t[m], x[m], w)
+        i0, i1 = np.searchsorted(t, [win.t_start, win.t_end], side="left")
+        w, x0, A, theta, rms = _nls_harmonic(t[i0:i1:stride], x[i0:i1:stride], w)
     # 3. final steady window aligned with the phase, linear fit at the refined omega
     win = select_steady(t, x, w, theta, rel_tol=rel_tol, drop_first=drop_first)
     if win.n_cycles >= 1:
