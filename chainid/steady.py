@@ -1,0 +1,251 @@
+"""Steady-state whole cycles of a harmonic displacement record.
+
+Cycle k spans ``omega t + theta`` in [2 pi k, 2 pi (k+1)); every whole cycle is
+fitted at fixed omega (mean, drift, amplitude), all at once in O(N)
+(:func:`_cycle_stats`), and :func:`select_steady` keeps the longest contiguous
+run of cycles whose amplitude and mean stay on the plateau.
+
+Units: t [s], x [mm], omega [rad/s], theta [rad].
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["SteadyWindow", "select_steady"]
+
+
+@dataclass
+class SteadyWindow:
+    """The steady-state whole cycles kept for identification.
+
+    Attributes
+    ----------
+    t_start, t_end : float
+        Kept time window [s]; it spans exactly ``len(cycles_kept)`` periods.
+    cycles_kept : list of int
+        Indices of the kept cycles (0 = first whole cycle in the record).
+    n_cycles_total : int
+        Whole cycles found in the record.
+    cycle_amplitudes : list of float
+        Amplitude of every whole cycle [mm] (fixed-frequency fit per cycle).
+    cycle_means : list of float
+        Mean of every whole cycle [mm].
+    plateau_A : float
+        Plateau amplitude [mm] the cycles were compared with.
+    rel_tol : float
+        Relative tolerance used for "within the plateau".
+    """
+
+    t_start: float
+    t_end: float
+    cycles_kept: list[int]
+    n_cycles_total: int
+    cycle_amplitudes: list[float]
+    cycle_means: list[float]
+    plateau_A: float
+    rel_tol: float
+
+    @property
+    def n_cycles(self) -> int:
+        """Number of kept whole cycles."""
+        return len(self.cycles_kept)
+
+    def describe(self) -> str:
+        """One-line human-readable description of the choice."""
+        if not self.cycles_kept:
+            return "no steady cycles"
+        return (
+            f"cycles {self.cycles_kept[0]}-{self.cycles_kept[-1]} of {self.n_cycles_total} "
+            f"(t = {self.t_start:.4g}..{self.t_end:.4g} s)"
+        )
+
+    def to_dict(self) -> dict:
+        return {
+            "t_start": self.t_start,
+            "t_end": self.t_end,
+            "cycles_kept": list(self.cycles_kept),
+            "n_cycles_total": self.n_cycles_total,
+            "plateau_A": self.plateau_A,
+        }
+
+
+def _cycle_stats(
+    t: np.ndarray, x: np.ndarray, omega: float, theta: float
+) -> tuple[list[float], np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per whole cycle: fit x = c0 + slope (t - tc) + a sin psi + b cos psi at fixed omega.
+
+    Cycle k spans ``omega t + theta`` in [2 pi k, 2 pi (k+1)); all cycles are
+    fitted at once (per-cycle normal equations accumulated with ``np.bincount``
+    and solved as one batch), so the cost is O(N) in the number of samples.
+
+    Returns
+    -------
+    bounds : list of float
+        Cycle boundaries [s] (n + 1 values).
+    amps, means, drifts, resid_sd : ndarray
+        Amplitude [mm], mean [mm], drift per period [mm] and residual SD [mm];
+        0, NaN, inf, NaN for an incomplete cycle (< 6 samples or a gap).
+    n_in : ndarray of int
+        Samples per cycle.
+    """
+    T = 2 * math.pi / omega
+    psi0 = omega * t[0] + theta
+    psi1 = omega * t[-1] + theta
+    k0 = math.ceil(psi0 / (2 * math.pi) - 1e-9)
+    dt_med = float(np.median(np.diff(t))) if t.size > 1 else T
+    # last boundary: a cycle is whole if its last sample (one step before the boundary) is present
+    k1 = math.floor((psi1 + 1.5 * omega * dt_med) / (2 * math.pi) + 1e-9)
+    ks = np.arange(k0, k1 + 1, dtype=float)
+    b_arr = (2 * math.pi * ks - theta) / omega
+    bounds = [float(v) for v in b_arr]
+    n = max(len(bounds) - 1, 0)
+    if n == 0:
+        e = np.zeros(0)
+        return bounds, e, e, e, e, np.zeros(0, dtype=int)
+    idx = np.searchsorted(t, b_arr - 1e-9 * T, side="left")
+    lo, hi = idx[:-1], idx[1:]
+    n_in = (hi - lo).astype(int)
+    span = np.where(n_in > 0, t[np.maximum(hi - 1, 0)] - t[np.minimum(lo, t.size - 1)], -np.inf)
+    valid = (n_in >= 6) & (span >= T - 2.5 * dt_med)
+    cyc = np.repeat(np.arange(n), n_in)
+    sl = slice(int(lo[0]), int(hi[-1]))
+    ts, xs = t[sl], x[sl]
+    tc = 0.5 * (b_arr[:-1] + b_arr[1:])
+    u = (ts - tc[cyc]) / T  # in [-0.5, 0.5): well scaled against sin/cos
+    ph = omega * ts + theta
+    s, c = np.sin(ph), np.cos(ph)
+    feats = (np.ones_like(u), u, s, c)
+    G = np.empty((n, 4, 4))
+    r = np.empty((n, 4))
+    for i in range(4):
+        r[:, i] = np.bincount(cyc, feats[i] * xs, minlength=n)
+        for j in range(i, 4):
+            g = np.bincount(cyc, feats[i] * feats[j], minlength=n)
+            G[:, i, j] = g
+            G[:, j, i] = g
+    G[~valid] = np.eye(4)
+    r[~valid] = 0.0
+    beta = np.linalg.solve(G, r[:, :, None])[:, :, 0]
+    bc = beta[cyc]
+    res = xs - (bc[:, 0] + bc[:, 1] * u + bc[:, 2] * s + bc[:, 3] * c)
+    rss = np.bincount(cyc, res * res, minlength=n)
+    nf = np.maximum(n_in, 1).astype(float)
+    amps = np.where(valid, np.hypot(beta[:, 2], beta[:, 3]), 0.0)
+    means = np.where(valid, beta[:, 0], np.nan)
+    drifts = np.where(valid, np.abs(beta[:, 1]), np.inf)  # slope [mm/s] * T = coefficient of u
+    resid_sd = np.where(valid, np.sqrt(rss / nf), np.nan)
+    return bounds, amps, means, drifts, resid_sd, n_in
+
+
+def _count_within(amps: np.ndarray, rel_tol: float) -> np.ndarray:
+    """For each amplitude a > 0: how many amplitudes lie within ``rel_tol * a`` of it (O(n log n))."""
+    srt = np.sort(amps)
+    lo = np.searchsorted(srt, amps - rel_tol * amps, side="left")
+    hi = np.searchsorted(srt, amps + rel_tol * amps, side="right")
+    return np.where(amps > 0, hi - lo, 0)
+
+
+def select_steady(
+    t: np.ndarray,
+    x: np.ndarray,
+    omega: float,
+    theta: float,
+    *,
+    rel_tol: float = 0.03,
+    drop_first: bool = True,
+    drift_tol: float | None = None,
+) -> SteadyWindow:
+    """Select the steady-state whole cycles of a harmonic displacement record.
+
+    Cycle k spans ``omega t + theta`` in [2 pi k, 2 pi (k+1)).  For every whole
+    cycle inside the record, mean and amplitude are fitted at fixed ``omega``.
+    The plateau amplitude is the median amplitude of the largest group of
+    cycles that agree within ``rel_tol``; a cycle is steady when its amplitude is within
+    ``rel_tol`` of the plateau, its mean within ``rel_tol * plateau`` of the
+    median steady mean and its drift per period below ``rel_tol * plateau``; each
+    tolerance is widened by four standard errors of the per-cycle estimate, from
+    the median per-cycle residual (so measurement noise does not break the run).  The longest contiguous run of steady cycles is kept and,
+    if ``drop_first``, its first cycle is dropped (transient after the ramp).
+
+    Parameters
+    ----------
+    t : ndarray
+        Time [s].
+    x : ndarray
+        Elongation [mm].
+    omega : float
+        Angular frequency [rad/s], > 0.
+    theta : float
+        Phase of x = x0 + A sin(omega t + theta) [rad].
+    rel_tol : float
+        Relative tolerance on amplitude and mean (default 0.03 = 3 %).
+    drop_first : bool
+        Drop the first cycle of the steady run (default True).
+    drift_tol : float, optional
+        Relative tolerance on the drift per period (default ``rel_tol``).
+
+    Returns
+    -------
+    SteadyWindow
+        ``cycles_kept`` may be empty if there are no steady cycles.
+    """
+    if not omega > 0:
+        raise ValueError(f"omega = {omega!r} rad/s is invalid: must be > 0")
+    T = 2 * math.pi / omega
+    bounds, amps_a, means_a, drifts_a, sds, nn_i = _cycle_stats(t, x, omega, theta)
+    n = amps_a.size
+    if n == 0:
+        return SteadyWindow(float(t[0]), float(t[0]), [], 0, [], [], 0.0, rel_tol)
+    amps = amps_a.tolist()
+    means = means_a.tolist()
+    # measurement-noise allowance: 4 standard errors of the per-cycle estimates, from the
+    # median residual over the cycles (robust to the few transient cycles)
+    s_med = float(np.nanmedian(sds)) if np.any(np.isfinite(sds)) else 0.0
+    nn = np.maximum(nn_i.astype(float), 1.0)
+    se_amp = 4.0 * s_med * np.sqrt(2.0 / nn)
+    se_mean = 4.0 * s_med / np.sqrt(nn)
+    se_drift = 4.0 * s_med * np.sqrt(12.0 / nn)
+    # plateau: the amplitude most cycles agree with (ties -> the larger one)
+    counts = _count_within(amps_a, rel_tol)
+    if counts.max() > 0:
+        best_i = max(range(n), key=lambda i: (counts[i], amps_a[i]))
+        near = np.abs(amps_a - amps_a[best_i]) <= rel_tol * amps_a[best_i]
+        plateau = float(np.median(amps_a[near]))
+    else:
+        plateau = 0.0
+    ok_amp = (np.abs(amps_a - plateau) <= rel_tol * plateau + se_amp) & (amps_a > 0)
+    if ok_amp.any():
+        mean_ref = float(np.nanmedian(means_a[ok_amp]))
+        ok = (
+            ok_amp
+            & (np.abs(means_a - mean_ref) <= rel_tol * plateau + se_mean + 1e-12)
+            & (drifts_a <= (rel_tol if drift_tol is None else drift_tol) * plateau + se_drift + 1e-12)
+        )
+    else:
+        ok = ok_amp
+    # longest contiguous run
+    best: tuple[int, int] = (0, 0)
+    i = 0
+    while i < n:
+        if ok[i]:
+            j = i
+            while j + 1 < n and ok[j + 1]:
+                j += 1
+            if (j - i + 1) > (best[1] - best[0]):
+                best = (i, j + 1)
+            i = j + 1
+        else:
+            i += 1
+    run = list(range(best[0], best[1]))
+    # the first oscillation cycle is a transient: drop it if it is in the run
+    if drop_first and run:
+        run = run[1:]
+    if run:
+        ts, te = bounds[run[0]], bounds[run[-1] + 1]
+    else:
+        ts = te = float(t[0])
+    return SteadyWindow(float(ts), float(te), run, n, [float(a) for a in amps], [float(m) for m in means], plateau, rel_tol)
+
