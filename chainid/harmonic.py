@@ -162,7 +162,7 @@ def estimate_harmonic(
     t: np.ndarray,
     x: np.ndarray,
     *,
-    rel_tol: float = 0.03,
+    rel_tol: float | None = None,
     drop_first: bool = True,
     test: str = "?",
 ) -> HarmonicEstimate:
@@ -187,8 +187,10 @@ def estimate_harmonic(
         Time [s], strictly increasing.
     x : ndarray
         Elongation [mm].
-    rel_tol : float
-        Steady-cycle tolerance (see :func:`select_steady`).
+    rel_tol : float or None
+        Steady-cycle tolerance (fraction, e.g. 0.03 = 3 %); None (default) =
+        adaptive, set from the record's own cycle-to-cycle scatter (see
+        :func:`chainid.steady.select_steady`).
     drop_first : bool
         Drop the first steady cycle.
     test : str
@@ -237,7 +239,8 @@ def estimate_harmonic(
     for w0 in w0s:
         # (lenient provisional selection: w0 may be off by a fraction of a per cent,
         #  which shows up as drift and amplitude wobble in the per-cycle fits)
-        win0 = select_steady(t, x, w0, 0.0, rel_tol=max(rel_tol, 0.1), drop_first=False, drift_tol=math.inf)
+        win0 = select_steady(t, x, w0, 0.0, rel_tol=max(rel_tol or 0.0, 0.1), drop_first=False,
+                            drift_tol=math.inf)
         segments = []
         if win0.n_cycles >= 1:
             segments.append((t >= win0.t_start) & (t < win0.t_end))

@@ -18,8 +18,8 @@ The harmonic estimate lives in :mod:`chainid.harmonic` and the steady-cycle
 selection in :mod:`chainid.steady`; their public names (:class:`HarmonicEstimate`,
 :func:`estimate_harmonic`, :class:`SteadyWindow`, :func:`select_steady`) are
 re-exported here.  This module reads and writes records, validates them
-(:func:`validate_record`) and analyses one record (:func:`analyse_record`,
-:func:`try_analyse`).
+(:func:`validate_record`); the analysis of one record (:func:`analyse_record`,
+:func:`try_analyse`) lives in :mod:`chainid.analysis` and is re-exported here.
 
 Input files are never modified; :func:`write_records` refuses to overwrite an
 existing file unless ``overwrite=True``.
@@ -35,7 +35,8 @@ from typing import Iterable, Iterator
 
 import numpy as np
 
-from .harmonic import HarmonicEstimate, _linear_harmonic, estimate_harmonic
+from .analysis import analyse_record, check_data, try_analyse, validate_record
+from .harmonic import HarmonicEstimate, estimate_harmonic
 from .steady import SteadyWindow, select_steady
 
 __all__ = [
@@ -48,6 +49,8 @@ __all__ = [
     "estimate_harmonic",
     "select_steady",
     "analyse_record",
+    "try_analyse",
+    "check_data",
     "read_side_file",
     "write_side_file",
     "REQUIRED_COLUMNS",
@@ -151,6 +154,7 @@ def read_records(
     allow_compression: bool = False,
     min_cycles: float = 2.0,
     min_snr: float = 3.0,
+    steady_tol: float | None = None,
 ) -> list[Record]:
     """Read a long-format CSV ``test,t,x,F`` into a list of :class:`Record`.
 
@@ -176,6 +180,8 @@ def read_records(
         Minimum number of whole oscillation cycles per test (default 2).
     min_snr : float
         Minimum ratio amplitude / RMS noise of x (default 3).
+    steady_tol : float or None
+        Steady-cycle tolerance for validation (fraction); None = adaptive.
 
     Returns
     -------
@@ -260,7 +266,8 @@ def read_records(
         if validate:
             try:
                 rec.estimate = validate_record(
-                    rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr
+                    rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr,
+                    steady_tol=steady_tol,
                 )
             except ValueError as exc:
                 raise ValueError(f"{spath}: {exc}") from None
@@ -304,126 +311,6 @@ def write_records(path: str | Path, records: Iterable[Record], overwrite: bool =
             for ti, xi, Fi in zip(r.t, r.x, r.F):
                 fh.write(f"{r.test},{ti:.9g},{xi:.9g},{Fi:.9g}\n")
     return p
-
-
-# ----------------------------------------------------------------------------
-# Validation
-# ----------------------------------------------------------------------------
-def _spanned_cycles(t: np.ndarray, x: np.ndarray) -> tuple[float, float]:
-    """Best single-sinusoid fit of x(t) with 0.3..3 periods in the record.
-
-    Returns ``(periods spanned, R²)``; used only to say "less than one whole
-    cycle" when the regular estimate finds no oscillation.
-    """
-    step = max(1, t.size // 4096)
-    tt, xx = t[::step], x[::step]
-    span = float(tt[-1] - tt[0])
-    if tt.size < 8 or span <= 0:
-        return 0.0, 0.0
-    ss = float(np.sum((xx - xx.mean()) ** 2))
-    if ss <= 0:
-        return 0.0, 0.0
-    best = (0.0, -math.inf)
-    u = (tt - tt[0]) / span
-    for c in np.arange(0.3, 3.0001, 0.05):
-        X = np.column_stack([np.ones_like(u), np.sin(2 * math.pi * c * u), np.cos(2 * math.pi * c * u)])
-        sol, *_ = np.linalg.lstsq(X, xx, rcond=None)
-        r2 = 1.0 - float(np.sum((xx - X @ sol) ** 2)) / ss
-        if r2 > best[1]:
-            best = (float(c), r2)
-    return best
-
-
-def _raise_if_under_one_cycle(rec: Record) -> None:
-    """Raise "less than one whole cycle" if x(t) spans under one period of its oscillation."""
-    c, r2 = _spanned_cycles(rec.t, rec.x)
-    if c < 1.0 and r2 > 0.5:
-        span = float(rec.t[-1] - rec.t[0])
-        raise ValueError(
-            f"test {rec.test!r}: less than one whole cycle: x(t) spans about {c:.2g} period(s) of its "
-            f"oscillation (period ~{span / c:.4g} s, record {span:.4g} s); at least 2 whole cycles are needed"
-        )
-
-
-def validate_record(
-    rec: Record,
-    *,
-    allow_compression: bool = False,
-    min_cycles: float = 2.0,
-    min_snr: float = 3.0,
-    estimate: HarmonicEstimate | None = None,
-) -> HarmonicEstimate:
-    """Check one record; raise ValueError naming the test and the problem.
-
-    Checks: at least 16 samples; no NaN/inf; t strictly increasing; force never
-    compressive (unless ``allow_compression``); at least ``min_cycles`` whole
-    oscillation cycles in the record and at least one steady cycle after the
-    first is dropped; amplitude at least ``min_snr`` times the RMS noise of x.
-
-    Parameters
-    ----------
-    rec : Record
-        The test (t [s], x [mm], F [N]).
-    allow_compression : bool
-        Accept F < 0 [N].
-    min_cycles : float
-        Minimum number of whole cycles (default 2).
-    min_snr : float
-        Minimum amplitude / RMS noise of x (default 3).
-    estimate : HarmonicEstimate, optional
-        Use this estimate (e.g. from a side file) instead of estimating.
-
-    Returns
-    -------
-    HarmonicEstimate
-        The estimate used for the checks.
-    """
-    name = rec.test
-    for col, arr in (("t", rec.t), ("x", rec.x), ("F", rec.F)):
-        bad = ~np.isfinite(arr)
-        if bad.any():
-            i = int(np.argmax(bad))
-            raise ValueError(f"test {name!r}: column {col!r} has a NaN/non-finite value at sample {i}")
-    if rec.t.size < 16:
-        raise ValueError(f"test {name!r}: only {rec.t.size} samples; need at least 16")
-    dt = np.diff(rec.t)
-    if np.any(dt <= 0):
-        i = int(np.argmax(dt <= 0))
-        raise ValueError(
-            f"test {name!r}: t is not strictly increasing at sample {i + 1} "
-            f"(t = {rec.t[i]:.9g} s then {rec.t[i + 1]:.9g} s)"
-        )
-    if not allow_compression and np.any(rec.F < 0):
-        i = int(np.argmin(rec.F))
-        raise ValueError(
-            f"test {name!r}: force goes compressive (min F = {rec.F[i]:.6g} N at t = {rec.t[i]:.6g} s); "
-            f"a chain cannot carry compression. Use allow_compression=True (--allow-compression) "
-            f"for parts whose force changes sign"
-        )
-    try:
-        est = estimate if estimate is not None else estimate_harmonic(rec.t, rec.x, test=name)
-    except ValueError:
-        _raise_if_under_one_cycle(rec)
-        raise
-    if not (est.A >= min_snr * est.noise and est.A > 0) or est.window is None or est.window.n_cycles < 1:
-        _raise_if_under_one_cycle(rec)
-    cycles_in_record = (rec.t[-1] - rec.t[0]) * est.omega / (2 * math.pi)
-    win = est.window
-    # whole steady cycles found, counting the first one that selection drops
-    n_whole = (win.n_cycles + 1) if (win is not None and win.n_cycles >= 1) else 0
-    if est.A < min_snr * est.noise or est.A <= 0:
-        raise ValueError(
-            f"test {name!r}: amplitude below the noise: A = {est.A:.4g} mm, RMS noise of x = "
-            f"{est.noise:.4g} mm (need A >= {min_snr:g} x noise)"
-        )
-    if cycles_in_record < min_cycles or win is None or n_whole < min_cycles or win.n_cycles < 1:
-        raise ValueError(
-            f"test {name!r}: fewer than {min_cycles:g} full cycles of steady oscillation: the record spans "
-            f"{cycles_in_record:.3g} periods of {2 * math.pi / est.omega:.4g} s and has {n_whole} contiguous "
-            f"whole cycle(s) with amplitude and mean within {100 * (win.rel_tol if win else 0.03):g} % of the "
-            f"plateau ({win.n_cycles if win else 0} left after dropping the ramp and the first cycle)"
-        )
-    return est
 
 
 # ----------------------------------------------------------------------------
@@ -471,46 +358,3 @@ def write_side_file(path: str | Path, estimates: dict[str, HarmonicEstimate], ov
         for k, e in estimates.items():
             fh.write(f"{k},{e.omega:.10g},{e.x0:.10g},{e.A:.10g}\n")
     return p
-
-
-def analyse_record(
-    rec: Record,
-    side: tuple[float, float, float] | None = None,
-    *,
-    rel_tol: float = 0.03,
-    allow_compression: bool = True,
-    min_cycles: float = 2.0,
-    min_snr: float = 3.0,
-) -> HarmonicEstimate:
-    """Harmonic estimate and steady window of one record, optionally from a side file.
-
-    With ``side = (omega, x0, A)`` (rad/s, mm, mm) those values are used as given;
-    only the phase theta [rad] is fitted (fixed-frequency least squares) and the
-    steady window is selected at that frequency.
-
-    Returns
-    -------
-    HarmonicEstimate
-        Validated with :func:`validate_record`.
-    """
-    if side is None:
-        cached = rec.estimate
-        if cached is not None and cached.window is not None and cached.window.rel_tol == rel_tol:
-            est = cached
-        else:
-            est = estimate_harmonic(rec.t, rec.x, rel_tol=rel_tol, test=rec.test)
-    else:
-        w, x0, A = side
-        _, a, b = _linear_harmonic(rec.t, rec.x, w)
-        theta = math.atan2(b, a)
-        win = select_steady(rec.t, rec.x, w, theta, rel_tol=rel_tol)
-        if win.n_cycles >= 1:
-            m = (rec.t >= win.t_start) & (rec.t < win.t_end)
-            _, a, b = _linear_harmonic(rec.t[m], rec.x[m], w)
-            theta = math.atan2(b, a)
-            resid = rec.x[m] - (x0 + A * np.sin(w * rec.t[m] + theta))
-            noise = float(np.sqrt(np.mean(resid**2)))
-        else:
-            noise = float("inf")
-        est = HarmonicEstimate(w, x0, A, theta, noise, win, source="side file")
-    return validate_record(rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr, estimate=est)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SteadyWindow", "select_steady"]
+__all__ = ["SteadyWindow", "select_steady", "steady_tolerance", "TOL_FLOOR", "TOL_MAX", "MIN_KEPT"]
 
 
 @dataclass
@@ -36,7 +36,15 @@ class SteadyWindow:
     plateau_A : float
         Plateau amplitude [mm] the cycles were compared with.
     rel_tol : float
-        Relative tolerance used for "within the plateau".
+        Relative tolerance actually used for "within the plateau" (amplitude,
+        mean and drift per period, as fractions of the plateau amplitude).
+    requested_tol : float or None
+        The tolerance asked for; None = adaptive (see :func:`steady_tolerance`).
+    scatter : float
+        Robust cycle-to-cycle scatter of the record (relative to the plateau
+        amplitude; NaN if fewer than 3 whole cycles).
+    reason : str
+        Why this tolerance and window were chosen (one line).
     """
 
     t_start: float
@@ -47,6 +55,9 @@ class SteadyWindow:
     cycle_means: list[float]
     plateau_A: float
     rel_tol: float
+    requested_tol: float | None = 0.03
+    scatter: float = float("nan")
+    reason: str = ""
 
     @property
     def n_cycles(self) -> int:
@@ -62,13 +73,27 @@ class SteadyWindow:
             f"(t = {self.t_start:.4g}..{self.t_end:.4g} s)"
         )
 
+    def statement(self) -> str:
+        """What was kept and why: window, cycles, tolerance used (one line)."""
+        tol = f"{100 * self.rel_tol:.3g} %"
+        kind = "given" if self.requested_tol is not None else "adaptive"
+        core = f"{self.describe()}, {self.n_cycles} cycle(s) kept, tolerance {tol} ({kind})"
+        return f"{core}: {self.reason}" if self.reason else core
+
     def to_dict(self) -> dict:
+        def fin(v: float) -> float | None:
+            return v if math.isfinite(v) else None
+
         return {
             "t_start": self.t_start,
             "t_end": self.t_end,
             "cycles_kept": list(self.cycles_kept),
             "n_cycles_total": self.n_cycles_total,
             "plateau_A": self.plateau_A,
+            "rel_tol": self.rel_tol,
+            "requested_tol": self.requested_tol,
+            "scatter": fin(self.scatter),
+            "reason": self.reason,
         }
 
 
@@ -154,21 +179,29 @@ def select_steady(
     omega: float,
     theta: float,
     *,
-    rel_tol: float = 0.03,
+    rel_tol: float | None = 0.03,
     drop_first: bool = True,
     drift_tol: float | None = None,
 ) -> SteadyWindow:
     """Select the steady-state whole cycles of a harmonic displacement record.
 
     Cycle k spans ``omega t + theta`` in [2 pi k, 2 pi (k+1)).  For every whole
-    cycle inside the record, mean and amplitude are fitted at fixed ``omega``.
-    The plateau amplitude is the median amplitude of the largest group of
-    cycles that agree within ``rel_tol``; a cycle is steady when its amplitude is within
-    ``rel_tol`` of the plateau, its mean within ``rel_tol * plateau`` of the
-    median steady mean and its drift per period below ``rel_tol * plateau``; each
-    tolerance is widened by four standard errors of the per-cycle estimate, from
-    the median per-cycle residual (so measurement noise does not break the run).  The longest contiguous run of steady cycles is kept and,
+    cycle inside the record, mean, drift and amplitude are fitted at fixed
+    ``omega``.  The plateau amplitude is the median amplitude of the largest
+    group of cycles that agree within the tolerance; a cycle is steady when its
+    amplitude is within ``tol`` of the plateau, its mean within ``tol * plateau``
+    of the median steady mean and its drift per period below ``tol * plateau``;
+    each tolerance is widened by four standard errors of the per-cycle
+    estimate, from the median per-cycle residual (so measurement noise does not
+    break the run).  The longest contiguous run of steady cycles is kept and,
     if ``drop_first``, its first cycle is dropped (transient after the ramp).
+
+    With ``rel_tol=None`` the tolerance adapts to the record
+    (:func:`steady_tolerance`): ``tol = clip(4 * scatter, 3 %, 15 %)`` from the
+    record's robust cycle-to-cycle scatter (:func:`_scatter`, second differences), then, if that keeps fewer than
+    :data:`MIN_KEPT` cycles, it is widened by factors of 1.5 up to 15 % until it
+    does (the longest usable window rather than none); the widest step is
+    kept only if it keeps more cycles.  ``SteadyWindow.reason`` says which.
 
     Parameters
     ----------
@@ -180,12 +213,13 @@ def select_steady(
         Angular frequency [rad/s], > 0.
     theta : float
         Phase of x = x0 + A sin(omega t + theta) [rad].
-    rel_tol : float
-        Relative tolerance on amplitude and mean (default 0.03 = 3 %).
+    rel_tol : float or None
+        Relative tolerance on amplitude and mean (default 0.03 = 3 %); None =
+        adaptive.  A given value must be in (0, 1).
     drop_first : bool
         Drop the first cycle of the steady run (default True).
     drift_tol : float, optional
-        Relative tolerance on the drift per period (default ``rel_tol``).
+        Relative tolerance on the drift per period (default: the tolerance).
 
     Returns
     -------
@@ -194,8 +228,105 @@ def select_steady(
     """
     if not omega > 0:
         raise ValueError(f"omega = {omega!r} rad/s is invalid: must be > 0")
-    T = 2 * math.pi / omega
-    bounds, amps_a, means_a, drifts_a, sds, nn_i = _cycle_stats(t, x, omega, theta)
+    if rel_tol is not None and not (0.0 < rel_tol < 1.0):
+        raise ValueError(f"steady tolerance rel_tol = {rel_tol!r} is invalid: must be in (0, 1) (e.g. 0.03 = 3 %)")
+    stats = _cycle_stats(t, x, omega, theta)
+    if rel_tol is not None:
+        win = _select_with_tol(t, stats, rel_tol, drop_first, drift_tol)
+        win.requested_tol = rel_tol
+        win.scatter = _scatter(stats[1], stats[2])
+        win.reason = "tolerance given"
+        return win
+    scatter = _scatter(stats[1], stats[2])
+    tol0 = steady_tolerance(scatter)
+    why = (f"4 x cycle-to-cycle scatter {100 * scatter:.3g} %" if math.isfinite(scatter) else "scatter unknown")
+    if tol0 <= TOL_FLOOR:
+        why = f"floor {100 * TOL_FLOOR:g} % ({why} is smaller)"
+    elif tol0 >= TOL_MAX:
+        why = f"cap {100 * TOL_MAX:g} % ({why})"
+    win = _select_with_tol(t, stats, tol0, drop_first, drift_tol)
+    win.reason = f"tolerance from the record: {why}"
+    tol = tol0
+    while win.n_cycles < MIN_KEPT and tol < TOL_MAX:
+        tol = min(tol * 1.5, TOL_MAX)
+        w2 = _select_with_tol(t, stats, tol, drop_first, drift_tol)
+        if w2.n_cycles > win.n_cycles:
+            w2.reason = (f"widened from {100 * tol0:.3g} % ({why}) to {100 * tol:.3g} %: only "
+                         f"{win.n_cycles} steady cycle(s) within {100 * tol0:.3g} %")
+            win = w2
+    win.requested_tol = None
+    win.scatter = scatter
+    return win
+
+
+#: Adaptive steady tolerance: floor (never tighter than the historical 3 %), cap (beyond
+#: 15 % a cycle is not "steady"), scatter multiple, and the cycles a usable window keeps.
+TOL_FLOOR = 0.03
+TOL_MAX = 0.15
+TOL_K = 4.0
+MIN_KEPT = 2
+
+
+def steady_tolerance(scatter: float) -> float:
+    """Adaptive steady tolerance ``clip(TOL_K * scatter, TOL_FLOOR, TOL_MAX)`` (fractions).
+
+    Parameters
+    ----------
+    scatter : float
+        Robust relative cycle-to-cycle scatter (:func:`_scatter`); NaN -> the floor.
+    """
+    if not math.isfinite(scatter):
+        return TOL_FLOOR
+    return float(min(max(TOL_K * scatter, TOL_FLOOR), TOL_MAX))
+
+
+def _plateau(amps: np.ndarray, rel_tol: float) -> float:
+    """The amplitude most cycles agree with within ``rel_tol`` (ties -> the larger one) [mm]; 0 if none."""
+    counts = _count_within(amps, rel_tol)
+    if amps.size == 0 or counts.max() <= 0:
+        return 0.0
+    best_i = max(range(amps.size), key=lambda i: (counts[i], amps[i]))
+    near = np.abs(amps - amps[best_i]) <= rel_tol * amps[best_i]
+    return float(np.median(amps[near]))
+
+
+def _scatter(amps: np.ndarray, means: np.ndarray) -> float:
+    """Robust cycle-to-cycle scatter of amplitude and mean, relative to the plateau amplitude.
+
+    Only cycles near the plateau count (amplitude within ``2 * TOL_MAX`` of the
+    plateau found at ``TOL_MAX``: ramp, lead-in and taper cycles are not
+    candidates).  From the second differences ``d_k = v_{k+1} - 2 v_k + v_{k-1}``
+    over runs of three consecutive candidate cycles: a steady taper, ramp or
+    drift (linear in k) cancels, so only the jitter is measured; for
+    independent jitter of SD sigma, ``var(d) = 6 sigma^2``, hence
+    ``sigma = 1.4826 * MAD(d) / sqrt(6)`` (the MAD ignores the few cycles at a
+    corner of the envelope).  The larger of the amplitude and mean values,
+    divided by the plateau; NaN if fewer than 3 such triples.
+    """
+    ref = _plateau(amps, TOL_MAX)
+    if not ref > 0:
+        return float("nan")
+    ok = (amps > 0) & (np.abs(amps - ref) <= 2 * TOL_MAX * ref)
+    trip = ok[2:] & ok[1:-1] & ok[:-2]
+    if trip.sum() < 3:
+        return float("nan")
+    out = 0.0
+    for v in (amps, means):
+        d = (v[2:] - 2.0 * v[1:-1] + v[:-2])[trip]
+        mad = float(np.median(np.abs(d - np.median(d))))
+        out = max(out, 1.4826 * mad / math.sqrt(6.0) / ref)
+    return out
+
+
+def _select_with_tol(
+    t: np.ndarray,
+    stats: tuple,
+    rel_tol: float,
+    drop_first: bool,
+    drift_tol: float | None,
+) -> SteadyWindow:
+    """:func:`select_steady` at a fixed tolerance on precomputed cycle statistics."""
+    bounds, amps_a, means_a, drifts_a, sds, nn_i = stats
     n = amps_a.size
     if n == 0:
         return SteadyWindow(float(t[0]), float(t[0]), [], 0, [], [], 0.0, rel_tol)
@@ -209,13 +340,7 @@ def select_steady(
     se_mean = 4.0 * s_med / np.sqrt(nn)
     se_drift = 4.0 * s_med * np.sqrt(12.0 / nn)
     # plateau: the amplitude most cycles agree with (ties -> the larger one)
-    counts = _count_within(amps_a, rel_tol)
-    if counts.max() > 0:
-        best_i = max(range(n), key=lambda i: (counts[i], amps_a[i]))
-        near = np.abs(amps_a - amps_a[best_i]) <= rel_tol * amps_a[best_i]
-        plateau = float(np.median(amps_a[near]))
-    else:
-        plateau = 0.0
+    plateau = _plateau(amps_a, rel_tol)
     ok_amp = (np.abs(amps_a - plateau) <= rel_tol * plateau + se_amp) & (amps_a > 0)
     if ok_amp.any():
         mean_ref = float(np.nanmedian(means_a[ok_amp]))
