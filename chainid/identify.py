@@ -50,7 +50,7 @@ from .laws import (  # noqa: F401  (re-exported: the laws used to live here)
     law_from_dict,
     rank_laws,
 )
-from .records import HarmonicEstimate, Record, analyse_record
+from .records import HarmonicEstimate, Record, analyse_record, try_analyse
 
 __all__ = [
     "inertia_force_N",
@@ -60,6 +60,7 @@ __all__ = [
     "loop_energy",
     "identify_test",
     "identify_records",
+    "Identification",
     "DampingLaw",
     "PolynomialLaw",
     "ViscousLaw",
@@ -97,7 +98,8 @@ def inertia_force_N(m_kg: float | np.ndarray, xddot_mm_s2: float | np.ndarray) -
 
 
 def linear_model_from_records(records: Sequence[Record], mass_kg: float = 0.0,
-                               side: dict[str, tuple[float, float, float]] | None = None) -> Any:
+                               side: dict[str, tuple[float, float, float]] | None = None,
+                               steady_tol: float | None = None) -> Any:
     """A linear spring F − m·ẍ = k·(x − x_ref) fitted on the steady cycles of all records.
 
     For parts that are not chains (``--model linear`` without ``--k``).
@@ -110,6 +112,9 @@ def linear_model_from_records(records: Sequence[Record], mass_kg: float = 0.0,
         Moving mass m [kg] (default 0); its inertia m·ẍ·1e-3 [N] is removed before the fit.
     side : dict, optional
         test id → (omega rad/s, x0 mm, A mm) instead of the estimates.
+    steady_tol : float or None
+        Steady-cycle tolerance (fraction); None = adaptive.  Tests that cannot be
+        analysed are skipped.
 
     Returns
     -------
@@ -120,10 +125,15 @@ def linear_model_from_records(records: Sequence[Record], mass_kg: float = 0.0,
 
     xs, Fs = [], []
     for r in records:
-        est = analyse_record(r, side.get(r.test) if side else None, allow_compression=True)
+        est, _ = try_analyse(r, side=side.get(r.test) if side else None, allow_compression=True,
+                             steady_tol=steady_tol)
+        if est is None or est.window is None:  # left out (identify_records says why)
+            continue
         mwin = (r.t >= est.window.t_start) & (r.t < est.window.t_end)
         xs.append(r.x[mwin])
         Fs.append(r.F[mwin] - inertia_force_N(mass_kg, est.xddot(r.t[mwin])))
+    if not xs:
+        raise ValueError("no test has steady cycles: cannot fit the linear spring (--model linear without --k)")
     return models.LinearModel.fit(np.concatenate(xs), np.concatenate(Fs), mass=float(mass_kg))
 
 
@@ -224,6 +234,11 @@ class TestResult:
         Indices of the kept cycles.
     source : str
         "estimated" or "side file" (origin of omega, x0, A).
+    steady : str
+        What was kept and why (window, cycles, tolerance), from
+        :meth:`chainid.steady.SteadyWindow.statement`.
+    steady_tol : float
+        Steady-cycle tolerance used (fraction of the plateau amplitude).
     """
 
     __test__ = False  # not a pytest test class
@@ -251,6 +266,8 @@ class TestResult:
     n_cycles: int = 0
     cycles_kept: list[int] = field(default_factory=list)
     source: str = "estimated"
+    steady: str = ""
+    steady_tol: float = float("nan")
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (contract keys test, omega, x0, A, F0, FA, phi, r2, F_ac, c_e, W, + extras)."""
@@ -359,6 +376,21 @@ def identify_test(
     )
 
 
+class Identification(list):
+    """The :class:`TestResult` of every identified test (a list), plus the tests left out.
+
+    Attributes
+    ----------
+    excluded : list of dict
+        ``{"test": id, "reason": str}`` for every test whose steady cycles,
+        harmonic fit or damping estimate could not be obtained, in record order.
+    """
+
+    def __init__(self, results: Sequence[TestResult] = (), excluded: Sequence[dict[str, str]] = ()) -> None:
+        super().__init__(results)
+        self.excluded: list[dict[str, str]] = list(excluded)
+
+
 def identify_records(
     records: Sequence[Record],
     model: _Model,
@@ -367,8 +399,10 @@ def identify_records(
     mass_kg: float | None = None,
     allow_compression: bool = True,
     progress: Callable[[int, int, str], None] | None = None,
-) -> list[TestResult]:
-    """Run :func:`identify_test` on every record.
+    steady_tol: float | None = None,
+    strict: bool = False,
+) -> Identification:
+    """Run :func:`identify_test` on every record; leave out (with the reason) those that cannot be identified.
 
     Parameters
     ----------
@@ -382,20 +416,51 @@ def identify_records(
         Accept F < 0 [N] (validation).
     progress : callable, optional
         Called as ``progress(i, n, test)`` before each test.
+    steady_tol : float or None
+        Steady-cycle tolerance (fraction, 0.03 = 3 %); None = adaptive
+        (:func:`chainid.steady.select_steady`).
+    strict : bool
+        Raise on the first test that cannot be identified instead of leaving it out.
 
     Returns
     -------
-    list of TestResult
+    Identification
+        A list of :class:`TestResult` (identified tests, record order) with
+        ``.excluded = [{"test", "reason"}, ...]``.
+
+    Raises
+    ------
+    ValueError
+        Data errors (NaN, t not increasing, compression without
+        ``allow_compression``: :func:`chainid.records.check_data`), and with
+        ``strict`` any test that cannot be identified.
     """
-    out = []
+    out = Identification()
     n = len(records)
     for i, rec in enumerate(records):
         if progress is not None:
             progress(i, n, rec.test)
         s = side.get(rec.test) if side else None
-        est = analyse_record(rec, s, allow_compression=allow_compression)
-        out.append(identify_test(rec, model, estimate=est, mass_kg=mass_kg))
+        est, why = try_analyse(rec, allow_compression=allow_compression, steady_tol=steady_tol, side=s)
+        res = None
+        if est is not None:
+            try:
+                res = identify_test(rec, model, estimate=est, mass_kg=mass_kg)
+                res.steady = why
+                res.steady_tol = est.window.rel_tol if est.window is not None else float("nan")
+                if not (math.isfinite(res.c_e) and math.isfinite(res.F_ac)):
+                    why = f"damping estimate is not finite (c_e = {res.c_e!r} N.s/mm)"
+                    res = None
+            except (ValueError, np.linalg.LinAlgError) as exc:
+                why = f"damping estimate failed: {exc}"
+        if res is None:
+            if strict:
+                raise ValueError(f"test {rec.test!r}: {why}")
+            out.excluded.append({"test": rec.test, "reason": why})
+        else:
+            out.append(res)
     return out
+
 
 # ----------------------------------------------------------------------------
 # Forward prediction (Eq. 1)
