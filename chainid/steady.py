@@ -264,7 +264,7 @@ def select_steady(
 TOL_FLOOR = 0.03
 TOL_MAX = 0.15
 TOL_K = 4.0
-MIN_KEPT = 2
+MIN_KEPT = 1
 
 
 def steady_tolerance(scatter: float) -> float:
