@@ -103,7 +103,7 @@ def _cycle_stats(
     """Per whole cycle: fit x = c0 + slope (t - tc) + a sin psi + b cos psi at fixed omega.
 
     Cycle k spans ``omega t + theta`` in [2 pi k, 2 pi (k+1)); all cycles are
-    fitted at once (per-cycle normal equations accumulated with ``np.bincount``
+    fitted at once (per-cycle normal equations summed with ``np.add.reduceat``
     and solved as one batch), so the cost is O(N) in the number of samples.
 
     Returns
@@ -135,28 +135,44 @@ def _cycle_stats(
     n_in = (hi - lo).astype(int)
     span = np.where(n_in > 0, t[np.maximum(hi - 1, 0)] - t[np.minimum(lo, t.size - 1)], -np.inf)
     valid = (n_in >= 6) & (span >= T - 2.5 * dt_med)
-    cyc = np.repeat(np.arange(n), n_in)
     sl = slice(int(lo[0]), int(hi[-1]))
     ts, xs = t[sl], x[sl]
+    m = ts.size
+    starts = np.minimum(lo - lo[0], max(m - 1, 0))
+    empty = n_in == 0
+
+    def seg_sum(v: np.ndarray) -> np.ndarray:  # sum over each cycle's contiguous samples
+        if m == 0:
+            return np.zeros(n)
+        out = np.add.reduceat(v, starts)
+        out[empty] = 0.0
+        return out
+
     tc = 0.5 * (b_arr[:-1] + b_arr[1:])
-    u = (ts - tc[cyc]) / T  # in [-0.5, 0.5): well scaled against sin/cos
+    u = (ts - np.repeat(tc, n_in)) / T  # in [-0.5, 0.5): well scaled against sin/cos
     ph = omega * ts + theta
     s, c = np.sin(ph), np.cos(ph)
-    feats = (np.ones_like(u), u, s, c)
+    feats = (None, u, s, c)  # None: the constant column
     G = np.empty((n, 4, 4))
     r = np.empty((n, 4))
-    for i in range(4):
-        r[:, i] = np.bincount(cyc, feats[i] * xs, minlength=n)
+    G[:, 0, 0] = n_in
+    r[:, 0] = seg_sum(xs)
+    for i in range(1, 4):
+        fi = feats[i]
+        r[:, i] = seg_sum(fi * xs)
+        G[:, 0, i] = G[:, i, 0] = seg_sum(fi)
         for j in range(i, 4):
-            g = np.bincount(cyc, feats[i] * feats[j], minlength=n)
+            g = seg_sum(fi * feats[j])
             G[:, i, j] = g
             G[:, j, i] = g
     G[~valid] = np.eye(4)
     r[~valid] = 0.0
     beta = np.linalg.solve(G, r[:, :, None])[:, :, 0]
-    bc = beta[cyc]
-    res = xs - (bc[:, 0] + bc[:, 1] * u + bc[:, 2] * s + bc[:, 3] * c)
-    rss = np.bincount(cyc, res * res, minlength=n)
+    res = xs - np.repeat(beta[:, 0], n_in)
+    res -= np.repeat(beta[:, 1], n_in) * u
+    res -= np.repeat(beta[:, 2], n_in) * s
+    res -= np.repeat(beta[:, 3], n_in) * c
+    rss = seg_sum(res * res)
     nf = np.maximum(n_in, 1).astype(float)
     amps = np.where(valid, np.hypot(beta[:, 2], beta[:, 3]), 0.0)
     means = np.where(valid, beta[:, 0], np.nan)
