@@ -85,8 +85,8 @@ def _fft_peak_omega(t: np.ndarray, x: np.ndarray) -> float:
     tu = np.linspace(t[0], t[-1], n)
     xu = np.interp(tu, t, x)
     # remove a linear trend (ramp) and taper with a Hann window
-    coef = np.polyfit(tu - tu[0], xu, 1)
-    xu = xu - np.polyval(coef, tu - tu[0])
+    u = tu - 0.5 * (tu[0] + tu[-1])  # closed-form least-squares line (uniform grid)
+    xu = xu - xu.mean() - (u @ xu) / (u @ u) * u
     xu = xu * np.hanning(n)
     nfft = 1 << int(math.ceil(math.log2(max((4 if n <= 65536 else 2) * n, 1024))))
     spec = np.abs(np.fft.rfft(xu, nfft))
