@@ -255,7 +255,8 @@ def estimate_harmonic(
             if not (w > 0 and math.isfinite(w)):
                 continue
             win_c = select_steady(t, x, w, theta, rel_tol=rel_tol, drop_first=drop_first)
-            score = (win_c.n_cycles, -rms)
+            # compare at the starting tolerance first (widening is for the final window only)
+            score = (win_c.n_cycles_start, win_c.n_cycles, -rms)
             if best is None or score > best[0]:
                 best = (score, (w, x0, A, theta, rms))
     if best is None:

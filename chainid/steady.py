@@ -45,6 +45,9 @@ class SteadyWindow:
         amplitude; NaN if fewer than 3 whole cycles).
     reason : str
         Why this tolerance and window were chosen (one line).
+    n_cycles_start : int
+        Cycles kept at the starting tolerance, before any widening (the
+        harmonic estimate compares candidate fits on this first).
     """
 
     t_start: float
@@ -58,6 +61,7 @@ class SteadyWindow:
     requested_tol: float | None = 0.03
     scatter: float = float("nan")
     reason: str = ""
+    n_cycles_start: int = -1
 
     @property
     def n_cycles(self) -> int:
@@ -214,10 +218,12 @@ def select_steady(
 
     With ``rel_tol=None`` the tolerance adapts to the record
     (:func:`steady_tolerance`): ``tol = clip(4 * scatter, 3 %, 15 %)`` from the
-    record's robust cycle-to-cycle scatter (:func:`_scatter`, second differences), then, if that keeps fewer than
-    :data:`MIN_KEPT` cycles, it is widened by factors of 1.5 up to 15 % until it
-    does (the longest usable window rather than none); the widest step is
-    kept only if it keeps more cycles.  ``SteadyWindow.reason`` says which.
+    record's robust cycle-to-cycle scatter (:func:`_scatter`: second
+    differences of the per-cycle amplitude and mean, MAD; the 3 % floor when
+    fewer than 7 plateau cycles).  A clean record thus keeps the historical 3 %.
+    If no cycle is steady at that tolerance (fewer than :data:`MIN_KEPT`), it is
+    widened by factors of 1.5 up to 15 % until a window is usable (the longest
+    usable window rather than none).  ``SteadyWindow.reason`` says which.
 
     Parameters
     ----------
@@ -249,29 +255,35 @@ def select_steady(
     stats = _cycle_stats(t, x, omega, theta)
     if rel_tol is not None:
         win = _select_with_tol(t, stats, rel_tol, drop_first, drift_tol)
+        win.n_cycles_start = win.n_cycles
         win.requested_tol = rel_tol
         win.scatter = _scatter(stats[1], stats[2])
         win.reason = "tolerance given"
         return win
     scatter = _scatter(stats[1], stats[2])
     tol0 = steady_tolerance(scatter)
-    why = (f"4 x cycle-to-cycle scatter {100 * scatter:.3g} %" if math.isfinite(scatter) else "scatter unknown")
-    if tol0 <= TOL_FLOOR:
+    why = (f"4 x cycle-to-cycle scatter {100 * scatter:.3g} %" if math.isfinite(scatter)
+           else f"too few cycles to measure the scatter (< {MIN_TRIPLES + 2} on the plateau)")
+    if not math.isfinite(scatter):
+        why = f"floor {100 * TOL_FLOOR:g} % ({why})"
+    elif tol0 <= TOL_FLOOR:
         why = f"floor {100 * TOL_FLOOR:g} % ({why} is smaller)"
     elif tol0 >= TOL_MAX:
         why = f"cap {100 * TOL_MAX:g} % ({why})"
     win = _select_with_tol(t, stats, tol0, drop_first, drift_tol)
     win.reason = f"tolerance from the record: {why}"
+    n_start = win.n_cycles
     tol = tol0
     while win.n_cycles < MIN_KEPT and tol < TOL_MAX:
         tol = min(tol * 1.5, TOL_MAX)
         w2 = _select_with_tol(t, stats, tol, drop_first, drift_tol)
         if w2.n_cycles > win.n_cycles:
-            w2.reason = (f"widened from {100 * tol0:.3g} % ({why}) to {100 * tol:.3g} %: only "
-                         f"{win.n_cycles} steady cycle(s) within {100 * tol0:.3g} %")
+            w2.reason = (f"widened to {100 * tol:.3g} %: no steady cycle within {100 * tol0:.3g} % "
+                         f"({why})")
             win = w2
     win.requested_tol = None
     win.scatter = scatter
+    win.n_cycles_start = n_start
     return win
 
 
@@ -281,6 +293,8 @@ TOL_FLOOR = 0.03
 TOL_MAX = 0.15
 TOL_K = 4.0
 MIN_KEPT = 1
+#: Second differences needed for a scatter estimate (7 consecutive candidate cycles).
+MIN_TRIPLES = 5
 
 
 def steady_tolerance(scatter: float) -> float:
@@ -317,14 +331,15 @@ def _scatter(amps: np.ndarray, means: np.ndarray) -> float:
     independent jitter of SD sigma, ``var(d) = 6 sigma^2``, hence
     ``sigma = 1.4826 * MAD(d) / sqrt(6)`` (the MAD ignores the few cycles at a
     corner of the envelope).  The larger of the amplitude and mean values,
-    divided by the plateau; NaN if fewer than 3 such triples.
+    divided by the plateau; NaN (-> the 3 % floor) if fewer than :data:`MIN_TRIPLES`
+    such triples: a MAD of 3 or 4 values measures the envelope's corners, not the jitter.
     """
     ref = _plateau(amps, TOL_MAX)
     if not ref > 0:
         return float("nan")
     ok = (amps > 0) & (np.abs(amps - ref) <= 2 * TOL_MAX * ref)
     trip = ok[2:] & ok[1:-1] & ok[:-2]
-    if trip.sum() < 3:
+    if trip.sum() < MIN_TRIPLES:
         return float("nan")
     out = 0.0
     for v in (amps, means):
