@@ -104,7 +104,15 @@ def _law(name: str, params: Sequence[float] | None, model: Any) -> Any:
 # identify
 # ----------------------------------------------------------------------------
 def cmd_identify(args: argparse.Namespace) -> int:
-    """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking."""
+    """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking.
+
+    A test whose steady cycles, harmonic fit or damping estimate cannot be
+    obtained is left out with its reason (one ``excluded test ID: reason`` line
+    on stderr, ``"excluded": [{"test", "reason"}]`` in the JSON); ``--strict``
+    makes any exclusion fatal (rc 2).  Data errors (bad cells, NaN, t not
+    increasing, compressive force without ``--allow-compression``) always stop
+    the run.  ``--steady-tol`` sets the steady-cycle tolerance (default adaptive).
+    """
     from .identify import MIN_TESTS, identify_records, inertia_force_N, rank_laws
     from .records import analyse_record, read_records, read_side_file, write_side_file
 
