@@ -4,7 +4,7 @@
 each subcommand sets ``func(args) -> int`` (exit code).
 
 * ``chainid identify DATA.csv [--chain F.toml] [--model chain|linear] [--law NAME]
-  [--side F.csv] [--json F] [--plots DIR] [--force]``
+  [--side F.csv] [--steady-tol TOL] [--strict] [--json F] [--plots DIR] [--force]``
 * ``chainid simulate OUT.csv [--plan F.csv|paper] [--law NAME --params ...]
   [--noise-x MM] [--noise-F N] [--seed S] [--force]``
 * ``chainid audit [--chain F.toml] [--json F] [--force]``
@@ -81,6 +81,21 @@ def _model(args: argparse.Namespace) -> Any:
     return models.model_for(chain, getattr(args, "variant", "paper"))
 
 
+def _steady_tol(text: str | None) -> float | None:
+    """``--steady-tol``: a fraction (0.05) or a percentage (5%); None = adaptive."""
+    if text is None or str(text).strip().lower() in ("", "auto", "adaptive"):
+        return None
+    s = str(text).strip()
+    try:
+        v = float(s[:-1]) / 100.0 if s.endswith("%") else float(s)
+    except ValueError:
+        raise ValueError(f"--steady-tol {text!r}: expected a fraction such as 0.05, a percentage such as 5%, "
+                         f"or 'auto'") from None
+    if not (0.0 < v < 1.0) or not math.isfinite(v):
+        raise ValueError(f"--steady-tol {text!r}: must be between 0 and 1 (0 and 100 %), e.g. 0.05 or 5%")
+    return v
+
+
 def _law(name: str, params: Sequence[float] | None, model: Any) -> Any:
     from .identify import law_from_dict
 
@@ -91,7 +106,15 @@ def _law(name: str, params: Sequence[float] | None, model: Any) -> Any:
 # identify
 # ----------------------------------------------------------------------------
 def cmd_identify(args: argparse.Namespace) -> int:
-    """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking."""
+    """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking.
+
+    A test whose steady cycles, harmonic fit or damping estimate cannot be
+    obtained is left out with its reason (one ``excluded test ID: reason`` line
+    on stderr, ``"excluded": [{"test", "reason"}]`` in the JSON); ``--strict``
+    makes any exclusion fatal (rc 2).  Data errors (bad cells, NaN, t not
+    increasing, compressive force without ``--allow-compression``) always stop
+    the run.  ``--steady-tol`` sets the steady-cycle tolerance (default adaptive).
+    """
     from .identify import MIN_TESTS, identify_records, inertia_force_N, rank_laws
     from .records import analyse_record, read_records, read_side_file, write_side_file
 
@@ -99,11 +122,14 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if args.write_side:
         _check_out(args.write_side, args.force, "--write-side")
     allow_comp = bool(args.allow_compression or args.model == "linear")
+    steady_tol = _steady_tol(getattr(args, "steady_tol", None))
+    strict = bool(getattr(args, "strict", False))
     if args.plots:
         from .fileio import check_output_dir
 
         check_output_dir(args.plots, "--plots")
-    records = read_records(args.data, allow_compression=allow_comp)
+    # per-test analysis problems are reported (and the test left out) by identify_records
+    records = read_records(args.data, validate=False)
     if args.plots:
         from .plots_identify import plot_names
 
@@ -119,14 +145,23 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if model is None:  # --model linear without --k: fit F - m xddot = k (x - x_ref) on the steady cycles
         from .identify import linear_model_from_records
 
-        model = linear_model_from_records(records, float(args.mass or 0.0), side)
+        model = linear_model_from_records(records, float(args.mass or 0.0), side, steady_tol=steady_tol)
 
     def progress(i: int, n: int, test: str) -> None:
         if not args.quiet:
             print(f"[{i + 1}/{n}] identifying test {test}", file=sys.stderr, flush=True)
 
     mass = args.mass if args.mass is not None else None
-    results = identify_records(records, model, side=side, mass_kg=mass, allow_compression=allow_comp, progress=progress)
+    results = identify_records(records, model, side=side, mass_kg=mass, allow_compression=allow_comp,
+                               progress=progress, steady_tol=steady_tol)
+    excluded = list(results.excluded)
+    for e in excluded:
+        print(f"excluded test {e['test']}: {e['reason']}", file=sys.stderr, flush=True)
+    if excluded and strict:
+        raise ValueError(f"--strict: {len(excluded)} test(s) could not be identified: "
+                         + "; ".join(f"{e['test']}: {e['reason']}" for e in excluded))
+    if not results:
+        raise ValueError(f"no test of {args.data!r} could be identified ({len(excluded)} excluded; see above)")
 
     print(f"model: {getattr(model, 'name', type(model).__name__)}, mass m = {results[0].mass_kg:.4g} kg")
     print(_table(
@@ -137,6 +172,11 @@ def cmd_identify(args: argparse.Namespace) -> int:
           f"{r.t_start:.4g}-{r.t_end:.4g}"] for r in results],
         ["", ".5g", ".4g", ".4g", ".6g", ".6g", ".4f", ".5f", ".5g", ".5g", ".5g", ".3f", ".4f", "", ""],
     ))
+    print("steady cycles kept:")
+    for r in results:
+        print(f"  {r.test}: {r.steady}")
+    if excluded:
+        print(f"{len(excluded)} test(s) excluded: " + "; ".join(f"{e['test']} ({e['reason']})" for e in excluded))
     odd = [r.test for r in results if r.r2_c < 0.97]
     if odd:
         print(f"note: F_c of test(s) {', '.join(odd)} is far from one harmonic (R2(F_c) < 0.97): the loop is not "
@@ -146,13 +186,16 @@ def cmd_identify(args: argparse.Namespace) -> int:
         "tests": [r.to_dict() for r in results],
         "model": {"name": getattr(model, "name", None), "mass_kg": results[0].mass_kg},
         "law": None,
+        "excluded": [{"test": e["test"], "reason": e["reason"]} for e in excluded],
     }
     if getattr(model, "chain", None) is not None:  # record force beyond the chain's elastic/working range
         from .cli_practice import warn_loads
 
         warn_loads(max(float(r.F.max()) for r in records), model.chain, out)
     if args.write_side:
-        ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True) for r in records}
+        kept = {r.test for r in results}
+        ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True,
+                                       steady_tol=steady_tol) for r in records if r.test in kept}
         write_side_file(args.write_side, ests, overwrite=args.force)
 
     omega = [r.omega for r in results]
@@ -161,7 +204,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
     x0 = [r.x0 for r in results]
     rc = 0
     if len(results) < MIN_TESTS:
-        msg = (f"only {len(results)} test(s): fitting a damping law needs at least {MIN_TESTS} "
+        left = f" ({len(excluded)} excluded)" if excluded else ""
+        msg = (f"only {len(results)} test(s) identified{left}: fitting a damping law needs at least {MIN_TESTS} "
                f"(paper Eq. 22: M > 5); per-test results only")
         print(f"\nerror: {msg}", file=sys.stderr)
         out["law_error"] = msg
@@ -329,6 +373,11 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("--side", metavar="FILE.csv", help="side file test,omega,x0,A (rad/s, mm, mm) to use instead of estimates")
     p.add_argument("--write-side", dest="write_side", metavar="FILE.csv", help="write the estimated omega,x0,A per test")
     p.add_argument("--allow-compression", action="store_true", help="accept F < 0 (implied by --model linear)")
+    p.add_argument("--steady-tol", dest="steady_tol", metavar="TOL",
+                   help="steady-cycle tolerance on amplitude/mean/drift, a fraction (0.05) or per cent (5%%); "
+                        "default: adaptive, from each record's cycle-to-cycle scatter (3-15 %%)")
+    p.add_argument("--strict", action="store_true",
+                   help="fail (rc 2) if any test cannot be identified instead of leaving it out")
     p.add_argument("--json", metavar="FILE", help="write results as JSON")
     p.add_argument("--plots", metavar="DIR", help="write loop and damping-surface PNGs")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
