@@ -262,6 +262,9 @@ def fake_steps(monkeypatch):
             (folder / "figures" / n).write_bytes(b"png " + n.encode())
         return "## 2. Stiffness\n"
 
+    def practice(folder, chain, say):
+        return "## 2b. Practice\n"
+
     def damping(folder, model, say):
         return "## 3. Damping\n"
 
@@ -271,7 +274,7 @@ def fake_steps(monkeypatch):
         return "## 4. Gap\n"
 
     for name, fn in (("step_verification", verification), ("step_stiffness", stiffness),
-                     ("step_damping", damping), ("step_gap", gap)):
+                     ("step_practice", practice), ("step_damping", damping), ("step_gap", gap)):
         monkeypatch.setattr(report, name, fn)
     return state
 
