@@ -36,6 +36,28 @@ def test_stale_file_is_detected(tmp_path):
     assert res["stiffness_paper.py"] == "stale"
 
 
+def test_cli_check_exit_codes_on_fresh_and_stale_copy(repo, tmp_path, capsys):
+    """The command itself (not only the emitter): rc 0 on an exact copy of generated/, rc 1 after one byte changes."""
+    import shutil
+
+    from chainid import cli
+
+    gen = tmp_path / "generated"
+    shutil.copytree(repo / "generated", gen, ignore=shutil.ignore_patterns("__pycache__"))
+    assert cli.main(["generate", "--check", "--out", str(gen)]) == 0
+    assert "is fresh" in capsys.readouterr().out
+    p = gen / "stiffness_paper.py"
+    data = bytearray(p.read_bytes())
+    i = data.index(b"return ")  # one byte of code: 'r' -> 'R'
+    data[i] = ord("R")
+    p.write_bytes(bytes(data))
+    before = p.read_bytes()
+    assert cli.main(["generate", "--check", "--out", str(gen)]) == 1
+    err = capsys.readouterr().err
+    assert "stale" in err and "stiffness_paper.py" in err
+    assert p.read_bytes() == before  # --check never rewrites
+
+
 def test_cli_check_names_a_sympy_version_mismatch(tmp_path, monkeypatch, capsys):
     from chainid import cli
 
