@@ -110,6 +110,26 @@ def test_mass_term_units():
     assert r0.F_as == pytest.approx(expected, rel=2e-3)
 
 
+def test_linear_spring_fit_removes_inertia():
+    """`identify --model linear` without --k fits F - m xddot 1e-3 = k (x - x_ref): with m = 200 kg at
+    20-60 rad/s the inertia m w^2 = 80-720 N/mm is a large part of k = 2000 N/mm and must be removed."""
+    from chainid.identify import linear_model_from_records
+    from chainid.models import LinearModel
+
+    true = LinearModel(2000.0, 1.0, mass=200.0)
+    plan = [TestSpec(f"t{i}", w, 2.0, a) for i, (w, a) in enumerate([(20.0, 0.2), (40.0, 0.3), (60.0, 0.4),
+                                                                   (30.0, 0.25), (50.0, 0.35), (60.0, 0.2)])]
+    recs = simulate(plan, true, 10.0, seed=0, ramp_rate=None, n_cycles=5, samples_per_cycle=200)
+    fit = linear_model_from_records(recs, 200.0)
+    assert fit.k == pytest.approx(2000.0, rel=2e-3)
+    assert fit.x_ref == pytest.approx(1.0, abs=2e-3)
+    assert fit.mass_kg == 200.0
+    # without the mass the fitted spring softens by about the mean m w^2 (hundreds of N/mm)
+    assert linear_model_from_records(recs, 0.0).k < 2000.0 - 100.0
+    res = identify_records(recs, fit)
+    assert [r.c_e for r in res] == pytest.approx([10.0] * 6, rel=0.02)
+
+
 def test_ce_within_1_percent_with_noise_polynomial_law():
     model = Stiffening()
     law = PolynomialLaw([28.02, -651.57, -8386.5, 7394.84, 4378.89])
