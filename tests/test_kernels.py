@@ -172,6 +172,9 @@ def test_inner_bend_needs_width_above_d():
     c = ChainSpec(d=20, pitch=60, width=18, n=4, mass_per_m=1)
     with pytest.raises(ValueError, match="width"):
         kernels.coefficients(c, "inner_bend")
+    with pytest.raises(ValueError, match="width"):  # width = d: the guard is strict (width > d)
+        kernels.coefficients(c.replace(width=20.0), "inner_bend")
+    assert kernels.coefficients(c.replace(width=20.5), "inner_bend")[1] > 0
 
 
 def test_chain_model_effect_parameters():
@@ -244,4 +247,10 @@ def test_cli_stiffness_json(capsys):
     assert pts[0]["k_e_N_per_mm"] == pytest.approx(paper_forms.k_e(2.2), rel=1e-12)
     assert pts[1]["F_k_N"] == pytest.approx(11117.0, rel=1e-12)
     assert pts[1]["x_mm"] == pytest.approx(paper_forms.x_of_F(11117.0), rel=1e-12)
+    # --F with a variant: the elongation comes from that variant's Eq. 15 (shear: kappa = 10/9)
+    assert cli.main(["stiffness", "--F", "11117", "--variant", "shear", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["variant"] == "shear"
+    assert doc["points"][0]["x_mm"] == pytest.approx(paper_forms.x_of_F(11117.0, kappa=10 / 9), rel=1e-12)
+    assert doc["points"][0]["F_k_N"] == pytest.approx(11117.0, rel=1e-12)
     assert cli.main(["stiffness"]) == 2
