@@ -155,6 +155,11 @@ MUTATIONS: list[Mutation] = [
     M("R1", "chainid/records.py", "if not allow_compression and np.any(rec.F < 0):",
       "if not allow_compression and np.any(rec.F < -1e9):",
       f"{T_AUD}::test_cli_identify_linear_model_allows_compression", "compressive chain records accepted silently"),
+    M("A5", "chainid/audit.py", "w1 = w_col[0] * OMEGA_COLUMN_TO_RAD_S", "w1 = w_col[0]",
+      f"{T_AUD}::test_finding_b_test1_factor_20", "test 1's omega left in the column unit"),
+    M("R3", "chainid/simulate.py", "return inertia_force_N(m, xddot) + np.asarray(model.force(x), dtype=float) + c_e * xdot",
+      "return np.asarray(model.force(x), dtype=float) + c_e * xdot",
+      f"{T_ID}::test_mass_term_units", "simulated records without the inertia term"),
     M("R2", "chainid/gap/report_steps.py", "k_in = FA * math.cos(phi) / A", "k_in = FA / A",
       "tests/test_report_gap.py::test_eq26_numbers", "Eq. 26 in-phase stiffness without cos(phi)"),
 ]

@@ -252,8 +252,16 @@ def test_to_dict_has_contract_keys():
     model = Lin()
     rec = simulate_test(TestSpec("k", 2.0, 2.2, 0.25), model, 1000.0, n_cycles=4)
     d = identify_test(rec, model).to_dict()
-    for k in ("test", "omega", "x0", "A", "F0", "FA", "phi", "r2", "F_ac", "c_e", "W"):
-        assert k in d
+    assert set(d) == {"test", "omega", "x0", "A", "theta", "F0", "FA", "phi", "r2", "F_ac", "F_as", "Fc0", "c_e",
+                      "W", "W_ratio", "r2_c", "mass_kg", "n_cycles", "cycles_kept", "t_start", "t_end",
+                      "noise_x", "source"}
+    # values of a noise-free viscous test: F_ac = c w A = 500 N, W = pi c w A^2 = 392.7 N mm
+    assert d["test"] == "k" and d["mass_kg"] == 3.2
+    assert d["omega"] == pytest.approx(2.0, rel=1e-6)
+    assert d["x0"] == pytest.approx(2.2, rel=1e-6) and d["A"] == pytest.approx(0.25, rel=1e-6)
+    assert d["c_e"] == pytest.approx(1000.0, rel=1e-4)
+    assert d["F_ac"] == pytest.approx(500.0, rel=1e-4)
+    assert d["W"] == pytest.approx(math.pi * 1000.0 * 2.0 * 0.25**2, rel=2e-3)
 
 
 # --------------------------------------------------------------------------- with the real chain model
