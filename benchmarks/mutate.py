@@ -187,7 +187,10 @@ def run_tests(copy: Path, tests: tuple[str, ...], timeout: float, cache: Path) -
     except subprocess.TimeoutExpired:
         return "timeout", time.perf_counter() - t0, ""
     lines = [ln for ln in out.stdout.splitlines() if ln.strip()]
-    last = lines[-1] if lines else out.stderr.strip().splitlines()[-1:] and out.stderr.strip().splitlines()[-1]
+    last = lines[-1] if lines else (out.stderr.strip().splitlines() or [""])[-1]
+    failed = [ln for ln in lines if ln.startswith(("FAILED ", "ERROR "))]
+    if failed:  # which test caught it, and why (pytest's short summary, -ra)
+        last = f"{last}; {failed[0][:300]}"
     if out.returncode == 5:  # no tests collected: the selection is stale
         return "nocollect", time.perf_counter() - t0, str(last)
     return ("pass" if out.returncode == 0 else "fail"), time.perf_counter() - t0, str(last)
