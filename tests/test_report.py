@@ -46,9 +46,22 @@ def test_fig8_curves_are_the_closed_form_stiffness(tmp_path, monkeypatch):
             assert k[i] == pytest.approx(paper_forms.k_e(x[i], E=210000.0 * f), rel=1e-9), (f, x[i])
 
 
-def test_report_on_builtin_chain(tmp_path):
+def test_report_on_builtin_chain(tmp_path, monkeypatch):
     out = tmp_path / "rep"
+    figs = _saved_figures(monkeypatch)
     assert cli.main(["report", "--out", str(out)]) == 0
+    # Fig. 11: Table 1's tests (printed omega column, A, c_e) over the Eq. 28 surface
+    sc = figs["fig11_damping_surface.png"].axes[0].collections[-1]
+    np.testing.assert_allclose(sc.get_offsets(), [[1, 0.25], [4, 0.25], [6, 0.25], [8, 0.25], [10, 0.25],
+                                                  [6, 0.2], [6, 0.3], [6, 0.35], [6, 0.4]])
+    np.testing.assert_allclose(sc.get_array(), [5095.5, 3503.2, 2834.4, 2332.8, 1964.3, 2614.1, 2906.9, 3058.8,
+                                                3090.5])
+    # Fig. 12: x = 2.25 + 0.32 sin(14 pi t); the elastic force alone is Eq. 15 inverted (paper_forms), in kN
+    fk = [ln for ln in figs["fig12_validation.png"].axes[0].lines if "alone" in ln.get_label()][0]
+    x, F = fk.get_xdata(), fk.get_ydata()
+    assert np.min(x) == pytest.approx(1.93, abs=1e-3) and np.max(x) == pytest.approx(2.57, abs=1e-3)
+    i = int(np.argmax(x))
+    assert F[i] * 1000 == pytest.approx(paper_forms.F_of_x(float(x[i])), rel=1e-9)
     md = (out / "report.md").read_text(encoding="utf-8")
     for heading in ("## 1. Verification", "## 2. Stiffness", "## 3. Damping", "## 4. Gap"):
         assert heading in md
