@@ -228,6 +228,8 @@ def test_rank_laws_prefers_true_law(true_law, winner, losers):
     for l in losers:
         assert loo[winner] < loo[l]
     assert rows[0]["loo_rmse"] == min(loo.values())
+    # ranked by leave-one-out error (not by in-sample RMSE, which always favours the 5-parameter polynomial)
+    assert [r["loo_rmse"] for r in rows] == sorted(loo.values())
 
 
 # --------------------------------------------------------------------------- Eq. 1
