@@ -132,7 +132,8 @@ def audit(model: Any = None) -> dict[str, Any]:
     -------
     dict
         ``{"eq28_alpha": [α1..α5], "eq28_alpha_paper", "eq28_matches_4sf", "eq28",
-        "eq28_rad_s", "findings": [{"id", "title", "numbers", "summary"}, ...]}``.
+        "eq28_rad_s", "findings": [{"id", "title", "numbers", "summary"}, ...],
+        "practice": {"chain", "table", "summary"}}`` (practice: :func:`chainid.practice.practice_section`).
     """
     tb = load_table1()
     w_col, A, F_ac, c_e = tb["omega_col"], tb["A"], tb["F_ac"], tb["c_e"]
@@ -316,7 +317,15 @@ def audit(model: Any = None) -> dict[str, Any]:
         "eq28": fit_col,
         "eq28_rad_s": fit_rad,
         "findings": findings,
+        "practice": _practice(model),
     }
+
+
+def _practice(model: Any) -> dict[str, Any]:
+    """The model against practice (:mod:`chainid.practice`) for the model's chain (default: the built-in one)."""
+    from .practice import practice_section
+
+    return practice_section(getattr(model, "chain", None))
 
 
 def format_audit(rep: dict[str, Any]) -> str:
@@ -338,4 +347,8 @@ def format_audit(rep: dict[str, Any]) -> str:
     for f in rep["findings"]:
         lines.append(f"({f['id']}) {f['title']}")
         lines.append(f"    {f['summary']}")
+    if "practice" in rep:
+        from .practice import format_practice
+
+        lines += ["", format_practice(rep["practice"])]
     return "\n".join(lines)

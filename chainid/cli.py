@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import sys
 from pathlib import Path
 from typing import Any, Sequence
@@ -17,22 +16,18 @@ from typing import Any, Sequence
 __all__ = ["main", "write_json", "build_parser"]
 
 #: Modules that add their own subcommands via ``add_subparsers(subparsers)``.
-SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report")
+SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report", "chainid.cli_practice",
+                      "chainid.cli_dynamics")
 
 
-def write_json(doc: Any, target: str | None, force: bool = False) -> None:
-    """Write ``doc`` as JSON to ``target`` ("-" = stdout); refuse to overwrite without ``force``."""
-    if target is None:
-        return
-    text = json.dumps(doc, indent=2, ensure_ascii=False, default=_json_default)
-    if target == "-":
-        print(text)
-        return
-    p = Path(target)
-    if p.exists() and not force:
-        raise ValueError(f"output file {str(p)!r} exists; pass --force to overwrite it")
-    p.parent.mkdir(parents=True, exist_ok=True)
-    p.write_text(text + "\n", encoding="utf-8")
+def write_json(doc: Any, target: str | None, force: bool = False, what: str = "--json") -> None:
+    """Write ``doc`` as strict JSON to ``target`` ("-" = stdout) atomically; refuse to overwrite without ``force``.
+
+    Non-finite numbers are written as ``null`` (see :func:`chainid.fileio.write_json`).
+    """
+    from .fileio import write_json as _write
+
+    _write(doc, target, force=force, what=what)
 
 
 def _json_default(o: Any) -> Any:
@@ -45,6 +40,14 @@ def _json_default(o: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(o)}")
 
 
+def check_json_target(target: str | None, force: bool, what: str = "--json") -> None:
+    """Check a ``--json`` target before the work starts ("-" and None need no check)."""
+    from .fileio import check_output_file
+
+    if target is not None and target != "-":
+        check_output_file(target, force=force, what=what)
+
+
 def _progress(msg: str) -> None:
     print(f"  ... {msg}", file=sys.stderr, flush=True)
 
@@ -52,6 +55,7 @@ def _progress(msg: str) -> None:
 # -- verify ------------------------------------------------------------------
 
 def cmd_verify(args: argparse.Namespace) -> int:
+    check_json_target(args.json, args.force)
     from .derive import verify  # SymPy is imported here, and only here (and in generate)
 
     checks = verify.run_checks(progress=_progress)
@@ -77,9 +81,15 @@ def default_generated_dir() -> Path:
 
 
 def cmd_generate(args: argparse.Namespace) -> int:
-    from .derive import emit
+    from .fileio import check_output_dir
 
     out = Path(args.out) if args.out else default_generated_dir()
+    if not args.check:
+        check_output_dir(out, what="--out")  # generate always refreshes its own files
+    elif out.exists() and not out.is_dir():
+        raise ValueError(f"--out {str(out)!r} is a file; give the generated/ folder")
+    from .derive import emit
+
     try:
         res = emit.generate(out, check=args.check)
     except RuntimeError as exc:  # SymPy version mismatch
@@ -117,6 +127,7 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
     from . import kernels
     from .spec import load_chain
 
+    check_json_target(args.json, args.force)
     chain = load_chain(args.chain)
     if args.x is None and args.F is None:
         raise ValueError("give --x X [X ...] (elongations, mm) and/or --F F [F ...] (tensions, N)")
@@ -130,6 +141,10 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
     rows = [{"x_mm": float(a), "F_k_N": float(b), "k_e_N_per_mm": float(c)} for a, b, c in zip(x, F, k)]
     doc = {"chain": chain.to_dict(), "variant": args.variant, "c_lin_mm_per_N": c_lin,
            "c_hertz_mm_per_N23": c_h, "points": rows}
+    if len(F) and np.isfinite(F).any():
+        from .cli_practice import warn_loads
+
+        warn_loads(float(np.nanmax(F)), chain, doc)
     if args.json == "-":
         write_json(doc, "-")
         return 0
@@ -163,7 +178,7 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("stiffness", help="F_k and k_e at given elongations (or tensions)")
     s.add_argument("--x", type=float, nargs="+", metavar="X", help="elongations [mm]")
     s.add_argument("--F", type=float, nargs="+", metavar="F", help="tensions [N] (their elongations are added)")
-    s.add_argument("--chain", metavar="FILE.toml", help="chain file (default: the built-in 14x50 chain)")
+    s.add_argument("--chain", metavar="FILE.toml", help="chain file or preset name, e.g. din22252:26x92 (default: the built-in 14x50 chain)")
     s.add_argument("--variant", default="paper", choices=VARIANTS, help="model variant")
     s.add_argument("--json", nargs="?", const="-", metavar="FILE", help="JSON to FILE, or to stdout with no FILE")
     s.add_argument("--force", action="store_true", help="overwrite an existing output file")
@@ -192,6 +207,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `chainid audit | head`
         sys.stderr.close()
         return 0
+    except OSError as exc:  # a file system fault not caught by chainid.fileio: one line, no traceback
+        name = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        print(f"chainid {args.command}: error:{name} {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:  # SIGINT: outputs are atomic, so nothing partial is left
+        from .fileio import interrupted
+
+        return interrupted(args.command)
 
 
 if __name__ == "__main__":  # pragma: no cover

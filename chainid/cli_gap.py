@@ -16,7 +16,16 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         if args.steady_tol is not None and not (0.0 < args.steady_tol < 1.0):
             raise ValueError(f"--steady-tol = {args.steady_tol!r} is out of range; valid range 0 < tol < 1 "
                              "(a fraction of the plateau, e.g. 0.05)")
-        recs = read_records(args.data, allow_compression=True)
+        from .fileio import check_output_dir, check_output_file
+
+        if args.json:  # output targets first: the diagnosis takes a while
+            check_output_file(args.json, force=args.force, what="--json")
+        if args.plots:
+            from .gap.plots import PLOT_NAMES
+
+            check_output_dir(args.plots, "--plots", PLOT_NAMES, force=args.force)
+        # per-test problems are reported (and the test left out) by the diagnosis; data errors stop it
+        recs = read_records(args.data, validate=False)
         if args.model == "linear":
             model = None
         else:
@@ -42,7 +51,7 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         if args.plots:
             from .gap.plots import make_plots
 
-            for p in make_plots(res, args.plots):
+            for p in make_plots(res, args.plots, force=args.force):
                 print(f"wrote {p}")
     except ValueError as exc:
         print(f"chainid diagnose: error: {exc}", file=sys.stderr)
@@ -54,6 +63,10 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
     from .gap.benchmark import run_benchmark
 
     try:
+        if args.json:  # before the grid runs (minutes)
+            from .fileio import check_output_file
+
+            check_output_file(args.json, force=args.force, what="--json")
         run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed,
                       scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress)
     except ValueError as exc:
@@ -84,7 +97,7 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("--strict", action="store_true", help="a test that cannot be analysed is an error (rc 2)")
     p.add_argument("--json", metavar="FILE", help="write the JSON result")
     p.add_argument("--plots", metavar="DIR", help="write figures to DIR")
-    p.add_argument("--force", action="store_true", help="overwrite an existing --json file")
+    p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots files")
     p.set_defaults(func=cmd_diagnose)
     b = subparsers.add_parser("benchmark-gap", help="blind benchmark of the diagnosis on simulated effects")
     b.add_argument("--small", action="store_true", help="a small, fast grid")

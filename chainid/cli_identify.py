@@ -4,7 +4,7 @@
 each subcommand sets ``func(args) -> int`` (exit code).
 
 * ``chainid identify DATA.csv [--chain F.toml] [--model chain|linear] [--law NAME]
-  [--side F.csv] [--json F] [--plots DIR] [--force]``
+  [--side F.csv] [--steady-tol TOL] [--strict] [--json F] [--plots DIR] [--force]``
 * ``chainid simulate OUT.csv [--plan F.csv|paper] [--law NAME --params ...]
   [--noise-x MM] [--noise-F N] [--seed S] [--force]``
 * ``chainid audit [--chain F.toml] [--json F] [--force]``
@@ -12,10 +12,8 @@ each subcommand sets ``func(args) -> int`` (exit code).
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
-from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
@@ -46,13 +44,17 @@ def _jsonable(o: Any) -> Any:
 
 
 def _check_out(path: str | None, force: bool, what: str = "--json") -> None:
-    if path is not None and Path(path).exists() and not force:
-        raise ValueError(f"{what} file {path!r} already exists; refusing to overwrite it (use --force)")
+    """Check an output file target before the work starts (see :func:`chainid.fileio.check_output_file`)."""
+    from .fileio import check_output_file
+
+    if path is not None and path != "-":
+        check_output_file(path, force=force, what=what)
 
 
 def _write_json(path: str, data: dict, force: bool) -> None:
-    _check_out(path, force)
-    Path(path).write_text(json.dumps(_jsonable(data), indent=2) + "\n")
+    from .fileio import write_json
+
+    write_json(_jsonable(data), path, force=force)
 
 
 def _table(headers: Sequence[str], rows: Sequence[Sequence[Any]], fmts: Sequence[str]) -> str:
@@ -79,6 +81,21 @@ def _model(args: argparse.Namespace) -> Any:
     return models.model_for(chain, getattr(args, "variant", "paper"))
 
 
+def _steady_tol(text: str | None) -> float | None:
+    """``--steady-tol``: a fraction (0.05) or a percentage (5%); None = adaptive."""
+    if text is None or str(text).strip().lower() in ("", "auto", "adaptive"):
+        return None
+    s = str(text).strip()
+    try:
+        v = float(s[:-1]) / 100.0 if s.endswith("%") else float(s)
+    except ValueError:
+        raise ValueError(f"--steady-tol {text!r}: expected a fraction such as 0.05, a percentage such as 5%, "
+                         f"or 'auto'") from None
+    if not (0.0 < v < 1.0) or not math.isfinite(v):
+        raise ValueError(f"--steady-tol {text!r}: must be between 0 and 1 (0 and 100 %), e.g. 0.05 or 5%")
+    return v
+
+
 def _law(name: str, params: Sequence[float] | None, model: Any) -> Any:
     from .identify import law_from_dict
 
@@ -89,7 +106,15 @@ def _law(name: str, params: Sequence[float] | None, model: Any) -> Any:
 # identify
 # ----------------------------------------------------------------------------
 def cmd_identify(args: argparse.Namespace) -> int:
-    """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking."""
+    """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking.
+
+    A test whose steady cycles, harmonic fit or damping estimate cannot be
+    obtained is left out with its reason (one ``excluded test ID: reason`` line
+    on stderr, ``"excluded": [{"test", "reason"}]`` in the JSON); ``--strict``
+    makes any exclusion fatal (rc 2).  Data errors (bad cells, NaN, t not
+    increasing, compressive force without ``--allow-compression``) always stop
+    the run.  ``--steady-tol`` sets the steady-cycle tolerance (default adaptive).
+    """
     from .identify import MIN_TESTS, identify_records, inertia_force_N, rank_laws
     from .records import analyse_record, read_records, read_side_file, write_side_file
 
@@ -97,7 +122,19 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if args.write_side:
         _check_out(args.write_side, args.force, "--write-side")
     allow_comp = bool(args.allow_compression or args.model == "linear")
-    records = read_records(args.data, allow_compression=allow_comp)
+    steady_tol = _steady_tol(getattr(args, "steady_tol", None))
+    strict = bool(getattr(args, "strict", False))
+    if args.plots:
+        from .fileio import check_output_dir
+
+        check_output_dir(args.plots, "--plots")
+    # per-test analysis problems are reported (and the test left out) by identify_records
+    records = read_records(args.data, validate=False)
+    if args.plots:
+        from .plots_identify import plot_names
+
+        check_output_dir(args.plots, "--plots", plot_names([r.test for r in records], len(records) >= MIN_TESTS),
+                         force=args.force)
     side = read_side_file(args.side) if args.side else None
     if side:
         unknown = sorted(set(side) - {r.test for r in records})
@@ -108,14 +145,23 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if model is None:  # --model linear without --k: fit F - m xddot = k (x - x_ref) on the steady cycles
         from .identify import linear_model_from_records
 
-        model = linear_model_from_records(records, float(args.mass or 0.0), side)
+        model = linear_model_from_records(records, float(args.mass or 0.0), side, steady_tol=steady_tol)
 
     def progress(i: int, n: int, test: str) -> None:
         if not args.quiet:
             print(f"[{i + 1}/{n}] identifying test {test}", file=sys.stderr, flush=True)
 
     mass = args.mass if args.mass is not None else None
-    results = identify_records(records, model, side=side, mass_kg=mass, allow_compression=allow_comp, progress=progress)
+    results = identify_records(records, model, side=side, mass_kg=mass, allow_compression=allow_comp,
+                               progress=progress, steady_tol=steady_tol)
+    excluded = list(results.excluded)
+    for e in excluded:
+        print(f"excluded test {e['test']}: {e['reason']}", file=sys.stderr, flush=True)
+    if excluded and strict:
+        raise ValueError(f"--strict: {len(excluded)} test(s) could not be identified: "
+                         + "; ".join(f"{e['test']}: {e['reason']}" for e in excluded))
+    if not results:
+        raise ValueError(f"no test of {args.data!r} could be identified ({len(excluded)} excluded; see above)")
 
     print(f"model: {getattr(model, 'name', type(model).__name__)}, mass m = {results[0].mass_kg:.4g} kg")
     print(_table(
@@ -126,6 +172,11 @@ def cmd_identify(args: argparse.Namespace) -> int:
           f"{r.t_start:.4g}-{r.t_end:.4g}"] for r in results],
         ["", ".5g", ".4g", ".4g", ".6g", ".6g", ".4f", ".5f", ".5g", ".5g", ".5g", ".3f", ".4f", "", ""],
     ))
+    print("steady cycles kept:")
+    for r in results:
+        print(f"  {r.test}: {r.steady}")
+    if excluded:
+        print(f"{len(excluded)} test(s) excluded: " + "; ".join(f"{e['test']} ({e['reason']})" for e in excluded))
     odd = [r.test for r in results if r.r2_c < 0.97]
     if odd:
         print(f"note: F_c of test(s) {', '.join(odd)} is far from one harmonic (R2(F_c) < 0.97): the loop is not "
@@ -135,9 +186,16 @@ def cmd_identify(args: argparse.Namespace) -> int:
         "tests": [r.to_dict() for r in results],
         "model": {"name": getattr(model, "name", None), "mass_kg": results[0].mass_kg},
         "law": None,
+        "excluded": [{"test": e["test"], "reason": e["reason"]} for e in excluded],
     }
+    if getattr(model, "chain", None) is not None:  # record force beyond the chain's elastic/working range
+        from .cli_practice import warn_loads
+
+        warn_loads(max(float(r.F.max()) for r in records), model.chain, out)
     if args.write_side:
-        ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True) for r in records}
+        kept = {r.test for r in results}
+        ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True,
+                                       steady_tol=steady_tol) for r in records if r.test in kept}
         write_side_file(args.write_side, ests, overwrite=args.force)
 
     omega = [r.omega for r in results]
@@ -146,7 +204,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
     x0 = [r.x0 for r in results]
     rc = 0
     if len(results) < MIN_TESTS:
-        msg = (f"only {len(results)} test(s): fitting a damping law needs at least {MIN_TESTS} "
+        left = f" ({len(excluded)} excluded)" if excluded else ""
+        msg = (f"only {len(results)} test(s) identified{left}: fitting a damping law needs at least {MIN_TESTS} "
                f"(paper Eq. 22: M > 5); per-test results only")
         print(f"\nerror: {msg}", file=sys.stderr)
         out["law_error"] = msg
@@ -177,7 +236,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if args.plots:
         from .plots_identify import plot_all
 
-        paths = plot_all(records, results, model, args.plots, law=law)
+        paths = plot_all(records, results, model, args.plots, law=law, force=args.force)
         print(f"\nwrote {len(paths)} plot(s) to {args.plots}")
     if args.json:
         _write_json(args.json, out, args.force)
@@ -203,11 +262,15 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from .simulate import paper_plan, read_plan, simulate
 
     _check_out(args.out, args.force, "output")
+    _check_simulate_options(args)
     plan = paper_plan() if args.plan in (None, "paper") else read_plan(args.plan)
     if args.model == "linear" and args.k is None:
         raise ValueError("--model linear needs --k [N/mm] (and --x-ref [mm]) for simulation")
     model = _model(args)
     params = _parse_floats(args.params)
+    bad = [v for v in (params or []) if not math.isfinite(v)]
+    if bad:
+        raise ValueError(f"--params {args.params!r}: value {bad[0]!r} is invalid: valid range finite numbers")
     if params is None:
         defaults = {"viscous": [2834.4], "polynomial": [28.02, -651.57, -8386.50, 7394.84, 4378.89]}
         if args.law not in defaults:
@@ -222,7 +285,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         force_fn = parse_effect(args.effect, model)
     recs = simulate(plan, model, law, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
                     ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F,
-                    force_fn=force_fn)
+                    force_fn=force_fn, mass_kg=args.mass, max_memory=args.max_memory * 1024**3)
     write_records(args.out, recs, overwrite=args.force)
     print(_table(["test", "omega rad/s", "x0 mm", "A mm", "c_e N.s/mm", "samples", "duration s"],
                  [[s.test, s.omega, s.x0, s.A, float(law.predict(s.omega, s.A, s.x0)[0]), r.t.size, r.t[-1]]
@@ -232,6 +295,26 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}{effect}, noise x {args.noise_x} mm, "
           f"F {args.noise_F} N, seed {args.seed})")
     return 0
+
+
+def _check_simulate_options(args: argparse.Namespace) -> None:
+    """Range checks of ``simulate``'s numeric options, before anything is computed."""
+    checks = (
+        ("--noise-x", args.noise_x, args.noise_x is None or args.noise_x >= 0, ">= 0 mm"),
+        ("--noise-F", args.noise_F, args.noise_F is None or args.noise_F >= 0, ">= 0 N"),
+        ("--mass", args.mass, args.mass is None or args.mass >= 0, ">= 0 kg"),
+        ("--k", args.k, args.k is None or args.k > 0, "> 0 N/mm"),
+        ("--x-ref", args.x_ref, True, "finite mm"),
+        ("--cycles", args.cycles, args.cycles > 0, "> 0"),
+        ("--ramp-rate", args.ramp_rate, args.ramp_rate >= 0, ">= 0 mm/s (0 = no ramp)"),
+        ("--taper-cycles", args.taper_cycles, 0 <= args.taper_cycles <= args.cycles / 2, "0 to --cycles/2"),
+        ("--max-memory", args.max_memory, args.max_memory > 0, "> 0 GiB"),
+    )
+    for name, v, ok, rng in checks:
+        if v is not None and not (math.isfinite(v) and ok):
+            raise ValueError(f"{name} = {v!r} is invalid: valid range {rng} (finite)")
+    if args.samples_per_cycle < 16:
+        raise ValueError(f"--samples-per-cycle = {args.samples_per_cycle!r} is invalid: valid range >= 16")
 
 
 # ----------------------------------------------------------------------------
@@ -271,7 +354,7 @@ def _wrap(fn: Any) -> Any:
 
 
 def _model_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--chain", metavar="FILE.toml", help="chain TOML file (default: the paper's 14x50 chain)")
+    p.add_argument("--chain", metavar="FILE.toml", help="chain TOML file or preset name, e.g. din22252:26x92 (default: the paper's 14x50 chain)")
     p.add_argument("--variant", default="paper", help="stiffness model variant (default: paper)")
     p.add_argument("--model", choices=("chain", "linear"), default="chain",
                    help="stiffness model: the chain (default) or linear F = k (x - x_ref) (allows compressive force)")
@@ -290,6 +373,11 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("--side", metavar="FILE.csv", help="side file test,omega,x0,A (rad/s, mm, mm) to use instead of estimates")
     p.add_argument("--write-side", dest="write_side", metavar="FILE.csv", help="write the estimated omega,x0,A per test")
     p.add_argument("--allow-compression", action="store_true", help="accept F < 0 (implied by --model linear)")
+    p.add_argument("--steady-tol", dest="steady_tol", metavar="TOL",
+                   help="steady-cycle tolerance on amplitude/mean/drift, a fraction (0.05) or per cent (5%%); "
+                        "default: adaptive, from each record's cycle-to-cycle scatter (3-15 %%)")
+    p.add_argument("--strict", action="store_true",
+                   help="fail (rc 2) if any test cannot be identified instead of leaving it out")
     p.add_argument("--json", metavar="FILE", help="write results as JSON")
     p.add_argument("--plots", metavar="DIR", help="write loop and damping-surface PNGs")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
@@ -316,6 +404,8 @@ def add_subparsers(subparsers: Any) -> None:
                         "hysteresis:F_h=300,x_h=0.05, backlash:b=0.02 (mm), slack:s=0.1 (mm), "
                         "machine_compliance:c=2e-5 (mm/N), contact_law:scale=1.2,beta=0.6, "
                         "sensor_delay:tau=0.01 (s), damping_law:eta=0.3,F_f=100")
+    s.add_argument("--max-memory", dest="max_memory", type=float, default=2.0, metavar="GIB",
+                   help="refuse a simulation whose estimated memory exceeds this many GiB (default 2)")
     s.add_argument("--force", action="store_true", help="overwrite the output file")
     s.set_defaults(func=_wrap(cmd_simulate))
 

@@ -16,15 +16,13 @@ Per test (:func:`identify_test`)
   the force law), plus ``r2_c``, the share of F_c explained by its fundamental
   (1 for a viscous loop, 8/π² for Coulomb friction).
 
-Across tests: damping laws c_e(omega, A, x0) with a scikit-learn-like
-``fit``/``predict`` interface (:class:`PolynomialLaw` = Eq. 21,
-:class:`ViscousLaw`, :class:`HystereticLaw`, :class:`CoulombLaw`,
-:class:`CombinedLaw`), fitted by least squares both with the paper's normal
-equations ``G A = C`` (Eq. 23–24) and with ``numpy.linalg.lstsq``; condition
-numbers, standard errors, residuals and leave-one-out RMSE are reported
-(:class:`LawFit`), and :func:`rank_laws` orders laws by LOO error.
+Across tests: the damping laws c_e(omega, A, x0) and their fit (Eq. 21–24,
+:class:`PolynomialLaw`, ..., :func:`fit_law`, :func:`rank_laws`) live in
+:mod:`chainid.laws` and are re-exported here.  :func:`identify_records` leaves
+out a test whose steady cycles, harmonic fit or damping estimate cannot be
+obtained and lists it with its reason (:class:`Identification`).
 
-Forward prediction, Eq. 1: :func:`predict_force`.
+Forward prediction, Eq. 1: :func:`predict_force` (in :mod:`chainid.forward`, re-exported).
 
 Units: mm, N, s, kg; omega in rad/s.
 """
@@ -32,11 +30,28 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field
-from typing import Any, Callable, Protocol, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from .records import HarmonicEstimate, Record, analyse_record
+from .forward import inertia_force_N, predict_force  # noqa: F401  (re-exported)
+from .laws import (  # noqa: F401  (re-exported: the laws used to live here)
+    MIN_TESTS,
+    CombinedLaw,
+    CoulombLaw,
+    DampingLaw,
+    HystereticLaw,
+    LawFit,
+    PolynomialLaw,
+    ViscousLaw,
+    _as_arrays,
+    _Model,
+    default_laws,
+    fit_law,
+    law_from_dict,
+    rank_laws,
+)
+from .records import HarmonicEstimate, Record, analyse_record, try_analyse
 
 __all__ = [
     "inertia_force_N",
@@ -46,6 +61,7 @@ __all__ = [
     "loop_energy",
     "identify_test",
     "identify_records",
+    "Identification",
     "DampingLaw",
     "PolynomialLaw",
     "ViscousLaw",
@@ -61,42 +77,9 @@ __all__ = [
     "MIN_TESTS",
 ]
 
-#: Minimum number of tests for fitting a damping law (paper: M > 5).
-MIN_TESTS = 6
-
-
-class _Model(Protocol):  # the StiffnessModel contract of chainid.models
-    name: str
-    mass_kg: float
-
-    def force(self, x: np.ndarray) -> np.ndarray: ...
-
-    def stiffness(self, x: np.ndarray) -> np.ndarray: ...
-
-
-# ----------------------------------------------------------------------------
-# Units
-# ----------------------------------------------------------------------------
-def inertia_force_N(m_kg: float | np.ndarray, xddot_mm_s2: float | np.ndarray) -> float | np.ndarray:
-    """Inertial force F_m = m xddot (Eq. 1) in consistent units.
-
-    Parameters
-    ----------
-    m_kg : float or ndarray
-        Mass [kg].
-    xddot_mm_s2 : float or ndarray
-        Acceleration [mm/s²].
-
-    Returns
-    -------
-    float or ndarray
-        Force [N] = m [kg] · xddot [mm/s²] · 1e-3 [m/mm].
-    """
-    return np.multiply(m_kg, xddot_mm_s2) * 1e-3
-
-
 def linear_model_from_records(records: Sequence[Record], mass_kg: float = 0.0,
-                               side: dict[str, tuple[float, float, float]] | None = None) -> Any:
+                               side: dict[str, tuple[float, float, float]] | None = None,
+                               steady_tol: float | None = None) -> Any:
     """A linear spring F − m·ẍ = k·(x − x_ref) fitted on the steady cycles of all records.
 
     For parts that are not chains (``--model linear`` without ``--k``).
@@ -109,6 +92,9 @@ def linear_model_from_records(records: Sequence[Record], mass_kg: float = 0.0,
         Moving mass m [kg] (default 0); its inertia m·ẍ·1e-3 [N] is removed before the fit.
     side : dict, optional
         test id → (omega rad/s, x0 mm, A mm) instead of the estimates.
+    steady_tol : float or None
+        Steady-cycle tolerance (fraction); None = adaptive.  Tests that cannot be
+        analysed are skipped.
 
     Returns
     -------
@@ -119,10 +105,15 @@ def linear_model_from_records(records: Sequence[Record], mass_kg: float = 0.0,
 
     xs, Fs = [], []
     for r in records:
-        est = analyse_record(r, side.get(r.test) if side else None, allow_compression=True)
+        est, _ = try_analyse(r, side=side.get(r.test) if side else None, allow_compression=True,
+                             steady_tol=steady_tol)
+        if est is None or est.window is None:  # left out (identify_records says why)
+            continue
         mwin = (r.t >= est.window.t_start) & (r.t < est.window.t_end)
         xs.append(r.x[mwin])
         Fs.append(r.F[mwin] - inertia_force_N(mass_kg, est.xddot(r.t[mwin])))
+    if not xs:
+        raise ValueError("no test has steady cycles: cannot fit the linear spring (--model linear without --k)")
     return models.LinearModel.fit(np.concatenate(xs), np.concatenate(Fs), mass=float(mass_kg))
 
 
@@ -223,6 +214,11 @@ class TestResult:
         Indices of the kept cycles.
     source : str
         "estimated" or "side file" (origin of omega, x0, A).
+    steady : str
+        What was kept and why (window, cycles, tolerance), from
+        :meth:`chainid.steady.SteadyWindow.statement`.
+    steady_tol : float
+        Steady-cycle tolerance used (fraction of the plateau amplitude).
     """
 
     __test__ = False  # not a pytest test class
@@ -250,6 +246,8 @@ class TestResult:
     n_cycles: int = 0
     cycles_kept: list[int] = field(default_factory=list)
     source: str = "estimated"
+    steady: str = ""
+    steady_tol: float = float("nan")
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (contract keys test, omega, x0, A, F0, FA, phi, r2, F_ac, c_e, W, + extras)."""
@@ -358,6 +356,21 @@ def identify_test(
     )
 
 
+class Identification(list):
+    """The :class:`TestResult` of every identified test (a list), plus the tests left out.
+
+    Attributes
+    ----------
+    excluded : list of dict
+        ``{"test": id, "reason": str}`` for every test whose steady cycles,
+        harmonic fit or damping estimate could not be obtained, in record order.
+    """
+
+    def __init__(self, results: Sequence[TestResult] = (), excluded: Sequence[dict[str, str]] = ()) -> None:
+        super().__init__(results)
+        self.excluded: list[dict[str, str]] = list(excluded)
+
+
 def identify_records(
     records: Sequence[Record],
     model: _Model,
@@ -366,8 +379,10 @@ def identify_records(
     mass_kg: float | None = None,
     allow_compression: bool = True,
     progress: Callable[[int, int, str], None] | None = None,
-) -> list[TestResult]:
-    """Run :func:`identify_test` on every record.
+    steady_tol: float | None = None,
+    strict: bool = False,
+) -> Identification:
+    """Run :func:`identify_test` on every record; leave out (with the reason) those that cannot be identified.
 
     Parameters
     ----------
@@ -381,473 +396,47 @@ def identify_records(
         Accept F < 0 [N] (validation).
     progress : callable, optional
         Called as ``progress(i, n, test)`` before each test.
+    steady_tol : float or None
+        Steady-cycle tolerance (fraction, 0.03 = 3 %); None = adaptive
+        (:func:`chainid.steady.select_steady`).
+    strict : bool
+        Raise on the first test that cannot be identified instead of leaving it out.
 
     Returns
     -------
-    list of TestResult
+    Identification
+        A list of :class:`TestResult` (identified tests, record order) with
+        ``.excluded = [{"test", "reason"}, ...]``.
+
+    Raises
+    ------
+    ValueError
+        Data errors (NaN, t not increasing, compression without
+        ``allow_compression``: :func:`chainid.records.check_data`), and with
+        ``strict`` any test that cannot be identified.
     """
-    out = []
+    out = Identification()
     n = len(records)
     for i, rec in enumerate(records):
         if progress is not None:
             progress(i, n, rec.test)
         s = side.get(rec.test) if side else None
-        est = analyse_record(rec, s, allow_compression=allow_compression)
-        out.append(identify_test(rec, model, estimate=est, mass_kg=mass_kg))
-    return out
-
-
-# ----------------------------------------------------------------------------
-# Damping laws (Eq. 21 and alternatives)
-# ----------------------------------------------------------------------------
-def _as_arrays(omega: Any, A: Any, x0: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    w = np.atleast_1d(np.asarray(omega, dtype=float))
-    a = np.atleast_1d(np.asarray(A, dtype=float))
-    if x0 is None:
-        x = np.full(np.broadcast(w, a).shape, np.nan)
-    else:
-        x = np.atleast_1d(np.asarray(x0, dtype=float))
-    w, a, x = np.broadcast_arrays(w, a, x)
-    return w, a, x
-
-
-class DampingLaw:
-    """Base class: a damping law linear in its parameters, c_e = X(omega, A, x0) @ p.
-
-    Subclasses define ``name``, ``param_names`` and :meth:`design`.  Use
-    :meth:`fit` (least squares, details in :attr:`fit_`) and :meth:`predict`.
-    """
-
-    name: str = "law"
-    param_names: tuple[str, ...] = ()
-    param_units: tuple[str, ...] = ()
-
-    def __init__(self, params: Sequence[float] | None = None) -> None:
-        self.params: np.ndarray | None = None if params is None else np.asarray(params, dtype=float)
-        self.fit_: LawFit | None = None
-        if self.params is not None and self.params.size != len(self.param_names):
-            raise ValueError(
-                f"{self.name}: params has {self.params.size} values; expected {len(self.param_names)} "
-                f"({', '.join(self.param_names)})"
-            )
-
-    @property
-    def n_params(self) -> int:
-        return len(self.param_names)
-
-    def design(self, omega: np.ndarray, A: np.ndarray, x0: np.ndarray) -> np.ndarray:
-        """Design matrix X, shape (M, n_params), with c_e = X @ params."""
-        raise NotImplementedError
-
-    def fit(self, omega: Any, A: Any, c_e: Any, x0: Any = None) -> "DampingLaw":
-        """Fit the parameters by least squares; see :func:`fit_law`.
-
-        Parameters
-        ----------
-        omega : array_like
-            [rad/s].
-        A : array_like
-            [mm].
-        c_e : array_like
-            Identified damping [N·s/mm].
-        x0 : array_like, optional
-            Mean elongation [mm] (needed by :class:`HystereticLaw`).
-        """
-        self.fit_ = fit_law(self, omega, A, c_e, x0)
-        self.params = self.fit_.params
-        return self
-
-    def predict(self, omega: Any, A: Any, x0: Any = None) -> np.ndarray:
-        """Damping c_e [N·s/mm] at omega [rad/s], A [mm] (x0 [mm])."""
-        if self.params is None:
-            raise ValueError(f"{self.name}: not fitted and no params given")
-        w, a, x = _as_arrays(omega, A, x0)
-        return self.design(w, a, x) @ self.params
-
-    def formula(self) -> str:
-        """Human-readable formula."""
-        return self.name
-
-    def to_dict(self) -> dict[str, Any]:
-        d: dict[str, Any] = {"name": self.name, "formula": self.formula(), "param_names": list(self.param_names)}
-        d["params"] = None if self.params is None else [float(v) for v in self.params]
-        if self.fit_ is not None:
-            d.update(self.fit_.to_dict())
-        return d
-
-
-class PolynomialLaw(DampingLaw):
-    """Paper Eq. 21: c_e = α1 ω² + α2 ω + α3 A² + α4 A + α5 [N·s/mm], ω rad/s, A mm."""
-
-    name = "polynomial"
-    param_names = ("alpha1", "alpha2", "alpha3", "alpha4", "alpha5")
-    param_units = ("N s^3/(mm rad^2)", "N s^2/(mm rad)", "N s/mm^3", "N s/mm^2", "N s/mm")
-
-    def design(self, omega: np.ndarray, A: np.ndarray, x0: np.ndarray) -> np.ndarray:
-        return np.column_stack([omega**2, omega, A**2, A, np.ones_like(omega)])
-
-    def formula(self) -> str:
-        return "c_e = a1*w^2 + a2*w + a3*A^2 + a4*A + a5 (Eq. 21)"
-
-
-class ViscousLaw(DampingLaw):
-    """Constant viscous damping c_e = c [N·s/mm]."""
-
-    name = "viscous"
-    param_names = ("c",)
-    param_units = ("N s/mm",)
-
-    def design(self, omega: np.ndarray, A: np.ndarray, x0: np.ndarray) -> np.ndarray:
-        return np.ones((omega.size, 1))
-
-    def formula(self) -> str:
-        return "c_e = c"
-
-
-class CoulombLaw(DampingLaw):
-    """Coulomb friction, equivalent viscous damping c_e = 4 F_f / (π ω A) [N·s/mm]; F_f [N]."""
-
-    name = "coulomb"
-    param_names = ("F_f",)
-    param_units = ("N",)
-
-    def design(self, omega: np.ndarray, A: np.ndarray, x0: np.ndarray) -> np.ndarray:
-        return (4.0 / (math.pi * omega * A))[:, None]
-
-    def formula(self) -> str:
-        return "c_e = 4*F_f/(pi*w*A)"
-
-
-class HystereticLaw(DampingLaw):
-    """Rate-independent (hysteretic) damping c_e = η k_e(x0) / ω [N·s/mm].
-
-    Parameters
-    ----------
-    model : StiffnessModel
-        Gives k_e(x0) [N/mm] via ``model.stiffness``.
-    params : sequence, optional
-        [η] (loss factor, dimensionless).
-    """
-
-    name = "hysteretic"
-    param_names = ("eta",)
-    param_units = ("-",)
-
-    def __init__(self, model: _Model, params: Sequence[float] | None = None) -> None:
-        super().__init__(params)
-        self.model = model
-
-    def design(self, omega: np.ndarray, A: np.ndarray, x0: np.ndarray) -> np.ndarray:
-        if np.any(~np.isfinite(x0)):
-            raise ValueError("hysteretic law needs x0 [mm] for every test (k_e is evaluated at x0)")
-        ke = np.asarray(self.model.stiffness(x0), dtype=float)
-        return (ke / omega)[:, None]
-
-    def formula(self) -> str:
-        return "c_e = eta*k_e(x0)/w"
-
-
-class CombinedLaw(DampingLaw):
-    """Sum of several laws, c_e = Σ_j law_j (parameters concatenated).
-
-    Default parts: viscous + Coulomb.
-    """
-
-    name = "combined"
-
-    def __init__(self, parts: Sequence[DampingLaw] | None = None, params: Sequence[float] | None = None) -> None:
-        self.parts = list(parts) if parts is not None else [ViscousLaw(), CoulombLaw()]
-        self.param_names = tuple(n for p in self.parts for n in p.param_names)  # type: ignore[misc]
-        self.param_units = tuple(u for p in self.parts for u in p.param_units)  # type: ignore[misc]
-        self.name = "+".join(p.name for p in self.parts)
-        super().__init__(params)
-
-    def design(self, omega: np.ndarray, A: np.ndarray, x0: np.ndarray) -> np.ndarray:
-        return np.column_stack([p.design(omega, A, x0) for p in self.parts])
-
-    def formula(self) -> str:
-        return " + ".join(p.formula().replace("c_e = ", "") for p in self.parts)
-
-
-@dataclass
-class LawFit:
-    """Least-squares fit of a damping law to identified c_e.
-
-    Attributes
-    ----------
-    params : ndarray
-        From ``numpy.linalg.lstsq`` (numerically stable, SVD).
-    params_normal : ndarray
-        From the paper's normal equations G A = C (Eq. 23–24), ``numpy.linalg.solve``.
-    stderr : ndarray
-        Standard errors sqrt(diag(s² (XᵀX)⁻¹)), s² = RSS/(M - p).
-    cond_X, cond_G : float
-        2-norm condition numbers of the design matrix and of G = XᵀX.
-    residuals : ndarray
-        c_e - prediction [N·s/mm].
-    rmse : float
-        Root-mean-square residual [N·s/mm].
-    loo_rmse : float
-        Leave-one-out cross-validated RMSE [N·s/mm] (hat-matrix formula).
-    loo_residuals : ndarray
-        Leave-one-out residuals [N·s/mm].
-    n_tests, dof : int
-        M and M - p.
-    """
-
-    params: np.ndarray
-    params_normal: np.ndarray
-    stderr: np.ndarray
-    cond_X: float
-    cond_G: float
-    residuals: np.ndarray
-    rmse: float
-    loo_rmse: float
-    loo_residuals: np.ndarray
-    n_tests: int
-    dof: int
-
-    def to_dict(self) -> dict[str, Any]:
-        def lst(a: np.ndarray) -> list:
-            return [None if not math.isfinite(float(v)) else float(v) for v in a]
-
-        return {
-            "params": lst(self.params),
-            "params_normal_equations": lst(self.params_normal),
-            "stderr": lst(self.stderr),
-            "cond_X": self.cond_X,
-            "cond_G": self.cond_G,
-            "residuals": lst(self.residuals),
-            "rmse": self.rmse,
-            "loo_rmse": None if not math.isfinite(self.loo_rmse) else self.loo_rmse,
-            "n_tests": self.n_tests,
-            "dof": self.dof,
-        }
-
-
-def fit_law(law: DampingLaw, omega: Any, A: Any, c_e: Any, x0: Any = None, *, min_tests: int = MIN_TESTS) -> LawFit:
-    """Fit a linear-in-parameters damping law by least squares (Eq. 22–24).
-
-    Parameters
-    ----------
-    law : DampingLaw
-    omega : array_like
-        [rad/s], one per test.
-    A : array_like
-        [mm].
-    c_e : array_like
-        Identified damping [N·s/mm].
-    x0 : array_like, optional
-        [mm].
-    min_tests : int
-        Minimum number of tests (default 6, the paper's M > 5); at least
-        n_params + 1 in any case.
-
-    Returns
-    -------
-    LawFit
-
-    Raises
-    ------
-    ValueError
-        Fewer tests than ``max(min_tests, n_params + 1)``, or non-finite input.
-    """
-    w, a, x = _as_arrays(omega, A, x0)
-    c = np.asarray(c_e, dtype=float).ravel()
-    M = c.size
-    if w.size != M:
-        raise ValueError(f"omega/A have {w.size} values but c_e has {M}")
-    need = max(min_tests, law.n_params + 1)
-    if M < need:
-        raise ValueError(
-            f"{law.name} law: {M} test(s) given; at least {need} are needed "
-            f"(the paper's Eq. 22 requires M > 5 tests for the 5 coefficients; LOO needs M > p)"
-        )
-    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(a)) and np.all(np.isfinite(c))):
-        raise ValueError("omega, A and c_e must all be finite")
-    if np.any(w <= 0) or np.any(a <= 0):
-        raise ValueError("omega [rad/s] and A [mm] must be > 0 for every test")
-    X = law.design(w, a, x)
-    p = X.shape[1]
-    params, *_ = np.linalg.lstsq(X, c, rcond=None)
-    G = X.T @ X  # Eq. 24: g_kq = sum x_ki x_qi
-    C = X.T @ c  # Eq. 24: c_q = sum c_ei x_qi
-    try:
-        params_normal = np.linalg.solve(G, C)
-    except np.linalg.LinAlgError:
-        params_normal = np.full(p, np.nan)
-    resid = c - X @ params
-    dof = M - p
-    rss = float(resid @ resid)
-    s2 = rss / dof if dof > 0 else float("nan")
-    Ginv = np.linalg.pinv(G)
-    stderr = np.sqrt(np.clip(np.diag(Ginv) * s2, 0, None))
-    H = X @ np.linalg.pinv(X)
-    h = np.clip(np.diag(H), 0, 1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        loo = resid / (1.0 - h)
-    loo_rmse = float(np.sqrt(np.mean(loo**2))) if np.all(h < 1 - 1e-10) else float("inf")
-    return LawFit(
-        params=params,
-        params_normal=params_normal,
-        stderr=stderr,
-        cond_X=float(np.linalg.cond(X)),
-        cond_G=float(np.linalg.cond(G)),
-        residuals=resid,
-        rmse=float(np.sqrt(rss / M)),
-        loo_rmse=loo_rmse,
-        loo_residuals=loo,
-        n_tests=M,
-        dof=dof,
-    )
-
-
-def default_laws(model: _Model | None = None) -> list[DampingLaw]:
-    """The candidate laws: polynomial (Eq. 21), viscous, Coulomb, viscous+Coulomb,
-    and, given a model, hysteretic and viscous+hysteretic."""
-    laws: list[DampingLaw] = [PolynomialLaw(), ViscousLaw(), CoulombLaw(), CombinedLaw()]
-    if model is not None:
-        laws += [HystereticLaw(model), CombinedLaw([ViscousLaw(), HystereticLaw(model)])]
-    return laws
-
-
-def rank_laws(
-    omega: Any,
-    A: Any,
-    c_e: Any,
-    x0: Any = None,
-    laws: Sequence[DampingLaw] | None = None,
-    *,
-    model: _Model | None = None,
-) -> list[dict[str, Any]]:
-    """Fit every law and rank them by leave-one-out RMSE (best first).
-
-    Parameters
-    ----------
-    omega, A, c_e, x0 : array_like
-        Per test: [rad/s], [mm], [N·s/mm], [mm].
-    laws : sequence of DampingLaw, optional
-        Default :func:`default_laws` (model).
-    model : StiffnessModel, optional
-        For the hysteretic law in the default list.
-
-    Returns
-    -------
-    list of dict
-        ``{"law", "formula", "params", "stderr", "rmse", "loo_rmse", "n_params", "fitted": DampingLaw}``;
-        laws that cannot be fitted (too few tests) are listed last with an "error".
-
-    Raises
-    ------
-    ValueError
-        Fewer than 6 tests.
-    """
-    c = np.asarray(c_e, dtype=float).ravel()
-    if c.size < MIN_TESTS:
-        raise ValueError(f"{c.size} test(s) given; ranking damping laws needs at least {MIN_TESTS} (paper: M > 5)")
-    laws = list(laws) if laws is not None else default_laws(model)
-    rows = []
-    for law in laws:
-        try:
-            law.fit(omega, A, c, x0)
-        except ValueError as exc:
-            rows.append({"law": law.name, "formula": law.formula(), "error": str(exc), "loo_rmse": float("inf"),
-                         "n_params": law.n_params, "fitted": law})
-            continue
-        f = law.fit_
-        assert f is not None
-        rows.append({
-            "law": law.name,
-            "formula": law.formula(),
-            "param_names": list(law.param_names),
-            "params": [float(v) for v in f.params],
-            "stderr": [float(v) for v in f.stderr],
-            "rmse": f.rmse,
-            "loo_rmse": f.loo_rmse,
-            "n_params": law.n_params,
-            "fitted": law,
-        })
-    rows.sort(key=lambda r: (r["loo_rmse"], r["n_params"]))
-    return rows
-
-
-def law_from_dict(d: dict[str, Any], model: _Model | None = None) -> DampingLaw:
-    """Rebuild a law from ``{"name": ..., "params": [...]}`` (names as in :attr:`DampingLaw.name`)."""
-    name = d["name"]
-    params = d.get("params")
-    simple = {"polynomial": PolynomialLaw, "viscous": ViscousLaw, "coulomb": CoulombLaw}
-    if name in simple:
-        return simple[name](params)
-    parts_names = name.split("+")
-    parts: list[DampingLaw] = []
-    for pn in parts_names:
-        if pn == "hysteretic":
-            if model is None:
-                raise ValueError("hysteretic law needs a stiffness model")
-            parts.append(HystereticLaw(model))
-        elif pn in simple:
-            parts.append(simple[pn]())
+        est, why = try_analyse(rec, allow_compression=allow_compression, steady_tol=steady_tol, side=s)
+        res = None
+        if est is not None:
+            try:
+                res = identify_test(rec, model, estimate=est, mass_kg=mass_kg)
+                res.steady = why
+                res.steady_tol = est.window.rel_tol if est.window is not None else float("nan")
+                if not (math.isfinite(res.c_e) and math.isfinite(res.F_ac)):
+                    why = f"damping estimate is not finite (c_e = {res.c_e!r} N.s/mm)"
+                    res = None
+            except (ValueError, np.linalg.LinAlgError) as exc:
+                why = f"damping estimate failed: {exc}"
+        if res is None:
+            if strict:
+                raise ValueError(f"test {rec.test!r}: {why}")
+            out.excluded.append({"test": rec.test, "reason": why})
         else:
-            raise ValueError(f"unknown damping law {pn!r}; valid: polynomial, viscous, coulomb, hysteretic, a+b")
-    if len(parts) == 1:  # only "hysteretic" reaches here
-        return HystereticLaw(model, params)  # type: ignore[arg-type]
-    return CombinedLaw(parts, params)
-
-
-# ----------------------------------------------------------------------------
-# Forward prediction (Eq. 1)
-# ----------------------------------------------------------------------------
-def predict_force(
-    t: Any,
-    x: Any,
-    model: _Model,
-    law_or_ce: DampingLaw | float,
-    *,
-    omega: float | None = None,
-    A: float | None = None,
-    x0: float | None = None,
-    xdot: Any = None,
-    xddot: Any = None,
-    mass_kg: float | None = None,
-) -> np.ndarray:
-    """Force response F = m xddot + F_k(x) + c_e xdot (Eq. 1).
-
-    Parameters
-    ----------
-    t : array_like
-        Time [s].
-    x : array_like
-        Elongation [mm].
-    model : StiffnessModel
-        F_k(x) [N] and mass [kg].
-    law_or_ce : DampingLaw or float
-        A fitted law evaluated at (omega, A, x0), or a constant c_e [N·s/mm].
-    omega, A, x0 : float, optional
-        Test parameters [rad/s, mm, mm] for the law; estimated from x(t) if omitted.
-    xdot, xddot : array_like, optional
-        Velocity [mm/s] and acceleration [mm/s²]; by default ``numpy.gradient`` of x.
-    mass_kg : float, optional
-        Default ``model.mass_kg``.
-
-    Returns
-    -------
-    ndarray
-        F [N], same shape as x.
-    """
-    t = np.asarray(t, dtype=float)
-    x = np.asarray(x, dtype=float)
-    v = np.gradient(x, t) if xdot is None else np.asarray(xdot, dtype=float)
-    acc = np.gradient(v, t) if xddot is None else np.asarray(xddot, dtype=float)
-    if isinstance(law_or_ce, DampingLaw):
-        if omega is None or A is None or (x0 is None and isinstance(law_or_ce, (HystereticLaw, CombinedLaw))):
-            from .records import estimate_harmonic
-
-            est = estimate_harmonic(t, x)
-            omega = est.omega if omega is None else omega
-            A = est.A if A is None else A
-            x0 = est.x0 if x0 is None else x0
-        c = float(law_or_ce.predict(omega, A, x0)[0])
-    else:
-        c = float(law_or_ce)
-    m = float(model.mass_kg if mass_kg is None else mass_kg)
-    return inertia_force_N(m, acc) + np.asarray(model.force(x), dtype=float) + c * v
+            out.append(res)
+    return out

@@ -40,8 +40,9 @@ class ChainModel:
 
     Parameters
     ----------
-    chain : ChainSpec, optional
-        The chain (``None``: the built-in 14x50 chain).
+    chain : ChainSpec or str or os.PathLike, optional
+        The chain (``None``: the built-in 14x50 chain; a str or path: a chain TOML file,
+        see :func:`chainid.kernels.resolve_chain`).
     variant : str
         Kernel variant: "paper", "inner_bend", "shear", "inner_bend_shear".
     slack : float
@@ -78,8 +79,7 @@ class ChainModel:
     ea_scale: float = 1.0
 
     def __post_init__(self) -> None:
-        if self.chain is None:
-            object.__setattr__(self, "chain", default_chain())
+        object.__setattr__(self, "chain", kernels.resolve_chain(self.chain))
         if not np.isfinite(self.slack):
             raise ValueError(f"ChainModel.slack = {self.slack!r} is invalid: must be a finite number of mm")
         if not (np.isfinite(self.compliance) and self.compliance >= 0):
@@ -124,7 +124,17 @@ class ChainModel:
             mod = kernels.power_module()
         arr = np.asarray(x, dtype=np.float64) - self.slack
         flat = np.ascontiguousarray(arr).reshape(-1)
-        return getattr(mod, kernel)(flat, *self.coefficients).reshape(arr.shape)
+        c = self.coefficients
+        with kernels._quiet():  # the kernels' numpy error model, also with NUMBA_DISABLE_JIT=1
+            out = getattr(mod, kernel)(flat, *c)
+        if self.contact_exponent is None:
+            kernels._large_x(flat, out, kernel.removesuffix("_array"), *c)
+        else:  # x = +inf: F = inf; k -> 1/(c_lin + c·β·F^(β-1)) as F -> inf
+            inf = np.isposinf(flat)
+            c_lin, c_h, beta = c
+            k_inf = 1.0 / c_lin if beta < 1.0 else (1.0 / (c_lin + c_h) if beta == 1.0 else 0.0)
+            out[inf] = np.inf if kernel == "force_array" else k_inf
+        return out.reshape(arr.shape)
 
     def force(self, x: np.ndarray) -> np.ndarray:
         """F_k [N] at elongation x [mm]."""

@@ -23,10 +23,12 @@ def _finish(fig: plt.Figure, ax: plt.Axes, path: str | Path, title: str) -> Path
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9)
     fig.tight_layout()
-    p = Path(path)
-    fig.savefig(p, dpi=120)
-    plt.close(fig)
-    return p
+    from .fileio import save_figure  # temp file + rename
+
+    try:
+        return save_figure(fig, path, force=True, dpi=120)
+    finally:
+        plt.close(fig)
 
 
 def plot_stiffness_vs_length(path: str | Path, chain: ChainSpec | None = None,

@@ -8,7 +8,6 @@
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -21,11 +20,19 @@ import numpy as np  # noqa: E402
 from .identify import DampingLaw, TestResult, predict_force  # noqa: E402
 from .records import Record  # noqa: E402
 
-__all__ = ["plot_loop", "plot_damping_surface", "plot_all"]
+__all__ = ["plot_loop", "plot_damping_surface", "plot_all", "plot_names"]
 
 
 def _safe(name: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name)
+    """Injective file-name part for a test id ("T 1", "T_1", "T/1" differ); see :func:`chainid.fileio.safe_filename`."""
+    from .fileio import safe_filename
+
+    return safe_filename(name)
+
+
+def plot_names(tests: Sequence[str], surface: bool = True) -> list[str]:
+    """File names :func:`plot_all` writes for these test ids (``loop_<id>.png`` …, ``damping_surface.png``)."""
+    return [f"loop_{_safe(t)}.png" for t in tests] + (["damping_surface.png"] if surface else [])
 
 
 def plot_loop(
@@ -35,6 +42,7 @@ def plot_loop(
     path: str | Path,
     *,
     law: DampingLaw | None = None,
+    force: bool = True,
 ) -> Path:
     """Measured vs model hysteresis loop of one test (Fig. 10 / 12).
 
@@ -53,6 +61,8 @@ def plot_loop(
         PNG to write.
     law : DampingLaw, optional
         Fitted law to overlay.
+    force : bool
+        Replace an existing file (default True); written atomically either way.
 
     Returns
     -------
@@ -86,10 +96,7 @@ def plot_loop(
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
-    p = Path(path)
-    fig.savefig(p)
-    plt.close(fig)
-    return p
+    return _save(fig, path, force)
 
 
 def plot_damping_surface(
@@ -98,6 +105,7 @@ def plot_damping_surface(
     path: str | Path,
     *,
     x0: float | None = None,
+    force: bool = True,
 ) -> Path:
     """Damping surface c_e(omega, A) of a fitted law with the identified test points (Fig. 11).
 
@@ -111,6 +119,8 @@ def plot_damping_surface(
         PNG to write.
     x0 : float, optional
         Mean elongation [mm] for laws that need it (default: mean of the tests).
+    force : bool
+        Replace an existing file (default True); written atomically either way.
 
     Returns
     -------
@@ -147,11 +157,17 @@ def plot_damping_surface(
     ax.set_title("c_e(ω, A); points coloured by identified c_e", fontsize=9)
     ax.legend(fontsize=8, loc="lower right")
     fig.tight_layout()
-    p = Path(path)
     with np.errstate(over="ignore", invalid="ignore"):  # mplot3d projection of far corners
-        fig.savefig(p)
-    plt.close(fig)
-    return p
+        return _save(fig, path, force)
+
+
+def _save(fig: plt.Figure, path: str | Path, force: bool) -> Path:
+    from .fileio import save_figure
+
+    try:
+        return save_figure(fig, path, force=force, what="--plots")
+    finally:
+        plt.close(fig)
 
 
 def plot_all(
@@ -161,12 +177,28 @@ def plot_all(
     outdir: str | Path,
     *,
     law: DampingLaw | None = None,
+    force: bool = True,
 ) -> list[Path]:
-    """Write ``loop_<test>.png`` for every test and ``damping_surface.png`` (if a law) into outdir."""
+    """Write ``loop_<test>.png`` for every test and ``damping_surface.png`` (if a law) into outdir.
+
+    ``<test>`` is the test id made file-safe and injective (:func:`chainid.fileio.safe_filename`),
+    so every test gets its own file.  Each file is written atomically; with ``force`` False an
+    existing file is an error (checked for all files before the first is drawn).
+
+    Returns
+    -------
+    list of Path
+        The files written (one per test, plus the surface).
+    """
+    from .fileio import check_output_dir
+
     d = Path(outdir)
+    surface = law is not None and law.params is not None
+    names = plot_names([res.test for res in results], surface)
+    check_output_dir(d, "--plots", names, force=force)
     d.mkdir(parents=True, exist_ok=True)
     byname = {r.test: r for r in records}
-    out = [plot_loop(byname[res.test], res, model, d / f"loop_{_safe(res.test)}.png", law=law) for res in results]
-    if law is not None and law.params is not None:
-        out.append(plot_damping_surface(results, law, d / "damping_surface.png"))
+    out = [plot_loop(byname[res.test], res, model, d / n, law=law, force=force) for res, n in zip(results, names)]
+    if surface:
+        out.append(plot_damping_surface(results, law, d / names[-1], force=force))
     return out

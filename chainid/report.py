@@ -34,11 +34,10 @@ def _say(msg: str) -> None:
 
 
 def _dump(folder: Path, name: str, doc: Any) -> str:
-    from .cli import _json_default
+    """Write ``folder/json/name`` as strict JSON (NaN/inf → null); returns the relative path."""
+    from .fileio import atomic_write_text, dumps_json
 
-    p = folder / "json" / name
-    p.parent.mkdir(parents=True, exist_ok=True)
-    p.write_text(json.dumps(doc, indent=2, ensure_ascii=False, default=_json_default) + "\n", encoding="utf-8")
+    atomic_write_text(folder / "json" / name, dumps_json(doc) + "\n", force=True, what="report")
     return f"json/{name}"
 
 
@@ -106,6 +105,13 @@ def step_stiffness(folder: Path, chain: Any, say: Progress) -> str:
         "![variants](figures/stiffness_variants.png)\n\n"
         "F_k [N] / k_e [N/mm] by variant:\n\n" + _md_table(["x [mm]"] + list(kernels.VARIANTS), rows) + "\n"
     )
+
+
+def step_practice(folder: Path, chain: Any, say: Progress) -> str:
+    """The model against practice: presets, catalogue EA, elastic-contact limit (table and figures)."""
+    from .plots_practice import report_section
+
+    return report_section(folder, chain, say)
 
 
 # -- step 3 ----------------------------------------------------------------------
@@ -190,12 +196,13 @@ def step_damping(folder: Path, model: Any, say: Progress) -> str:
     )
 
 
-def step_identify_data(folder: Path, data: Path, model: Any, say: Progress) -> str:
-    """Identification of the user's records (``--data``)."""
+def step_identify_data(folder: Path, data: Path, model: Any, say: Progress, recs: list | None = None) -> str:
+    """Identification of the user's records (``--data``; ``recs``: those records already read)."""
     from . import identify, plots_identify, records
 
     note = ""
-    recs = records.read_records(data, allow_compression=True)
+    if recs is None:
+        recs = records.read_records(data, allow_compression=True)
     fmin = min(float(r.F.min()) for r in recs)
     if fmin < 0:
         # the force changes sign: not a chain under tension; identify with a fitted linear spring
@@ -243,41 +250,149 @@ def step_gap(folder: Path, model: Any, data: Path | None, say: Progress) -> str:
 
 # -- driver ----------------------------------------------------------------------
 
+#: File in the report folder listing (relative paths) every file the last ``chainid report`` wrote there.
+#: ``--force`` replaces and deletes only files listed in it; anything else in the folder is left alone.
+MANIFEST = ".chainid-manifest.json"
+
+
+def _files_under(root: Path) -> list[str]:
+    return sorted(p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file() or p.is_symlink())
+
+
+def _read_manifest(out: Path) -> list[str]:
+    """Relative paths listed in ``out``'s manifest (unsafe entries dropped; none without a manifest)."""
+    m = out / MANIFEST
+    if not m.is_file():
+        return []
+    try:
+        files = json.loads(m.read_text(encoding="utf-8")).get("files", [])
+    except (OSError, ValueError, AttributeError):
+        return []
+    ok = []
+    for rel in files:
+        q = Path(str(rel))
+        if isinstance(rel, str) and rel and not q.is_absolute() and ".." not in q.parts and rel != MANIFEST:
+            ok.append(q.as_posix())
+    return ok
+
+
+def _check_swap(tmp: Path, out: Path, new: list[str]) -> None:
+    """Every new file must be able to take its place in ``out`` (checked before anything is touched)."""
+    from .fileio import OutputError
+
+    for rel in new:
+        dst = out / rel
+        for anc in list(reversed(dst.relative_to(out).parents))[1:]:
+            a = out / anc
+            if a.exists() and not a.is_dir():
+                raise OutputError(f"--out {str(out)!r}: {str(a)!r} is a file where the report needs a folder")
+        if dst.is_dir() and not dst.is_symlink():
+            raise OutputError(f"--out {str(out)!r}: {str(dst)!r} is a folder where the report writes a file")
+
+
+def _swap_in(tmp: Path, out: Path) -> None:
+    """Move the finished report from ``tmp`` into ``out``; SIGINT is held back while files move."""
+    import os
+
+    from .fileio import atomic_write_text, deferred_sigint, dumps_json
+
+    new = _files_under(tmp)
+    manifest = dumps_json({"written_by": "chainid report", "files": new}) + "\n"
+    if not out.exists():  # a new folder: one rename
+        (tmp / MANIFEST).write_text(manifest, encoding="utf-8")
+        os.chmod(tmp, 0o777 & ~_umask())
+        with deferred_sigint():
+            os.rename(tmp, out)
+        return
+    _check_swap(tmp, out, new)
+    stale = [rel for rel in _read_manifest(out) if rel not in set(new)]
+    with deferred_sigint():
+        for rel in new:
+            dst = out / rel
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(tmp / rel, dst)
+        for rel in stale:  # written by the previous report, not by this one
+            f = out / rel
+            if f.is_file() or f.is_symlink():
+                f.unlink()
+            for d in f.parents:  # its folders, if now empty (never out itself)
+                if d == out or not d.is_dir() or any(d.iterdir()):
+                    break
+                d.rmdir()
+        atomic_write_text(out / MANIFEST, manifest, force=True, what="report manifest")
+
+
+def _umask() -> int:
+    import os
+
+    m = os.umask(0)
+    os.umask(m)
+    return m
+
+
 def run_report(out: Path, chain_path: str | None = None, data: str | None = None, force: bool = False,
                say: Progress = _say) -> Path:
     """Run every step and write ``out/report.md`` with figures/ and json/.
 
+    Inputs and the target are checked first; the report is built in a temporary
+    folder beside ``out`` and moved in at the end, so a failure or SIGINT on the
+    way leaves an existing report untouched.  With ``force`` the files of the
+    previous report (listed in :data:`MANIFEST`) are replaced or removed; files
+    the report did not write stay.
+
     Raises
     ------
     ValueError
-        If ``out`` exists and is not empty and ``force`` is not set.
+        If ``out`` is a file, or exists and is not empty and ``force`` is not set,
+        or cannot be written; a bad chain file or ``data`` (before any step runs).
     """
+    import tempfile
+
+    from .fileio import OutputError, check_output_dir
     from .models import ChainModel
     from .spec import load_chain
 
     out = Path(out)
-    if out.exists() and any(out.iterdir()):
-        if not force:
-            raise ValueError(f"report folder {str(out)!r} exists and is not empty; pass --force to overwrite it")
-        for sub in ("figures", "json"):
-            shutil.rmtree(out / sub, ignore_errors=True)
-    (out / "figures").mkdir(parents=True, exist_ok=True)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"--out {str(out)!r} is a file; give a folder")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        raise OutputError(f"report folder {str(out)!r} exists and is not empty; pass --force to overwrite "
+                          "the files of the previous report (other files are kept)")
+    check_output_dir(out, "--out")
     chain = load_chain(chain_path)
     model = ChainModel(chain)
     datap = Path(data) if data else None
-    if datap is not None and not datap.is_file():
-        raise ValueError(f"--data {str(datap)!r} does not exist")
-    t0 = time.time()
-    parts = ["# chainid report\n",
-             f"Chain: {'built-in 14x50 (paper)' if chain_path is None else chain_path}. "
-             f"Data: {datap.name if datap else 'built-in (paper Table 1, Eq. 26, simulated series)'}. "
-             "Units: mm, N, s, MPa, kg.\n"]
-    parts.append(step_verification(out, say))
-    parts.append(step_stiffness(out, chain, say))
-    parts.append(step_identify_data(out, datap, model, say) if datap else step_damping(out, model, say))
-    parts.append(step_gap(out, model, datap, say))
-    parts.append(f"\n_Generated by `chainid report` in {time.time() - t0:.0f} s._\n")
-    (out / "report.md").write_text("\n".join(parts), encoding="utf-8")
+    recs = None
+    if datap is not None:
+        from .records import read_records
+
+        if not datap.is_file():
+            raise ValueError(f"--data {str(datap)!r} does not exist")
+        recs = read_records(datap, allow_compression=True)  # every cell checked before the first step
+    base = out.resolve()
+    try:  # beside the target (same file system: the final moves are renames)
+        base.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{base.name}.building-", dir=base.parent))
+    except OSError:  # e.g. --out . in a folder whose parent is read-only: build inside the target
+        base.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=".chainid-report.building-", dir=base))
+    try:
+        t0 = time.time()
+        (tmp / "figures").mkdir()
+        parts = ["# chainid report\n",
+                 f"Chain: {'built-in 14x50 (paper)' if chain_path is None else chain_path}. "
+                 f"Data: {datap.name if datap else 'built-in (paper Table 1, Eq. 26, simulated series)'}. "
+                 "Units: mm, N, s, MPa, kg.\n"]
+        parts.append(step_verification(tmp, say))
+        parts.append(step_stiffness(tmp, chain, say))
+        parts.append(step_practice(tmp, chain, say))
+        parts.append(step_identify_data(tmp, datap, model, say, recs) if datap else step_damping(tmp, model, say))
+        parts.append(step_gap(tmp, model, datap, say))
+        parts.append(f"\n_Generated by `chainid report` in {time.time() - t0:.0f} s._\n")
+        (tmp / "report.md").write_text("\n".join(parts), encoding="utf-8")
+        _swap_in(tmp, out)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     return out / "report.md"
 
 
@@ -291,7 +406,8 @@ def add_subparsers(subparsers: Any) -> None:
     """Register ``chainid report``."""
     p = subparsers.add_parser("report", help="the main job: verification, stiffness, damping and gap report")
     p.add_argument("--out", default="chainid-report", metavar="DIR", help="report folder (default ./chainid-report)")
-    p.add_argument("--chain", metavar="FILE.toml", help="chain file (default: the built-in 14x50 chain)")
+    p.add_argument("--chain", metavar="FILE.toml", help="chain file or preset name, e.g. din22252:26x92 (default: the built-in 14x50 chain)")
     p.add_argument("--data", metavar="DATA.csv", help="run steps 3-4 on these records (header test,t,x,F)")
-    p.add_argument("--force", action="store_true", help="re-run into an existing folder")
+    p.add_argument("--force", action="store_true",
+                   help="re-run into an existing folder (replaces only the previous report's files)")
     p.set_defaults(func=cmd_report)

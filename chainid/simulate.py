@@ -42,6 +42,9 @@ __all__ = [
     "model_force",
     "simulate_test",
     "simulate",
+    "DEFAULT_MAX_MEMORY",
+    "n_samples",
+    "estimate_memory",
 ]
 
 #: Ramp rate of the paper's Eq. 25 [mm/s].
@@ -51,6 +54,14 @@ PAPER_RAMP_RATE = 0.08973
 #: Evidence: Eq. 25/27 give test 3 (column 6) as 1.884 rad/s, and c_e = F_ac/(omega A)
 #: holds for tests 2–9 only with this factor (see chainid.audit, finding a).
 OMEGA_COLUMN_TO_RAD_S = math.pi / 10.0
+
+#: Default ceiling of :func:`simulate`'s memory estimate [bytes]: 2 GiB (``chainid simulate --max-memory`` in GiB).
+DEFAULT_MAX_MEMORY = 2 * 1024**3
+
+#: Bytes per sample while one test is built (float64 temporaries of :func:`simulate_test`, measured with
+#: tracemalloc and rounded up) and bytes per sample kept afterwards (t, x, F).
+PEAK_BYTES_PER_SAMPLE = 200
+KEPT_BYTES_PER_SAMPLE = 24
 
 #: ``force_fn(t, x, xdot, xddot, F_model) -> F``: s, mm, mm/s, mm/s², N -> N.
 ForceHook = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
@@ -165,6 +176,8 @@ def read_plan(path: str | Path) -> list[TestSpec]:
                     vals[c] = float(row[c])
                 except ValueError:
                     raise ValueError(f"{p}, row {i}: test {row['test']!r}: {c} = {row[c]!r} is not a number") from None
+            if any(sp.test == row["test"] for sp in out):
+                raise ValueError(f"{p}, row {i}: test id {row['test']!r} is repeated; test ids must be unique")
             out.append(TestSpec(row["test"], **vals))
     if not out:
         raise ValueError(f"{p}: plan has no tests")
@@ -173,10 +186,10 @@ def read_plan(path: str | Path) -> list[TestSpec]:
 
 def write_plan(path: str | Path, plan: Sequence[TestSpec], overwrite: bool = False) -> Path:
     """Write a plan CSV ``test,omega,x0,A`` (rad/s, mm, mm); never overwrites unless asked."""
+    from .fileio import atomic_open
+
     p = Path(path)
-    if p.exists() and not overwrite:
-        raise ValueError(f"{str(p)!r} already exists; refusing to overwrite it (use overwrite=True / --force)")
-    with p.open("w", newline="") as fh:
+    with atomic_open(p, "w", force=overwrite, what="plan", newline="") as fh:
         fh.write("test,omega,x0,A\n")
         for s in plan:
             fh.write(f"{s.test},{s.omega:.10g},{s.x0:.10g},{s.A:.10g}\n")
@@ -236,6 +249,7 @@ def simulate_test(
     rng: np.random.Generator | int | None = None,
     force_fn: ForceHook | None = None,
     mass_kg: float | None = None,
+    allow_compression: bool | None = None,
 ) -> Record:
     """Simulate one harmonic test.
 
@@ -263,21 +277,23 @@ def simulate_test(
         Hook ``force_fn(t, x, xdot, xddot, F_model) -> F`` applied to the noise-free
         force (unmodelled effects).
     mass_kg : float, optional
-        Default model.mass_kg.
+        Default model.mass_kg; >= 0 kg.
+    allow_compression : bool, optional
+        Accept a noise-free force below 0 N.  Default: False for a chain model
+        (:class:`~chainid.models.ChainModel`, as the reader), True otherwise.
 
     Returns
     -------
     Record
         Noisy t [s], x [mm], F [N].
+
+    Raises
+    ------
+    ValueError
+        An option out of range (naming it, its value and the valid range), a
+        non-finite force, or a compressive force on a chain.
     """
-    if not n_cycles > 0:
-        raise ValueError(f"n_cycles = {n_cycles!r} is invalid: must be > 0")
-    if samples_per_cycle < 16:
-        raise ValueError(f"samples_per_cycle = {samples_per_cycle!r} is invalid: must be >= 16")
-    if ramp_rate is not None and not ramp_rate > 0:
-        raise ValueError(f"ramp_rate = {ramp_rate!r} mm/s is invalid: must be > 0 (or None for no ramp)")
-    if noise_x < 0 or noise_F < 0:
-        raise ValueError(f"noise_x = {noise_x}, noise_F = {noise_F} are invalid: must be >= 0")
+    _check_options(n_cycles, samples_per_cycle, ramp_rate, taper_cycles, noise_x, noise_F, mass_kg)
     gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
     w, x0, A = spec.omega, spec.x0, spec.A
     T = 2 * math.pi / w
@@ -294,11 +310,27 @@ def simulate_test(
     xddot = np.where(osc, A * (-e * w * w * s + 2 * de * w * c), 0.0)
     if ramp_rate is None:
         x = np.where(osc, x, x0)
-    F = model_force(x, xdot, xddot, model, _damping(law_or_ce, spec), mass_kg)
+    c_e = _damping(law_or_ce, spec)
+    if not math.isfinite(c_e):
+        raise ValueError(f"test {spec.test!r}: the damping law gives c_e = {c_e!r} N·s/mm at omega = {w:g} rad/s, "
+                         f"A = {A:g} mm, x0 = {x0:g} mm: valid range finite (check the law parameters)")
+    F = model_force(x, xdot, xddot, model, c_e, mass_kg)
     if force_fn is not None:
         F = np.asarray(force_fn(t, x, xdot, xddot, F), dtype=float)
         if F.shape != t.shape:
             raise ValueError(f"force_fn returned shape {F.shape}; expected {t.shape}")
+    bad = ~np.isfinite(F)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"test {spec.test!r}: the simulated force is {F[i]!r} N at t = {t[i]:.6g} s "
+                         f"(x = {x[i]:.6g} mm): valid range finite (check the law parameters and the effect)")
+    if allow_compression is None:
+        allow_compression = not _is_chain(model)
+    if not allow_compression and F.min() < 0:
+        i = int(np.argmin(F))
+        raise ValueError(f"test {spec.test!r}: the force goes compressive (F = {F[i]:.6g} N at x = {x[i]:.6g} mm; "
+                         f"x0 = {x0:g} mm, A = {A:g} mm): a chain carries no compression, valid range A < x0 "
+                         f"with F >= 0 (or a linear model, --model linear)")
     xm = x + (gen.normal(0.0, noise_x, t.size) if noise_x > 0 else 0.0)
     Fm = F + (gen.normal(0.0, noise_F, t.size) if noise_F > 0 else 0.0)
     return Record(spec.test, t, xm, Fm)
@@ -310,6 +342,7 @@ def simulate(
     law_or_ce: DampingLaw | float,
     *,
     seed: int | None = 0,
+    max_memory: float | None = DEFAULT_MAX_MEMORY,
     **kwargs: Any,
 ) -> list[Record]:
     """Simulate a test series; see :func:`simulate_test` for the keyword arguments.
@@ -322,10 +355,95 @@ def simulate(
         [N·s/mm].
     seed : int or None
         Seed of the noise generator (one generator for the whole series).
+    max_memory : float or None
+        Refuse a series whose estimated memory (:func:`estimate_memory`) exceeds
+        this many bytes (default :data:`DEFAULT_MAX_MEMORY`, 2 GiB); None: no limit.
 
     Returns
     -------
     list of Record
+
+    Raises
+    ------
+    ValueError
+        Repeated test ids, an estimate beyond ``max_memory``, or an invalid option
+        (see :func:`simulate_test`); raised before anything large is allocated.
     """
+    plan = list(plan)
+    seen: set[str] = set()
+    for sp in plan:
+        if sp.test in seen:
+            raise ValueError(f"plan: test id {sp.test!r} is repeated; test ids must be unique")
+        seen.add(sp.test)
+    opts = {k: kwargs[k] for k in ("n_cycles", "samples_per_cycle", "ramp_rate") if k in kwargs}
+    _check_options(opts.get("n_cycles", 6), opts.get("samples_per_cycle", 200), opts.get("ramp_rate"),
+                   kwargs.get("taper_cycles", 0.0), kwargs.get("noise_x", 0.0), kwargs.get("noise_F", 0.0),
+                   kwargs.get("mass_kg"))
+    if max_memory is not None:
+        if not (isinstance(max_memory, (int, float)) and math.isfinite(max_memory) and max_memory > 0):
+            raise ValueError(f"max_memory = {max_memory!r} bytes is invalid: valid range > 0 (or None)")
+        need = estimate_memory(plan, **opts)
+        if need > max_memory:
+            big = max(plan, key=lambda sp: n_samples(sp, **opts))
+            raise ValueError(
+                f"the simulation would need about {need / 1024**3:.3g} GiB ({sum(n_samples(sp, **opts) for sp in plan):.4g} "
+                f"samples; largest: test {big.test!r}, omega = {big.omega:g} rad/s, {n_samples(big, **opts):.4g} "
+                f"samples), over the limit of {max_memory / 1024**3:.3g} GiB: valid range <= the limit; "
+                f"use fewer --cycles/--samples-per-cycle, a faster --ramp-rate, or raise --max-memory")
     rng = np.random.default_rng(seed)
     return [simulate_test(s, model, law_or_ce, rng=rng, **kwargs) for s in plan]
+
+
+def _check_options(n_cycles: Any, samples_per_cycle: Any, ramp_rate: Any, taper_cycles: Any, noise_x: Any,
+                   noise_F: Any, mass_kg: Any) -> None:
+    """Range checks of the simulation options (ValueError naming option, value and valid range)."""
+
+    def num(v: Any) -> bool:
+        return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_)) \
+            and math.isfinite(float(v))
+
+    if not (num(n_cycles) and n_cycles > 0):
+        raise ValueError(f"n_cycles = {n_cycles!r} is invalid: valid range > 0 (finite)")
+    if not (num(samples_per_cycle) and float(samples_per_cycle).is_integer() and samples_per_cycle >= 16):
+        raise ValueError(f"samples_per_cycle = {samples_per_cycle!r} is invalid: valid range integer >= 16")
+    if ramp_rate is not None and not (num(ramp_rate) and ramp_rate > 0):
+        raise ValueError(f"ramp_rate = {ramp_rate!r} mm/s is invalid: valid range > 0 (or None for no ramp)")
+    if not (num(taper_cycles) and 0 <= taper_cycles <= n_cycles / 2):
+        raise ValueError(f"taper_cycles = {taper_cycles!r} is invalid: valid range 0 to n_cycles/2 = {n_cycles / 2:g}")
+    for name, v, unit in (("noise_x", noise_x, "mm"), ("noise_F", noise_F, "N")):
+        if not (num(v) and v >= 0):
+            raise ValueError(f"{name} = {v!r} {unit} is invalid: valid range >= 0 (finite)")
+    if mass_kg is not None and not (num(mass_kg) and mass_kg >= 0):
+        raise ValueError(f"mass_kg = {mass_kg!r} kg is invalid: valid range >= 0 (finite)")
+
+
+def _is_chain(model: Any) -> bool:
+    from .models import ChainModel
+
+    return isinstance(model, ChainModel)
+
+
+def n_samples(spec: TestSpec, n_cycles: float = 6, samples_per_cycle: int = 200,
+              ramp_rate: float | None = None) -> float:
+    """Number of samples :func:`simulate_test` will allocate for ``spec`` (a float: may be huge or inf).
+
+    n = (t0 + n_cycles T) / dt with T = 2 pi / omega [s], dt = T / samples_per_cycle, t0 = x0 / ramp_rate [s].
+    """
+    T = 2 * math.pi / spec.omega
+    t0 = spec.x0 / ramp_rate if ramp_rate is not None else 0.0
+    with np.errstate(over="ignore"):
+        n = (t0 + n_cycles * T) / (T / samples_per_cycle)
+    return float(n) if math.isfinite(n) else math.inf
+
+
+def estimate_memory(plan: Sequence[TestSpec], n_cycles: float = 6, samples_per_cycle: int = 200,
+                    ramp_rate: float | None = None) -> float:
+    """Estimated peak memory [bytes] of :func:`simulate` for ``plan``.
+
+    Every test's samples are kept (:data:`KEPT_BYTES_PER_SAMPLE` each) and the
+    largest test needs :data:`PEAK_BYTES_PER_SAMPLE` per sample while it is built.
+    """
+    ns = [n_samples(sp, n_cycles, samples_per_cycle, ramp_rate) for sp in plan]
+    if not ns:
+        return 0.0
+    return sum(ns) * KEPT_BYTES_PER_SAMPLE + max(ns) * PEAK_BYTES_PER_SAMPLE

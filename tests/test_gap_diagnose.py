@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import json
-import time
+import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -60,6 +61,9 @@ def test_effect_recovered(spec, verdict, params):
     assert best["shrinkage"] >= 0.7
     for k, (true, tol) in params.items():
         assert best["params"][k] == pytest.approx(true, rel=tol), (k, best["params"])
+    # every true value lies inside its physical range: no fitted parameter may sit at a bound
+    assert best["at_bound"] == [], best["at_bound"]
+    assert {c["effect"]: c for c in res["ranking"]}[verdict]["at_bound"] == []
 
 
 def test_damping_law_and_delay_recovered():
@@ -80,6 +84,94 @@ def test_control_gives_none():
         assert res["verdict"] == "none", res["baseline"]
 
 
+def test_sub_noise_effect_gives_none():
+    """A real but sub-noise effect (Coulomb 10 N under 20 N force noise): the held-out systematic residual is
+    below half the noise sigma, so the verdict is `none`, although chi^2 over the 192 held-out bins is well
+    above 1 (the effect is there): `none` needs only one of the two noise criteria."""
+    def small_friction(t, x, xd, xdd, F):
+        return F + 10.0 * np.sign(xd)
+
+    for seed in (1, 2):
+        res = diagnose(records_with(small_friction, seed=seed), HOLD, MODEL, max_combo=1, uncertainty=False)
+        assert res["verdict"] == "none", (seed, res["baseline"])
+
+
+def records_with(hook, noise: float = 20.0, seed: int = 1):
+    """Records of the 11-test plan with a force hook written by hand in the test (independent of the effect library)."""
+    return simulate(plan(), MODEL, LAW, n_cycles=8, samples_per_cycle=128, noise_F=noise, seed=seed, force_fn=hook)
+
+
+def test_negative_slack_recovered():
+    """A negative displacement offset (chain pre-stretched / sensor zero): F = F_k(x - s) with s = -0.02 mm."""
+    s = -0.02
+
+    def offset(t, x, xd, xdd, F):
+        return F + MODEL.force(x - s) - MODEL.force(x)
+
+    res = diagnose(records_with(offset), HOLD, MODEL, max_combo=1, uncertainty=False)
+    assert res["verdict"] == "slack"
+    assert res["best"]["params"]["slack.s"] == pytest.approx(s, rel=0.05)
+    assert res["best"]["shrinkage"] >= 0.7
+    assert res["best"]["at_bound"] == []
+
+
+def test_coulomb_equivalent_damping_recovered():
+    """Extra damping whose c_e is Coulomb-equivalent, 4 F_f/(pi omega A): the force is (4 F_f/pi) cos psi,
+    i.e. (4 F_f/pi) xdot/max|xdot|, added by hand.  The damping-law candidate recovers F_f = 100 N."""
+    F_f = 100.0
+
+    def coulomb_equivalent(t, x, xd, xdd, F):
+        return F + 4.0 * F_f / math.pi * xd / np.max(np.abs(xd))
+
+    res = diagnose(records_with(coulomb_equivalent), HOLD, MODEL, max_combo=1, uncertainty=False)
+    assert res["verdict"] == "damping_law"
+    best = res["best"]
+    assert best["damping_law"] == "viscous+coulomb"
+    assert best["params"]["law.1"] == pytest.approx(F_f, rel=0.05)
+    assert best["shrinkage"] >= 0.7
+
+
+def test_damping_law_effect_hook_by_hand():
+    """`simulate --effect damping_law:...` adds (eta k_e(x0)/omega + 4 F_f/(pi omega A)) xdot to the model force."""
+    omega, x0, A = 2.0, 2.0, 0.2
+    t = np.linspace(0, 4 * 2 * np.pi / omega, 4 * 400 + 1)  # samples on the turning points: exact max/min
+    psi = omega * t
+    x, xd, xdd = x0 + A * np.sin(psi), A * omega * np.cos(psi), -A * omega**2 * np.sin(psi)
+    F_model = 5000.0 + 100.0 * np.sin(psi)
+    hook = parse_effect("damping_law:F_f=100", MODEL)
+    expected = F_model + 4 * 100.0 / (math.pi * omega * A) * xd  # = F_model + 127.32 cos(psi)
+    np.testing.assert_allclose(hook(t, x, xd, xdd, F_model), expected, rtol=1e-9, atol=1e-6)
+    hook = parse_effect("damping_law:eta=0.3", MODEL)
+    ke = float(MODEL.stiffness(np.array([x0]))[0])
+    np.testing.assert_allclose(hook(t, x, xd, xdd, F_model), F_model + 0.3 * ke / omega * xd, rtol=1e-9, atol=1e-6)
+
+
+def test_baseline_law_fitted_on_training_tests_only():
+    """No train/held-out leakage: the baseline's damping law is fitted on the training tests only and the
+    baseline is scored on the held-out tests.  Corrupting a held-out test's force (300 N in phase with the velocity) must
+    leave the baseline law's parameters unchanged and raise the held-out NRMSE; corrupting a training test
+    must change them."""
+    recs = records(None)
+
+    def corrupt(tid):
+        out = []
+        for r in recs:
+            if r.test == tid:  # + 300 N cos psi: extra damping force in phase with the velocity, in one test only
+                v = np.gradient(r.x, r.t)
+                r = replace(r, F=r.F + 300.0 * v / np.max(np.abs(v)))
+            out.append(r)
+        return out
+
+    kw = dict(max_combo=1, uncertainty=False, effects=["slack"])
+    clean = diagnose(recs, HOLD, MODEL, **kw)["baseline"]
+    held = diagnose(corrupt("7"), HOLD, MODEL, **kw)["baseline"]
+    train = diagnose(corrupt("5"), HOLD, MODEL, **kw)["baseline"]
+    np.testing.assert_allclose(held["law_params"], clean["law_params"], rtol=1e-9, atol=1e-9)
+    assert held["nrmse_holdout"] > 3 * clean["nrmse_holdout"]
+    assert held["nrmse_train"] == pytest.approx(clean["nrmse_train"], rel=1e-9)
+    assert not np.allclose(train["law_params"], clean["law_params"], rtol=1e-3)
+
+
 def test_out_of_library_drift_not_misnamed():
     def drift(t, x, xd, xdd, F):
         return F + 60.0 * t / t[-1]  # slow drift of the mean force, 60 N over the record
@@ -94,13 +186,6 @@ def test_out_of_library_drift_not_misnamed():
     assert 15.0 <= res["residual"]["trend_change_N"] <= 60.0
     assert any(f["kind"] == "nonstationary" for f in res["where"])
     assert any("non-stationary" in w for w in res["warnings"])
-
-
-def test_timing_11_tests_8_cycles_256_samples():
-    recs = records("friction:F_c=150", spc=256, cycles=9)
-    t0 = time.perf_counter()
-    diagnose(recs, HOLD, MODEL)
-    assert time.perf_counter() - t0 <= 10.0
 
 
 @pytest.mark.skipif(not REAL.is_file(), reason="shared real data not present")
@@ -173,16 +258,58 @@ def test_cli_json_contract(tmp_path):
     doc = json.loads(out.read_text())
     assert set(doc["baseline"]) >= {"nrmse_train", "nrmse_holdout"}
     assert doc["where"] and all("finding" in f for f in doc["where"])
-    assert {"effect", "params", "nrmse_holdout", "shrinkage"} <= set(doc["ranking"][0])
+    assert {"effect", "params", "nrmse_holdout", "shrinkage", "at_bound"} <= set(doc["ranking"][0])
     assert doc["verdict"] == "friction"
+    assert doc["holdout"] == ["3", "7", "11"]
+    fr = {c["effect"]: c for c in doc["ranking"]}["friction"]
+    assert fr["params"]["friction.F_c"] + fr["params"]["friction.mu"] * float(MODEL.force(np.array([2.0]))[0]) == \
+        pytest.approx(150.0, rel=0.1)  # sliding force at the plan's x0 = 2 mm against the simulated 150 N
+    assert fr["shrinkage"] == pytest.approx(1 - fr["nrmse_holdout"] / doc["baseline"]["nrmse_holdout"], rel=1e-9)
+    assert fr["nrmse_holdout"] < 0.3 * doc["baseline"]["nrmse_holdout"]
     assert main(["diagnose", str(data), "--holdout", "zz"]) == 2
 
 
-def test_plots(tmp_path):
+def test_plots(tmp_path, monkeypatch):
+    """The four figures show the data they claim: held-out loops over x0 ± A, residuals over a 0–360° phase,
+    and the (ω, A) plan in the heat map."""
+    import matplotlib.figure
+
     from chainid.gap.plots import make_plots
 
+    figs = {}
+    orig = matplotlib.figure.Figure.savefig
+
+    def spy(self, fname, *a, **k):
+        figs[Path(fname).name] = self
+        return orig(self, fname, *a, **k)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", spy)
     res = diagnose(records("backlash:b=0.02"), HOLD, MODEL, max_combo=1, uncertainty=False)
     paths = make_plots(res, tmp_path / "figs")
     assert [p.name for p in paths] == ["loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png",
                                      "waterfall.png"]
-    assert all(p.stat().st_size > 5000 for p in paths)
+    assert all(p.is_file() for p in paths)
+    spec = {t.test: t for t in plan()}
+    # loops: one panel per held-out test; the measured loop spans x0 ± A (bin means of x: within 1 %)
+    axs = figs["loops.png"].axes
+    assert len(axs) == len(HOLD)
+    for ax, tid in zip(axs, HOLD):
+        s = spec[tid]
+        assert ax.get_title().startswith(f"held-out {tid}:")
+        xm = ax.lines[0].get_xdata()
+        assert np.min(xm) == pytest.approx(s.x0 - s.A, abs=0.01 * s.A)
+        assert np.max(xm) == pytest.approx(s.x0 + s.A, abs=0.01 * s.A)
+        Fm = ax.lines[0].get_ydata()  # the measured force range ≈ 2 k_e(x0) A (the chain model, stiffening)
+        assert np.ptp(Fm) == pytest.approx(float(MODEL.force(np.array([s.x0 + s.A]))[0] -
+                                                 MODEL.force(np.array([s.x0 - s.A]))[0]), rel=0.1)
+    # residual vs phase: one line per test, phase in (0, 360)
+    ax = figs["residual_phase.png"].axes[0]
+    assert len(ax.lines) == len(spec) + 1  # + the zero line
+    for ln in ax.lines[:-1]:
+        ph = ln.get_xdata()
+        assert 0 < ph.min() < 10 and 350 < ph.max() < 360
+    assert sorted(t.get_text() for t in ax.get_legend().get_texts()) == sorted(HOLD)
+    # heat map: both panels show the plan's (ω, A) points
+    for ax in figs["heatmap.png"].axes[:2]:
+        pts = ax.collections[0].get_offsets()
+        assert sorted(map(tuple, np.round(pts, 9))) == sorted((s.omega, s.A) for s in spec.values())

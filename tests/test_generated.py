@@ -7,7 +7,19 @@ import sys
 from chainid.derive import emit
 
 
-def test_generated_is_fresh(repo):
+_EXPECTED: dict[str, dict[str, str]] = {}
+_EMIT_EXPECTED_FILES = emit.expected_files
+
+
+def _expected_files_once() -> dict[str, str]:
+    """emit.expected_files() computed once per session (the SymPy emission takes ~30-60 s)."""
+    if "files" not in _EXPECTED:
+        _EXPECTED["files"] = _EMIT_EXPECTED_FILES()
+    return dict(_EXPECTED["files"])
+
+
+def test_generated_is_fresh(repo, monkeypatch):
+    monkeypatch.setattr(emit, "expected_files", _expected_files_once)
     res = emit.generate(repo / "generated", check=True)
     assert res and all(s == "unchanged" for s in res.values()), res
 
@@ -34,6 +46,30 @@ def test_stale_file_is_detected(tmp_path):
     p.write_text(p.read_text() + "# edited by hand\n")
     res = emit.generate(tmp_path, check=True)
     assert res["stiffness_paper.py"] == "stale"
+
+
+def test_cli_check_exit_codes_on_fresh_and_stale_copy(repo, tmp_path, capsys, monkeypatch):
+    """The command itself (not only the emitter): rc 0 on an exact copy of generated/, rc 1 after one byte changes."""
+    import shutil
+
+    from chainid import cli
+
+    monkeypatch.setattr(emit, "expected_files", _expected_files_once)
+
+    gen = tmp_path / "generated"
+    shutil.copytree(repo / "generated", gen, ignore=shutil.ignore_patterns("__pycache__"))
+    assert cli.main(["generate", "--check", "--out", str(gen)]) == 0
+    assert "is fresh" in capsys.readouterr().out
+    p = gen / "stiffness_paper.py"
+    data = bytearray(p.read_bytes())
+    i = data.index(b"return ")  # one byte of code: 'r' -> 'R'
+    data[i] = ord("R")
+    p.write_bytes(bytes(data))
+    before = p.read_bytes()
+    assert cli.main(["generate", "--check", "--out", str(gen)]) == 1
+    err = capsys.readouterr().err
+    assert "stale" in err and "stiffness_paper.py" in err
+    assert p.read_bytes() == before  # --check never rewrites
 
 
 def test_cli_check_names_a_sympy_version_mismatch(tmp_path, monkeypatch, capsys):

@@ -110,6 +110,26 @@ def test_mass_term_units():
     assert r0.F_as == pytest.approx(expected, rel=2e-3)
 
 
+def test_linear_spring_fit_removes_inertia():
+    """`identify --model linear` without --k fits F - m xddot 1e-3 = k (x - x_ref): with m = 200 kg at
+    20-60 rad/s the inertia m w^2 = 80-720 N/mm is a large part of k = 2000 N/mm and must be removed."""
+    from chainid.identify import linear_model_from_records
+    from chainid.models import LinearModel
+
+    true = LinearModel(2000.0, 1.0, mass=200.0)
+    plan = [TestSpec(f"t{i}", w, 2.0, a) for i, (w, a) in enumerate([(20.0, 0.2), (40.0, 0.3), (60.0, 0.4),
+                                                                   (30.0, 0.25), (50.0, 0.35), (60.0, 0.2)])]
+    recs = simulate(plan, true, 10.0, seed=0, ramp_rate=None, n_cycles=5, samples_per_cycle=200)
+    fit = linear_model_from_records(recs, 200.0)
+    assert fit.k == pytest.approx(2000.0, rel=2e-3)
+    assert fit.x_ref == pytest.approx(1.0, abs=2e-3)
+    assert fit.mass_kg == 200.0
+    # without the mass the fitted spring softens by about the mean m w^2 (hundreds of N/mm)
+    assert linear_model_from_records(recs, 0.0).k < 2000.0 - 100.0
+    res = identify_records(recs, fit)
+    assert [r.c_e for r in res] == pytest.approx([10.0] * 6, rel=0.02)
+
+
 def test_ce_within_1_percent_with_noise_polynomial_law():
     model = Stiffening()
     law = PolynomialLaw([28.02, -651.57, -8386.5, 7394.84, 4378.89])
@@ -208,6 +228,8 @@ def test_rank_laws_prefers_true_law(true_law, winner, losers):
     for l in losers:
         assert loo[winner] < loo[l]
     assert rows[0]["loo_rmse"] == min(loo.values())
+    # ranked by leave-one-out error (not by in-sample RMSE, which always favours the 5-parameter polynomial)
+    assert [r["loo_rmse"] for r in rows] == sorted(loo.values())
 
 
 # --------------------------------------------------------------------------- Eq. 1
@@ -232,8 +254,16 @@ def test_to_dict_has_contract_keys():
     model = Lin()
     rec = simulate_test(TestSpec("k", 2.0, 2.2, 0.25), model, 1000.0, n_cycles=4)
     d = identify_test(rec, model).to_dict()
-    for k in ("test", "omega", "x0", "A", "F0", "FA", "phi", "r2", "F_ac", "c_e", "W"):
-        assert k in d
+    assert set(d) == {"test", "omega", "x0", "A", "theta", "F0", "FA", "phi", "r2", "F_ac", "F_as", "Fc0", "c_e",
+                      "W", "W_ratio", "r2_c", "mass_kg", "n_cycles", "cycles_kept", "t_start", "t_end",
+                      "noise_x", "source"}
+    # values of a noise-free viscous test: F_ac = c w A = 500 N, W = pi c w A^2 = 392.7 N mm
+    assert d["test"] == "k" and d["mass_kg"] == 3.2
+    assert d["omega"] == pytest.approx(2.0, rel=1e-6)
+    assert d["x0"] == pytest.approx(2.2, rel=1e-6) and d["A"] == pytest.approx(0.25, rel=1e-6)
+    assert d["c_e"] == pytest.approx(1000.0, rel=1e-4)
+    assert d["F_ac"] == pytest.approx(500.0, rel=1e-4)
+    assert d["W"] == pytest.approx(math.pi * 1000.0 * 2.0 * 0.25**2, rel=2e-3)
 
 
 # --------------------------------------------------------------------------- with the real chain model

@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import chainid
+import paper_forms  # tests/paper_forms.py: the paper's closed forms in plain Python
 from chainid import kernels
 from chainid.models import ChainModel, LinearModel
 from chainid.spec import ChainSpec, default_chain
@@ -34,7 +35,8 @@ def paper_coefficients(d, pitch, width, n, E, nu, contact="outer", kappa=1.0):
 
 
 chains = st.builds(
-    lambda d, wr, pr, n, E, nu: ChainSpec(d=d, width=d * wr, pitch=d * wr * pr, n=n, E=E, nu=nu, mass_per_m=1.0),
+    lambda d, wr, pr, n, E, nu: ChainSpec(d=d, width=d * wr, pitch=d * max(wr * pr, 2.0), n=n, E=E, nu=nu,
+                                          mass_per_m=1.0),
     st.floats(5, 60), st.floats(1.05, 2.0), st.floats(1.5, 4.0), st.integers(2, 200),
     st.floats(5e4, 3e5), st.floats(0.05, 0.49),
 )
@@ -60,9 +62,20 @@ def test_coefficients_random_chains(chain):
 
 
 def test_builtin_chain_at_paper_pretension():
-    x = chainid.displacement(11117.0)
-    assert 1.5 < x < 3.0
-    assert x == pytest.approx(1.9058, abs=5e-4)
+    # golden value from the paper's closed forms typed in tests/paper_forms.py (section properties, k0 = M1/F,
+    # Hertz delta of Eq. 14, Eq. 15), evaluated in plain Python: 1.905814 mm at the test pretension 11117 N
+    x_indep = paper_forms.x_of_F(11117.0)
+    assert x_indep == pytest.approx(1.905814, abs=1e-6)
+    assert chainid.displacement(11117.0) == pytest.approx(x_indep, rel=1e-12)
+    assert chainid.force(2.2) == pytest.approx(paper_forms.F_of_x(2.2), rel=1e-12)
+    assert chainid.stiffness(2.2) == pytest.approx(paper_forms.k_e(2.2), rel=1e-12)
+
+
+def test_displacement_of_zero_force_is_zero():
+    # x(0) = 0 exactly: F = 0 is the unloaded chain, a valid input (not an error)
+    assert chainid.displacement(0.0) == 0.0
+    np.testing.assert_array_equal(chainid.displacement(np.array([0.0, 0.0])), [0.0, 0.0])
+    assert chainid.displacement(np.array([0.0, 11117.0]))[1] == pytest.approx(paper_forms.x_of_F(11117.0), rel=1e-12)
 
 
 @settings(max_examples=200, deadline=None)
@@ -142,10 +155,27 @@ def test_damping_residual_units():
     assert Fc[0] == pytest.approx(20000.0 - 3200.0 - chainid.force(2.2), rel=1e-12)
 
 
+def test_damping_residual_explicit_mass():
+    # F_c = F - m xddot 1e-3 - F_k(x), with an explicit mass_kg that must override the chain's 3.2 kg:
+    # 10 kg x 1e6 mm/s^2 x 1e-3 = 10000 N; F_k(2.2 mm) = 13325.415 N from the closed form (paper_forms)
+    Fk = paper_forms.F_of_x(2.2)
+    F, x, a = np.array([30000.0, 30000.0]), np.array([2.2, 2.2]), np.array([1e6, -2e5])
+    got = kernels.damping_residual(F, x, a, mass_kg=10.0)
+    np.testing.assert_allclose(got, [30000.0 - 10000.0 - Fk, 30000.0 + 2000.0 - Fk], rtol=1e-12)
+    got0 = kernels.damping_residual(F, x, a, mass_kg=0.0)
+    np.testing.assert_allclose(got0, [30000.0 - Fk, 30000.0 - Fk], rtol=1e-12)
+    # default: the chain's own mass, 4.0 kg/m x 0.8 m = 3.2 kg
+    np.testing.assert_allclose(kernels.damping_residual(F, x, a), [30000.0 - 3200.0 - Fk, 30000.0 + 640.0 - Fk],
+                               rtol=1e-12)
+
+
 def test_inner_bend_needs_width_above_d():
-    c = ChainSpec(d=20, pitch=60, width=18, n=4, mass_per_m=1)
-    with pytest.raises(ValueError, match="width"):
-        kernels.coefficients(c, "inner_bend")
+    # ChainSpec refuses width <= d itself (the next link's bar must pass), so no variant sees it
+    with pytest.raises(ValueError, match=r"ChainSpec\.width = 18\.0 .*20\.0 < width"):
+        kernels.coefficients(ChainSpec(d=20, pitch=60, width=18, n=4, mass_per_m=1), "inner_bend")
+    with pytest.raises(ValueError, match="width"):  # width = d: the limit is strict (width > d)
+        ChainSpec(d=20, pitch=60, width=20.0, n=4, mass_per_m=1)
+    assert kernels.coefficients(ChainSpec(d=20, pitch=60, width=20.5, n=4, mass_per_m=1), "inner_bend")[1] > 0
 
 
 def test_chain_model_effect_parameters():
@@ -205,8 +235,23 @@ def test_cli_stiffness_json(capsys):
 
     assert cli.main(["stiffness", "--x", "2.2", "--F", "11117", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
+    # the machine contract: exact key sets (a renamed key breaks every consumer)
+    assert set(doc) == {"chain", "variant", "c_lin_mm_per_N", "c_hertz_mm_per_N23", "points"}
+    assert set(doc["chain"]) >= {"d", "pitch", "width", "n", "E", "nu", "mass_per_m"}
     pts = doc["points"]
-    assert pts[0]["x_mm"] == 2.2 and pts[0]["F_k_N"] == pytest.approx(chainid.force(2.2), rel=1e-12)
+    assert len(pts) == 2 and all(set(p) == {"x_mm", "F_k_N", "k_e_N_per_mm"} for p in pts)
+    cl, ch = paper_forms.coefficients()
+    assert doc["variant"] == "paper"
+    assert doc["c_lin_mm_per_N"] == pytest.approx(cl, rel=1e-12)
+    assert doc["c_hertz_mm_per_N23"] == pytest.approx(ch, rel=1e-12)
+    assert pts[0]["x_mm"] == 2.2 and pts[0]["F_k_N"] == pytest.approx(paper_forms.F_of_x(2.2), rel=1e-12)
+    assert pts[0]["k_e_N_per_mm"] == pytest.approx(paper_forms.k_e(2.2), rel=1e-12)
     assert pts[1]["F_k_N"] == pytest.approx(11117.0, rel=1e-12)
-    assert pts[1]["x_mm"] == pytest.approx(1.9058, abs=5e-4)
+    assert pts[1]["x_mm"] == pytest.approx(paper_forms.x_of_F(11117.0), rel=1e-12)
+    # --F with a variant: the elongation comes from that variant's Eq. 15 (shear: kappa = 10/9)
+    assert cli.main(["stiffness", "--F", "11117", "--variant", "shear", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["variant"] == "shear"
+    assert doc["points"][0]["x_mm"] == pytest.approx(paper_forms.x_of_F(11117.0, kappa=10 / 9), rel=1e-12)
+    assert doc["points"][0]["F_k_N"] == pytest.approx(11117.0, rel=1e-12)
     assert cli.main(["stiffness"]) == 2

@@ -214,3 +214,54 @@ def test_estimate_property(logw, A, x0, cycles, ramp_periods, spc):
     assert est.A == pytest.approx(A, rel=1e-6)
     assert est.x0 == pytest.approx(x0, abs=1e-6 * A)
     assert est.window.n_cycles >= cycles - 1  # all whole cycles after the ramp, the first dropped
+
+
+# --------------------------------------------------------------------------- reader strictness (issue 13 item 2)
+def _clean_csv_text(n_cycles=6):
+    r = harmonic_record("T1", cycles=n_cycles)
+    lines = ["test,t,x,F"] + [f"T1,{a:.9g},{b:.9g},{c:.9g}" for a, b, c in zip(r.t, r.x, r.F)]
+    return lines
+
+
+def test_decimal_comma_row_is_an_error_naming_file_line_and_counts(tmp_path):
+    lines = _clean_csv_text()
+    # line 51 of the file (header = line 1): F written with a decimal comma -> 5 fields
+    parts = lines[50].split(",")
+    lines[50] = ",".join(parts[:3]) + ",261,004688"
+    p = write_csv(tmp_path / "comma.csv", "\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=r"comma\.csv, line 51: 5 fields but the header has 4"):
+        read_records(p)
+
+
+def test_short_row_is_an_error(tmp_path):
+    lines = _clean_csv_text()
+    lines[9] = "T1,0.5,2.2"
+    p = write_csv(tmp_path / "short.csv", "\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=r"short\.csv, line 10: 3 fields but the header has 4"):
+        read_records(p)
+
+
+def test_utf8_bom_accepted(tmp_path):
+    lines = _clean_csv_text()
+    p = tmp_path / "bom.csv"
+    p.write_bytes(b"\xef\xbb\xbf" + ("\n".join(lines) + "\n").encode())
+    plain = write_csv(tmp_path / "plain.csv", "\n".join(lines) + "\n")
+    a, b = read_records(p)[0], read_records(plain)[0]
+    assert a.test == "T1"
+    assert np.array_equal(a.x, b.x) and np.array_equal(a.F, b.F)
+    assert a.t.size == len(lines) - 1
+
+
+@pytest.mark.parametrize("payload", [bytes(range(256)) * 40, b"\x89PNG\r\n\x1a\n" + b"\x00" * 500])
+def test_garbage_file_names_the_file(tmp_path, payload):
+    p = tmp_path / "garbage.bin"
+    p.write_bytes(payload)
+    with pytest.raises(ValueError, match=r"garbage\.bin"):
+        read_records(p)
+
+
+def test_less_than_one_cycle_says_so(tmp_path):
+    p = tmp_path / "part.csv"
+    write_records(p, [harmonic_record("part", cycles=0.7)])
+    with pytest.raises(ValueError, match=r"test 'part': less than one whole cycle"):
+        read_records(p)

@@ -19,8 +19,8 @@ cluster by address, a process pool without dask).
 from __future__ import annotations
 
 import time
-from pathlib import Path
 from dataclasses import replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -242,5 +242,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     s["wall_seconds"] = time.perf_counter() - t0
     print(format_summary(s))
     if json_path:
-        write_summary(s, json_path, overwrite)
+        from ..fileio import write_json  # strict JSON (null for NaN), temp file + rename
+
+        write_json(s, json_path, force=overwrite, what="--json")
     return s

@@ -18,7 +18,7 @@ import numpy as np
 
 from . import forward as fw
 from .interpret import interpretation, mechanism, separating_test, step_text
-from .prepare import prepare_test
+from .prepare import Unusable, prepare_test
 from .problem import MIN_TRAIN, Candidate, Problem, damping_separable
 from .stationarity import check as stationarity_check
 from .where import localise
@@ -44,7 +44,7 @@ def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, stead
     for r in records:
         try:
             data.append(prepare_test(r, n_bins=n_bins, allow_compression=allow_compression, steady_tol=steady_tol))
-        except ValueError as exc:
+        except Unusable as exc:
             if strict:
                 raise ValueError(f"test {r.test!r} cannot be used (--strict): {exc}") from None
             excluded.append({"test": r.test, "reason": str(exc)})

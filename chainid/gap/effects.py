@@ -21,8 +21,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-try:  # numba for the sequential (memory) operators; numpy fallback if absent
-    from numba import njit
+try:  # numba for the sequential (memory) operators (a cache that never crashes); numpy fallback if absent
+    from .._numba_cache import njit_cached as njit
 except Exception:  # pragma: no cover
     def njit(*a: Any, **k: Any) -> Any:  # type: ignore
         def deco(f: Any) -> Any:
@@ -42,7 +42,7 @@ EFFECT_NAMES = (
 )
 
 
-@njit(cache=True)
+@njit()
 def _play(x: np.ndarray, h: float) -> np.ndarray:  # pragma: no cover - numba
     y = np.empty_like(x)
     yi = x[0]
@@ -55,7 +55,7 @@ def _play(x: np.ndarray, h: float) -> np.ndarray:  # pragma: no cover - numba
     return y
 
 
-@njit(cache=True)
+@njit()
 def _dahl(x: np.ndarray, Fh: float, xh: float, z0: float) -> np.ndarray:  # pragma: no cover - numba
     z = np.empty_like(x)
     zi = z0

@@ -16,14 +16,23 @@ from typing import Any
 import numpy as np
 
 
-def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
-    """Write the four figures; returns their paths."""
+#: The files :func:`make_plots` writes, in order.
+PLOT_NAMES = ("loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png", "waterfall.png")
+
+
+def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -> list[Path]:
+    """Write the five figures (:data:`PLOT_NAMES`) atomically; returns their paths.
+
+    With ``force`` False an existing file of those names is an error (checked before drawing).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    out = Path(outdir)
+    from ..fileio import check_output_dir, save_figure
+
+    out = check_output_dir(outdir, "--plots", PLOT_NAMES, force=force)
     out.mkdir(parents=True, exist_ok=True)
     prob = result["_problem"]
     best = result["_best"]
@@ -35,10 +44,11 @@ def make_plots(result: dict[str, Any], outdir: str | Path) -> list[Path]:
     paths = []
 
     def save(fig: Any, name: str) -> Path:
-        p = out / name
-        fig.savefig(p, dpi=90)
-        plt.close(fig)
-        return p
+        assert name in PLOT_NAMES
+        try:
+            return save_figure(fig, out / name, force=force, what="--plots", dpi=90)
+        finally:
+            plt.close(fig)
 
     # loops
     hold = prob.hold

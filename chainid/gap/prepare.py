@@ -110,18 +110,21 @@ def fourier_x(t: np.ndarray, x: np.ndarray, omega: float, theta: float, H: int =
     return f
 
 
-def _estimate(rec: Any, allow_compression: bool, steady_tol: float | None) -> Any:
-    """The record's harmonic estimate with its steady window; ValueError with the reason if none."""
-    from .. import records
+class Unusable(ValueError):
+    """A test that cannot be analysed (no steady cycle, no harmonic fit): left out with this reason.
 
-    try_analyse = getattr(records, "try_analyse", None)
-    if try_analyse is not None:
-        est, reason = try_analyse(rec, allow_compression=allow_compression, steady_tol=steady_tol)
-        if est is None:
-            raise ValueError(reason)
-        return est
-    kw = {} if steady_tol is None else {"rel_tol": steady_tol}
-    return records.analyse_record(rec, allow_compression=allow_compression, **kw)
+    Data errors (NaN, t not increasing, compressive force not allowed) are plain ValueErrors and stop the run.
+    """
+
+
+def _estimate(rec: Any, allow_compression: bool, steady_tol: float | None) -> Any:
+    """The record's harmonic estimate with its steady window; :class:`Unusable` with the reason if none."""
+    from ..records import try_analyse
+
+    est, reason = try_analyse(rec, allow_compression=allow_compression, steady_tol=steady_tol)
+    if est is None:
+        raise Unusable(reason)
+    return est
 
 
 def cycle_stats(t: np.ndarray, F: np.ndarray, omega: float, theta: float,
@@ -179,17 +182,19 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
 
     Raises
     ------
-    ValueError
+    Unusable
         No steady cycle, or the harmonic estimate fails (the message says why).
+    ValueError
+        A data error in the record (NaN, t not increasing, compressive force not allowed).
     """
     est = _estimate(rec, allow_compression, steady_tol)
     win = est.window
     if win is None or win.n_cycles < 1:
-        raise ValueError(f"test {rec.test!r}: no steady cycles found")
+        raise Unusable("no steady cycles found")
     m = (rec.t >= win.t_start) & (rec.t < win.t_end)
     t, x, F = rec.t[m], rec.x[m], rec.F[m]
     if t.size < 16:
-        raise ValueError(f"test {rec.test!r}: only {t.size} samples in the steady window (need >= 16)")
+        raise Unusable(f"only {t.size} samples in the steady window (need >= 16)")
     spc = t.size / max(win.n_cycles, 1)
     B = int(max(8, min(n_bins, 4 * (int(spc) // 8))))
     xfun = fourier_x(t, x, est.omega, est.theta, H=5)

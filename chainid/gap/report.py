@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
@@ -27,13 +26,10 @@ def to_json(result: dict[str, Any]) -> dict[str, Any]:
 
 def write_json(result: dict[str, Any], path: str | Path, overwrite: bool = False) -> Path:
     """Write the JSON contract; refuses to overwrite an existing file unless asked."""
+    from ..fileio import write_json as _write  # strict JSON, temp file + rename
+
     p = Path(path)
-    if p.exists() and not overwrite:
-        raise ValueError(f"--json {str(p)!r} already exists; refusing to overwrite it (use --force)")
-    try:
-        p.write_text(json.dumps(to_json(result), indent=2))
-    except OSError as exc:
-        raise ValueError(f"--json {str(p)!r} cannot be written: {exc}") from None
+    _write(to_json(result), p, force=overwrite, what="--json")
     return p
 
 

@@ -1,0 +1,277 @@
+"""The lumped multi-mass chain: geometry, masses, segment springs and dampers, ends and loads.
+
+Layout (units mm, N, s, kg)::
+
+    drive ── seg 1 ── node 1 ── seg 2 ── ... ── node N-1 ── seg N ── node N (far end)
+    node 0
+
+Node 0 is the driven node (its motion is prescribed by a :class:`~chainid.dynamics.drives.Drive`); node N
+is the far end: ``"fixed"`` (anchored) or ``"tensioner"`` (a constant-force take-up, force
+``pretension + tensioner_stiffness·u_N``).  Displacements u_i [mm] are positive in the direction of chain
+travel, towards the drive, and are measured from the pre-tensioned static state; segment j (between nodes
+j-1 and j) has elongation e_j = e_pre + u_{j-1} - u_j [mm] and tension T_j [N].
+
+Springs.  The chain of ``n_links`` links is split into N segments of n_s links (as equal as possible).  The
+generated coefficients are exactly linear in the link count (c_lin ∝ n for the link bending, c_hertz ∝ n − 1
+for the n − 1 contacts of a specimen between two fixtures), so a segment gets c_lin·n_s/n and the contact
+compliance of the contacts it contains: one per link except in the last segment (n_s − 1).  The series sum
+of all segments is then exactly the kernel of the whole chain (spec with n = n_links) for every N, and one
+segment is the paper's specimen.  Each segment's tension is the generated F_k(e) (a slack segment, e <= 0,
+carries nothing).
+
+Damping.  The paper identifies c_e(ω, A) from harmonic tests: a *viscous equivalent* c_e [N·s/mm] that
+dissipates the measured loop energy W = π c_e ω A² at that ω and A.  A time-domain model has no single ω and
+A, so it uses the viscous equivalent at a stated operating point (see :func:`viscous_equivalent`: the first
+natural frequency or the polygon frequency, and the expected dynamic elongation amplitude).  This is exact
+for the energy per cycle at that point, keeps the model linear in velocity (the energy balance can be checked)
+and adds no history state.  Dampers of a chain act in series like its springs: c_e measured on a specimen of
+``damping_ref_links`` links gives a segment of n_s links c_e·n_ref/n_s.  The damper acts only while the
+segment is taut and can never push: T_j = max(F_k(e_j) + c_j·ė_j, 0) for e_j > 0, else 0.
+
+Masses.  ``lumping="half"`` (default) puts half of each segment's mass on each of its nodes (the standard
+lumped-mass chain); ``lumping="drive"`` puts each segment's mass on its drive-side node, which for one
+segment with a fixed far end is the paper's one-mass test model F = m·ẍ + F_k(x) + c_e·ẋ.  ``tail_mass_kg``
+adds a tensioner carriage mass on node N.
+
+Loads.  ``resistance_N``: the total moving resistance of the strand (friction of chain and load on the
+trough), distributed over the moving nodes in proportion to their mass: a Coulomb force regularised by
+a steep viscous branch around standstill, f_i = −R_i·clip(v_i / resistance_v_eps, −1, 1).  ``loads``: load steps (node, force N, switch-on time s) opposing
+the motion.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import kernels
+from ..spec import ChainSpec, default_chain
+
+__all__ = ["ChainLine", "LoadStep", "viscous_equivalent", "FAR_ENDS", "LUMPINGS"]
+
+FAR_ENDS: tuple[str, ...] = ("fixed", "tensioner")
+LUMPINGS: tuple[str, ...] = ("half", "drive")
+
+
+def _bad(field_name: str, value: object, valid: str) -> ValueError:
+    return ValueError(f"{field_name} = {value!r} is invalid: valid range {valid}")
+
+
+@dataclass(frozen=True)
+class LoadStep:
+    """A force opposing the motion on one node, switched on at a time.
+
+    Parameters
+    ----------
+    node : int
+        Node index, 0 < node <= N (node 0 is the prescribed drive).
+    force_N : float
+        Force [N], > 0 opposes the chain travel.
+    t_on : float
+        Switch-on time [s], >= 0.
+    """
+
+    node: int
+    force_N: float
+    t_on: float = 0.0
+
+
+@dataclass(frozen=True)
+class ChainLine:
+    """A chain of ``n_links`` links lumped into ``n_masses`` segments (see the module docstring).
+
+    Parameters
+    ----------
+    n_links : int
+        Links in the chain, >= n_masses.  Length = n_links·pitch [mm] (see :meth:`from_length`).
+    n_masses : int
+        Number of segments N (>= 1); the nodes are 0 (drive) .. N (far end).
+    chain : ChainSpec, optional
+        Link geometry, material and mass per metre (its ``n`` is ignored); default the built-in 14x50 chain.
+    variant : str
+        Kernel variant (``chainid.kernels.VARIANTS``).
+    pretension_N : float
+        Static tension of every segment at t = 0 [N], >= 0 (the tensioner force at the far end).
+    far_end : str
+        ``"fixed"`` or ``"tensioner"``.
+    tensioner_stiffness : float
+        Take-up spring [N/mm], >= 0 (0: constant-force take-up).
+    tail_mass_kg : float
+        Extra mass on node N [kg], >= 0 (tensioner carriage, tail wheel).
+    damping : float
+        Viscous-equivalent c_e [N·s/mm] of a specimen of ``damping_ref_links`` links, >= 0.
+    damping_ref_links : int, optional
+        Links of the specimen c_e belongs to; default ``chain.n`` (the tested specimen).
+    resistance_N : float
+        Total moving resistance [N], >= 0.
+    resistance_v_eps : float
+        Speed [mm/s] below which the resistance is viscous (R·v/ε) instead of Coulomb (R), > 0.
+    loads : tuple of LoadStep
+        Load steps.
+    lumping : str
+        ``"half"`` or ``"drive"``.
+    """
+
+    n_links: int
+    n_masses: int
+    chain: ChainSpec = field(default_factory=default_chain)
+    variant: str = "paper"
+    pretension_N: float = 0.0
+    far_end: str = "tensioner"
+    tensioner_stiffness: float = 0.0
+    tail_mass_kg: float = 0.0
+    damping: float = 0.0
+    damping_ref_links: int | None = None
+    resistance_N: float = 0.0
+    resistance_v_eps: float = 1.0
+    loads: tuple[LoadStep, ...] = ()
+    lumping: str = "half"
+
+    def __post_init__(self) -> None:
+        if self.chain is None:
+            object.__setattr__(self, "chain", default_chain())
+        if isinstance(self.n_masses, bool) or not isinstance(self.n_masses, (int, np.integer)) or self.n_masses < 1:
+            raise _bad("n_masses", self.n_masses, "an int >= 1")
+        if isinstance(self.n_links, bool) or not isinstance(self.n_links, (int, np.integer)) or self.n_links < 1:
+            raise _bad("n_links", self.n_links, "an int >= 1 (chain length / pitch > 0)")
+        if self.n_links < self.n_masses:
+            raise _bad("n_masses", self.n_masses, f"1 .. n_links = {self.n_links} (a segment holds >= 1 link)")
+        kernels.variant_module(self.variant)
+        for name in ("pretension_N", "tensioner_stiffness", "tail_mass_kg", "damping", "resistance_N"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v >= 0):
+                raise _bad(name, v, ">= 0 (finite)")
+        if not (math.isfinite(self.resistance_v_eps) and self.resistance_v_eps > 0):
+            raise _bad("resistance_v_eps", self.resistance_v_eps, "> 0 mm/s")
+        if self.far_end not in FAR_ENDS:
+            raise _bad("far_end", self.far_end, f"one of {list(FAR_ENDS)}")
+        if self.lumping not in LUMPINGS:
+            raise _bad("lumping", self.lumping, f"one of {list(LUMPINGS)}")
+        if self.damping_ref_links is not None and not (int(self.damping_ref_links) >= 1):
+            raise _bad("damping_ref_links", self.damping_ref_links, "an int >= 1")
+        if self.chain.mass_per_m <= 0:
+            raise _bad("chain.mass_per_m", self.chain.mass_per_m, "> 0 kg/m (a dynamic model needs mass)")
+        for ld in self.loads:
+            if not (0 < ld.node <= self.n_masses):
+                raise _bad("loads.node", ld.node, f"1 .. n_masses = {self.n_masses}")
+            if not (math.isfinite(ld.force_N) and math.isfinite(ld.t_on) and ld.t_on >= 0):
+                raise _bad("loads", ld, "finite force_N [N] and t_on >= 0 s")
+        if self.lumping == "drive" and self.far_end == "tensioner" and self.tail_mass_kg <= 0:
+            raise _bad("tail_mass_kg", self.tail_mass_kg, "> 0 kg with lumping='drive' and a tensioner far end")
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_length(cls, length_mm: float, n_masses: int, chain: ChainSpec | None = None, **kw: object) -> "ChainLine":
+        """A chain of total length ``length_mm`` [mm] (> 0; rounded to whole links of ``chain.pitch``)."""
+        chain = chain or default_chain()
+        if not (isinstance(length_mm, (int, float, np.floating)) and math.isfinite(length_mm) and length_mm > 0):
+            raise _bad("length_mm", length_mm, "> 0 mm")
+        n_links = max(1, int(round(length_mm / chain.pitch)))
+        return cls(n_links=n_links, n_masses=n_masses, chain=chain, **kw)
+
+    # ------------------------------------------------------------------ derived arrays
+    @property
+    def n_nodes(self) -> int:
+        return self.n_masses + 1
+
+    @property
+    def length_mm(self) -> float:
+        """Chain length n_links·pitch [mm]."""
+        return self.n_links * self.chain.pitch
+
+    def links_per_segment(self) -> np.ndarray:
+        """n_s of every segment (int array, length N; the first n_links mod N segments get one more)."""
+        N = self.n_masses
+        base, extra = divmod(self.n_links, N)
+        return np.array([base + (1 if j < extra else 0) for j in range(N)], dtype=np.int64)
+
+    def segment_coefficients(self) -> tuple[np.ndarray, np.ndarray]:
+        """(c_lin [mm/N], c_hertz [mm/N^(2/3)]) of every segment (see the module docstring)."""
+        ns = self.links_per_segment()
+        cl, ch = kernels.coefficients(self.chain.replace(n=int(self.n_links)), self.variant)
+        contacts = ns.astype(float)
+        contacts[-1] -= 1.0
+        c_lin = cl * ns / self.n_links
+        c_h = ch * contacts / (self.n_links - 1) if self.n_links > 1 else np.zeros(len(ns))
+        return c_lin.astype(float), np.asarray(c_h, dtype=float)
+
+    def segment_lengths(self) -> np.ndarray:
+        """Unstretched segment lengths ℓ_s = n_s·pitch [mm]."""
+        return self.links_per_segment() * self.chain.pitch
+
+    def segment_damping(self) -> np.ndarray:
+        """Viscous damping of every segment [N·s/mm]: c_e·n_ref/n_s (dampers in series)."""
+        n_ref = self.chain.n if self.damping_ref_links is None else int(self.damping_ref_links)
+        return self.damping * n_ref / self.links_per_segment().astype(float)
+
+    def node_masses(self) -> np.ndarray:
+        """Lumped masses of nodes 0..N [kg] (node N includes ``tail_mass_kg``)."""
+        ms = self.chain.mass_per_m * self.segment_lengths() * 1e-3
+        m = np.zeros(self.n_nodes)
+        if self.lumping == "half":
+            m[:-1] += 0.5 * ms
+            m[1:] += 0.5 * ms
+        else:
+            m[:-1] += ms
+        m[-1] += self.tail_mass_kg
+        return m
+
+    def pretension_elongation(self) -> np.ndarray:
+        """Static elongation of every segment at the pretension [mm] (the inverse kernel, Eq. 15)."""
+        c_lin, c_h = self.segment_coefficients()
+        u = np.cbrt(self.pretension_N)
+        return c_lin * self.pretension_N + c_h * u * u
+
+    def resistance_per_node(self) -> np.ndarray:
+        """Moving resistance amplitude R_i of nodes 0..N [N] (∝ mass of the moving nodes; 0 on a fixed end)."""
+        m = self.node_masses().copy()
+        m[0] = 0.0  # the drive node's motion is prescribed: its resistance is the drive's business
+        if self.far_end == "fixed":
+            m[-1] = 0.0
+        tot = m.sum()
+        return self.resistance_N * m / tot if tot > 0 else np.zeros_like(m)
+
+    def static_tension_at_speed(self) -> float:
+        """Drive-end tension of steady running [N]: pretension + the whole moving resistance (tensioner end).
+
+        With a fixed far end the chain cannot run: the static reference is the pretension.
+        """
+        if self.far_end == "fixed":
+            return float(self.pretension_N)
+        return float(self.pretension_N + self.resistance_N)
+
+
+def viscous_equivalent(law_or_ce: object, omega: float, A: float, x0: float) -> float:
+    """The viscous-equivalent c_e [N·s/mm] a time-domain model uses, at a stated operating point.
+
+    Parameters
+    ----------
+    law_or_ce : chainid.identify.DampingLaw or float
+        An identified law c_e(ω, A, x0) or a constant [N·s/mm].
+    omega : float
+        Operating circular frequency [rad/s], > 0 (e.g. the first natural frequency, or 2π·v/pitch for the
+        polygon excitation).
+    A : float
+        Operating elongation amplitude [mm], > 0.
+    x0 : float
+        Mean elongation [mm], >= 0 (the specimen's, for laws that depend on it).
+
+    Returns
+    -------
+    float
+        c_e [N·s/mm], >= 0.
+    """
+    if not (math.isfinite(omega) and omega > 0):
+        raise _bad("omega", omega, "> 0 rad/s")
+    if not (math.isfinite(A) and A > 0):
+        raise _bad("A", A, "> 0 mm")
+    if not (math.isfinite(x0) and x0 >= 0):
+        raise _bad("x0", x0, ">= 0 mm")
+    if isinstance(law_or_ce, (int, float)):
+        c = float(law_or_ce)
+    else:
+        c = float(np.asarray(law_or_ce.predict(omega, A, x0)).reshape(-1)[0])
+    if not (math.isfinite(c) and c >= 0):
+        raise _bad("c_e", c, ">= 0 N·s/mm (the law gives a negative or non-finite damping at this point)")
+    return c

@@ -1,0 +1,89 @@
+"""Natural frequencies and mode shapes of the pre-tensioned chain about its static state.
+
+The equations of motion linearised about the uniform pretension (every segment at e_pre, the drive node
+held, a fixed far end held or a tensioner node free with its take-up stiffness) are M·ü + K·u = 0 with the
+lumped masses M [kg] and the tridiagonal tangent stiffness K [N/mm] of the segment tangents k_j = k_e(e_pre)
+(the generated stiffness kernel, Eq. 16).  With ü in mm/s² (m·ü·1e-3 = N), ω² are the eigenvalues of
+1e3·M^(-1/2) K M^(-1/2), solved by numpy.linalg.eigh.  Units: ω rad/s, f Hz, shapes dimensionless.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..generated.stiffness_paper import stiffness_array
+from .model import ChainLine
+
+__all__ = ["Modes", "modes", "tangent_system"]
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Modes of the pre-tensioned chain.
+
+    Attributes
+    ----------
+    omega : (n,) rad/s, ascending
+    frequency_hz : (n,) Hz
+    shapes : (n_free, n) mass-normalised mode shapes scaled to max |φ| = 1 (columns)
+    nodes : (n_free,) node indices of the free nodes (1 .. N or N−1)
+    positions : (n_free,) positions of the free nodes from the drive [mm]
+    """
+
+    omega: np.ndarray
+    frequency_hz: np.ndarray
+    shapes: np.ndarray
+    nodes: np.ndarray
+    positions: np.ndarray
+
+
+def tangent_system(line: ChainLine) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(M [kg] diagonal, K [N/mm] tridiagonal matrix, free node indices) linearised about the pretension."""
+    c_lin, c_h = line.segment_coefficients()
+    k = np.array([stiffness_array(np.array([e]), cl, ch)[0]
+                  for e, cl, ch in zip(line.pretension_elongation(), c_lin, c_h)])
+    N = line.n_masses
+    last = N if line.far_end == "tensioner" else N - 1
+    nodes = np.arange(1, last + 1)
+    K = np.zeros((last, last))
+    for a, i in enumerate(nodes):
+        K[a, a] = k[i - 1] + (k[i] if i < N else line.tensioner_stiffness)
+        if a + 1 < last:
+            K[a, a + 1] = K[a + 1, a] = -k[i]
+    M = line.node_masses()[nodes]
+    return M, K, nodes
+
+
+def modes(line: ChainLine, n_modes: int | None = None) -> Modes:
+    """Natural frequencies and mode shapes about the pre-tensioned static state (drive end held).
+
+    Parameters
+    ----------
+    line : ChainLine
+    n_modes : int, optional
+        Keep the lowest n_modes (>= 1); default all.
+
+    Returns
+    -------
+    Modes
+        Empty arrays when no node is free (one segment with a fixed far end).
+    """
+    if n_modes is not None and (isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer))
+                                or n_modes < 1):
+        raise ValueError(f"n_modes = {n_modes!r} is invalid: valid range None or an int >= 1")
+    M, K, nodes = tangent_system(line)
+    pos = np.concatenate([[0.0], np.cumsum(line.segment_lengths())])[nodes]
+    if nodes.size == 0:
+        z = np.zeros(0)
+        return Modes(z, z, np.zeros((0, 0)), nodes, pos)
+    s = 1.0 / np.sqrt(M)
+    lam, y = np.linalg.eigh(1e3 * (s[:, None] * K * s[None, :]))
+    lam = np.clip(lam, 0.0, None)
+    phi = s[:, None] * y
+    phi /= np.max(np.abs(phi), axis=0)[None, :]
+    phi *= np.sign(phi[np.argmax(np.abs(phi), axis=0), np.arange(phi.shape[1])])[None, :]
+    k = lam.size if n_modes is None else min(n_modes, lam.size)
+    w = np.sqrt(lam[:k])
+    return Modes(w, w / (2.0 * math.pi), phi[:, :k], nodes, pos)
