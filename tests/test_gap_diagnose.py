@@ -276,14 +276,16 @@ def test_plots(tmp_path, monkeypatch):
 
     from chainid.gap.plots import make_plots
 
+    import chainid.fileio
+
     figs = {}
-    orig = matplotlib.figure.Figure.savefig
+    orig = chainid.fileio.save_figure
 
-    def spy(self, fname, *a, **k):
-        figs[Path(fname).name] = self
-        return orig(self, fname, *a, **k)
+    def spy(fig, path, *a, **k):  # the figures are written atomically: spy on the target name
+        figs[Path(path).name] = fig
+        return orig(fig, path, *a, **k)
 
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", spy)
+    monkeypatch.setattr(chainid.fileio, "save_figure", spy)
     res = diagnose(records("backlash:b=0.02"), HOLD, MODEL, max_combo=1, uncertainty=False)
     paths = make_plots(res, tmp_path / "figs")
     assert [p.name for p in paths] == ["loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png",

@@ -17,7 +17,10 @@ The acceptance rule (stated, tested, and the same for every data set):
    (sd/√n): the improvement must hold across tests, so one test cannot carry
    (or veto) a step.
 3. **Material.** The LOTO NRMSE falls by at least ``MIN_GAIN`` (a tenth) of
-   what is left: an effect that explains less is not worth a name.
+   what is left, or by ``MIN_GAIN_FLOOR`` (a quarter) once the systematic residual
+   is below half the sample noise: an effect that explains less is not worth a name.
+4. **Identified.** None of the new effect's parameters is pinned at a bound of
+   its physical range (then its form does not fit what is left).
 
 Near-ties at a step (LOTO within ``TIE`` of the best) go to the effect with fewer
 parameters pinned at a bound, then fewer parameters, then BIC; they are reported
@@ -37,6 +40,8 @@ from .problem import Candidate, Problem
 Z = 2.0
 #: smallest relative LOTO improvement that earns a name
 MIN_GAIN = 0.10
+#: ... once the systematic residual is below half the sample noise (the practical floor of the verdict `none`)
+MIN_GAIN_FLOOR = 0.25
 #: candidates within this relative LOTO NRMSE of the best are "equally good" (confounded)
 TIE = 0.05
 #: systematic residual below this fraction of the raw noise σ counts as "consistent with the noise"
@@ -84,6 +89,20 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     r2, f2, _ = prob.noise_db(ev, "train")
     n = sum(d.counts.size for d in prob.train)
     return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
+
+
+def practical_floor(prob: Problem, cand: Candidate) -> bool:
+    """Whether the candidate's training LOTO residual is at the practical noise floor (:func:`at_noise_floor`:
+    systematic part below half the sample noise, or χ²-consistent)."""
+    r2, f2, _ = prob.noise_db(cand._ev, "train")  # type: ignore[attr-defined]
+    sig = math.sqrt(np.mean([d.sigma**2 for d in prob.train]))
+    return at_noise_floor(r2, f2, sig, sum(d.counts.size for d in prob.train))
+
+
+def _pinned_new(c: Candidate) -> bool:
+    """Whether a parameter of the candidate's newest effect is pinned at a bound of its physical range."""
+    new = c.names[-1] + "." if c.names else ""
+    return any(k.startswith(new) for k in c.at_bound)
 
 
 def _pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
@@ -147,17 +166,24 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         cands = [cached(cur, n) for n in remaining]
         if not singles:
             singles = list(cands)
-        chosen, ties = _pick(cands)
+        # a step must be physically identified: the new effect's parameters inside their bounds
+        free = [c for c in cands if not _pinned_new(c)]
+        if not free:
+            stop = (f"the best next effect {min(cands, key=lambda c: c.nrmse_loto).names[-1]} needs parameters at "
+                    "the bounds of their physical range: its form does not fit what is left")
+            break
+        chosen, ties = _pick(free)
         chosen = _look_ahead(prob, cur, chosen, cands, remaining, cached, max_effects)
         delta, se = loto_jackknife(cur, chosen)
         gain = 1.0 - chosen.nrmse_loto / cur.nrmse_loto if cur.nrmse_loto > 0 else 0.0
         chosen.step_test = {"delta_loto": delta, "se_jackknife": se, "z": delta / se if se > 0 else float("inf"),  # type: ignore[attr-defined]
                             "relative_gain": gain}
-        if not (delta > Z * se and gain >= MIN_GAIN):
+        min_gain = MIN_GAIN if not practical_floor(prob, cur) else MIN_GAIN_FLOOR
+        if not (delta > Z * se and gain >= min_gain):
             stop = (f"no significant improvement: best next effect {chosen.names[-1]} lowers the LOTO NRMSE by "
                     f"{100 * gain:.1f} % (mean log error ratio over tests {delta:.3g}, jack-knife SE {se:.2g}; needs "
                     f"> {Z:g} SE and "
-                    f">= {100 * MIN_GAIN:.0f} %)")
+                    f">= {100 * min_gain:.0f} %)")
             break
         for t in ties:
             confounded.append({"step": len(path), "pair": [chosen.names[-1], t.names[-1]],
