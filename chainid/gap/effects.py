@@ -99,6 +99,26 @@ def dahl_operator(x: np.ndarray, F_h: float, x_h: float, periodic: bool = True) 
     return _dahl(x, float(F_h), xh, 0.0)
 
 
+def coulomb_sign(xd: np.ndarray, periodic: bool = True) -> np.ndarray:
+    """sgn(ẋ) of Coulomb sliding, with 0 for a sample that lies at a reversal.
+
+    A sample whose neighbours move in opposite directions and whose speed is below half of theirs is closer
+    to the turning point than half a sample step: the set-valued friction force there is taken at its
+    midpoint, 0, so the sign does not depend on round-off in t or x (or on which side of the turning point a
+    quantised time stamp falls).  ``periodic``: the series is one cycle (neighbours wrap around).
+    """
+    xd = np.asarray(xd, dtype=float)
+    s = np.sign(xd)
+    if xd.size < 3:
+        return s
+    a = np.abs(xd)
+    prev, nxt = np.roll(a, 1), np.roll(a, -1)
+    near = (np.roll(s, 1) * np.roll(s, -1) < 0) & (a < 0.5 * np.minimum(prev, nxt))
+    if not periodic:
+        near[0] = near[-1] = False
+    return np.where(near, 0.0, s)
+
+
 def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True) -> np.ndarray:
     """Normalised Coulomb friction with elastic stick (Jenkins element), in [-1, 1].
 
@@ -109,11 +129,7 @@ def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True)
     x = np.asarray(x, dtype=float)
     if x_s <= 1e-4 * (float(np.ptp(x)) if x.size else 0.0):
         # a stick travel below 1e-4 of the stroke is not resolved by any record: pure Coulomb sliding.
-        # sgn(0) = 0: at a sampled reversal the set-valued Coulomb force is taken at its midpoint (velocities
-        # within 1e-9 of the peak speed count as zero, so round-off cannot pick a side)
-        xd = np.asarray(xd, dtype=float)
-        tol = 1e-9 * float(np.max(np.abs(xd))) if xd.size else 0.0
-        return np.where(np.abs(xd) <= tol, 0.0, np.sign(xd))
+        return coulomb_sign(xd, periodic)
     return (np.asarray(x, float) - play_operator(x, x_s, periodic)) / x_s
 
 

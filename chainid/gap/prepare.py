@@ -48,7 +48,8 @@ class TestData:
     window: str = ""
     #: per whole cycle: mid time [s], mean force [N], in-phase (sin ψ) and quadrature (cos ψ) force amplitude [N]
     cycles: dict[str, np.ndarray] = field(default_factory=dict)
-    #: one model cycle at the distinct sample phases (see :func:`phase_grid`): t [s], x [mm], ẋ, ẍ, bin, weight
+    #: one model cycle at the distinct sample phases (see :func:`phase_grid`): t [s], x [mm], ẋ, ẍ per point;
+    #: map (cell → point), bin and weight per cell
     grid: dict[str, np.ndarray] = field(default_factory=dict)
 
     def binmean(self, y: np.ndarray) -> np.ndarray:
@@ -58,14 +59,16 @@ class TestData:
     def gridmean(self, y: np.ndarray) -> np.ndarray:
         """Bin means of a quantity evaluated on the phase grid (weighted as the samples are)."""
         g = self.grid
-        return np.bincount(g["bin"], weights=g["w"] * y, minlength=self.counts.size) / np.maximum(self.counts, 1)
+        return np.bincount(g["bin"], weights=g["w"] * np.asarray(y)[g["map"]],
+                           minlength=self.counts.size) / np.maximum(self.counts, 1)
 
 
 #: phase quanta per bin of the model grid (the samples' phases are rounded to 1/Q of a bin)
 Q = 16
 
 
-def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callable) -> dict[str, np.ndarray]:
+def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callable,
+               bins: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """One cycle of the (periodic) model inputs at the distinct sample phases.
 
     In the steady window x(t) is periodic in ψ = ωt + θ, so every model force
@@ -76,13 +79,27 @@ def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callab
     longer grows with the record length.
     """
     q = np.minimum((psi / (2 * math.pi) * B * Q).astype(np.int64), B * Q - 1)
-    uq, inv, w = np.unique(q, return_inverse=True, return_counts=True)
+    if bins is None:
+        bins = q // Q
+    # a cell is (the sample's own phase bin, its 1/Q sub-cell): bin membership is exactly the samples'
+    key = bins.astype(np.int64) * (B * Q) + q
+    ukey, inv, w = np.unique(key, return_inverse=True, return_counts=True)
     # the mean sample phase of each cell (exact when the sampling is commensurate with the cycle: a switch
     # of sgn(ẋ) then falls between the same samples as in the record)
-    pg = np.bincount(inv, weights=psi, minlength=uq.size) / w
-    tg = (pg - theta) / omega
+    pg = np.bincount(inv, weights=psi, minlength=ukey.size) / w
+    order = np.argsort(pg, kind="stable")  # cells in phase order (the key orders by bin first)
+    ukey, w, pg = ukey[order], w[order], pg[order]
+    # one sample phase split over two cells by round-off (time stamps written with finite digits) is evaluated
+    # once: twins closer than 1e-3 of the typical spacing of distinct phases are one point.  The model runs on
+    # the distinct points; each cell (with its own bin and weight) maps to its point
+    dp = np.diff(pg)
+    tol = max(1e-9, 1e-3 * float(np.median(dp[dp > 1e-9]))) if np.any(dp > 1e-9) else 1e-9
+    grp = np.concatenate([[0], np.cumsum(dp > tol)]).astype(np.int64)
+    pts = np.bincount(grp, weights=pg * w) / np.bincount(grp, weights=w.astype(float))
+    tg = (pts - theta) / omega
     xg, xdg, xddg = xfun(tg)
-    return {"t": tg, "x": xg, "xd": xdg, "xdd": xddg, "bin": (uq // Q).astype(np.int64), "w": w.astype(float)}
+    return {"t": tg, "x": xg, "xd": xdg, "xdd": xddg, "map": grp, "bin": (ukey // (B * Q)).astype(np.int64),
+            "w": w.astype(float)}
 
 
 def fourier_x(t: np.ndarray, x: np.ndarray, omega: float, theta: float, H: int = 5) -> Callable:
@@ -208,7 +225,7 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     describe = getattr(win, "describe", None)
     return TestData(rec.test, est.omega, est.A, est.x0, est.theta, t, F, xs, xd, xdd, xfun, bins, counts, Fbar,
                     sigma, x, describe() if callable(describe) else "", cycle_stats(t, F, est.omega, est.theta, x),
-                    phase_grid(psi, B, est.theta, est.omega, xfun))
+                    phase_grid(psi, B, est.theta, est.omega, xfun, bins))
 
 
 def _bin_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray, B: int) -> float:
