@@ -62,6 +62,11 @@ class ChainModel:
         ``contact_ref_force``.
     contact_ref_force : float
         Reference force [N] for ``contact_exponent`` (default 10 kN).
+    ea_scale : float
+        Factor (> 0) on the links' own linear axial stiffness (the straight + curved bar terms of Eq. 15):
+        the linear compliance c_lin becomes c_lin / ea_scale.  The "stiffness level" of the gap diagnosis
+        (a base model that is itself stiffer or softer than the derivation; unlike ``compliance`` it can
+        also stiffen the chain).
     """
 
     chain: ChainSpec = field(default_factory=default_chain)
@@ -71,6 +76,7 @@ class ChainModel:
     hertz_scale: float = 1.0
     contact_exponent: float | None = None
     contact_ref_force: float = 1.0e4
+    ea_scale: float = 1.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "chain", kernels.resolve_chain(self.chain))
@@ -87,6 +93,8 @@ class ChainModel:
             )
         if not (np.isfinite(self.contact_ref_force) and self.contact_ref_force > 0):
             raise ValueError(f"ChainModel.contact_ref_force = {self.contact_ref_force!r} is invalid: valid range > 0 N")
+        if not (np.isfinite(self.ea_scale) and 1e-3 <= self.ea_scale <= 1e3):
+            raise ValueError(f"ChainModel.ea_scale = {self.ea_scale!r} is invalid: valid range 0.001 to 1000")
         kernels.variant_module(self.variant)  # validates the name
 
     @property
@@ -102,6 +110,7 @@ class ChainModel:
     def coefficients(self) -> tuple[float, ...]:
         """Kernel coefficients: (c_lin + compliance [mm/N], c_hertz [mm/N^β]) and β if set."""
         c_lin, c_h = kernels.coefficients(self.chain, self.variant)
+        c_lin /= self.ea_scale
         c_h *= self.hertz_scale
         if self.contact_exponent is None:
             return c_lin + self.compliance, c_h

@@ -1,16 +1,35 @@
-"""Small blind benchmark (issue 4)."""
+"""Small blind benchmark (issues 4 and 10): single, mismatch, compound, control; rates by hand from the rows."""
 
 from __future__ import annotations
 
-from chainid.gap.benchmark import run_benchmark
+import json
+
+from chainid.gap.benchmark import canon, grid, run_benchmark
 
 
-def test_small_benchmark(capsys):
-    s = run_benchmark(small=True, processes=2)
-    out = capsys.readouterr().out
-    assert "confusion matrix" in out
+def test_small_benchmark(capsys, tmp_path):
+    out = tmp_path / "b.json"
+    s = run_benchmark(small=True, scheduler="processes", n_workers=2, progress=False, json_path=str(out))
+    text = capsys.readouterr().out
+    assert "compound cases, both causes named" in text and "control gives none" in text
+    rows = s["rows"]
+    assert len(rows) == len(grid(small=True)) == s["n_cases"]
+    # every family is present and each rate agrees with a count from the rows
+    fams = {r["family"] for r in rows}
+    assert fams == {"single", "control", "mismatch", "mismatch+", "pair"}
+    comp = [r for r in rows if r["family"] in ("mismatch+", "pair") and r["snr"] >= 3]
+    both = sum(set(canon(r["truth"])) <= canon(r["verdict"]) for r in comp) / len(comp)
+    assert s["compound_both_named_rate"] == both
+    assert both >= 0.75  # 4 compound cases: at most one miss
     assert s["control_none_rate"] == 1.0
-    assert s["right_rate_snr3"] >= 0.9
+    single = [r for r in rows if r["family"] == "single" and r["snr"] >= 3]
+    assert sum(canon(r["verdict"]) == canon(r["truth"]) for r in single) == len(single)
     assert s["median_shrinkage_when_right"] >= 0.7
-    # the out-of-library drift is never given a library name
-    assert set(s["drift_verdicts"]) <= {"none", "unexplained"}
+    doc = json.loads(out.read_text())
+    assert doc["n_cases"] == len(rows)
+
+
+def test_canonical_names():
+    assert canon("machine_compliance+friction") == {"stiffness_level", "friction"}
+    assert canon("none") == set() and canon("unexplained") == set()
+    assert canon(["machine_compliance"]) == {"stiffness_level"}

@@ -1,25 +1,41 @@
-"""``chainid benchmark-gap``: blind diagnosis of simulated data with a withheld effect.
+"""``chainid benchmark-gap``: blind diagnosis of simulated data with withheld effects.
 
-Grid: every library effect at three strengths, two noise levels, two chain
-sizes and two test plans, plus a no-effect control and an out-of-library
-effect (slow linear drift of the mean force).  The diagnosis sees only the
-records and the held-out ids.  "Residual over noise" of a case is the
-baseline's *diagnosed* systematic held-out residual over the noise σ (what
-the effect leaves after the baseline absorbs what it can).
+Case families (the diagnosis sees only the records, the nominal chain and the held-out ids):
+
+* ``single``     — every library effect alone at three strengths, two noise levels, two chains, two plans;
+* ``mismatch``   — the base model itself off: the links' linear stiffness EA × 0.7 … 1.4, or the Hertz
+  contact compliance × 0.5 … 2;
+* ``mismatch+``  — a base-model mismatch plus each library effect;
+* ``pair``       — two library effects together;
+* ``control``    — no effect at all;
+* ``outside``    — effects outside the library: a slow linear drift and an exponential relaxation of the
+  mean force within each test.
+
+"Residual over noise" (snr) of a case is the baseline's systematic held-out residual over the noise σ.
+Cases run in parallel through :func:`chainid.parallel.run_cases` (dask LocalCluster by default, an existing
+cluster by address, a process pool without dask).
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import replace
-from multiprocessing import get_context
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .effects import EFFECT_NAMES, parse_effect
 
-LABELS = ("none",) + EFFECT_NAMES + ("unexplained", "other")
+#: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
+CANONICAL = {"machine_compliance": "stiffness_level"}
+
+
+def canon(names: Any) -> set[str]:
+    """Canonical effect names of a verdict string or list."""
+    if isinstance(names, str):
+        names = [] if names in ("none", "unexplained") else names.split("+")
+    return {CANONICAL.get(n, n) for n in names}
 
 
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
@@ -49,7 +65,12 @@ def _chains() -> dict[str, Any]:
     return {"14x50": c, "small": replace(c, d=10.0, pitch=35.0, width=12.0)}
 
 
-def _spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float) -> str:
+def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float) -> str:
+    """``--effect`` text of a library effect at a relative strength ``level`` (1 = typical).
+
+    S [N] is the median dynamic force k_e·A of the plan, k [N/mm] the median stiffness, Amin [mm] the
+    smallest amplitude, wmax [rad/s] the highest frequency.
+    """
     if effect == "friction":
         return f"friction:F_c={0.1 * level * S:.6g}"
     if effect == "hysteresis":
@@ -60,6 +81,8 @@ def _spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: floa
         return f"slack:s={0.1 * level * Amin:.6g}"
     if effect == "machine_compliance":
         return f"machine_compliance:c={0.1 * level / k:.6g}"
+    if effect == "stiffness_level":
+        return f"stiffness_level:scale={1 - 0.1 * level if level < 3 else 1.3:.6g}"
     if effect == "contact_law":
         return f"contact_law:scale={1 + 0.3 * level:.6g}"
     if effect == "sensor_delay":
@@ -67,8 +90,22 @@ def _spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: floa
     return f"damping_law:eta={0.1 * level:.6g}"
 
 
+def _outside_hook(kind: str, level: float, S: float) -> Any:
+    if kind == "drift":
+        rate = 0.05 * level * S
+
+        def hook(t, x, xd, xdd, F):  # noqa: ANN001
+            return F + rate * t / t[-1]
+    else:  # relaxation of the mean force within each test, time constant a third of the test
+        dF = 0.1 * level * S
+
+        def hook(t, x, xd, xdd, F):  # noqa: ANN001
+            return F - dF * (1.0 - np.exp(-3.0 * t / t[-1]))
+    return hook
+
+
 def run_case(case: dict[str, Any]) -> dict[str, Any]:
-    """Simulate one case and diagnose it blind."""
+    """Simulate one case and diagnose it blind; returns the case with the verdict and scores."""
     from ..identify import PolynomialLaw
     from ..models import ChainModel
     from ..simulate import simulate
@@ -76,130 +113,133 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
 
     chain = _chains()[case["chain"]]
     plan = _plans()[case["plan"]]
-    model = ChainModel(chain)
+    nominal = ChainModel(chain)
+    true = ChainModel(chain, ea_scale=case.get("ea_scale", 1.0), hertz_scale=case.get("hertz_scale", 1.0))
     x0s = np.array([p.x0 for p in plan])
     As = np.array([p.A for p in plan])
-    k = float(np.median(model.stiffness(x0s)))
-    S = float(np.median(model.stiffness(x0s) * As))
+    k = float(np.median(nominal.stiffness(x0s)))
+    S = float(np.median(nominal.stiffness(x0s) * As))
     wmax = max(p.omega for p in plan)
     law = PolynomialLaw([0.0, 0.0, 0.0, 0.0, 0.02 * k / wmax])  # ~2 % loss at the top frequency
-    hook = None
-    truth = case["effect"]
-    if truth in EFFECT_NAMES:
-        hook = parse_effect(_spec(truth, case["level"], S, k, float(As.min()), wmax), model)
-    elif truth == "drift":
-        rate = 0.05 * case["level"] * S
+    hooks = []
+    for eff, lv in zip(case["effects"], case["levels"]):
+        if eff in EFFECT_NAMES:
+            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax), true))
+        else:
+            hooks.append(_outside_hook(eff, lv, S))
 
-        def hook(t, x, xd, xdd, F):  # noqa: ANN001
-            return F + rate * t / t[-1]
+    def hook(t, x, xd, xdd, F):  # noqa: ANN001
+        for h in hooks:
+            F = h(t, x, xd, xdd, F)
+        return F
+
     sigma = case["noise"] * S
-    recs = simulate(plan, model, law, n_cycles=8, samples_per_cycle=256, noise_F=sigma, seed=case["seed"])
-    if hook is not None:
-        recs = simulate(plan, model, law, n_cycles=8, samples_per_cycle=256, noise_F=sigma, seed=case["seed"],
-                        force_fn=hook)
+    recs = simulate(plan, true, law, n_cycles=8, samples_per_cycle=256, noise_F=sigma, seed=case["seed"],
+                    force_fn=hook if hooks else None)
     ids = [p.test for p in plan]
     hold = [ids[2], ids[len(ids) // 2], ids[-1]]
-    t0 = time.time()
-    res = diagnose(recs, hold, model, uncertainty=False)
+    t0 = time.perf_counter()
+    try:
+        res = diagnose(recs, hold, nominal, uncertainty=False, quiet=True)
+    except Exception as exc:  # a crash is a miss to report, not the end of the run
+        return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
+                "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None}
     best = res.get("best") or {}
     b = res["baseline"]
-    return {**case, "verdict": res["verdict"], "seconds": time.time() - t0,
+    last = res["steps"][-1] if res.get("steps") else {}
+    return {**case, "verdict": res["verdict"], "seconds": time.perf_counter() - t0,
             "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
-            "shrinkage": best.get("shrinkage"), "best": best.get("effect"), "params": best.get("params")}
+            "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
+            "steps": [s["effect"] for s in res.get("steps", [])[1:]], "params": last.get("params"),
+            "stationary": res["residual"]["stationary"]}
 
 
 def grid(small: bool = False, seed: int = 0) -> list[dict[str, Any]]:
-    cases = []
-    effects = list(EFFECT_NAMES)
-    levels = (0.3, 1.0, 3.0)
-    noises = (0.01, 0.03)
-    chains = ("14x50", "small")
-    plans = ("grid3x3", "grid4x3")
-    if small:
-        levels, noises, chains, plans = (1.0,), (0.01,), ("14x50",), ("grid3x3",)
+    """The benchmark cases (``small``: a subset for the tests)."""
+    cases: list[dict[str, Any]] = []
     s = seed
+
+    def add(family: str, truth: list[str], effects: list[str], levels: list[float], noise: float, chain: str,
+            plan: str, **kw: Any) -> None:
+        nonlocal s
+        s += 1
+        cases.append({"family": family, "truth": truth, "effects": effects, "levels": levels, "noise": noise,
+                      "chain": chain, "plan": plan, "seed": s, **kw})
+
+    singles = list(EFFECT_NAMES)
+    levels, noises, chains, plans = (0.3, 1.0, 3.0), (0.01, 0.03), ("14x50", "small"), ("grid3x3", "grid4x3")
+    if small:
+        singles = ["friction", "stiffness_level"]
+        levels, noises, chains, plans = (1.0,), (0.01,), ("14x50",), ("grid3x3",)
     for ch in chains:
         for pl in plans:
             for nz in noises:
-                for e in effects + ["drift"]:
+                for e in singles:
                     for lv in levels:
-                        s += 1
-                        cases.append({"effect": e, "level": lv, "noise": nz, "chain": ch, "plan": pl, "seed": s})
-                for rep in range(2 if small else 3):
-                    s += 1
-                    cases.append({"effect": "none", "level": 0.0, "noise": nz, "chain": ch, "plan": pl, "seed": s})
+                        add("single", [e], [e], [lv], nz, ch, pl)
+                for rep in range(1 if small else 3):
+                    add("control", [], [], [], nz, ch, pl)
+    # base-model mismatch alone, and with each library effect (the effect at its typical strength)
+    mism = [("stiffness_level", {"ea_scale": v}) for v in (0.7, 0.85, 1.2, 1.4)] + \
+           [("contact_law", {"hertz_scale": v}) for v in (0.5, 2.0)]
+    others = ["friction", "hysteresis", "backlash", "slack", "sensor_delay", "damping_law"]
+    if small:
+        mism, others = [("stiffness_level", {"ea_scale": 0.8})], ["friction"]
+    for ch in chains:
+        for nz in noises:
+            for m, kw in mism:
+                add("mismatch", [m], [], [], nz, ch, "grid3x3", **kw)
+            for i, e in enumerate(others):
+                m, kw = mism[i % len(mism)]
+                add("mismatch+", [m, e], [e], [1.0], nz, ch, "grid3x3", **kw)
+    pairs = [("friction", "sensor_delay"), ("backlash", "damping_law"), ("hysteresis", "slack"),
+             ("friction", "slack"), ("backlash", "sensor_delay"), ("hysteresis", "damping_law")]
+    if small:
+        pairs = [("friction", "sensor_delay")]
+    for ch in chains:
+        for nz in noises:
+            for a, b in pairs:
+                add("pair", [a, b], [a, b], [1.0, 1.0], nz, ch, "grid3x3")
+    outside = [] if small else [("drift", lv) for lv in (1.0, 3.0)] + [("relaxation", lv) for lv in (1.0, 3.0)]
+    for ch in chains:
+        for nz in noises:
+            for kind, lv in outside:
+                add("outside", [kind], [kind], [lv], nz, ch, "grid3x3")
     return cases
 
 
-def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    truths = sorted({r["effect"] for r in rows}, key=lambda e: (e != "none", e))
-    preds = list(LABELS)
-    conf = {t: {p: 0 for p in preds} for t in truths}
-    for r in rows:
-        v = r["verdict"]
-        conf[r["effect"]][v if v in preds else "other"] += 1
-    strong = [r for r in rows if r["effect"] in EFFECT_NAMES and r["snr"] >= 3]
-    right = [r for r in strong if r["verdict"] == r["effect"]]
-    partial = [r for r in strong if r["effect"] in r["verdict"].split("+")]
-    shr = [r["shrinkage"] for r in rows if r["effect"] in EFFECT_NAMES and r["effect"] in r["verdict"].split("+")
-           and r["shrinkage"] is not None]
-    ctrl = [r for r in rows if r["effect"] == "none"]
-    drift = [r for r in rows if r["effect"] == "drift"]
-    return {
-        "n_cases": len(rows),
-        "confusion": conf,
-        "right_rate_snr3": len(right) / len(strong) if strong else None,
-        "contains_rate_snr3": len(partial) / len(strong) if strong else None,
-        "n_snr3": len(strong),
-        "median_shrinkage_when_right": float(np.median(shr)) if shr else None,
-        "control_none_rate": sum(r["verdict"] == "none" for r in ctrl) / len(ctrl) if ctrl else None,
-        "false_alarm_rate": sum(r["verdict"] != "none" for r in ctrl) / len(ctrl) if ctrl else None,
-        "drift_verdicts": {v: sum(r["verdict"] == v for r in drift) for v in sorted({r["verdict"] for r in drift})},
-        "median_seconds": float(np.median([r["seconds"] for r in rows])),
-        "rows": rows,
-    }
-
-
-def format_summary(s: dict[str, Any]) -> str:
-    preds = [p for p in LABELS if any(s["confusion"][t][p] for t in s["confusion"])]
-    w = max(len(p) for p in preds) + 1
-    lines = ["confusion matrix (rows: true effect, columns: verdict)",
-             " " * 20 + "".join(f"{p[:w - 1]:>{w}}" for p in preds)]
-    for t, row in s["confusion"].items():
-        lines.append(f"{t:<20}" + "".join(f"{row[p]:>{w}}" for p in preds))
-    f = lambda v: "n/a" if v is None else f"{100 * v:.1f} %"  # noqa: E731
-    lines += [
-        f"right verdicts where residual >= 3x noise: {f(s['right_rate_snr3'])} of {s['n_snr3']} "
-        f"(verdict contains the effect: {f(s['contains_rate_snr3'])})",
-        f"median held-out shrinkage when right: {f(s['median_shrinkage_when_right'])}",
-        f"control gives none: {f(s['control_none_rate'])}; false-alarm rate {f(s['false_alarm_rate'])}",
-        f"out-of-library drift verdicts: {s['drift_verdicts']}",
-        f"median diagnosis time {s['median_seconds']:.2f} s over {s['n_cases']} cases",
-    ]
-    return "\n".join(lines)
-
-
-def _ignore_sigint() -> None:
-    """Pool workers leave Ctrl-C to the parent (which stops the pool): one message, no worker tracebacks."""
-    import signal
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
-                  processes: int = 2) -> dict[str, Any]:
-    """Run the grid, print the confusion matrix and summary, optionally write JSON."""
-    if json_path:  # before the grid runs
-        from ..fileio import check_output_file
+                  scheduler: str | None = None, n_workers: int | None = None,
+                  progress: bool = True) -> dict[str, Any]:
+    """Run the grid in parallel, print the summary, optionally write JSON (atomically).
 
-        check_output_file(json_path, force=overwrite, what="--json")
+    Parameters
+    ----------
+    small : run the small subset
+    json_path : write the summary and every row here
+    overwrite : replace an existing ``json_path``
+    seed : first noise seed
+    scheduler : None/"local" (dask LocalCluster or a process pool), "processes", "serial", or a dask address
+    n_workers : worker processes (default: the machine's cores)
+    progress : progress bar on stderr
+    """
+    from ..parallel import run_cases
+    from .benchmark_report import format_summary, summarise, write_summary
+
+    if json_path:  # check the target before the long work
+        p = Path(json_path)
+        if p.is_dir():
+            raise ValueError(f"--json {json_path!r} is a directory; give a file name")
+        if p.exists() and not overwrite:
+            raise ValueError(f"--json {json_path!r} already exists; refusing to overwrite it (use --force)")
+        if not p.resolve().parent.is_dir():
+            raise ValueError(f"--json {json_path!r}: folder {str(p.resolve().parent)!r} does not exist")
     cases = grid(small, seed)
-    if processes > 1:
-        with get_context("fork").Pool(processes, initializer=_ignore_sigint) as pool:
-            rows = pool.map(run_case, cases, chunksize=1)
-    else:
-        rows = [run_case(c) for c in cases]
+    t0 = time.perf_counter()
+    rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=n_workers, progress=progress,
+                     desc="benchmark-gap")
     s = summarise(rows)
+    s["wall_seconds"] = time.perf_counter() - t0
     print(format_summary(s))
     if json_path:
         from ..fileio import write_json  # strict JSON (null for NaN), temp file + rename

@@ -30,6 +30,7 @@ except Exception:  # pragma: no cover
         return deco if not (a and callable(a[0])) else a[0]
 
 EFFECT_NAMES = (
+    "stiffness_level",
     "friction",
     "hysteresis",
     "contact_law",
@@ -98,15 +99,37 @@ def dahl_operator(x: np.ndarray, F_h: float, x_h: float, periodic: bool = True) 
     return _dahl(x, float(F_h), xh, 0.0)
 
 
+def coulomb_sign(xd: np.ndarray, periodic: bool = True) -> np.ndarray:
+    """sgn(ẋ) of Coulomb sliding, with 0 for a sample that lies at a reversal.
+
+    A sample whose neighbours move in opposite directions and whose speed is below half of theirs is closer
+    to the turning point than half a sample step: the set-valued friction force there is taken at its
+    midpoint, 0, so the sign does not depend on round-off in t or x (or on which side of the turning point a
+    quantised time stamp falls).  ``periodic``: the series is one cycle (neighbours wrap around).
+    """
+    xd = np.asarray(xd, dtype=float)
+    s = np.sign(xd)
+    if xd.size < 3:
+        return s
+    a = np.abs(xd)
+    prev, nxt = np.roll(a, 1), np.roll(a, -1)
+    near = (np.roll(s, 1) * np.roll(s, -1) < 0) & (a < 0.5 * np.minimum(prev, nxt))
+    if not periodic:
+        near[0] = near[-1] = False
+    return np.where(near, 0.0, s)
+
+
 def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True) -> np.ndarray:
     """Normalised Coulomb friction with elastic stick (Jenkins element), in [-1, 1].
 
     After a reversal the contact sticks elastically over a travel 2·x_s [mm]
-    before sliding again (stop operator (x − play(x, x_s))/x_s); x_s = 0 gives
-    sgn(ẋ), pure Coulomb sliding friction.
+    before sliding again (stop operator (x − play(x, x_s))/x_s); x_s = 0 (or below
+    1e-4 of the stroke) gives sgn(ẋ), pure Coulomb sliding friction.
     """
-    if x_s <= 0:
-        return np.sign(xd)
+    x = np.asarray(x, dtype=float)
+    if x_s <= 1e-4 * (float(np.ptp(x)) if x.size else 0.0):
+        # a stick travel below 1e-4 of the stroke is not resolved by any record: pure Coulomb sliding.
+        return coulomb_sign(xd, periodic)
     return (np.asarray(x, float) - play_operator(x, x_s, periodic)) / x_s
 
 
@@ -125,6 +148,31 @@ def series_compliance_force(model: Any, x: np.ndarray, c: float, iters: int = 8)
         k = np.asarray(model.stiffness(xs), dtype=float)
         F = F - g / (1.0 + c * k)
     return F
+
+
+#: effects that change the stiffness model itself (composed first; the other effects act on the result)
+STIFFNESS_SIDE = ("stiffness_level", "contact_law", "slack", "machine_compliance")
+
+
+def modify_model(name: str, p: dict[str, float], model: Any) -> Any:
+    """The chain model with the stiffness-side effect ``name`` applied (parameters ``p`` in its units).
+
+    Composition is what makes effects combine physically: a delay or friction then acts on the corrected
+    stiffness (a sum of separate force corrections would miss their cross terms).
+    """
+    if not _is_chain(model):
+        raise ValueError(f"effect {name!r} needs a chain model (not --model linear)")
+    if name == "stiffness_level":
+        return replace(model, ea_scale=model.ea_scale * p.get("scale", 1.0))
+    if name == "slack":
+        return replace(model, slack=model.slack + p.get("s", 0.0))
+    if name == "machine_compliance":
+        return replace(model, compliance=model.compliance + p.get("c", 0.0))
+    if name == "contact_law":
+        beta = p.get("beta", 2.0 / 3.0)
+        return replace(model, hertz_scale=model.hertz_scale * p.get("scale", 1.0),
+                       contact_exponent=None if abs(beta - 2.0 / 3.0) < 1e-9 else beta)
+    raise ValueError(f"effect {name!r} is not a stiffness-side effect; those are: {', '.join(STIFFNESS_SIDE)}")
 
 
 def _is_chain(model: Any) -> bool:
@@ -202,6 +250,11 @@ class Effect:
             F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0))), dtype=float)
         elif self.name == "slack":
             F = inert + np.asarray(model.force(x - p.get("s", 0.0)), dtype=float)
+        elif self.name == "stiffness_level":
+            if not _is_chain(model):
+                raise ValueError("effect 'stiffness_level' needs a chain model (a linear spring's k is fitted already)")
+            mod = replace(model, ea_scale=model.ea_scale * p.get("scale", 1.0))
+            F = inert + np.asarray(mod.force(x), dtype=float)
         elif self.name == "machine_compliance":
             c = p.get("c", 0.0)
             if _is_chain(model):
@@ -267,6 +320,10 @@ def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max
     if name == "slack":
         return Effect(name, ("s",), ("mm",), ((-5.0 * x_scale, 5.0 * x_scale),), (0.0,), chain_only=True,
                       description="displacement offset s (permanent elongation, clearance, sensor zero)")
+    if name == "stiffness_level":
+        return Effect(name, ("scale",), ("-",), ((0.2, 5.0),), (1.0,), chain_only=True,
+                      description="stiffness level of the base model: factor on the links' linear axial "
+                                  "stiffness EA (compliance c_lin/scale); < 1 softer, > 1 stiffer")
     if name == "machine_compliance":
         return Effect(name, ("c",), ("mm/N",), ((0.0, 1e-2),), (1e-6,), chain_only=True,
                       description="series compliance c of test machine / fixture")
@@ -307,6 +364,7 @@ def parse_spec(spec: str) -> tuple[str, dict[str, float]]:
 
 
 DEFAULTS = {
+    "stiffness_level": {"scale": 1.0},
     "friction": {"F_c": 0.0, "mu": 0.0, "x_s": 0.0},
     "hysteresis": {"F_h": 0.0, "x_h": 0.05},
     "backlash": {"b": 0.0},

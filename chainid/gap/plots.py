@@ -3,7 +3,8 @@
 loops.png — measured (cycle-averaged) / baseline / augmented loops per held-out test;
 residual_phase.png — baseline residual vs cycle phase per test;
 residual_surface.png — baseline residual over (x, ẋ) (multi-valued = memory);
-heatmap.png — per-test NRMSE before / after over (ω, A).
+heatmap.png — per-test NRMSE before / after over (ω, A);
+waterfall.png — the explanation chain: held-out NRMSE after each step, down to the noise floor.
 """
 
 from __future__ import annotations
@@ -16,11 +17,11 @@ import numpy as np
 
 
 #: The files :func:`make_plots` writes, in order.
-PLOT_NAMES = ("loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png")
+PLOT_NAMES = ("loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png", "waterfall.png")
 
 
 def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -> list[Path]:
-    """Write the four figures (:data:`PLOT_NAMES`) atomically; returns their paths.
+    """Write the five figures (:data:`PLOT_NAMES`) atomically; returns their paths.
 
     With ``force`` False an existing file of those names is an error (checked before drawing).
     """
@@ -114,4 +115,7 @@ def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -
     fig.subplots_adjust(bottom=0.16, right=0.84)
     fig.colorbar(sc, cax=fig.add_axes([0.87, 0.16, 0.02, 0.72]), label="NRMSE per test")
     paths.append(save(fig, "heatmap.png"))
+    from .plot_steps import waterfall_figure
+
+    paths.append(save(waterfall_figure(result), "waterfall.png"))
     return paths

@@ -120,10 +120,5 @@ def localise(prob: Any, base_eval: dict[str, Any]) -> list[dict[str, Any]]:
                      f"(closest form: {classify_slopes(sl['slope_A'], sl['slope_omega'])}; viscous (2,1), hysteretic "
                      "(2,0), Coulomb (1,0), micro-slip (3,0))", "kind": "energy", **sl, "score": 0.0,
                      "delay_phase_k123": [float(v) for v in ph]})
-    drift = math.sqrt(np.mean([d.drift**2 for d in prob.data]))
-    dse = math.sqrt(np.mean([d.drift_se**2 for d in prob.data]))
-    if drift > 5 * dse:
-        findings.append({"finding": f"slow drift of the force within tests, RMS {drift:.3g} N (not periodic; outside "
-                         "the effect library)", "kind": "drift", "drift_N": drift, "score": drift})
     findings.sort(key=lambda f: -f.get("score", 0.0))
     return findings

@@ -1,0 +1,95 @@
+"""The diagnosis in an engineer's words: mechanisms, step texts, how to separate confounded effects."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+#: The physical family of each library effect (JSON field ``mechanism``).
+MECHANISM = {"friction": "friction", "hysteresis": "hysteresis", "backlash": "play",
+             "slack": "displacement offset", "machine_compliance": "stiffness", "contact_law": "stiffness",
+             "stiffness_level": "stiffness", "sensor_delay": "instrumentation", "damping_law": "damping form"}
+
+
+def mechanism(verdict: str, interpretation: str) -> str:
+    """The verdict's physical families joined by ``+`` (Dahl hysteresis with x_h << A counts as friction).
+
+    ``none`` and ``unexplained`` map to themselves.
+    """
+    if verdict in ("none", "unexplained"):
+        return verdict
+    fams: list[str] = []
+    for name in verdict.split("+"):
+        fam = MECHANISM.get(name, name)
+        if name == "hysteresis" and "Dahl friction" in interpretation:
+            fam = "friction"
+        if fam not in fams:
+            fams.append(fam)
+    return "+".join(fams)
+
+
+def separating_test(a: str, b: str) -> str:
+    """A test that would separate two near-tied effects."""
+    s = {a, b}
+    if s == {"friction", "hysteresis"}:
+        return "a small-amplitude test (A comparable to the hysteresis travel x_h) separates sliding from smooth hysteresis"
+    if "sensor_delay" in s:
+        return "tests over a wider frequency range (a delay's phase grows with ω)"
+    if "damping_law" in s or "friction" in s:
+        return "tests over a wider amplitude range at fixed ω (Coulomb ∝ 1/A, viscous ∝ 1)"
+    return "tests over a wider mean-load range x0 (stiffness-side effects scale differently with load)"
+
+
+def _fmt(v: float | None, sd: float | None = None) -> str:
+    if v is None:
+        return "?"
+    s = f"{v:.4g}"
+    if sd is not None and math.isfinite(sd) and sd > 0:
+        s += f" ± {sd:.2g}"
+    return s
+
+
+def step_text(step: dict[str, Any]) -> str:
+    """One link of the explanation chain, e.g. ``stiffness level −21 % (EA × 0.79 ± 0.01)``."""
+    e = step["effect"]
+    p, sd = step["params"], step.get("params_sd", {})
+    tail = f" [held-out NRMSE {step['nrmse_holdout']:.3g}]" if step.get("nrmse_holdout") is not None else ""
+    if e == "baseline":
+        return f"baseline{tail}"
+    pre = f"{e}."
+    mine = {k[len(pre):]: v for k, v in p.items() if k.startswith(pre)}
+    msd = {k[len(pre):]: v for k, v in sd.items() if k.startswith(pre)}
+    if e == "stiffness_level" and mine.get("scale") is not None:
+        sc = mine["scale"]
+        return f"stiffness level {100 * (sc - 1):+.0f} % (EA × {_fmt(sc, msd.get('scale'))}){tail}"
+    if e == "contact_law":
+        return (f"contact law: Hertz compliance × {_fmt(mine.get('scale'), msd.get('scale'))}, exponent "
+                f"{_fmt(mine.get('beta'), msd.get('beta'))} (Hertz 0.667){tail}")
+    units = {"F_c": "N", "mu": "", "x_s": "mm", "F_h": "N", "x_h": "mm", "b": "mm", "s": "mm", "c": "mm/N",
+             "tau": "s", "eta": "", "F_f": "N"}
+    ps = ", ".join(f"{k} = {_fmt(v, msd.get(k))}{(' ' + units.get(k, '')) if units.get(k) else ''}"
+                   for k, v in mine.items())
+    return f"{e} {ps}{tail}".rstrip()
+
+
+def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
+    """Readable meaning of the final fit (Dahl friction, stiffness level, equivalent series compliance)."""
+    if len(path) < 2:
+        return ""
+    final = path[-1]
+    out = []
+    if "hysteresis" in final.names:
+        xh = final.params.get("hysteresis.x_h", float("nan"))
+        amin = min(d.A for d in prob.data)
+        if xh < 0.5 * amin:
+            out.append(f"Dahl-type hysteresis with transition travel x_h = {xh:.3g} mm << A (>= {amin:.3g} mm): "
+                       "rate-independent frictional sliding with smooth pre-sliding (Dahl friction)")
+    if "stiffness_level" in final.names and getattr(prob.model, "coefficients", None) is not None:
+        sc = final.params.get("stiffness_level.scale", 1.0)
+        c_lin = prob.model.coefficients[0]
+        extra = c_lin * (1.0 / sc - 1.0)
+        kind = "softer" if sc < 1 else "stiffer"
+        out.append(f"the chain is {abs(100 * (sc - 1)):.0f} % {kind} in its linear (bar) term than the derivation; "
+                   f"equivalently a series compliance of {extra:+.3g} mm/N (test machine, fixtures, a larger "
+                   "contact flattening)")
+    return "; ".join(out)

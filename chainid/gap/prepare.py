@@ -1,0 +1,253 @@
+"""Prepare one record for the diagnosis: steady window, phase bins, noise, cycle statistics.
+
+Each test's steady window (:mod:`chainid.records`) is folded into ``B`` phase
+bins of ψ = ωt + θ (x = x0 + A sin ψ).  The cycle-averaged force per bin is the
+"measured" force used for all errors (noise averaged over the cycles); the
+noise σ [N] is the cycle-to-cycle scatter within the bins (a local regression on
+phase and time removed), so the noise floor of a bin mean is σ/√n_bin.
+
+Per whole cycle the mean force and the force's first harmonic (in phase with x
+and with ẋ) are kept: a displacement-controlled test whose x is periodic must
+give a periodic force under any static effect, so a trend of these over the
+cycles is a non-stationarity that no static library member explains
+(:mod:`chainid.gap.stationarity`).
+
+Units: t s, x mm, F N, ω rad/s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+
+@dataclass
+class TestData:
+    """Steady window of one test prepared for the diagnosis (units mm, N, s)."""
+
+    __test__ = False
+    test: str
+    omega: float
+    A: float
+    x0: float
+    theta: float
+    t: np.ndarray
+    F: np.ndarray
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+    xfun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+    bins: np.ndarray
+    counts: np.ndarray
+    Fbar: np.ndarray
+    sigma: float
+    x_meas: np.ndarray
+    window: str = ""
+    #: per whole cycle: mid time [s], mean force [N], in-phase (sin ψ) and quadrature (cos ψ) force amplitude [N]
+    cycles: dict[str, np.ndarray] = field(default_factory=dict)
+    #: one model cycle at the distinct sample phases (see :func:`phase_grid`): t [s], x [mm], ẋ, ẍ per point;
+    #: map (cell → point), bin and weight per cell
+    grid: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def binmean(self, y: np.ndarray) -> np.ndarray:
+        """Bin means of a per-sample quantity ``y`` over the phase bins."""
+        return np.bincount(self.bins, weights=y, minlength=self.counts.size) / np.maximum(self.counts, 1)
+
+    def gridmean(self, y: np.ndarray) -> np.ndarray:
+        """Bin means of a quantity evaluated on the phase grid (weighted as the samples are)."""
+        g = self.grid
+        return np.bincount(g["bin"], weights=g["w"] * np.asarray(y)[g["map"]],
+                           minlength=self.counts.size) / np.maximum(self.counts, 1)
+
+
+#: phase quanta per bin of the model grid (the samples' phases are rounded to 1/Q of a bin)
+Q = 16
+
+
+def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callable,
+               bins: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """One cycle of the (periodic) model inputs at the distinct sample phases.
+
+    In the steady window x(t) is periodic in ψ = ωt + θ, so every model force
+    (static, memory operators in their periodic steady state, a delay) is a
+    function of ψ alone: it is evaluated once per distinct phase, rounded to
+    1/Q of a bin (each cell at the mean phase of its samples), weighted by how
+    many samples fall there.  Exact for commensurate sampling, and the cost no
+    longer grows with the record length.
+    """
+    q = np.minimum((psi / (2 * math.pi) * B * Q).astype(np.int64), B * Q - 1)
+    if bins is None:
+        bins = q // Q
+    # a cell is (the sample's own phase bin, its 1/Q sub-cell): bin membership is exactly the samples'
+    key = bins.astype(np.int64) * (B * Q) + q
+    ukey, inv, w = np.unique(key, return_inverse=True, return_counts=True)
+    # the mean sample phase of each cell (exact when the sampling is commensurate with the cycle: a switch
+    # of sgn(ẋ) then falls between the same samples as in the record)
+    pg = np.bincount(inv, weights=psi, minlength=ukey.size) / w
+    order = np.argsort(pg, kind="stable")  # cells in phase order (the key orders by bin first)
+    ukey, w, pg = ukey[order], w[order], pg[order]
+    # one sample phase split over two cells by round-off (time stamps written with finite digits) is evaluated
+    # once: twins closer than 1e-3 of the typical spacing of distinct phases are one point.  The model runs on
+    # the distinct points; each cell (with its own bin and weight) maps to its point
+    dp = np.diff(pg)
+    tol = max(1e-9, 1e-3 * float(np.median(dp[dp > 1e-9]))) if np.any(dp > 1e-9) else 1e-9
+    grp = np.concatenate([[0], np.cumsum(dp > tol)]).astype(np.int64)
+    pts = np.bincount(grp, weights=pg * w) / np.bincount(grp, weights=w.astype(float))
+    tg = (pts - theta) / omega
+    xg, xdg, xddg = xfun(tg)
+    return {"t": tg, "x": xg, "xd": xdg, "xdd": xddg, "map": grp, "bin": (ukey // (B * Q)).astype(np.int64),
+            "w": w.astype(float)}
+
+
+def fourier_x(t: np.ndarray, x: np.ndarray, omega: float, theta: float, H: int = 5) -> Callable:
+    """A smooth periodic displacement model x(t), ẋ(t), ẍ(t) (H harmonics of ω, least squares) [mm, mm/s, mm/s²]."""
+    psi = omega * t + theta
+    cols = [np.ones_like(t)]
+    for k in range(1, H + 1):
+        cols += [np.cos(k * psi), np.sin(k * psi)]
+    coef, *_ = np.linalg.lstsq(np.column_stack(cols), x, rcond=None)
+
+    def f(ts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        ps = omega * np.asarray(ts, float) + theta
+        xv = np.full_like(ps, coef[0])
+        xd = np.zeros_like(ps)
+        xdd = np.zeros_like(ps)
+        for k in range(1, H + 1):
+            a, b = coef[2 * k - 1], coef[2 * k]
+            c, s = np.cos(k * ps), np.sin(k * ps)
+            xv += a * c + b * s
+            w = k * omega
+            xd += w * (-a * s + b * c)
+            xdd += -w * w * (a * c + b * s)
+        return xv, xd, xdd
+
+    return f
+
+
+class Unusable(ValueError):
+    """A test that cannot be analysed (no steady cycle, no harmonic fit): left out with this reason.
+
+    Data errors (NaN, t not increasing, compressive force not allowed) are plain ValueErrors and stop the run.
+    """
+
+
+def _estimate(rec: Any, allow_compression: bool, steady_tol: float | None) -> Any:
+    """The record's harmonic estimate with its steady window; :class:`Unusable` with the reason if none."""
+    from ..records import try_analyse
+
+    est, reason = try_analyse(rec, allow_compression=allow_compression, steady_tol=steady_tol)
+    if est is None:
+        raise Unusable(reason)
+    return est
+
+
+def cycle_stats(t: np.ndarray, F: np.ndarray, omega: float, theta: float,
+                x: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """Per whole cycle of ψ = ωt + θ (cycles counted from ψ = 0, only those fully inside the window):
+    mid time [s], mean force and its sin ψ / cos ψ amplitudes [N] (least squares per cycle); with ``x`` also
+    the cycle's mean displacement ``xm`` and amplitude ``xa`` [mm] (covariates of the trend test), and the
+    number of samples ``n``."""
+    z = np.zeros(0)
+    empty = {"t": z, "mean": z, "a": z, "b": z, "xm": z, "xa": z, "n": z}
+    psi = omega * t + theta
+    k = np.floor(psi / (2 * math.pi)).astype(np.int64)
+    k -= k[0]
+    n = int(k[-1]) + 1
+    if n < 3:
+        return empty
+    cnt = np.bincount(k, minlength=n).astype(float)
+    # whole cycles only: not the first or last (partial unless the window is phase-aligned), full sample count
+    full = np.zeros(n, bool)
+    full[1:-1] = True
+    med = np.median(cnt[1:-1]) if n > 2 else 0.0
+    full &= cnt >= 0.9 * med
+    if not np.any(full):
+        return empty
+    sn, cs = np.sin(psi), np.cos(psi)
+
+    def S(w: np.ndarray) -> np.ndarray:
+        return np.bincount(k, weights=w, minlength=n)
+
+    xx = x if x is not None else np.zeros_like(t)
+    M = np.stack([np.stack([cnt, S(sn), S(cs)], -1), np.stack([S(sn), S(sn * sn), S(sn * cs)], -1),
+                  np.stack([S(cs), S(sn * cs), S(cs * cs)], -1)], 1)[full]
+    rf = np.stack([S(F), S(F * sn), S(F * cs)], -1)[full]
+    rx = np.stack([S(xx), S(xx * sn), S(xx * cs)], -1)[full]
+    cf = np.linalg.solve(M, rf[..., None])[..., 0]
+    cx = np.linalg.solve(M, rx[..., None])[..., 0]
+    return {"t": S(t)[full] / cnt[full], "mean": cf[:, 0], "a": cf[:, 1], "b": cf[:, 2],
+            "xm": cx[:, 0], "xa": np.hypot(cx[:, 1], cx[:, 2]), "n": cnt[full]}
+
+
+def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
+                 steady_tol: float | None = None) -> TestData:
+    """Fold one record's steady window into phase bins; estimate the noise σ [N].
+
+    Parameters
+    ----------
+    rec : Record
+        One test (t s, x mm, F N).
+    n_bins : int
+        Largest number of phase bins per cycle (fewer when a cycle has few samples).
+    allow_compression : bool
+        Accept records whose force goes negative.
+    steady_tol : float, optional
+        Relative tolerance of the steady-cycle selection (None: adaptive, set from the record).
+
+    Raises
+    ------
+    Unusable
+        No steady cycle, or the harmonic estimate fails (the message says why).
+    ValueError
+        A data error in the record (NaN, t not increasing, compressive force not allowed).
+    """
+    est = _estimate(rec, allow_compression, steady_tol)
+    win = est.window
+    if win is None or win.n_cycles < 1:
+        raise Unusable("no steady cycles found")
+    m = (rec.t >= win.t_start) & (rec.t < win.t_end)
+    t, x, F = rec.t[m], rec.x[m], rec.F[m]
+    if t.size < 16:
+        raise Unusable(f"only {t.size} samples in the steady window (need >= 16)")
+    spc = t.size / max(win.n_cycles, 1)
+    B = int(max(8, min(n_bins, 4 * (int(spc) // 8))))
+    xfun = fourier_x(t, x, est.omega, est.theta, H=5)
+    xs, xd, xdd = xfun(t)
+    psi = np.mod(est.omega * t + est.theta, 2 * math.pi)
+    bins = np.minimum((psi / (2 * math.pi) * B).astype(np.int64), B - 1)
+    counts = np.bincount(bins, minlength=B).astype(float)
+    sigma = _bin_noise(t, F, psi, bins, B)
+    sigma = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
+    Fbar = np.bincount(bins, weights=F, minlength=B) / np.maximum(counts, 1)
+    describe = getattr(win, "describe", None)
+    return TestData(rec.test, est.omega, est.A, est.x0, est.theta, t, F, xs, xd, xdd, xfun, bins, counts, Fbar,
+                    sigma, x, describe() if callable(describe) else "", cycle_stats(t, F, est.omega, est.theta, x),
+                    phase_grid(psi, B, est.theta, est.omega, xfun, bins))
+
+
+def _bin_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray, B: int) -> float:
+    """Pooled within-bin scatter of F [N] after removing a local linear trend in phase and time (O(N))."""
+    cnt = np.bincount(bins, minlength=B).astype(float)
+    ok = cnt >= 5
+    if not np.any(ok):
+        return float(np.std(F))
+    # per-bin centred moments, all by bincount (linear in the number of samples)
+    def bmean(y: np.ndarray) -> np.ndarray:
+        return np.bincount(bins, weights=y, minlength=B) / np.maximum(cnt, 1)
+
+    u = psi - bmean(psi)[bins]
+    v = t - bmean(t)[bins]
+    f = F - bmean(F)[bins]
+    suu, svv, suv = bmean(u * u), bmean(v * v), bmean(u * v)
+    suf, svf, sff = bmean(u * f), bmean(v * f), bmean(f * f)
+    det = suu * svv - suv**2
+    good = ok & (det > 1e-300 * np.maximum(suu * svv, 1e-300))
+    cu = np.where(good, (svv * suf - suv * svf) / np.where(good, det, 1.0), 0.0)
+    cv = np.where(good, (suu * svf - suv * suf) / np.where(good, det, 1.0), 0.0)
+    rss_b = np.maximum(sff - cu * suf - cv * svf, 0.0) * cnt
+    dof = float(np.sum(cnt[good] - 3)) + float(np.sum(cnt[ok & ~good] - 1))
+    rss = float(np.sum(rss_b[good])) + float(np.sum((sff * cnt)[ok & ~good]))
+    return math.sqrt(rss / dof) if dof > 0 else float(np.std(F))

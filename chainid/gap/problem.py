@@ -1,0 +1,398 @@
+"""The diagnosis problem: prepared tests + baseline model; fits and scores any set of effects.
+
+Method (all on whole tests, never on random samples):
+
+* Baseline: F = m·ẍ + F_k(x) + c_e·ẋ (paper Eq. 1); c_e per training test from
+  the bin means, damping law (:mod:`chainid.gap.laws`) fitted on training tests
+  only, held-out c_e predicted by the law.
+* An effect set: its physical parameters (all of them, jointly) are fitted by
+  ``scipy.optimize.least_squares`` (bounded) on the training tests, the
+  per-test c_e re-identified at every step; score = leave-one-test-out NRMSE
+  over the training tests (damping law re-fitted without the test) and BIC;
+  held-out NRMSE and shrinkage are reported.
+
+Units: mm, N, s; NRMSE = RMS(residual)/RMS(F − mean F) over whole tests.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from . import laws as L
+from .effects import EFFECT_NAMES, STIFFNESS_SIDE, make_effect, modify_model
+from .prepare import TestData
+
+#: fewest training tests the diagnosis runs with (a 1-coefficient law + leave-one-out needs >= 2; 3 gives a spread)
+MIN_TRAIN = 3
+
+
+@dataclass
+class Candidate:
+    """A fitted effect set with its scores (NRMSE dimensionless, params in the effect's units)."""
+
+    name: str
+    params: dict[str, float]
+    n_params: int
+    law: str = "polynomial"
+    law_params: list[float] = field(default_factory=list)
+    nrmse_train: float = float("nan")
+    nrmse_loto: float = float("nan")
+    nrmse_holdout: float = float("nan")
+    shrinkage: float = float("nan")
+    bic: float = float("nan")
+    chi2_train: float = float("nan")
+    param_sd: dict[str, float] = field(default_factory=dict)
+    per_test: dict[str, float] = field(default_factory=dict)
+    at_bound: list[str] = field(default_factory=list)
+    loto_num: dict[str, float] = field(default_factory=dict)
+    loto_den: float = float("nan")
+    db_holdout: float = float("nan")
+    db_train: float = float("nan")
+
+    @property
+    def names(self) -> list[str]:
+        return [n for n in self.name.split("+") if n] if self.name not in ("", "baseline") else []
+
+    def to_dict(self) -> dict[str, Any]:
+        f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
+        return {
+            "effect": self.name,
+            "params": {k: f(float(v)) for k, v in self.params.items()},
+            "params_sd": {k: f(float(v)) for k, v in self.param_sd.items()},
+            "damping_law": self.law,
+            "nrmse_train": f(self.nrmse_train),
+            "nrmse_loto": f(self.nrmse_loto),
+            "nrmse_holdout": f(self.nrmse_holdout),
+            "shrinkage": f(self.shrinkage),
+            "bic": f(self.bic),
+            "n_params": self.n_params,
+            "at_bound": list(self.at_bound),
+            "db_over_noise": f(self.db_holdout),
+        }
+
+
+def damping_separable(data: Sequence[TestData]) -> tuple[bool, str]:
+    """Whether the plan can separate damping forms: >= 3 distinct ω and >= 3 distinct A, full-rank Eq. 21."""
+    w = np.array([d.omega for d in data])
+    A = np.array([d.A for d in data])
+    nw = np.unique(np.round(w / w.max(), 3)).size
+    nA = np.unique(np.round(A / A.max(), 3)).size
+    X = L.design("polynomial", w, A, np.ones_like(w))
+    Xn = X / np.linalg.norm(X, axis=0)
+    cond = float(np.linalg.cond(Xn))
+    if nw < 3 or nA < 3 or cond > 1e8 or len(data) < 6:
+        return False, (
+            f"the training plan has {len(data)} tests at {nw} distinct frequencies and {nA} distinct amplitudes "
+            f"(cond {cond:.3g}); damping forms (viscous ∝ 1, Coulomb ∝ 1/(ωA), hysteretic ∝ 1/ω, polynomial "
+            "Eq. 21) cannot all be separated: add tests at >= 3 frequencies and >= 3 amplitudes"
+        )
+    return True, ""
+
+
+class Problem:
+    """Prepared data + baseline model; evaluates any effect set.
+
+    Parameters
+    ----------
+    data : sequence of TestData
+    model : StiffnessModel
+        Baseline stiffness (chain model or linear spring).
+    holdout : sequence of str
+        Held-out test ids.
+    damping_law : str
+        Baseline law name or "auto" (:func:`chainid.gap.laws.choose`).
+    """
+
+    def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto"):
+        self.data = list(data)
+        self.model = model
+        ids = [d.test for d in self.data]
+        unknown = [h for h in holdout if h not in ids]
+        if unknown:
+            raise ValueError(f"--holdout: test id(s) {unknown} not in the usable data; usable ids: {', '.join(ids)}")
+        hs = set(holdout)
+        self.hold = [d for d in self.data if d.test in hs]
+        self.train = [d for d in self.data if d.test not in hs]
+        if not self.hold:
+            raise ValueError("--holdout: no test held out; give at least one test id")
+        if len(self.train) < MIN_TRAIN:
+            raise ValueError(
+                f"--holdout leaves {len(self.train)} usable training test(s); at least {MIN_TRAIN} are needed "
+                "(a damping law fitted and scored leave-one-test-out needs >= 3 tests)"
+            )
+        allF = np.concatenate([d.Fbar for d in self.data])
+        self.F_scale = float(np.std(allF)) or 1.0
+        self.x_scale = float(max(d.A for d in self.data))
+        self.omega_max = float(max(d.omega for d in self.data))
+        self.is_chain = hasattr(model, "hertz_scale")
+        self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
+        self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
+        self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max) for n in EFFECT_NAMES}
+        self.law, self.law_reason = self._baseline_law(damping_law)
+
+    # ------------------------------------------------------------- damping law
+    def _baseline_law(self, choice: str) -> tuple[str, str]:
+        if choice != "auto":
+            if choice not in L.LAWS:
+                raise ValueError(f"--damping-law = {choice!r} is unknown; valid: {', '.join(L.CHOICES)}")
+            if L.LAWS[choice] > len(self.train) - 1:
+                raise ValueError(f"--damping-law {choice} has {L.LAWS[choice]} coefficients; with "
+                                 f"{len(self.train)} training tests at most {len(self.train) - 1} can be scored "
+                                 "leave-one-out: choose a simpler law or 'auto'")
+            return choice, "given"
+        ok, _ = damping_separable(self.train)
+        if ok:
+            return "polynomial", "the paper's Eq. 21 (the plan separates ω and A)"
+        c = self._ce_baseline()
+        cand = L.allowed(len(self.train), ("viscous", "coulomb", "hysteretic", "viscous+coulomb"))
+        w, A, k = self._wak(self.train)
+        best, errs = L.choose(w, A, k, np.array([c[d.test] for d in self.train]), cand)
+        txt = ", ".join(f"{n} {e:.3g}" for n, e in sorted(errs.items(), key=lambda z: z[1]))
+        return best, (f"leave-one-out best of the laws with <= {len(self.train) - 1} coefficient(s) "
+                      f"(c_e LOO RMS N·s/mm: {txt}); the plan cannot fit Eq. 21's 5 coefficients")
+
+    def _ce_baseline(self) -> dict[str, float]:
+        out = {}
+        for d in self.train:
+            Fn, v = self._parts([], self._spring_start(), d)
+            out[d.test] = float(np.sum(d.counts * (d.Fbar - Fn) * v) / max(np.sum(d.counts * v * v), 1e-300))
+        return out
+
+    def _wak(self, ds: Sequence[TestData]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return (np.array([d.omega for d in ds]), np.array([d.A for d in ds]),
+                np.array([self.ke[d.test] for d in ds]))
+
+    def laws_for(self, names: Sequence[str]) -> list[str]:
+        """Damping laws a candidate is scored with (the baseline's, viscous; alternatives for ``damping_law``)."""
+        n = len(self.train)
+        if "damping_law" in names:
+            return L.allowed(n, [k for k in L.ALT_LAWS if k != self.law]) or [self.law]
+        out = [self.law]
+        if names and self.law != "viscous":
+            out.append("viscous")
+        return out
+
+    # ------------------------------------------------------------------- model
+    def _spring_start(self) -> dict[str, float]:
+        if not self.is_chain and hasattr(self.model, "k"):
+            return {"spring.k": float(self.model.k), "spring.x_ref": float(self.model.x_ref)}
+        return {}
+
+    def model_for(self, p: dict[str, float]) -> Any:
+        """The stiffness model, with a re-fitted linear spring when ``spring.k`` is in p."""
+        if "spring.k" in p:
+            from ..models import LinearModel
+
+            return LinearModel(max(p["spring.k"], 0.0), p["spring.x_ref"], mass=float(getattr(self.model, "mass_kg", 0.0)))
+        return self.model
+
+    def applicable(self) -> list[str]:
+        """Library effects that apply to this baseline (chain-only effects need the chain model)."""
+        return [n for n, e in self.effects.items() if self.is_chain or not e.chain_only]
+
+    def _parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
+        """Bin means of the undamped force [N] and of the velocity the damping acts on [mm/s]."""
+        model = self.model_for(p)
+        rest = []
+        for n in names:  # stiffness-side effects change the model; the others act on the changed model
+            if n in STIFFNESS_SIDE:
+                model = modify_model(n, {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")},
+                                     model)
+            else:
+                rest.append(n)
+        names = rest
+        m = float(getattr(model, "mass_kg", 0.0))
+        g = d.grid
+        t, x, xd, xdd = g["t"], g["x"], g["xd"], g["xdd"]
+        if "sensor_delay" in names:  # the force channel lags the whole force: evaluate everything at t − τ
+            tau = float(p.get("sensor_delay.tau", 0.0))
+            x, xd, xdd = d.xfun(t - tau)
+        base = m * xdd * 1e-3 + np.asarray(model.force(x), float)
+        Fn = base.copy()
+        for n in names:
+            if n in ("damping_law", "sensor_delay"):
+                continue
+            e = self.effects[n]
+            pp = {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")}
+            Fe, _, _ = e.force(pp, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun)
+            Fn += Fe - base
+        v = xd
+        return d.gridmean(Fn), d.gridmean(v)
+
+    def evaluate(self, names: Sequence[str], p: dict[str, float], law: str | None = None) -> dict[str, Any]:
+        """Errors of an effect set with parameters ``p`` and damping law ``law`` (default: the baseline's)."""
+        law = law or self.law
+        parts = {d.test: self._parts(names, p, d) for d in self.data}
+        c_e = {}
+        for d in self.data:
+            Fn, v = parts[d.test]
+            c_e[d.test] = float(np.sum(d.counts * (d.Fbar - Fn) * v) / max(np.sum(d.counts * v * v), 1e-300))
+        tr, ho = self.train, self.hold
+        X = L.design(law, *self._wak(tr))
+        cv = np.array([c_e[d.test] for d in tr])
+        lp, cloo = L.fit_loo(X, cv)
+        c_hold = L.design(law, *self._wak(ho)) @ lp
+
+        def res(d: TestData, c: float) -> np.ndarray:
+            Fn, v = parts[d.test]
+            return d.Fbar - Fn - c * v
+
+        def sse(d: TestData, c: float) -> float:
+            return float(np.sum(d.counts * res(d, c) ** 2))
+
+        def var(d: TestData) -> float:
+            return float(np.sum(d.counts * (d.Fbar - np.sum(d.counts * d.Fbar) / np.sum(d.counts)) ** 2))
+
+        def nrmse(ds: Sequence[TestData], cs: Sequence[float]) -> float:
+            den = sum(var(d) for d in ds)
+            return math.sqrt(sum(sse(d, c) for d, c in zip(ds, cs)) / den) if den > 0 else float("nan")
+
+        loto_num = {d.test: sse(d, c) for d, c in zip(tr, cloo)}
+        chi2 = sum(sse(d, c_e[d.test]) / d.sigma**2 for d in tr)
+        per_test = {d.test: nrmse([d], [c]) for d, c in zip(ho, c_hold)}
+        per_test.update({d.test: nrmse([d], [c_e[d.test]]) for d in tr})
+        return {
+            "nrmse_train": nrmse(tr, [c_e[d.test] for d in tr]),
+            "nrmse_loto": nrmse(tr, cloo),
+            "nrmse_holdout": nrmse(ho, c_hold),
+            "loto_num": loto_num,
+            "loto_den": sum(var(d) for d in tr),
+            "chi2": chi2,
+            "law_params": [float(v) for v in lp],
+            "c_e": c_e,
+            "c_hold": dict(zip([d.test for d in ho], c_hold)),
+            "c_loto": dict(zip([d.test for d in tr], cloo)),
+            "parts": parts,
+            "per_test": per_test,
+            "res": {d.test: res(d, c) for d, c in zip(ho, c_hold)} | {d.test: res(d, c) for d, c in zip(tr, cloo)},
+        }
+
+    def noise_db(self, ev: dict[str, Any], split: str = "hold") -> tuple[float, float, float]:
+        """Mean squared bin residual, its noise floor (σ²/n per bin) [N²] and the ratio in dB."""
+        ds = self.hold if split == "hold" else self.train
+        nb = sum(d.counts.size for d in ds)
+        r2 = sum(float(np.sum(ev["res"][d.test] ** 2)) for d in ds) / nb
+        f2 = sum(float(np.sum(d.sigma**2 / np.maximum(d.counts, 1))) for d in ds) / nb
+        return r2, f2, 10 * math.log10(max(r2, 1e-300) / max(f2, 1e-300))
+
+    # --------------------------------------------------------------------- fit
+    def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
+        out = []
+        for d in self.train:
+            Fn, v = self._parts(names, p, d)
+            w = d.counts
+            c = float(np.sum(w * (d.Fbar - Fn) * v) / max(np.sum(w * v * v), 1e-300))
+            out.append(np.sqrt(w) * (d.Fbar - Fn - c * v) / d.sigma)
+        return np.concatenate(out)
+
+    def _keys(self, names: Sequence[str]) -> tuple[list[str], list[float], list[float], list[float]]:
+        keys, lo, hi, x0 = [], [], [], []
+        sp = self._spring_start()
+        if sp:
+            k0, xr, xs = sp["spring.k"], sp["spring.x_ref"], self.x_scale
+            keys += ["spring.k", "spring.x_ref"]
+            lo += [0.0, xr - 2 * xs]
+            hi += [max(10 * k0, 10 * self.F_scale / xs), xr + 2 * xs]
+            x0 += [k0, xr]
+        for n in names:
+            if n == "damping_law":
+                continue
+            e = self.effects[n]
+            for k, (a, b), g in zip(e.param_names, e.bounds, e.x0_guess):
+                keys.append(f"{n}.{k}")
+                lo.append(a)
+                hi.append(b)
+                x0.append(g)
+        return keys, lo, hi, x0
+
+    def fit(self, names: Sequence[str], train_only: Sequence[TestData] | None = None,
+            start: dict[str, float] | None = None, polish_only: bool = False) -> Candidate:
+        """Fit all parameters of an effect set jointly on the training tests.
+
+        Parameters
+        ----------
+        names : sequence of str
+            Effect names.
+        train_only : sequence of TestData, optional
+            Fit on these tests instead of the training tests (jack-knife).
+        start : dict, optional
+            Start values of some parameters (e.g. the previous step's fit); the other
+            effects' parameters are started from a coarse grid.
+        polish_only : bool
+            Only a local least-squares polish from ``start`` (jack-knife refits).
+        """
+        from .fitgrid import starts
+
+        keys, lo, hi, x0 = self._keys(names)
+        lo_a, hi_a = np.array(lo), np.array(hi)
+        saved = self.train
+        if train_only is not None:
+            self.train = list(train_only)
+        try:
+            if not keys:
+                return Candidate("+".join(names), {}, 0)
+
+            def unpack(u: np.ndarray) -> dict[str, float]:
+                return dict(zip(keys, lo_a + np.clip(u, 0, 1) * (hi_a - lo_a)))
+
+            def fun(u: np.ndarray) -> np.ndarray:
+                return self._train_resid(names, unpack(u))
+
+            ug = (np.array(x0) - lo_a) / (hi_a - lo_a)
+            fixed = np.zeros(len(keys), bool)
+            if start:
+                for i, k in enumerate(keys):
+                    if k in start and math.isfinite(start[k]):
+                        ug[i] = (start[k] - lo_a[i]) / (hi_a[i] - lo_a[i])
+                        fixed[i] = True
+            u0s = [np.clip(ug, 0, 1)] if polish_only else starts(keys, names, ug, fixed, lo_a, hi_a)
+            costs = [float(np.sum(fun(u) ** 2)) for u in u0s]
+            order = np.argsort(costs)[: (1 if polish_only or start else 2)]
+            best = None
+            for i in order:
+                r = least_squares(fun, u0s[i], bounds=(0.0, 1.0), x_scale=1.0, diff_step=1e-3,
+                                  max_nfev=12 if polish_only else 20 + 20 * len(keys))
+                if best is None or r.cost < best.cost:
+                    best = r
+            p = unpack(best.x)
+            ub = np.clip(best.x, 0, 1)
+            # a parameter pinned at a physical bound (other than a zero lower bound, "effect absent")
+            # (the re-fitted linear spring of a --model linear baseline is not an effect: its x_ref is free)
+            at_bound = [k for k, v, a in zip(keys, ub, lo_a)
+                        if (v >= 1 - 1e-6 or (v <= 1e-6 and a != 0.0)) and not k.startswith("spring.")]
+            return Candidate("+".join(names), p, len(keys), at_bound=at_bound)
+        finally:
+            self.train = saved
+
+    def score(self, cand: Candidate, names: Sequence[str], base_hold: float) -> Candidate:
+        """Score a fitted candidate: the damping law re-identified (LOTO-best of :meth:`laws_for`)."""
+        best = None
+        for law in self.laws_for(names):
+            ev = self.evaluate(names, cand.params, law)
+            if best is None or ev["nrmse_loto"] < best[1]["nrmse_loto"]:
+                best = (law, ev)
+        law, ev = best
+        cand.law = law
+        cand.law_params = ev["law_params"]
+        cand.nrmse_train = ev["nrmse_train"]
+        cand.nrmse_loto = ev["nrmse_loto"]
+        cand.nrmse_holdout = ev["nrmse_holdout"]
+        cand.shrinkage = 1.0 - ev["nrmse_holdout"] / base_hold if base_hold > 0 else float("nan")
+        cand.chi2_train = ev["chi2"]
+        cand.loto_num = ev["loto_num"]
+        cand.loto_den = ev["loto_den"]
+        cand.db_holdout = self.noise_db(ev, "hold")[2]
+        cand.db_train = self.noise_db(ev, "train")[2]
+        nb = sum(d.counts.size for d in self.train)
+        k = cand.n_params + len(cand.law_params)
+        cand.bic = ev["chi2"] + k * math.log(nb)
+        cand.per_test = ev["per_test"]
+        if "damping_law" in names:
+            cand.params = dict(cand.params) | {f"law.{i}": v for i, v in enumerate(ev["law_params"])}
+        cand._ev = ev  # type: ignore[attr-defined]
+        return cand
