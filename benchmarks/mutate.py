@@ -172,7 +172,7 @@ MUTATIONS: list[Mutation] = [
     M("D4", "chainid/gap/diagnose.py", "COMBO_GAIN = 0.85", "COMBO_GAIN = 1.0",
       (f"{T_GAP}::test_real_friction_damper_linear", f"{T_GAP}::test_cli_json_contract"),
       "a combination of effects accepted without a clear gain"),
-    M("R2", "chainid/gap/report_steps.py", "k_in = FA * math.cos(phi) / A", "k_in = FA / A",
+    M("R2", "chainid/gap/report_eq26.py", "k_in = FA * math.cos(phi) / A", "k_in = FA / A",
       "tests/test_report_gap.py::test_eq26_numbers", "Eq. 26 in-phase stiffness without cos(phi)"),
 ]
 
