@@ -163,6 +163,7 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
     import multiprocessing
     from concurrent.futures import FIRST_EXCEPTION, ProcessPoolExecutor, wait
 
+    before = set(multiprocessing.active_children())
     ex = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
     ok = False
     try:
@@ -182,8 +183,10 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
             ex.shutdown(wait=True)
         else:
             # Cancel what has not started; stop what is running (no orphan workers).
-            procs = list(getattr(ex, "_processes", {}).values())
+            procs = list((getattr(ex, "_processes", None) or {}).values())
             ex.shutdown(wait=False, cancel_futures=True)
+            # every worker this pool started, including one spawned after the snapshot
+            procs += [p for p in multiprocessing.active_children() if p not in before and p not in procs]
             for p in procs:
                 if p.is_alive():
                     p.terminate()

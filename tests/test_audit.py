@@ -178,7 +178,9 @@ def test_cli_simulate_then_identify(tmp_path, capsys):
     assert cli(["identify", str(data), "--json", str(out), "--plots", str(plots), "--quiet"]) == 0
     d = json.loads(out.read_text())
     # the machine contract: exact key sets (a renamed key breaks every consumer)
-    assert set(d) == {"tests", "model", "law", "ranking"}
+    # the contract keys, plus the tests left out with their reason and the load-limit warnings
+    assert set(d) == {"tests", "model", "law", "ranking", "excluded", "warnings"}
+    assert d["excluded"] == []
     assert set(d["model"]) == {"name", "mass_kg"}
     assert set(d["law"]) == {"name", "formula", "param_names", "params", "params_normal_equations", "stderr",
                              "rmse", "loo_rmse", "residuals", "cond_X", "cond_G", "dof", "n_tests"}
@@ -194,7 +196,7 @@ def test_cli_simulate_then_identify(tmp_path, capsys):
     for t in d["tests"]:
         assert set(t) == {"test", "omega", "x0", "A", "theta", "F0", "FA", "phi", "r2", "F_ac", "F_as", "Fc0", "c_e",
                           "W", "W_ratio", "r2_c", "mass_kg", "n_cycles", "cycles_kept", "t_start", "t_end",
-                          "noise_x", "source"}
+                          "noise_x", "source", "steady", "steady_tol"}
         assert t["c_e"] == pytest.approx(2834.4, rel=0.01)
     assert d["law"]["name"] == "polynomial" and len(d["law"]["params"]) == 5
     assert (plots / "loop_3.png").is_file() and (plots / "damping_surface.png").is_file()

@@ -33,3 +33,20 @@ def test_canonical_names():
     assert canon("machine_compliance+friction") == {"stiffness_level", "friction"}
     assert canon("none") == set() and canon("unexplained") == set()
     assert canon(["machine_compliance"]) == {"stiffness_level"}
+
+
+def test_compound_rates_by_hand():
+    from chainid.gap.benchmark_report import summarise
+
+    def row(truth, verdict, confounded=(), family="mismatch+"):
+        return {"family": family, "truth": truth, "verdict": verdict, "snr": 10.0, "shrinkage": 0.9, "seconds": 1.0,
+                "confounded": [list(c) for c in confounded], "chain": "c", "plan": "p", "noise": 0.01, "levels": []}
+
+    rows = [row(["stiffness_level", "slack"], "contact_law", [("contact_law", "stiffness_level+slack")]),
+            row(["stiffness_level", "friction"], "stiffness_level+friction"),
+            row(["friction", "sensor_delay"], "friction", family="pair"),
+            row(["machine_compliance", "backlash"], "stiffness_level+backlash+slack")]
+    s = summarise(rows)
+    assert s["compound_both_named_rate"] == 2 / 4  # rows 2 and 4 (machine_compliance reads as stiffness_level)
+    assert s["compound_exact_rate"] == 1 / 4  # only row 2 names exactly the true pair
+    assert s["compound_named_or_confounded_rate"] == 3 / 4  # row 1's verdict comes with the true pair as confound

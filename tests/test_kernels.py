@@ -236,7 +236,9 @@ def test_cli_stiffness_json(capsys):
     assert cli.main(["stiffness", "--x", "2.2", "--F", "11117", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     # the machine contract: exact key sets (a renamed key breaks every consumer)
-    assert set(doc) == {"chain", "variant", "c_lin_mm_per_N", "c_hertz_mm_per_N23", "points"}
+    # the contract keys plus the load-limit warnings (Hertz contact beyond the elastic limit at 11 kN)
+    assert set(doc) == {"chain", "variant", "c_lin_mm_per_N", "c_hertz_mm_per_N23", "points", "warnings"}
+    assert any("elastic" in w for w in doc["warnings"])
     assert set(doc["chain"]) >= {"d", "pitch", "width", "n", "E", "nu", "mass_per_m"}
     pts = doc["points"]
     assert len(pts) == 2 and all(set(p) == {"x_mm", "F_k_N", "k_e_N_per_mm"} for p in pts)

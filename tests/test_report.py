@@ -1,6 +1,8 @@
 """The main job: `chainid report` writes a complete folder and refuses to overwrite without --force."""
 from __future__ import annotations
 
+import os
+
 import json
 
 import numpy as np
@@ -16,11 +18,21 @@ def _saved_figures(monkeypatch) -> dict:
     figs = {}
     orig = matplotlib.figure.Figure.savefig
 
+    import chainid.fileio
+
+    orig_save = chainid.fileio.save_figure
+
     def spy(self, fname, *a, **k):
-        figs[str(fname).rsplit("/", 1)[-1]] = self
+        if isinstance(fname, (str, os.PathLike)):  # atomic saves write to an open temporary file: see spy_save
+            figs[str(fname).rsplit("/", 1)[-1]] = self
         return orig(self, fname, *a, **k)
 
+    def spy_save(fig, path, *a, **k):
+        figs[str(path).rsplit("/", 1)[-1]] = fig
+        return orig_save(fig, path, *a, **k)
+
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", spy)
+    monkeypatch.setattr(chainid.fileio, "save_figure", spy_save)
     return figs
 
 

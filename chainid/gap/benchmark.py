@@ -143,7 +143,8 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
         res = diagnose(recs, hold, nominal, uncertainty=False, quiet=True)
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
-                "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None}
+                "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None,
+                "confounded": []}
     best = res.get("best") or {}
     b = res["baseline"]
     last = res["steps"][-1] if res.get("steps") else {}
@@ -151,6 +152,7 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
             "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
             "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
             "steps": [s["effect"] for s in res.get("steps", [])[1:]], "params": last.get("params"),
+            "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"]}
 
 

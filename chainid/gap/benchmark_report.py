@@ -31,6 +31,16 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
     shr = [r["shrinkage"] for r in rows if r["family"] in ("single", "mismatch", "mismatch+", "pair")
            and right(r) and r["shrinkage"] is not None]
     compound = strong["mismatch+"] + strong["pair"]
+
+    def both_or_confound(r: dict[str, Any]) -> bool:
+        """Both causes named, or the verdict's effect reported as confounded with exactly the true set."""
+        if both(r):
+            return True
+        for a, b in r.get("confounded", []):
+            alt = (canon(r["verdict"]) - {a}) | canon(b.split("+"))
+            if a in canon(r["verdict"]) and alt == canon(r["truth"]):
+                return True
+        return False
     labels = sorted({v for r in rows for v in ([r["verdict"]] if "+" not in r["verdict"] else ["(combination)"])})
     truths = sorted({"+".join(r["truth"]) or "none" for r in fam["single"] + fam["control"] + fam["mismatch"]})
     conf = {t: {v: 0 for v in labels} for t in truths}
@@ -45,6 +55,7 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "mismatch_n": len(strong["mismatch"]),
         "compound_both_named_rate": _rate(compound, both),
         "compound_exact_rate": _rate(compound, right),
+        "compound_named_or_confounded_rate": _rate(compound, both_or_confound),
         "compound_n": len(compound),
         "mismatch_plus_both_named_rate": _rate(strong["mismatch+"], both),
         "pair_both_named_rate": _rate(strong["pair"], both),
@@ -78,7 +89,8 @@ def format_summary(s: dict[str, Any]) -> str:
         f"base-model mismatch alone, right: {f(s['mismatch_right_rate'])} of {s['mismatch_n']}",
         f"compound cases, both causes named: {f(s['compound_both_named_rate'])} of {s['compound_n']} "
         f"(target >= 85 %; mismatch+effect {f(s['mismatch_plus_both_named_rate'])}, two effects "
-        f"{f(s['pair_both_named_rate'])}; exactly the two: {f(s['compound_exact_rate'])})",
+        f"{f(s['pair_both_named_rate'])}; exactly the two: {f(s['compound_exact_rate'])}; named or reported as "
+        f"a confound of the verdict: {f(s['compound_named_or_confounded_rate'])})",
         f"control gives none: {f(s['control_none_rate'])} of {s['control_n']} (target >= 95 %)",
         f"outside the library not named: {f(s['outside_not_named_rate'])} of {s['outside_n']} "
         f"{s['outside_verdicts']}",

@@ -205,8 +205,29 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         if swaps:
             path[:] = _rebuild(prob, base, final, base_hold)
     dropped = _backward(prob, path, base_hold)
+    confounded += _two_for_one(prob, path[-1], names, base_hold)
     return {"path": path, "singles": singles, "stop": stop, "confounded": confounded, "dropped": dropped,
             "swapped": swaps}
+
+
+def _two_for_one(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> list[dict[str, Any]]:
+    """Stiffness-side effects that the plan cannot tell apart from a pair of others (e.g. a Hertz law with a
+    fitted exponent vs a stiffness level plus an offset): reported as confounded, the verdict unchanged."""
+    out: list[dict[str, Any]] = []
+    fam = FAMILIES[0]
+    for n in full.names:
+        if n not in fam:
+            continue
+        others = [m for m in fam if m != n and m not in full.names and m in allowed]
+        for i, a in enumerate(others):
+            for b in others[i + 1:]:
+                names = [k for k in full.names if k != n] + [a, b]
+                start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
+                c = _fit_score(prob, names, start, base_hold)
+                if c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and not c.at_bound:
+                    out.append({"step": len(full.names), "pair": [n, f"{a}+{b}"],
+                                "loto": [full.nrmse_loto, c.nrmse_loto]})
+    return out
 
 
 #: a runner-up within this relative LOTO NRMSE of the step's choice is explored one step further
