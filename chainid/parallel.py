@@ -192,6 +192,15 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
                     p.terminate()
             for p in procs:
                 p.join(timeout=5)
+            ex.shutdown(wait=True)  # the pool's manager thread ends too (it may still start a worker)
+            deadline = time.monotonic() + 10.0
+            while time.monotonic() < deadline:  # and no worker of this pool outlives the call
+                late = [p for p in multiprocessing.active_children() if p not in before]
+                if not late:
+                    break
+                for p in late:
+                    p.terminate()
+                    p.join(timeout=1)
 
 
 def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: int | None,
