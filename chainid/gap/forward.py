@@ -17,8 +17,7 @@ The acceptance rule (stated, tested, and the same for every data set):
    (sd/√n): the improvement must hold across tests, so one test cannot carry
    (or veto) a step.
 3. **Material.** The LOTO NRMSE falls by at least ``MIN_GAIN`` (a tenth) of
-   what is left, or by ``MIN_GAIN_FLOOR`` (a quarter) once the systematic residual
-   is below half the sample noise: an effect that explains less is not worth a name.
+   what is left: an effect that explains less is not worth a name.
 4. **Identified.** None of the new effect's parameters is pinned at a bound of
    its physical range (then its form does not fit what is left).
 
@@ -40,8 +39,6 @@ from .problem import Candidate, Problem
 Z = 2.0
 #: smallest relative LOTO improvement that earns a name
 MIN_GAIN = 0.10
-#: ... once the systematic residual is below half the sample noise (the practical floor of the verdict `none`)
-MIN_GAIN_FLOOR = 0.25
 #: candidates within this relative LOTO NRMSE of the best are "equally good" (confounded)
 TIE = 0.05
 #: systematic residual below this fraction of the raw noise σ counts as "consistent with the noise"
@@ -89,14 +86,6 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     r2, f2, _ = prob.noise_db(ev, "train")
     n = sum(d.counts.size for d in prob.train)
     return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
-
-
-def practical_floor(prob: Problem, cand: Candidate) -> bool:
-    """Whether the candidate's training LOTO residual is at the practical noise floor (:func:`at_noise_floor`:
-    systematic part below half the sample noise, or χ²-consistent)."""
-    r2, f2, _ = prob.noise_db(cand._ev, "train")  # type: ignore[attr-defined]
-    sig = math.sqrt(np.mean([d.sigma**2 for d in prob.train]))
-    return at_noise_floor(r2, f2, sig, sum(d.counts.size for d in prob.train))
 
 
 def _pinned_new(c: Candidate) -> bool:
@@ -172,7 +161,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
             stop = (f"the best next effect {min(cands, key=lambda c: c.nrmse_loto).names[-1]} needs parameters at "
                     "the bounds of their physical range: its form does not fit what is left")
             break
-        min_gain = MIN_GAIN if not practical_floor(prob, cur) else MIN_GAIN_FLOOR
+        min_gain = MIN_GAIN
 
         def test(c: Candidate) -> bool:
             delta, se = loto_jackknife(cur, c)
