@@ -5,7 +5,7 @@ scikit-learn-like ``fit``/``predict`` interface (:class:`PolynomialLaw` = Eq. 21
 :class:`ViscousLaw`, :class:`HystereticLaw`, :class:`CoulombLaw`,
 :class:`CombinedLaw`).  :func:`fit_law` solves by ``numpy.linalg.lstsq`` and by
 the paper's normal equations ``G A = C`` (Eq. 23–24), and reports condition
-numbers, standard errors and leave-one-out residuals from the QR leverages
+numbers, standard errors and leave-one-out residuals from the leverages (:func:`leverages`)
 (memory linear in the number of tests M, never an M×M matrix);
 :func:`rank_laws` orders laws by LOO error.
 
@@ -31,6 +31,7 @@ __all__ = [
     "rank_laws",
     "default_laws",
     "law_from_dict",
+    "leverages",
     "MIN_TESTS",
 ]
 
@@ -275,6 +276,18 @@ class LawFit:
         }
 
 
+def leverages(X: np.ndarray) -> np.ndarray:
+    """Leverages h_i = diag(X X⁺) of a design matrix (one row per test), in [0, 1].
+
+    Sum of U_ij² over the non-null singular directions of a thin SVD: memory and time linear in the number
+    of rows, never the M×M hat matrix; a rank-deficient X is handled.  The leave-one-out residual of a
+    least-squares fit is r_i/(1 − h_i).
+    """
+    U, sv, _ = np.linalg.svd(np.asarray(X, float), full_matrices=False)
+    keep = sv > sv.max(initial=0.0) * max(X.shape) * np.finfo(float).eps
+    return np.clip(np.sum(U[:, keep] ** 2, axis=1), 0, 1)
+
+
 def fit_law(law: DampingLaw, omega: Any, A: Any, c_e: Any, x0: Any = None, *, min_tests: int = MIN_TESTS) -> LawFit:
     """Fit a linear-in-parameters damping law by least squares (Eq. 22–24).
 
@@ -332,11 +345,7 @@ def fit_law(law: DampingLaw, omega: Any, A: Any, c_e: Any, x0: Any = None, *, mi
     s2 = rss / dof if dof > 0 else float("nan")
     Ginv = np.linalg.pinv(G)
     stderr = np.sqrt(np.clip(np.diag(Ginv) * s2, 0, None))
-    # leverages h_i = diag(X X^+) = sum_j U_ij^2 over the non-null singular directions
-    # (thin SVD: memory and time linear in M; never the M x M hat matrix)
-    U, sv, _ = np.linalg.svd(X, full_matrices=False)
-    keep = sv > sv.max(initial=0.0) * max(X.shape) * np.finfo(float).eps
-    h = np.clip(np.sum(U[:, keep] ** 2, axis=1), 0, 1)
+    h = leverages(X)
     with np.errstate(divide="ignore", invalid="ignore"):
         loo = resid / (1.0 - h)
     loo_rmse = float(np.sqrt(np.mean(loo**2))) if np.all(h < 1 - 1e-10) else float("inf")

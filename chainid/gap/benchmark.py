@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -226,16 +225,11 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     progress : progress bar on stderr
     """
     from ..parallel import run_cases
-    from .benchmark_report import format_summary, summarise, write_summary
+    from ..fileio import check_output_file, write_json
+    from .benchmark_report import format_summary, summarise
 
     if json_path:  # check the target before the long work
-        p = Path(json_path)
-        if p.is_dir():
-            raise ValueError(f"--json {json_path!r} is a directory; give a file name")
-        if p.exists() and not overwrite:
-            raise ValueError(f"--json {json_path!r} already exists; refusing to overwrite it (use --force)")
-        if not p.resolve().parent.is_dir():
-            raise ValueError(f"--json {json_path!r}: folder {str(p.resolve().parent)!r} does not exist")
+        check_output_file(json_path, force=overwrite, what="--json")
     cases = grid(small, seed)
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=n_workers, progress=progress,
@@ -243,8 +237,6 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     s = summarise(rows)
     s["wall_seconds"] = time.perf_counter() - t0
     print(format_summary(s))
-    if json_path:
-        from ..fileio import write_json  # strict JSON (null for NaN), temp file + rename
-
+    if json_path:  # strict JSON (null for NaN), temp file + rename
         write_json(s, json_path, force=overwrite, what="--json")
     return s

@@ -2,11 +2,6 @@
 
 from __future__ import annotations
 
-import json
-import math
-import os
-import tempfile
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -117,33 +112,3 @@ def format_summary(s: dict[str, Any]) -> str:
             lines.append(f"  {m['family']}: truth {'+'.join(m['truth']) or 'none'} -> {m['verdict']} "
                          f"(snr {m['snr']:.1f}, {m['chain']}, {m['plan']}, noise {m['noise']})")
     return "\n".join(lines)
-
-
-def _clean(o: Any) -> Any:
-    if isinstance(o, dict):
-        return {str(k): _clean(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_clean(v) for v in o]
-    if isinstance(o, (float, np.floating)):
-        return float(o) if math.isfinite(o) else None
-    if isinstance(o, np.integer):
-        return int(o)
-    return o
-
-
-def write_summary(s: dict[str, Any], path: str | Path, overwrite: bool = False) -> Path:
-    """Write the summary as strict JSON, atomically (temporary file beside the target, then rename)."""
-    p = Path(path)
-    if p.exists() and not overwrite:
-        raise ValueError(f"--json {str(p)!r} already exists; refusing to overwrite it (use --force)")
-    text = json.dumps(_clean(s), indent=1, allow_nan=False)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=str(p.resolve().parent))
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, p)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return p

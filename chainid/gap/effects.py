@@ -248,29 +248,12 @@ class Effect:
             F = inert + Fk + dahl_operator(x, p.get("F_h", 0.0), p.get("x_h", 1.0))
         elif self.name == "backlash":
             F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0))), dtype=float)
-        elif self.name == "slack":
+        elif self.name == "slack" and not _is_chain(model):
             F = inert + np.asarray(model.force(x - p.get("s", 0.0)), dtype=float)
-        elif self.name == "stiffness_level":
-            if not _is_chain(model):
-                raise ValueError("effect 'stiffness_level' needs a chain model (a linear spring's k is fitted already)")
-            mod = replace(model, ea_scale=model.ea_scale * p.get("scale", 1.0))
-            F = inert + np.asarray(mod.force(x), dtype=float)
-        elif self.name == "machine_compliance":
-            c = p.get("c", 0.0)
-            if _is_chain(model):
-                F = inert + np.asarray(replace(model, compliance=model.compliance + c).force(x), dtype=float)
-            else:
-                F = inert + series_compliance_force(model, x, c)
-        elif self.name == "contact_law":
-            if not _is_chain(model):
-                raise ValueError("effect 'contact_law' needs a chain model (not --model linear)")
-            beta = p.get("beta", 2.0 / 3.0)
-            mod = replace(
-                model,
-                hertz_scale=model.hertz_scale * p.get("scale", 1.0),
-                contact_exponent=None if abs(beta - 2.0 / 3.0) < 1e-9 else beta,
-            )
-            F = inert + np.asarray(mod.force(x), dtype=float)
+        elif self.name == "machine_compliance" and not _is_chain(model):
+            F = inert + series_compliance_force(model, x, p.get("c", 0.0))
+        elif self.name in STIFFNESS_SIDE:  # the changed chain model, in one place (raises without a chain)
+            F = inert + np.asarray(modify_model(self.name, p, model).force(x), dtype=float)
         elif self.name == "sensor_delay":
             tau = p.get("tau", 0.0)
             if xfun is None:

@@ -77,6 +77,20 @@ def loto_jackknife(prev: Candidate, new: Candidate) -> tuple[float, float]:
     return float(g.mean()), float(g.std(ddof=1) / math.sqrt(n))
 
 
+def step_test(prev: Candidate, new: Candidate) -> dict[str, float]:
+    """The step rule's numbers for going from ``prev`` to ``new``: mean log error ratio over the training
+    tests, its jack-knife SE, z, and the relative drop of the pooled LOTO NRMSE."""
+    delta, se = loto_jackknife(prev, new)
+    gain = 1.0 - new.nrmse_loto / prev.nrmse_loto if prev.nrmse_loto > 0 else 0.0
+    return {"delta_loto": delta, "se_jackknife": se, "z": delta / se if se > 0 else float("inf"),
+            "relative_gain": gain}
+
+
+def passes(st: dict[str, float]) -> bool:
+    """Rules 2 and 3: significant over tests (> ``Z`` jack-knife SE) and material (>= ``MIN_GAIN``)."""
+    return st["delta_loto"] > Z * st["se_jackknife"] and st["relative_gain"] >= MIN_GAIN
+
+
 def train_floor(prob: Problem, cand: Candidate) -> bool:
     """Whether the candidate's LOTO residual on the training tests is statistically at the noise floor:
     the ratio of the mean squared bin residual to its noise floor within 5 standard deviations of a χ²
@@ -124,16 +138,13 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         baseline, scored), ``stop`` (why the chain ended), ``confounded`` (per step),
         ``dropped`` (effects removed by the backward pass).
     """
-    _attach_vars(prob, base)
     cache: dict[tuple[str, ...], Candidate] = {}
 
     def cached(cur: Candidate, n: str) -> Candidate:
         names_k = cur.names + [n]
         key = tuple(sorted(names_k))
         if key not in cache:
-            c = prob.score(prob.fit(names_k, start=cur.params), names_k, base_hold)
-            _attach_vars(prob, c)
-            cache[key] = c
+            cache[key] = _fit_score(prob, names_k, cur.params, base_hold)
         return cache[key]
 
     path = [base]
@@ -161,14 +172,9 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
             stop = (f"the best next effect {min(cands, key=lambda c: c.nrmse_loto).names[-1]} needs parameters at "
                     "the bounds of their physical range: its form does not fit what is left")
             break
-        min_gain = MIN_GAIN
-
         def test(c: Candidate) -> bool:
-            delta, se = loto_jackknife(cur, c)
-            gain = 1.0 - c.nrmse_loto / cur.nrmse_loto if cur.nrmse_loto > 0 else 0.0
-            c.step_test = {"delta_loto": delta, "se_jackknife": se,  # type: ignore[attr-defined]
-                           "z": delta / se if se > 0 else float("inf"), "relative_gain": gain}
-            return delta > Z * se and gain >= min_gain
+            c.step_test = step_test(cur, c)  # type: ignore[attr-defined]
+            return passes(c.step_test)  # type: ignore[attr-defined]
 
         # the best candidate that passes the rule (the lowest-LOTO one may fail it: an improvement carried by
         # a few tests), near-ties resolved by _pick, then the one-step look-ahead among those that pass
@@ -178,7 +184,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
             st = b.step_test  # type: ignore[attr-defined]
             stop = (f"no significant improvement: best next effect {b.names[-1]} lowers the LOTO NRMSE by "
                     f"{100 * st['relative_gain']:.1f} % (mean log error ratio over tests {st['delta_loto']:.3g}, "
-                    f"jack-knife SE {st['se_jackknife']:.2g}; needs > {Z:g} SE and >= {100 * min_gain:.0f} %)")
+                    f"jack-knife SE {st['se_jackknife']:.2g}; needs > {Z:g} SE and >= {100 * MIN_GAIN:.0f} %)")
             break
         chosen, ties = _pick(passing)
         chosen = _look_ahead(prob, cur, chosen, passing, remaining, cached, max_effects)
@@ -252,9 +258,8 @@ FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"), (
 
 
 def _fit_score(prob: Problem, names: list[str], start: dict[str, float], base_hold: float) -> Candidate:
-    c = prob.score(prob.fit(names, start=start), names, base_hold)
-    _attach_vars(prob, c)
-    return c
+    """Fit ``names`` (warm-started from ``start``) and score it."""
+    return prob.score(prob.fit(names, start=start), names, base_hold)
 
 
 def _exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> tuple[Candidate, list[str]]:
@@ -299,9 +304,7 @@ def _rebuild(prob: Problem, base: Candidate, final: Candidate, base_hold: float)
                 cands.append(_fit_score(prob, sub, start, base_hold))
             ck = min(cands, key=lambda c: c.nrmse_loto)
         prev = path[-1]
-        dl, se = loto_jackknife(prev, ck)
-        ck.step_test = {"delta_loto": dl, "se_jackknife": se, "z": dl / se if se > 0 else float("inf"),  # type: ignore[attr-defined]
-                        "relative_gain": 1.0 - ck.nrmse_loto / prev.nrmse_loto if prev.nrmse_loto > 0 else 0.0}
+        ck.step_test = step_test(prev, ck)  # type: ignore[attr-defined]
         path.append(ck)
         left.remove(ck.names[-1])
     return path
@@ -317,9 +320,7 @@ def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[st
             rest = [m for m in full.names if m != n]
             start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
             c = _fit_score(prob, rest, start, base_hold)
-            delta, se = loto_jackknife(c, full)
-            gain = 1.0 - full.nrmse_loto / c.nrmse_loto if c.nrmse_loto > 0 else 0.0
-            if not (delta > Z * se and gain >= MIN_GAIN):
+            if not passes(step_test(c, full)):
                 if best_drop is None or c.nrmse_loto < best_drop[1].nrmse_loto:
                     best_drop = (n, c)
         if best_drop is None:
@@ -328,11 +329,3 @@ def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[st
         dropped.append(n)
         path[:] = _rebuild(prob, path[0], c, base_hold)
     return dropped
-
-
-def _attach_vars(prob: Problem, c: Candidate) -> None:
-    """Per-test variance (denominator of the NRMSE) for the jack-knife."""
-    out = {}
-    for d in prob.train:
-        out[d.test] = float(np.sum(d.counts * (d.Fbar - np.sum(d.counts * d.Fbar) / np.sum(d.counts)) ** 2))
-    c._vars = out  # type: ignore[attr-defined]

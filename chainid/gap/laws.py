@@ -51,15 +51,15 @@ def design(kind: str, w: np.ndarray, A: np.ndarray, ke: np.ndarray) -> np.ndarra
 def fit_loo(X: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Least-squares coefficients and leave-one-out predictions of c.
 
-    Leverages h_i = Σ_j Q_ij² from a thin QR of X (memory linear in the number
-    of tests); c_loo,i = c_i − r_i/(1 − h_i).
+    c_loo,i = c_i − r_i/(1 − h_i) with the leverages of :func:`chainid.laws.leverages` (memory linear in the
+    number of tests).
     """
+    from ..laws import leverages
+
     X = np.asarray(X, float)
     c = np.asarray(c, float)
     p, *_ = np.linalg.lstsq(X, c, rcond=None)
-    Q, R = np.linalg.qr(X, mode="reduced")
-    rank = int(np.sum(np.abs(np.diag(R)) > 1e-12 * max(float(np.max(np.abs(np.diag(R)))), 1e-300)))
-    h = np.clip(np.sum(Q[:, :rank] ** 2, axis=1), 0.0, 1.0 - 1e-9)
+    h = np.minimum(leverages(X), 1.0 - 1e-9)
     resid = c - X @ p
     return p, c - resid / (1.0 - h)
 
