@@ -117,6 +117,13 @@ def test_step_rule_by_hand():
     assert d == pytest.approx(g.mean(), rel=1e-12)
     assert se == pytest.approx(g.std(ddof=1) / math.sqrt(3), rel=1e-12)
     assert not d > fw.Z * se  # one test cannot carry a step
+    # the step rule as applied: significance over the tests and a material drop (>= 10 %) of the pooled error
+    st = fw.step_test(_cand(a, 1.0), _cand({"1": 0.04, "2": 8.0, "3": 12.0}, 0.8))
+    assert st["relative_gain"] == pytest.approx(0.2) and not fw.passes(st)  # material, but carried by one test
+    assert fw.passes(fw.step_test(_cand(a, 1.0), _cand({k: v / 4 for k, v in a.items()}, 0.5)))
+    # significant but not material: every test 1 % better, pooled NRMSE only 0.5 % lower
+    st = fw.step_test(_cand(a, 1.0), _cand({k: v * 0.99 for k, v in a.items()}, 0.995))
+    assert st["relative_gain"] == pytest.approx(0.005, rel=1e-9) and not fw.passes(st)
     # noise floor: χ² ratio within 5 sd of 1, or an excess below half the sample noise
     assert fw.at_noise_floor(1.0, 1.0, 10.0, 100)
     assert fw.at_noise_floor(30.0, 1.0, 12.0, 100)  # excess √29 = 5.4 N < 6 N

@@ -315,3 +315,13 @@ def test_plots(tmp_path, monkeypatch):
     for ax in figs["heatmap.png"].axes[:2]:
         pts = ax.collections[0].get_offsets()
         assert sorted(map(tuple, np.round(pts, 9))) == sorted((s.omega, s.A) for s in spec.values())
+
+
+def test_small_effect_above_half_the_noise_is_named():
+    # F_c = 30 N under σ = 20 N sample noise: the systematic residual (~1 σ) is above the practical floor of
+    # half the sample noise, so it is named, not called `none`
+    res = diagnose(records("friction:F_c=30"), HOLD, MODEL, max_combo=1, uncertainty=False)
+    b = res["baseline"]
+    assert 0.5 * b["noise_sigma_N"] < b["excess_rms_N"] < 5 * b["noise_sigma_N"]
+    assert res["verdict"] == "friction"
+    assert res["best"]["params"]["friction.F_c"] == pytest.approx(30.0, rel=0.2)
