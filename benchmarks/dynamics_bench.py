@@ -34,6 +34,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from timing import median_time  # benchmarks/timing.py (this folder is on sys.path when run)
 
 TARGETS = {"mass_steps_per_s": 3e7, "speedup_vs_solve_ivp": 50.0, "kernel_vs_floor": 3.0, "startup_10s_wall_s": 5.0}
 
@@ -45,13 +46,6 @@ def _line():
     return line, Drive("ramp", v=1000.0, t_ramp=2.0)
 
 
-def _time(fn, repeats):
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
 
 
 def bench_loop(t_sim: float, repeats: int) -> dict:
@@ -146,7 +140,7 @@ def bench_startup(repeats: int) -> dict:
 
     line, drive = _line()
     simulate(line, drive, 0.01, peak_force=60000.0)
-    wall = _time(lambda: simulate(line, drive, 10.0, peak_force=60000.0), repeats)
+    wall = median_time(lambda: simulate(line, drive, 10.0, peak_force=60000.0), repeats)
     r = simulate(line, drive, 10.0, peak_force=60000.0)
     return {"wall_s": wall, "n_steps": r.n_steps, "peak_tension_N": r.peak_tension,
             "dynamic_factor": r.dynamic_factor, "energy_relative_error": r.energy_balance()["relative_error"]}

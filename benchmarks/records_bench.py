@@ -29,7 +29,6 @@ import argparse
 import json
 import math
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -42,6 +41,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from chainid import records  # noqa: E402
+from timing import median_time  # benchmarks/timing.py (this folder is on sys.path when run)  # noqa: E402
 
 
 def shaker(n: int, seed: int = 0, f: float = 18.0, fs: float = 10_000.0) -> records.Record:
@@ -56,13 +56,6 @@ def shaker(n: int, seed: int = 0, f: float = 18.0, fs: float = 10_000.0) -> reco
     return records.Record("S", t, x, F)
 
 
-def _median_time(fn, repeats: int) -> float:
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
 
 
 def bench_scaling(sizes: list[int]) -> dict:
@@ -76,8 +69,8 @@ def bench_scaling(sizes: list[int]) -> dict:
             records.analyse_record(rec)
 
         run()  # warm-up (imports, caches)
-        t_an = _median_time(run, reps)
-        t_fft = _median_time(lambda: np.fft.rfft(rec.x), max(reps, 3))
+        t_an = median_time(run, reps)
+        t_fft = median_time(lambda: np.fft.rfft(rec.x), max(reps, 3))
         est = records.analyse_record(rec)
         rows.append({"n": n, "analyse_s": t_an, "rfft_s": t_fft, "ratio_to_rfft": t_an / t_fft,
                      "cycles_kept": est.window.n_cycles, "tol": est.window.rel_tol})

@@ -38,6 +38,7 @@ import tempfile
 import time
 from datetime import datetime, timezone
 from pathlib import Path
+from timing import median_time  # benchmarks/timing.py (this folder is on sys.path when run)
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -52,13 +53,6 @@ TARGETS = {
 
 
 # --------------------------------------------------------------------------- helpers
-def median_time(fn, reps: int) -> float:
-    ts = []
-    for _ in range(reps):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
 
 
 def verdict(ok: bool) -> str:
