@@ -36,15 +36,10 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         holdout = [h for h in args.holdout.split(",") if h.strip()]
         res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
                        allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict)
-        if model is not None and getattr(model, "chain", None) is not None:
-            try:
-                from .practice import load_warnings
+        if model is not None:  # loads beyond the elastic contact or the working load (as stiffness, identify)
+            from .cli_practice import warn_loads
 
-                Fmax = max(float(r.F.max()) for r in recs)
-                for w in load_warnings(Fmax, model.chain)[:1]:
-                    res["warnings"].append(w)
-            except ImportError:  # pragma: no cover - practice module absent
-                pass
+            warn_loads(max(float(r.F.max()) for r in recs), model.chain, res)
         print(summary(res))
         if args.json:
             write_json(res, args.json, overwrite=args.force)
