@@ -21,13 +21,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-try:  # numba for the sequential (memory) operators (a cache that never crashes); numpy fallback if absent
-    from .._numba_cache import njit_cached as njit
-except Exception:  # pragma: no cover
-    def njit(*a: Any, **k: Any) -> Any:  # type: ignore
-        def deco(f: Any) -> Any:
-            return f
-        return deco if not (a and callable(a[0])) else a[0]
+from .. import operators as ops
 
 EFFECT_NAMES = (
     "stiffness_level",
@@ -42,36 +36,8 @@ EFFECT_NAMES = (
 )
 
 
-@njit()
-def _play(x: np.ndarray, h: float) -> np.ndarray:  # pragma: no cover - numba
-    y = np.empty_like(x)
-    yi = x[0]
-    for i in range(x.size):
-        if x[i] - h > yi:
-            yi = x[i] - h
-        elif x[i] + h < yi:
-            yi = x[i] + h
-        y[i] = yi
-    return y
-
-
-@njit()
-def _dahl(x: np.ndarray, Fh: float, xh: float, z0: float) -> np.ndarray:  # pragma: no cover - numba
-    z = np.empty_like(x)
-    zi = z0
-    z[0] = zi
-    for i in range(1, x.size):
-        dx = x[i] - x[i - 1]
-        if dx > 0:
-            zi = Fh + (zi - Fh) * math.exp(-dx / xh)
-        elif dx < 0:
-            zi = -Fh + (zi + Fh) * math.exp(dx / xh)
-        z[i] = zi
-    return z
-
-
 def play_operator(x: np.ndarray, half_width: float, periodic: bool = True) -> np.ndarray:
-    """Backlash (play) operator: output follows x with a dead band ±half_width [mm].
+    """Backlash (play) operator: output follows x with a dead band ±half_width [mm] (:func:`chainid.operators.play`).
 
     With ``periodic`` the series is run twice and the second pass returned
     (steady state of a periodic input).
@@ -79,13 +45,11 @@ def play_operator(x: np.ndarray, half_width: float, periodic: bool = True) -> np
     x = np.ascontiguousarray(x, dtype=np.float64)
     if half_width <= 0:
         return x.copy()
-    if periodic:
-        return _play(np.concatenate([x, x]), float(half_width))[x.size :]
-    return _play(x, float(half_width))
+    return ops.play(x, float(half_width), periodic=periodic)
 
 
 def dahl_operator(x: np.ndarray, F_h: float, x_h: float, periodic: bool = True) -> np.ndarray:
-    """Rate-independent Dahl hysteresis force z(x) [N].
+    """Rate-independent Dahl hysteresis force z(x) [N] (:func:`chainid.operators.dahl`, z₀ = 0).
 
     dz/dx = (F_h/x_h)(1 − sgn(ẋ) z/F_h), solved exactly between samples:
     z → ±F_h exponentially over a travel x_h [mm] after each reversal.
@@ -93,44 +57,25 @@ def dahl_operator(x: np.ndarray, F_h: float, x_h: float, periodic: bool = True) 
     x = np.ascontiguousarray(x, dtype=np.float64)
     if F_h == 0:
         return np.zeros_like(x)
-    xh = max(float(x_h), 1e-9)
-    if periodic:
-        return _dahl(np.concatenate([x, x]), float(F_h), xh, 0.0)[x.size :]
-    return _dahl(x, float(F_h), xh, 0.0)
+    return ops.dahl(x, float(F_h), max(float(x_h), 1e-9), 0.0, periodic=periodic)[0]
 
 
-def coulomb_sign(xd: np.ndarray, periodic: bool = True) -> np.ndarray:
-    """sgn(ẋ) of Coulomb sliding, with 0 for a sample that lies at a reversal.
-
-    A sample whose neighbours move in opposite directions and whose speed is below half of theirs is closer
-    to the turning point than half a sample step: the set-valued friction force there is taken at its
-    midpoint, 0, so the sign does not depend on round-off in t or x (or on which side of the turning point a
-    quantised time stamp falls).  ``periodic``: the series is one cycle (neighbours wrap around).
-    """
-    xd = np.asarray(xd, dtype=float)
-    s = np.sign(xd)
-    if xd.size < 3:
-        return s
-    a = np.abs(xd)
-    prev, nxt = np.roll(a, 1), np.roll(a, -1)
-    near = (np.roll(s, 1) * np.roll(s, -1) < 0) & (a < 0.5 * np.minimum(prev, nxt))
-    if not periodic:
-        near[0] = near[-1] = False
-    return np.where(near, 0.0, s)
+#: sgn(ẋ) of Coulomb sliding with 0 at a reversal (one implementation: :func:`chainid.operators.coulomb_sign`)
+coulomb_sign = ops.coulomb_sign
 
 
 def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True) -> np.ndarray:
     """Normalised Coulomb friction with elastic stick (Jenkins element), in [-1, 1].
 
     After a reversal the contact sticks elastically over a travel 2·x_s [mm]
-    before sliding again (stop operator (x − play(x, x_s))/x_s); x_s = 0 (or below
+    before sliding again (:func:`chainid.operators.jenkins` with F_c = 1); x_s = 0 (or below
     1e-4 of the stroke) gives sgn(ẋ), pure Coulomb sliding friction.
     """
     x = np.asarray(x, dtype=float)
     if x_s <= 1e-4 * (float(np.ptp(x)) if x.size else 0.0):
         # a stick travel below 1e-4 of the stroke is not resolved by any record: pure Coulomb sliding.
         return coulomb_sign(xd, periodic)
-    return (np.asarray(x, float) - play_operator(x, x_s, periodic)) / x_s
+    return ops.jenkins(x, 1.0, float(x_s), periodic=periodic)[0]
 
 
 def series_compliance_force(model: Any, x: np.ndarray, c: float, iters: int = 8) -> np.ndarray:
