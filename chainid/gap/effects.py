@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -177,22 +177,26 @@ class Effect:
         A: float,
         x0: float,
         xfun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
+        periodic: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Undamped force [N], the velocity the damping acts on [mm/s], and an extra c_e factor.
 
         Returns ``(F_nodamp, xd_damp, extra_c)`` with the model force
-        F = F_nodamp + (c_e + extra_c)·xd_damp.
+        F = F_nodamp + (c_e + extra_c)·xd_damp.  ``periodic``: the memory operators return the periodic
+        steady state of a series that is one period (the diagnosis' phase grid); False runs them forward
+        from their stated initial state (:mod:`chainid.operators`), for any x(t).
         """
         m = float(getattr(model, "mass_kg", 0.0))
         inert = m * xdd * 1e-3
         Fk = np.asarray(model.force(x), dtype=float)
         extra = 0.0
         if self.name == "friction":
-            F = inert + Fk + (p.get("F_c", 0.0) + p.get("mu", 0.0) * np.abs(Fk)) * stick_slip(x, xd, p.get("x_s", 0.0))
+            F = inert + Fk + (p.get("F_c", 0.0) + p.get("mu", 0.0) * np.abs(Fk)) * stick_slip(x, xd, p.get("x_s", 0.0),
+                                                                                          periodic)
         elif self.name == "hysteresis":
-            F = inert + Fk + dahl_operator(x, p.get("F_h", 0.0), p.get("x_h", 1.0))
+            F = inert + Fk + dahl_operator(x, p.get("F_h", 0.0), p.get("x_h", 1.0), periodic)
         elif self.name == "backlash":
-            F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0))), dtype=float)
+            F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0), periodic)), dtype=float)
         elif self.name == "slack" and not _is_chain(model):
             F = inert + np.asarray(model.force(x - p.get("s", 0.0)), dtype=float)
         elif self.name == "machine_compliance" and not _is_chain(model):
@@ -213,6 +217,33 @@ class Effect:
         else:  # pragma: no cover
             raise ValueError(f"unknown effect {self.name!r}")
         return F, xd, np.full_like(t, extra)
+
+
+def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, t: np.ndarray, x: np.ndarray,
+                   xd: np.ndarray, xdd: np.ndarray, omega: float, A: float, x0: float,
+                   xfun: Callable | None = None, periodic: bool = True) -> np.ndarray:
+    """Undamped model force [N] of an ordered effect set on a stiffness model (paper Eq. 1 without c_e·ẋ).
+
+    The one place where effects are composed (the diagnosis and :class:`chainid.augmented.AugmentedModel`):
+    stiffness-side effects change the model (:func:`modify_model`), the others add their force change on the
+    changed model.  ``sensor_delay`` and ``damping_law`` are not force terms here: the caller evaluates the
+    inputs at t − τ and the damping law.  Units: t s, x mm, ẋ mm/s, ẍ mm/s², ω rad/s, A mm, x0 mm.
+    """
+    rest = []
+    for n, pp in effects:
+        if n in STIFFNESS_SIDE and _is_chain(model):  # (a linear spring: slack/compliance as force terms)
+            model = modify_model(n, pp, model)
+        else:
+            rest.append((n, pp))
+    m = float(getattr(model, "mass_kg", 0.0))
+    base = m * xdd * 1e-3 + np.asarray(model.force(x), float)
+    Fn = base.copy()
+    for n, pp in rest:
+        if n in ("damping_law", "sensor_delay"):
+            continue
+        Fe, _, _ = make_effect(n).force(pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic)
+        Fn += Fe - base
+    return Fn
 
 
 def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max: float = 10.0) -> Effect:
