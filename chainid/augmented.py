@@ -133,12 +133,14 @@ class AugmentedModel:
         x, xd = (g["x"], g["xd"]) if self.delay_s == 0.0 else d.xfun(g["t"] - self.delay_s)[:2]
         return Fn + d.gridmean(dmp.force(x, xd, periodic=True)[0])
 
-    def force(self, t: Sequence[float], x: Sequence[float], return_parts: bool = False) -> Any:
+    def force(self, t: Sequence[float], x: Sequence[float], return_parts: bool = False,
+              xd: Sequence[float] | None = None, xdd: Sequence[float] | None = None) -> Any:
         """Model force F(t) [N] for any sampled x(t) [s, mm] (uniform or not, strictly increasing t).
 
         ẋ, ẍ by ``np.gradient`` with t; the force channel lags by τ (inputs interpolated at t − τ, held at
         the ends); memory operators run forward from their stated initial state; a damping law is resolved at
-        the record's dominant ω and A.  ``return_parts``: also a dict with the undamped force, damping force,
+        the record's dominant ω and A.  ``xd``, ``xdd`` [mm/s, mm/s²]: exact derivatives when known (a
+        simulation), instead of the finite differences.  ``return_parts``: also a dict with the undamped force, damping force,
         dissipated-energy increments of the damping [N·mm] and the resolved damping.
         """
         t = np.asarray(t, float)
@@ -149,8 +151,10 @@ class AugmentedModel:
             raise ValueError("t or x contains NaN or infinite values")
         if np.any(np.diff(t) <= 0):
             raise ValueError("t must be strictly increasing [s]")
-        xd = np.gradient(x, t)
-        xdd = np.gradient(xd, t)
+        xd = np.gradient(x, t) if xd is None else np.asarray(xd, float)
+        xdd = np.gradient(xd, t) if xdd is None else np.asarray(xdd, float)
+        if xd.shape != t.shape or xdd.shape != t.shape:
+            raise ValueError(f"xd and xdd must have the shape of t {t.shape}")
         if self.delay_s != 0.0:
             ts = t - self.delay_s
             x, xd, xdd = np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)

@@ -17,7 +17,7 @@ __all__ = ["main", "write_json", "build_parser"]
 
 #: Modules that add their own subcommands via ``add_subparsers(subparsers)``.
 SUBCOMMAND_MODULES = ("chainid.cli_identify", "chainid.cli_gap", "chainid.report", "chainid.cli_practice",
-                      "chainid.cli_dynamics")
+                      "chainid.cli_dynamics", "chainid.cli_model")
 
 
 def write_json(doc: Any, target: str | None, force: bool = False, what: str = "--json") -> None:
@@ -199,6 +199,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``chainid`` command."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:
         return int(args.func(args) or 0)
     except ValueError as exc:

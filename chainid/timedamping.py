@@ -73,11 +73,14 @@ def design(kind: str, w: np.ndarray, A: np.ndarray, ke: np.ndarray) -> np.ndarra
 
 
 def dominant(t: np.ndarray, x: np.ndarray) -> tuple[float, float, float]:
-    """Dominant angular frequency ω [rad/s], its amplitude A [mm] and the mean x0 [mm] of a record.
+    """Dominant angular frequency ω [rad/s], its amplitude A [mm] and the mean x0 [mm] of the oscillation.
 
-    The largest line of the spectrum of x − mean (x resampled on a uniform grid of the same number of
-    samples when t is not uniform), refined by a parabola through the peak's log-magnitudes; A is the
-    least-squares amplitude of sin/cos at that ω.
+    ω is the largest line of the spectrum of the velocity (Hann window; x resampled on a uniform grid of
+    the same number of samples when t is not uniform; refined by a parabola through the log-magnitudes):
+    the velocity spectrum is not dominated by a slow ramp or drift as the displacement's is.  The velocity
+    is demodulated at ω and averaged over one period: A = median of the envelope |2·z(t)|/ω where it exceeds
+    half its maximum (the oscillating part of the record), x0 = the mean of x there; ω is refined twice by
+    the drift rate of the demodulated phase over that part.
     """
     t = np.asarray(t, float)
     x = np.asarray(x, float)
@@ -85,19 +88,31 @@ def dominant(t: np.ndarray, x: np.ndarray) -> tuple[float, float, float]:
         raise ValueError(f"a record needs >= 8 samples to find its dominant frequency; got {t.size}")
     tu = np.linspace(t[0], t[-1], t.size)
     xu = np.interp(tu, t, x)
-    x0 = float(np.mean(xu))
-    X = np.abs(np.fft.rfft((xu - x0) * np.hanning(xu.size)))
-    k = int(np.argmax(X[1:])) + 1
     dt = (tu[-1] - tu[0]) / (tu.size - 1)
+    v = np.gradient(xu, dt)
+    v = v - np.mean(v)
+    X = np.abs(np.fft.rfft(v * np.hanning(v.size)))
+    k = int(np.argmax(X[1:])) + 1
     shift = 0.0
     if 1 <= k < X.size - 1 and X[k - 1] > 0 and X[k + 1] > 0:
         a, b, c = np.log(X[k - 1]), np.log(X[k]), np.log(X[k + 1])
         den = a - 2 * b + c
         shift = 0.5 * (a - c) / den if den != 0 else 0.0
-    w = 2 * math.pi * (k + shift) / (xu.size * dt)
-    M = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones_like(t)])
-    (s, c, m), *_ = np.linalg.lstsq(M, x, rcond=None)
-    return float(w), float(math.hypot(s, c)), float(m)
+    w = 2 * math.pi * (k + shift) / (v.size * dt)
+    n = max(1, min(v.size, int(round(2 * math.pi / w / dt))))
+    for _ in range(2):  # refine ω by the drift of the demodulated phase over the oscillating part
+        z = v * np.exp(-1j * w * tu)
+        cs = np.concatenate([[0], np.cumsum(z)])
+        zm = (cs[n:] - cs[:-n]) / n
+        env = 2 * np.abs(zm)
+        on = env >= 0.5 * env.max()
+        if np.count_nonzero(on) > 2 * n:
+            ph = np.unwrap(np.angle(zm[on]))
+            w += float(np.polyfit(tu[:env.size][on], ph, 1)[0])
+    A = float(np.median(env[on])) / w
+    idx = np.flatnonzero(on)
+    x0 = float(np.mean(xu[idx[0]: idx[-1] + n]))
+    return float(w), A, x0
 
 
 @dataclass

@@ -17,7 +17,6 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import forward as fw
-from .modelio import step_fields, step_models
 from .interpret import interpretation, mechanism, separating_test, step_text
 from .prepare import Unusable, prepare_test
 from .problem import MIN_TRAIN, Candidate, Problem, damping_separable
@@ -201,6 +200,8 @@ def diagnose(
     if final is None and verdict == "unexplained" and best is not None:
         warn.append(f"no effect passed the step rule ({fwd['stop']})")
     interp = interpretation(path, prob, verdict)
+    from .modelio import step_fields, step_models  # (lazy: chainid.augmented imports the effect library)
+
     steps = [_step_dict(c, i) | step_fields(prob, c) for i, c in enumerate(path)]
     evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol, "allow_compression": bool(allow_compression or not is_chain)}
     models = step_models({"_problem": prob, "_path": path}, {"evaluation": evaluation})
