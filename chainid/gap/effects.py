@@ -258,7 +258,8 @@ def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max
     x_scale : float
         Displacement scale, e.g. the largest amplitude [mm] (> 0).
     omega_max : float
-        Largest test frequency [rad/s] (> 0); bounds the delay to a quarter period.
+        Largest test frequency [rad/s] (> 0); bounds the delay to ± half its period (π/ω_max): a lag up to
+        half the shortest period is found (the fit starts from a grid over that range, :mod:`.fitgrid`).
     """
     if name not in EFFECT_NAMES:
         raise ValueError(f"effect = {name!r} is unknown; valid: {', '.join(EFFECT_NAMES)}")
@@ -291,7 +292,7 @@ def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max
                       chain_only=True,
                       description="contact compliance c_hertz·scale with exponent beta (Hertz: 1, 2/3)")
     if name == "sensor_delay":
-        q = 0.5 * math.pi / max(omega_max, 1e-9)
+        q = math.pi / max(omega_max, 1e-9)  # ± half the shortest period
         return Effect(name, ("tau",), ("s",), ((-q, q),), (0.0,),
                       description="force channel lags displacement by tau")
     return Effect(name, ("eta", "F_f"), ("-", "N"), ((0.0, 2.0), (0.0, 5 * F_scale)), (0.0, 0.0),
