@@ -16,12 +16,14 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import forward as fw
-from .interpret import interpretation, mechanism, separating_test, step_text
-from .prepare import Unusable, prepare_test
-from .problem import MIN_TRAIN, Candidate, Problem, damping_separable
-from .stationarity import check as stationarity_check
-from .where import localise
+from chainid.gap import selection as fw
+from chainid.gap.modelio import step_fields, step_models
+from chainid.model.modelfile import model_to_dict
+from chainid.gap.interpret import interpretation, mechanism, separating_test, step_text
+from chainid.gap.prepare import Unusable, prepare_test
+from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
+from chainid.gap.stationarity import check as stationarity_check
+from chainid.gap.where import localise
 
 #: the verdict names an effect only when the chain shrinks the held-out gap by at least this fraction
 MIN_SHRINK = 0.5
@@ -31,7 +33,7 @@ NONSTAT_FRACTION = 0.25
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
     """LinearModel F = k(x − x_ref) [N/mm, mm] fitted on the training records' samples."""
-    from ..models import LinearModel
+    from chainid.model.base import LinearModel
 
     xs = np.concatenate([r.x for r in records if r.test not in set(holdout)])
     Fs = np.concatenate([r.F for r in records if r.test not in set(holdout)])
@@ -200,7 +202,8 @@ def diagnose(
     if final is None and verdict == "unexplained" and best is not None:
         warn.append(f"no effect passed the step rule ({fwd['stop']})")
     interp = interpretation(path, prob, verdict)
-    from .modelio import step_fields, step_models  # (lazy: chainid.augmented imports the effect library)
+    from chainid.gap.modelio import step_fields, step_models
+    from chainid.model.modelfile import model_to_dict  # (lazy: chainid.augmented imports the effect library)
 
     steps = [_step_dict(c, i) | step_fields(prob, c) for i, c in enumerate(path)]
     evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol, "allow_compression": bool(allow_compression or not is_chain)}
@@ -231,7 +234,7 @@ def diagnose(
                    "nrmse_before": base_c.per_test[d.test],
                    "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data],
     }
-    summary["model"] = models[-1].describe()  # every fitted parameter of the last step (the model file's keys)
+    summary["model"] = model_to_dict(models[-1])  # every fitted parameter of the last step (the model file's keys)
     summary["_problem"] = prob
     summary["_models"] = models
     summary["_best"] = final if final is not None else best

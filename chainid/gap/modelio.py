@@ -27,9 +27,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..augmented import NOT_FORCE, AugmentedModel
-from ..timedamping import Damping
-from .prepare import Unusable, prepare_test
+from chainid.model.augmented import NOT_FORCE, AugmentedModel
+from chainid.model.modelfile import model_to_dict
+from chainid.model.timedamping import Damping
+from chainid.gap.prepare import Unusable, prepare_test
 
 
 def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> AugmentedModel:
@@ -61,14 +62,14 @@ def step_models(result: dict[str, Any], info: dict[str, Any] | None = None) -> l
 def step_fields(prob: Any, cand: Any) -> dict[str, Any]:
     """Fitted parameters of a step that the step's dict does not carry: base, law coefficients, mass, delay."""
     m = model_of_step(prob, cand)
-    d = m.describe()
+    d = model_to_dict(m)
     return {"law_params": [float(v) for v in cand.law_params], "base": d["base"], "mass_kg": d["mass_kg"],
             "delay_s": d["delay_s"]}
 
 
 def provenance(data_file: str | Path | None, command: str) -> dict[str, Any]:
     """Data file SHA-256, the command, chainid's version and the UTC date of a model file."""
-    from .. import __version__
+    from chainid import __version__
 
     sha = None
     if data_file is not None and Path(data_file).is_file():
@@ -148,7 +149,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         tot["v"] += var
     pb, pm = _nrmse(tot["b"], tot["v"]), _nrmse(tot["m"], tot["v"])
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
-           "model": model.describe(), "damping_used": "per-test fitted c_e" if fitted else "law"}
+           "model": model_to_dict(model), "damping_used": "per-test fitted c_e" if fitted else "law"}
     if keep:
         out["_series"] = series
     return out
