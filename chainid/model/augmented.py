@@ -125,7 +125,7 @@ class AugmentedModel:
         """Model force bin means [N] of a prepared harmonic test (damping: the law at the test's ω, A, x0; with
         ``fitted`` the per-test c_e of a test the law was fitted on)."""
         Fn, v = self.cycle_parts(d)
-        dmp = self.damping.resolve(d.omega, d.A, self.ke(d.x0), d.test, fitted)
+        dmp = self.damping.resolve(d.omega, d.A, self.ke(d.x0), d.test, fitted, d.x0)
         if dmp.form == "viscous":
             return Fn + dmp.params["c"] * v
         # a rate-independent form: evaluate on the grid in its periodic steady state
@@ -165,7 +165,7 @@ class AugmentedModel:
         w, A, x0 = dominant(t, x)
         Fn = undamped_force(self.effects, self.base, t, x, xd, xdd, w, max(A, 1e-12), x0, xfun,
                             periodic=False) + self._mass_fix(xdd)
-        dmp = self.damping.resolve(w, max(A, 1e-12), self.ke(x0))
+        dmp = self.damping.resolve(w, max(A, 1e-12), self.ke(x0), x0=x0)
         Fd, dE = dmp.force(x, xd, periodic=False)
         F = Fn + Fd
         if return_parts:

@@ -17,9 +17,10 @@ no meaning in a transient.  A model carries one of these time-domain forms (unit
 amplitude A (:func:`dominant`: the largest spectral line of x and its least-squares amplitude) give
 c = c_e(ω, A, k_e(x0)).  ``rule = "viscous"`` (default) uses F_d = c·ẋ — exact for a harmonic test (it *is*
 the identification's model); ``rule = "hysteretic"`` uses the Iwan distribution with the same energy per
-cycle, π·c·ω·A² = π·η·k·A², i.e. η·k = c·ω and x_max = A, which is rate independent in a transient but
-adds an in-phase (stiffness) part and higher harmonics on a harmonic test (its error is measured in
-``tests/test_augmented.py`` and stated in NOTES).
+cycle, π·c·ω·A² = π·η·k·A², i.e. η·k = c·ω and x_max = A, with a compensating linear spring −k_comp·(x − x0)
+that removes the distribution's in-phase first harmonic on that cycle (k_comp ≈ 1.39·η·k), so only higher
+harmonics differ from c·ẋ on a harmonic test; rate independent in a transient (its error is measured in
+``tests/test_augmented.py`` and stated in NOTES_h17.md).
 """
 
 from __future__ import annotations
@@ -46,12 +47,29 @@ LAWS: dict[str, int] = {
 FORMS: dict[str, tuple[str, ...]] = {
     "none": (),
     "viscous": ("c",),
-    "hysteretic": ("eta_k", "x_max", "n"),
+    "hysteretic": ("eta_k", "x_max", "n", "k_comp", "x_c"),
     "dahl": ("F_h", "x_h"),
     "coulomb": ("F_c", "x_s"),
     "law": (),
 }
 RULES = ("viscous", "hysteretic")
+#: elements of the Iwan distribution of the ``hysteretic`` rule
+IWAN_N = 32
+
+
+def _iwan_in_phase() -> float:
+    """In-phase first-harmonic stiffness of :func:`chainid.operators.iwan_for_loss` (η·k = 1, x_max = A = 1) on its
+    steady cycle, [N/mm per N/mm]: the rule's compensating spring removes it (computed once, 4000 steps)."""
+    global _IN_PHASE
+    if _IN_PHASE is None:
+        psi = np.linspace(0, 4 * math.pi, 4001)
+        Fc, xs = ops.iwan_for_loss(1.0, 1.0, IWAN_N)
+        F = ops.iwan(np.sin(psi), Fc, xs)[0][2000:-1]
+        _IN_PHASE = 2 * float(np.mean(F * np.sin(psi[2000:-1])))
+    return _IN_PHASE
+
+
+_IN_PHASE: float | None = None
 
 
 def design(kind: str, w: np.ndarray, A: np.ndarray, ke: np.ndarray) -> np.ndarray:
@@ -168,7 +186,7 @@ class Damping:
         return float(design(self.law or "viscous", [omega], [A], [ke])[0] @ np.asarray(self.coefficients, float))
 
     def resolve(self, omega: float, A: float, ke: float, test: str | None = None,
-                fitted: bool = False) -> "Damping":
+                fitted: bool = False, x0: float = 0.0) -> "Damping":
         """The time-domain form for a record of dominant ω [rad/s], amplitude A [mm] (k_e [N/mm] at its x0).
 
         A ``law`` becomes ``viscous`` c = c_e(ω, A, k_e) (rule ``viscous``) or the Iwan distribution of equal
@@ -180,7 +198,9 @@ class Damping:
         c = self.per_test[test] if fitted and test in self.per_test else self.ce(omega, A, ke)
         if self.rule == "viscous":
             return Damping("viscous", {"c": c})
-        return Damping("hysteretic", {"eta_k": max(c, 0.0) * omega, "x_max": max(A, 1e-12), "n": 32})
+        eta_k = max(c, 0.0) * omega
+        return Damping("hysteretic", {"eta_k": eta_k, "x_max": max(A, 1e-12), "n": IWAN_N,
+                                      "k_comp": eta_k * _iwan_in_phase(), "x_c": x0})
 
     def force(self, x: np.ndarray, xd: np.ndarray, periodic: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Damping force [N] and dissipated-energy increments [N·mm] (viscous: c·ẋ²·Δt is left to the caller,
@@ -192,8 +212,9 @@ class Damping:
         if self.form == "viscous":
             return p.get("c", 0.0) * np.asarray(xd, float), z
         if self.form == "hysteretic":
-            Fc, xs = ops.iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", 32)))
-            return ops.iwan(x, Fc, xs, periodic=periodic)
+            Fc, xs = ops.iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", IWAN_N)))
+            F, dE = ops.iwan(x, Fc, xs, periodic=periodic)
+            return F - p.get("k_comp", 0.0) * (np.asarray(x, float) - p.get("x_c", 0.0)), dE
         if self.form == "dahl":
             return ops.dahl(x, p.get("F_h", 0.0), p.get("x_h", 1.0), periodic=periodic)
         if self.form == "coulomb":
