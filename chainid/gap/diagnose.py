@@ -65,6 +65,8 @@ def diagnose(
     steady_tol: float | None = None,
     strict: bool = False,
     quiet: bool = False,
+    holdout_blocks: int = 0,
+    validate: Sequence[Any] | None = None,
 ) -> dict[str, Any]:
     """Diagnose the sim-to-real gap of a test series.
 
@@ -96,6 +98,16 @@ def diagnose(
         A test that cannot be analysed is an error instead of being excluded.
     quiet : bool
         No line on stderr per excluded test.
+    holdout_blocks : int
+        K > 0: every record is cut into K contiguous time blocks and the last block of each is held out
+        (time-domain route for every record; whole tests in ``holdout`` are held out as well).
+    validate : sequence of Record, optional
+        Another set (another excitation): the chain fitted here is evaluated on it (key ``transfer``,
+        :func:`chainid.gap.transfer.transfer`).
+
+    A record that is not a steady harmonic test (a transient, sweep, random or seismic record) is analysed
+    in the time domain (:mod:`chainid.gap.diagnose_time`); harmonic tests keep the phase-bin route, and a set
+    of both kinds is diagnosed as one problem.
 
     Returns
     -------
@@ -116,10 +128,41 @@ def diagnose(
     bad = [h for h in holdout if h not in ids]
     if bad:
         raise ValueError(f"--holdout: test id(s) {bad} not in the data; valid ids: {', '.join(ids)}")
+    holdout_blocks = int(holdout_blocks)
+    if holdout_blocks < 0 or holdout_blocks == 1:
+        raise ValueError(f"--holdout-blocks = {holdout_blocks!r} is out of range; valid: 0 (off) or >= 2")
+    if not holdout and holdout_blocks == 0:
+        raise ValueError("--holdout: no test held out; give test ids or --holdout-blocks K")
     if len(set(holdout)) >= len(set(ids)):
         raise ValueError(f"--holdout: all {len(ids)} tests are held out; leave at least {MIN_TRAIN} for training")
     is_chain = model is not None and hasattr(model, "hertz_scale")
-    data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, strict)
+    data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
+    # records that are not steady harmonic tests go to the time-domain route when long enough for it
+    from .timedomain import MIN_SAMPLES
+
+    time_ids = {r.test for r in records if r.t.size >= MIN_SAMPLES} & {e["test"] for e in excluded}
+    excluded = [e for e in excluded if e["test"] not in time_ids]
+    if strict and excluded:
+        e = excluded[0]
+        raise ValueError(f"test {e['test']!r} cannot be used (--strict): {e['reason']}")
+    if time_ids or holdout_blocks:
+        from .diagnose_time import diagnose_any
+
+        for e in excluded:
+            if not quiet:
+                print(f"chainid diagnose: test {e['test']} excluded: {e['reason']}", file=sys.stderr)
+        time_recs = [r for r in records if r.test in time_ids]
+        records = [r for r in records if r.test not in {e["test"] for e in excluded}]
+        holdout = [h for h in holdout if h in {r.test for r in records}]
+        if model is None:
+            model = fit_linear_model(records, holdout)
+        res = diagnose_any(records, data, time_recs, holdout, model, holdout_blocks=holdout_blocks, effects=effects,
+                           max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet)
+        if validate is not None:
+            from .transfer import transfer
+
+            res["transfer"] = transfer(res, validate, n_bins=n_bins, steady_tol=steady_tol)
+        return res
     for e in excluded:
         if not quiet:
             print(f"chainid diagnose: test {e['test']} excluded: {e['reason']}", file=sys.stderr)
@@ -230,6 +273,10 @@ def diagnose(
     summary["_problem"] = prob
     summary["_best"] = final if final is not None else best
     summary["_path"] = path
+    if validate is not None:
+        from .transfer import transfer
+
+        summary["transfer"] = transfer(summary, validate, n_bins=n_bins, steady_tol=steady_tol)
     return summary
 
 

@@ -98,7 +98,8 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     second effect, and the step rule decides whether it does)."""
     ev = cand._ev  # type: ignore[attr-defined]
     r2, f2, _ = prob.noise_db(ev, "train")
-    n = sum(d.counts.size for d in prob.train)
+    # noise cells: phase bins of harmonic tests (+ samples of time-domain records, :mod:`.timeproblem`)
+    n = prob.n_cells("train") if hasattr(prob, "n_cells") else sum(d.counts.size for d in prob.train)
     return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
 
 

@@ -113,7 +113,8 @@ class Problem:
         Baseline law name or "auto" (:func:`chainid.gap.laws.choose`).
     """
 
-    def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto"):
+    def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto",
+                 require_hold: bool = True):
         self.data = list(data)
         self.model = model
         ids = [d.test for d in self.data]
@@ -123,7 +124,7 @@ class Problem:
         hs = set(holdout)
         self.hold = [d for d in self.data if d.test in hs]
         self.train = [d for d in self.data if d.test not in hs]
-        if not self.hold:
+        if not self.hold and require_hold:  # (a mixed set may hold out only time-domain records)
             raise ValueError("--holdout: no test held out; give at least one test id")
         if len(self.train) < MIN_TRAIN:
             raise ValueError(

@@ -1,0 +1,195 @@
+"""Where the model misses on a time-domain record: residual against the state, its spectrum, ringing, drift.
+
+* **State maps.** The residual's means over quantile bins of x, ẋ, the travel since the last
+  reversal and the load level (the model force).  The share of the residual variance a
+  variable's bin means carry says what the miss follows: x → stiffness side, ẋ → damping
+  or sliding friction, travel since reversal → memory (stick, hysteresis, play), load →
+  load-dependent friction or stiffness.  A map counts when its bin-mean variance exceeds
+  the noise's (σ²/n per bin) by ``Z_MAP`` standard errors.
+* **Spectrum outside the band.** The residual's RMS above ``CUT_FACTOR``·band against
+  white noise of the record's σ over the same bandwidth.
+* **Ringing after reversals (stick-slip chatter).** The residual high-passed above the
+  band, in windows after each velocity reversal against the rest of the record.  Ringing
+  is a narrow spectral peak (peak/median of the windows' averaged spectrum >= ``PEAK``)
+  well above the band (>= 2·cut), ``RING_RATIO`` times the mean square elsewhere.
+  No library effect covers chatter: it is reported as such, never as an effect name.
+* **Drift.** Per record, the residual's means over ``N_DRIFT`` contiguous blocks are
+  regressed on time with the block's mean x as a covariate
+  (:func:`chainid.gap.stationarity.trend`): a slope over ``Z_TREND`` standard errors in at
+  least a quarter of the records is a non-stationarity no static effect explains.
+
+Units: mm, N, s, Hz.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from .noise import CUT_FACTOR, lowpass
+from .stationarity import Z_TREND, trend
+from .timedomain import TimeData, reversals, travel_since_reversal
+
+#: quantile bins of a state map
+N_MAP = 16
+#: standard errors of bin-mean variance over the noise for a state map to count
+Z_MAP = 5.0
+#: narrowband peak (peak / median power of the post-reversal spectrum) that makes ringing
+PEAK = 10.0
+#: post-reversal high-frequency mean square over the rest that makes ringing
+RING_RATIO = 2.0
+#: blocks per record of the drift test
+N_DRIFT = 20
+
+_HINT = {"x": "stiffness side (level, contact law, offset)", "xd": "damping or sliding friction (sgn ẋ)",
+         "travel": "memory after reversals (stick, hysteresis, play)", "load": "load-dependent friction or stiffness"}
+_NAME = {"x": "displacement x", "xd": "velocity ẋ", "travel": "travel since the last reversal",
+         "load": "load level (model force)"}
+
+
+def state_maps(data: Sequence[TimeData], res: dict[str, np.ndarray], force: dict[str, np.ndarray]) -> list[dict]:
+    """Residual bin means against x, ẋ, travel since reversal and load (pooled over records)."""
+    r = np.concatenate([res[d.test] for d in data])
+    var = {"x": np.concatenate([d.x for d in data]), "xd": np.concatenate([d.xd for d in data]),
+           "travel": np.concatenate([travel_since_reversal(d.x, d.xd) for d in data]),
+           "load": np.concatenate([force[d.test] for d in data])}
+    s2 = float(np.mean(np.concatenate([np.full(d.t.size, d.sigma**2) for d in data])))
+    tot = float(np.var(r)) or 1e-300
+    out = []
+    for k, v in var.items():
+        edges = np.unique(np.quantile(v, np.linspace(0, 1, N_MAP + 1)))
+        if edges.size < 3:
+            continue
+        b = np.clip(np.searchsorted(edges, v, side="right") - 1, 0, edges.size - 2)
+        cnt = np.bincount(b).astype(float)
+        mean = np.bincount(b, weights=r) / np.maximum(cnt, 1)
+        ok = cnt > 0
+        between = float(np.sum(cnt[ok] * (mean[ok] - r.mean()) ** 2) / r.size)
+        noise = s2 * ok.sum() / r.size  # expected between-bin variance of pure noise
+        z = (between - noise) / (noise * math.sqrt(2.0 / max(ok.sum() - 1, 1)))
+        centres = 0.5 * (edges[:-1] + edges[1:])
+        if z >= Z_MAP:
+            out.append({"finding": f"residual follows the {_NAME[k]}: bin means from {mean[ok].min():+.3g} to "
+                        f"{mean[ok].max():+.3g} N carry {100 * between / tot:.0f} % of its variance "
+                        f"(→ {_HINT[k]})", "kind": "state", "variable": k, "share": between / tot,
+                        "bin_centres": [float(c) for c in centres[ok]], "bin_means_N": [float(m) for m in mean[ok]],
+                        "score": math.sqrt(between)})
+    return out
+
+
+def spectrum_outside(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, Any]:
+    """Residual RMS above CUT_FACTOR·band against white noise of σ over that bandwidth (pooled)."""
+    num = den = 0.0
+    for d in data:
+        fc = CUT_FACTOR * d.f_band
+        if fc >= 0.45 * d.fs:
+            continue
+        hp = res[d.test] - lowpass(res[d.test], d.fs, fc)
+        num += float(np.sum(hp**2))
+        den += d.sigma**2 * (1.0 - fc / (0.5 * d.fs)) * d.t.size
+    if den <= 0:
+        return {}
+    ratio = math.sqrt(num / den)
+    return {"finding": f"residual above {CUT_FACTOR:g}× the excitation band: RMS {ratio:.2f}× white noise of the "
+            f"records' σ over that bandwidth" + (" (content outside the excitation's band: ringing, impacts, "
+            "chatter or a sensor resonance)" if ratio > 1.5 else " (noise)"), "kind": "spectrum",
+            "ratio_to_noise": ratio, "score": 0.0}
+
+
+def ringing(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, Any]:
+    """Narrowband ringing of the residual after velocity reversals (stick-slip chatter), or {}."""
+    seg, rest_ss, rest_n, fs_all, fc_all = [], 0.0, 0, [], []
+    for d in data:
+        fc = CUT_FACTOR * d.f_band
+        if fc >= 0.2 * d.fs:
+            continue
+        hp = res[d.test] - lowpass(res[d.test], d.fs, fc)
+        rv = reversals(d.xd)
+        if rv.size < 2:
+            continue
+        L = int(min(np.median(np.diff(rv)) // 2, d.fs / fc * 8))
+        if L < 16:
+            continue
+        inwin = np.zeros(hp.size, bool)
+        for i in rv:
+            if i + L <= hp.size:
+                seg.append(hp[i:i + L] * np.hanning(L))
+                inwin[i:i + L] = True
+                fs_all.append(d.fs)
+                fc_all.append(fc)
+        rest_ss += float(np.sum(hp[~inwin] ** 2))
+        rest_n += int((~inwin).sum())
+    if len(seg) < 3 or rest_n == 0:
+        return {}
+    L = min(s.size for s in seg)
+    P = np.mean([np.abs(np.fft.rfft(s[:L])) ** 2 for s in seg], axis=0)
+    f = np.fft.rfftfreq(L, 1.0 / float(np.median(fs_all)))
+    fc = float(np.median(fc_all))
+    m = f >= 2 * fc
+    if m.sum() < 4:
+        return {}
+    k = int(np.argmax(np.where(m, P, 0.0)))
+    peak = float(P[k] / max(np.median(P[m]), 1e-300))
+    post = float(np.mean([np.mean(s**2) for s in seg]) / np.mean(np.hanning(L) ** 2))
+    ratio = post / (rest_ss / rest_n) if rest_ss > 0 else float("inf")
+    chatter = peak >= PEAK and ratio >= RING_RATIO
+    rms = math.sqrt(post)
+    txt = (f"ringing after velocity reversals at {f[k]:.3g} Hz (RMS {rms:.3g} N, {ratio:.1f}× the mean square "
+           f"elsewhere, spectral peak {peak:.0f}× the median): stick-slip chatter — no library effect covers it, "
+           "so it is reported, not named") if chatter else (
+        f"no ringing after reversals (post-reversal high-frequency residual {ratio:.2f}× elsewhere, peak {peak:.1f}× "
+        "the median)")
+    return {"finding": txt, "kind": "chatter" if chatter else "ringing", "chatter": chatter,
+            "frequency_Hz": float(f[k]), "rms_N": rms, "ratio": ratio, "peak_ratio": peak,
+            "score": rms if chatter else 0.0}
+
+
+def drift(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, Any]:
+    """Trend of the residual's block means over time per record (covariate: the block's mean x)."""
+    rows = []
+    for d in data:
+        nb = min(N_DRIFT, d.t.size // 32)
+        if nb < 6:
+            continue
+        b = np.minimum((np.arange(d.t.size) * nb) // d.t.size, nb - 1)
+        cnt = np.bincount(b).astype(float)
+        tm = np.bincount(b, weights=d.t) / cnt
+        rm = np.bincount(b, weights=res[d.test]) / cnt
+        xm = np.bincount(b, weights=d.x) / cnt
+        sl, se, chg = trend(tm, rm, xm, d.sigma / math.sqrt(float(cnt.mean())))
+        rows.append({"test": d.test, "slope_N_per_s": sl, "z": abs(sl) / se if se > 0 else float("inf"),
+                     "change_N": chg})
+    if not rows:
+        return {"stationary": None, "trend_change_N": 0.0, "z": 0.0, "tests": [],
+                "finding": "stationarity not checked: records too short for the drift test"}
+    sig = [r for r in rows if r["z"] >= Z_TREND]
+    stationary = len(sig) < max(1, math.ceil(0.25 * len(rows)))
+    chg = math.sqrt(float(np.mean([r["change_N"] ** 2 if r["z"] >= Z_TREND else 0.0 for r in rows])))
+    zmax = max(r["z"] for r in rows)
+    finding = ("the residual is stationary over each record (no significant drift of its block means)" if stationary
+               else f"non-stationary: the residual drifts with time in {len(sig)} of {len(rows)} records (change "
+               f"{chg:.3g} N RMS over records, up to {zmax:.1f} standard errors) beyond what x explains: drift, "
+               "relaxation, heating or wear, which no static library effect explains")
+    return {"stationary": stationary, "trend_change_N": chg, "z": zmax, "tests": rows, "finding": finding}
+
+
+def localise_time(data: Sequence[TimeData], res: dict[str, np.ndarray], force: dict[str, np.ndarray]
+                  ) -> list[dict[str, Any]]:
+    """Ranked time-domain findings on a residual (largest first): level, state maps, spectrum, ringing."""
+    r = np.concatenate([res[d.test] for d in data])
+    sig = math.sqrt(float(np.mean(np.concatenate([np.full(d.t.size, d.sigma**2) for d in data]))))
+    rms = math.sqrt(float(np.mean(r**2)))
+    out = [{"finding": f"time-domain residual RMS {rms:.4g} N, {20 * math.log10(max(rms, 1e-300) / max(sig, 1e-300)):.1f}"
+            f" dB over the noise σ {sig:.3g} N (σ from the records' own second differences)", "kind": "level",
+            "rms_N": rms, "noise_floor_N": sig, "score": rms}]
+    out += state_maps(data, res, force)
+    sp = spectrum_outside(data, res)
+    if sp:
+        out.append(sp)
+    rg = ringing(data, res)
+    if rg:
+        out.append(rg)
+    out.sort(key=lambda f: -f.get("score", 0.0))
+    return out
