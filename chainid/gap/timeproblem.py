@@ -107,14 +107,15 @@ class AnyProblem(Problem):
         return n
 
     def _c(self, parts: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]) -> float:
-        """Viscous c [N·s/mm]: weighted least squares of F − F_n on v over the training samples given."""
+        """Viscous c [N·s/mm] >= 0: weighted least squares of F − F_n on v over the training samples given."""
         num = den = 0.0
         for d in self.tdata:
             Fn, v, F = parts[d.test]
             w = 1.0 / d.sigma**2
             num += w * float(np.sum((F - Fn) * v))
             den += w * float(np.sum(v * v))
-        return num / den if den > 0 else 0.0
+        # a dashpot dissipates: c >= 0 (a negative c would stand in for a lag of the force channel)
+        return max(num / den, 0.0) if den > 0 else 0.0
 
     def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
         """Whitened training residuals: time records on their fit subset (weighted √q for the subsampling), then
