@@ -40,8 +40,13 @@ def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
 
 def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, steady_tol: float | None,
              strict: bool) -> tuple[list[Any], list[dict[str, str]]]:
+    from .noise import is_broadband
+
     data, excluded = [], []
     for r in records:
+        if r.t.size >= 64 and is_broadband(r.t, r.x):  # clearly not one sine: no harmonic estimate to try
+            excluded.append({"test": r.test, "reason": "not a harmonic test (broadband displacement)"})
+            continue
         try:
             data.append(prepare_test(r, n_bins=n_bins, allow_compression=allow_compression, steady_tol=steady_tol))
         except Unusable as exc:

@@ -127,3 +127,22 @@ def kinematics(t: np.ndarray, x: np.ndarray, f_band: float) -> tuple[np.ndarray,
     xd = np.gradient(xs, t)
     xdd = np.gradient(xd, t)
     return xs, xd, xdd
+
+
+#: a steady harmonic test holds at least this share of its displacement variance within ± ``LINE_WIDTH`` of its
+#: spectral peak (one sine, even with a taper or jitter); a record below it is not a harmonic test
+LINE_SHARE = 0.2
+LINE_WIDTH = 0.1
+
+
+def is_broadband(t: np.ndarray, x: np.ndarray) -> bool:
+    """Whether the displacement is clearly not one sine: less than ``LINE_SHARE`` of its variance (linear trend
+    removed) within ± ``LINE_WIDTH`` (relative) of the spectral peak.  Such a record skips the harmonic
+    estimate (it has no steady cycles to find) and goes straight to the time-domain route."""
+    f, P = _psd(x, sample_rate(t))
+    if f.size < 8:
+        return False
+    P[0] = 0.0
+    k = int(np.argmax(P))
+    m = np.abs(f - f[k]) <= LINE_WIDTH * f[k] + (f[1] - f[0])
+    return float(P[m].sum()) < LINE_SHARE * float(P.sum())
