@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..generated.stiffness_paper import force as _force
+from chainid.generated.stiffness_paper import force as _force
 
 __all__ = ["elastic_energy", "elastic_energy_array", "balance"]
 

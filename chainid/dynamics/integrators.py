@@ -27,10 +27,10 @@ import math
 import numpy as np
 from numba import njit
 
-from ..generated.stiffness_paper import force as _force
-from ..generated.stiffness_paper import stiffness as _stiffness
-from .drives import drive_state
-from .energy import elastic_energy_array
+from chainid.generated.stiffness_paper import force as _force
+from chainid.generated.stiffness_paper import stiffness as _stiffness
+from chainid.dynamics.drives import drive_state
+from chainid.dynamics.energy import elastic_energy_array
 
 __all__ = ["explicit_core", "implicit_core"]
 

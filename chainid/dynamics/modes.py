@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..generated.stiffness_paper import stiffness_array
-from .model import ChainLine
+from chainid.generated.stiffness_paper import stiffness_array
+from chainid.dynamics.model import ChainLine
 
 __all__ = ["Modes", "modes", "tangent_system"]
 

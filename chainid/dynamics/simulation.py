@@ -11,10 +11,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .drives import Drive
-from .energy import balance
-from .integrators import explicit_core, implicit_core
-from .model import ChainLine
+from chainid.dynamics.drives import Drive
+from chainid.dynamics.energy import balance
+from chainid.dynamics.integrators import explicit_core, implicit_core
+from chainid.dynamics.model import ChainLine
 
 __all__ = ["SCHEMES", "SimResult", "simulate", "stable_step", "core_arguments"]
 
