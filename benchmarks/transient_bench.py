@@ -33,8 +33,8 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 
 def transient_set(n: int, n_rec: int = 8):
-    from chainid.gap.effects import dahl_operator
-    from chainid.models import ChainModel
+    from chainid.model.effects import dahl_operator
+    from chainid.model import ChainModel
     from transient_forms import random_x, record
 
     model = ChainModel()
@@ -48,7 +48,7 @@ def transient_set(n: int, n_rec: int = 8):
 
 def harmonic_set(n: int, model, n_rec: int = 8):
     from chainid.gap import parse_effect
-    from chainid.simulate import TestSpec, simulate
+    from chainid.records.simulate import TestSpec, simulate
 
     plan = [TestSpec(str(i + 1), w, 2.0, a) for i, (w, a) in
             enumerate([(4, .05), (4, .12), (8, .08), (8, .05), (12, .12), (12, .08), (6, .1), (10, .06)])]

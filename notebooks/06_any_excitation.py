@@ -34,9 +34,9 @@ from pathlib import Path
 import numpy as np
 
 from chainid.gap import diagnose
-from chainid.gap.effects import dahl_operator
-from chainid.gap.report import summary
-from chainid.models import ChainModel
+from chainid.model.effects import dahl_operator
+from chainid.gap.summary import summary
+from chainid.model import ChainModel
 
 # %% [markdown]
 # ## Band-limited random excitation of a chain with hidden hysteresis

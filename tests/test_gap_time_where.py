@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from chainid.gap import diagnose, parse_effect
-from chainid.simulate import grid_plan, simulate
+from chainid.records.simulate import grid_plan, simulate
 from transient_forms import chain_set
 
 
 def test_compound_friction_on_a_softer_chain():
     def fric(t, x, xd):
-        from chainid.gap.effects import stick_slip
+        from chainid.model.effects import stick_slip
         return 60.0 * stick_slip(x, xd, 0.0, periodic=False)
 
     model, recs = chain_set("stiffness_level", {"scale": 0.8}, extra=fric, seed=10)
@@ -44,7 +44,7 @@ def test_no_drift_is_stationary():
 def test_stick_slip_chatter_is_reported_not_named():
     # friction plus a 30 Hz, 40 N oscillation while the contact slides (|ẋ| > 0.3 of its peak): chatter
     def chatter(t, x, xd):
-        from chainid.gap.effects import stick_slip
+        from chainid.model.effects import stick_slip
         slide = np.abs(xd) > 0.3 * np.abs(xd).max()
         return 60.0 * stick_slip(x, xd, 0.0, periodic=False) + 40.0 * np.sin(2 * np.pi * 30.0 * t) * slide
 

@@ -34,8 +34,8 @@ def chain_set(effect: str, p: dict, n_rec: int = 3, n: int = 4000, noise_F: floa
               amp: float = 0.08, x0: float = 2.0, seed: int = 0, extra=None):
     """Records of the built-in chain under band-limited random x with one effect (composed by hand here from
     the library's operators, evaluated causally on the raw samples)."""
-    from chainid.gap.effects import dahl_operator, modify_model, play_operator, stick_slip
-    from chainid.models import ChainModel
+    from chainid.model.effects import dahl_operator, modify_model, play_operator, stick_slip
+    from chainid.model import ChainModel
 
     model = ChainModel()
     recs = []

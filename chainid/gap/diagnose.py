@@ -17,7 +17,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap import selection as fw
-from chainid.gap.interpret import interpretation, mechanism, separating_test, step_text
+from chainid.gap.interpret import interpretation, mechanism, separating_test, step_dict, step_text
 from chainid.gap.prepare import Unusable, prepare_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
 from chainid.gap.stationarity import check as stationarity_check
@@ -40,7 +40,7 @@ def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
 
 def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, steady_tol: float | None,
              strict: bool) -> tuple[list[Any], list[dict[str, str]]]:
-    from .noise import is_broadband
+    from chainid.gap.noise import is_broadband
 
     data, excluded = [], []
     for r in records:
@@ -143,7 +143,7 @@ def diagnose(
     is_chain = model is not None and hasattr(model, "hertz_scale")
     data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
     # records that are not steady harmonic tests go to the time-domain route when long enough for it
-    from .timedomain import MIN_SAMPLES
+    from chainid.gap.timedomain import MIN_SAMPLES
 
     time_ids = {r.test for r in records if r.t.size >= MIN_SAMPLES} & {e["test"] for e in excluded}
     excluded = [e for e in excluded if e["test"] not in time_ids]
@@ -151,7 +151,7 @@ def diagnose(
         e = excluded[0]
         raise ValueError(f"test {e['test']!r} cannot be used (--strict): {e['reason']}")
     if time_ids or holdout_blocks:
-        from .diagnose_time import diagnose_any
+        from chainid.gap.diagnose_time import diagnose_any
 
         for e in excluded:
             if not quiet:
@@ -164,7 +164,7 @@ def diagnose(
         res = diagnose_any(records, data, time_recs, holdout, model, holdout_blocks=holdout_blocks, effects=effects,
                            max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet)
         if validate is not None:
-            from .transfer import transfer
+            from chainid.gap.transfer import transfer
 
             res["transfer"] = transfer(res, validate, n_bins=n_bins, steady_tol=steady_tol)
         return res
@@ -248,7 +248,7 @@ def diagnose(
     if final is None and verdict == "unexplained" and best is not None:
         warn.append(f"no effect passed the step rule ({fwd['stop']})")
     interp = interpretation(path, prob, verdict)
-    steps = [_step_dict(c, i) for i, c in enumerate(path)]
+    steps = [step_dict(c, i) for i, c in enumerate(path)]
     summary = {
         "mechanism": mechanism(verdict, interp),
         "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_hold, "model": getattr(model, "name", "?"),
@@ -279,29 +279,10 @@ def diagnose(
     summary["_best"] = final if final is not None else best
     summary["_path"] = path
     if validate is not None:
-        from .transfer import transfer
+        from chainid.gap.transfer import transfer
 
         summary["transfer"] = transfer(summary, validate, n_bins=n_bins, steady_tol=steady_tol)
     return summary
-
-
-def _step_dict(c: Candidate, i: int) -> dict[str, Any]:
-    f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
-    st = getattr(c, "step_test", {})
-    return {
-        "effect": "baseline" if i == 0 else c.names[-1],
-        "effects": c.names,
-        "params": {k: f(float(v)) for k, v in c.params.items() if not k.startswith("spring.")},
-        "params_sd": {k: f(float(v)) for k, v in c.param_sd.items() if not k.startswith("spring.")},
-        "damping_law": c.law,
-        "nrmse_loto": f(c.nrmse_loto),
-        "nrmse_holdout": f(c.nrmse_holdout),
-        "shrinkage": f(c.shrinkage),
-        "db_over_noise": f(c.db_holdout),
-        "z_loto": f(float(st["z"])) if st else None,
-        "relative_gain_loto": f(float(st["relative_gain"])) if st else None,
-        "at_bound": list(c.at_bound),
-    }
 
 
 def _jackknife(prob: Problem, cand: Candidate) -> dict[str, float]:

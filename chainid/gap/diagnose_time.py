@@ -4,7 +4,7 @@ Called by :func:`chainid.gap.diagnose.diagnose` when a record is not a steady ha
 test (or ``holdout_blocks`` is given).  Harmonic tests keep the phase-bin route as the
 harmonic part of :class:`chainid.gap.timeproblem.AnyProblem` when there are at least
 ``MIN_TRAIN`` of them for training; otherwise they join the time-domain records.  The same
-forward selection and step rule (:mod:`chainid.gap.forward`) run on the combined problem;
+forward selection and step rule (:mod:`chainid.gap.selection`) run on the combined problem;
 the verdict rules are those of the harmonic route.  The result has the same JSON contract
 keys, plus ``route``, ``noise`` and the time-domain ``where`` findings (state maps, spectrum,
 ringing/chatter, drift).
@@ -20,13 +20,13 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import forward as fw
-from .interpret import interpretation, mechanism, separating_test, step_text
-from .problem import MIN_TRAIN, Candidate, Problem
-from .timedomain import prepare_time
-from .timeproblem import AnyProblem
-from .where import localise
-from .where_time import drift, localise_time
+from chainid.gap import selection as fw
+from chainid.gap.interpret import interpretation, mechanism, separating_test, step_dict, step_text
+from chainid.gap.problem import MIN_TRAIN, Candidate, Problem
+from chainid.gap.timedomain import prepare_time
+from chainid.gap.timeproblem import AnyProblem
+from chainid.gap.where import localise
+from chainid.gap.where_time import drift, localise_time
 
 #: blocks per record for leave-one-block-out scoring when whole tests are held out
 LOO_BLOCKS = 4
@@ -139,9 +139,7 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
         warn.append(f"no effect passed the step rule ({fwd['stop']})")
     confounded = [cf | {"separate_by": separating_test(*cf["pair"])} for cf in fwd["confounded"]]
     interp = interpretation(path, prob, verdict)
-    from .diagnose import _step_dict
-
-    steps = [_step_dict(c, i) for i, c in enumerate(path)]
+    steps = [step_dict(c, i) for i, c in enumerate(path)]
     tests = [{"test": d.test, "route": "time", "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma,
               "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band, "window": d.window,
               "split": ("holdout" if d in prob.hold and not any(u[0] is d for u in prob.train_units) else

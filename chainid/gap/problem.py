@@ -200,6 +200,11 @@ class Problem:
         """Library effects that apply to this baseline (chain-only effects need the chain model)."""
         return [n for n, e in self.effects.items() if self.is_chain or not e.chain_only]
 
+    def parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
+        """Bin means of the undamped force [N] and of the damping velocity [mm/s] of an effect set on a
+        prepared harmonic test (any test: also one outside this problem, e.g. for a transfer)."""
+        return self._parts(names, p, d)
+
     def _parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
         """Bin means of the undamped force [N] and of the velocity the damping acts on [mm/s]."""
         model = self.model_for(p)

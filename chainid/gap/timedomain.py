@@ -24,8 +24,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import noise as nz
-from .effects import STIFFNESS_SIDE, dahl_operator, modify_model, play_operator, stick_slip
+from chainid.gap import noise as nz
+from chainid.model.effects import STIFFNESS_SIDE, dahl_operator, modify_model, play_operator, stick_slip
 
 #: fewest samples of a time-domain record
 MIN_SAMPLES = 64

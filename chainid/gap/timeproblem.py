@@ -1,6 +1,6 @@
 """The diagnosis problem for any excitation: time-domain records, alone or mixed with harmonic tests.
 
-:class:`AnyProblem` has the interface the forward selection (:mod:`chainid.gap.forward`)
+:class:`AnyProblem` has the interface the forward selection (:mod:`chainid.gap.selection`)
 uses — ``fit``, ``score``, ``noise_db``, ``n_cells`` — so the same selection and step
 rule run on it.  Its parts:
 
@@ -29,9 +29,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .effects import EFFECT_NAMES, make_effect
-from .problem import Candidate, Problem
-from .timedomain import TimeData, split_blocks, undamped
+from chainid.model.effects import EFFECT_NAMES, make_effect
+from chainid.gap.problem import Candidate, Problem
+from chainid.gap.timedomain import TimeData, split_blocks, undamped
 
 #: finite-difference step of the Jacobian in the unit box of a parameter's physical range
 FD_STEP = 1e-4

@@ -30,10 +30,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import laws as L
-from .prepare import Unusable, prepare_test
-from .problem import Problem
-from .timedomain import MIN_SAMPLES, prepare_time, undamped
+from chainid.gap import law_choice as L
+from chainid.gap.prepare import Unusable, prepare_test
+from chainid.gap.problem import Problem
+from chainid.gap.timedomain import MIN_SAMPLES, prepare_time, undamped
 
 #: pooled frozen-model shrinkage on the other set from which the chain is said to transfer
 MIN_SHRINK = 0.5
@@ -67,7 +67,7 @@ def _score(prob: Any, cand: Any, rec: Any, n_bins: int, steady_tol: float | None
     except Unusable:
         d = None
     if d is not None:
-        Fn, v = Problem._parts(prob, names, cand.params, d)
+        Fn, v = Problem.parts(prob, names, cand.params, d)
         c = _damping(prob, cand, d.omega, d.A, d.x0, True)
         Fm = Fn + c * v
         xb = d.gridmean(d.grid["x"])

@@ -30,9 +30,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .noise import CUT_FACTOR, lowpass
-from .stationarity import Z_TREND, trend
-from .timedomain import TimeData, travel_since_reversal
+from chainid.gap.noise import CUT_FACTOR, lowpass
+from chainid.gap.stationarity import Z_TREND, trend
+from chainid.gap.timedomain import TimeData, travel_since_reversal
 
 #: quantile bins of a state map
 N_MAP = 16
