@@ -101,3 +101,16 @@ def test_holdout_blocks_bad_values():
         diagnose(recs, [], model, holdout_blocks=1)
     with pytest.raises(ValueError, match="--holdout"):
         diagnose(recs, [], model)
+
+
+def test_backbone_dead_band_of_play():
+    # play b = 0.06 mm: after each reversal the force changes little over the first travel, then at full stiffness
+    from chainid.gap.timedomain import prepare_time
+    from chainid.gap.where_time import backbone
+
+    _, recs = chain_set("backlash", {"b": 0.06}, n_rec=1, seed=90)
+    f = backbone([prepare_time(r, 1) for r in recs])
+    assert f and "dead band" in f[0]["finding"]
+    assert f[0]["ratio"] <= 0.5
+    _, lin = chain_set("none", {}, n_rec=1, seed=91)  # the chain alone: no backbone finding
+    assert backbone([prepare_time(r, 1) for r in lin]) == []

@@ -15,6 +15,9 @@
   or a sloped spectrum gives 1–3) above 1.5× the cut, with ``RING_RATIO`` times the mean
   square elsewhere (a sensor resonance or mains hum is not tied to reversals).
   No library effect covers chatter: it is reported as such, never as an effect name.
+* **Backbone after reversals** (model-free): the measured force change against the travel since
+  the last reversal; a dead band then stiffening (play closing onto a contact) or stiff-then-soft
+  (stick, pre-sliding) when the small-travel and large-travel slopes differ by ``BACKBONE``.
 * **Drift.** Per record, the residual's means over ``N_DRIFT`` contiguous blocks are
   regressed on time with the block's mean x as a covariate
   (:func:`chainid.gap.stationarity.trend`): a slope over ``Z_TREND`` standard errors in at
@@ -46,6 +49,8 @@ RING_RATIO = 2.0
 OCT = 2.0
 #: sliding: |ẋ| above this fraction of the record's 99th percentile of |ẋ|
 SLIDE = 0.2
+#: backbone slopes differing by this factor (small against large travel) make a finding
+BACKBONE = 2.0
 #: blocks per record of the drift test
 N_DRIFT = 20
 
@@ -164,6 +169,56 @@ def ringing(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, A
                    "score": best["rms_N"] if best["chatter"] else 0.0}
 
 
+def backbone(data: Sequence[TimeData]) -> list[dict[str, Any]]:
+    """Model-free backbone after reversals, per record: the measured force change |F − F_rev| against the travel
+    |x − x_rev| since the last velocity reversal.
+
+    k_small is the secant over the first quarter of the travels (travel up to its 25th percentile T25),
+    k_large the slope from T25 to T75 (75th percentile), each from the median |ΔF| in a window of ± 5
+    percentiles of travel.  k_small/k_large <= 1/``BACKBONE``: a dead band then stiffening (play closing
+    onto a contact); >= ``BACKBONE``: stiff at small travel then softer (stick / pre-sliding, then sliding).
+    """
+    out = []
+    for d in data:
+        tr = travel_since_reversal(d.x, d.xd)
+        dF = np.abs(d.F - d.F[_last_reversal(d.xd)])
+        m = tr > 0
+        if m.sum() < 200:
+            continue
+        tr, dF = tr[m], dF[m]
+        q = np.quantile(tr, [0.2, 0.25, 0.3, 0.7, 0.75, 0.8])
+        f25 = float(np.median(dF[(tr >= q[0]) & (tr <= q[2])]))
+        f75 = float(np.median(dF[(tr >= q[3]) & (tr <= q[5])]))
+        T25, T75 = float(q[1]), float(q[4])
+        if not (T25 > 0 and T75 > T25):
+            continue
+        k_small, k_large = f25 / T25, (f75 - f25) / (T75 - T25)
+        ratio = k_small / k_large if k_large > 0 else float("inf")
+        if ratio <= 1.0 / BACKBONE:
+            kind = (f"a dead band then stiffening: {k_small:.3g} N/mm over the first {T25:.3g} mm of travel after a "
+                    f"reversal, {k_large:.3g} N/mm beyond (play closing onto a contact)")
+        elif ratio >= BACKBONE:
+            kind = (f"stiff at small travel then softer: {k_small:.3g} N/mm up to {T25:.3g} mm after a reversal, "
+                    f"{k_large:.3g} N/mm beyond (stick / pre-sliding, then sliding)")
+        else:
+            continue
+        out.append({"finding": f"test {d.test}: the measured force after reversals shows {kind}", "kind": "backbone",
+                    "test": d.test, "k_small_N_per_mm": k_small, "k_large_N_per_mm": k_large, "travel_T25_mm": T25,
+                    "travel_T75_mm": T75, "ratio": ratio, "score": 0.0})
+    return out
+
+
+def _last_reversal(xd: np.ndarray) -> np.ndarray:
+    """Index of the last velocity reversal at or before each sample (0 before the first)."""
+    from chainid.gap.timedomain import reversals
+
+    start = np.zeros(xd.size, np.int64)
+    r = reversals(xd)
+    if r.size:
+        start[r] = r
+    return np.maximum.accumulate(start)
+
+
 def drift(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, Any]:
     """Trend of the residual's block means over time per record (covariate: the block's mean x)."""
     rows = []
@@ -209,5 +264,6 @@ def localise_time(data: Sequence[TimeData], res: dict[str, np.ndarray], force: d
     rg = ringing(data, res)
     if rg:
         out.append(rg)
+    out += backbone(data)
     out.sort(key=lambda f: -f.get("score", 0.0))
     return out
