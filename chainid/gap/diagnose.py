@@ -17,16 +17,12 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap import selection as fw
-from chainid.gap.interpret import interpretation, mechanism, separating_test, step_dict, step_text
+from chainid.gap.interpret import interpretation, separating_test
 from chainid.gap.prepare import Unusable, prepare_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
 from chainid.gap.stationarity import check as stationarity_check
+from chainid.gap.verdict import MIN_SHRINK, NONSTAT_FRACTION, contract, decide  # noqa: F401  (the verdict rule, one place)
 from chainid.gap.where import localise
-
-#: the verdict names an effect only when the chain shrinks the held-out gap by at least this fraction
-MIN_SHRINK = 0.5
-#: a trend whose change over the window is this large against the baseline's systematic residual: `unexplained`
-NONSTAT_FRACTION = 0.25
 
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
@@ -185,11 +181,8 @@ def diagnose(
         if not ok:
             warn.append(msg)
             warnings.warn(msg, stacklevel=2)
-    base_c = prob.fit([]) if not prob.is_chain else Candidate("baseline", {}, 0)
-    base_c.name = "baseline"
-    prob.score(base_c, [], 1.0)
+    base_c = fw.baseline_candidate(prob)
     base_hold = base_c.nrmse_holdout
-    base_c.shrinkage = 0.0
     base = base_c._ev  # type: ignore[attr-defined]
     where = localise(prob, base)
     r2, f2, db0 = prob.noise_db(base, "hold")
@@ -198,14 +191,9 @@ def diagnose(
     excess = math.sqrt(max(r2 - f2, 0.0))
     consistent = fw.at_noise_floor(r2, f2, sig_hold, nbin)
 
-    names = [n for n in prob.applicable() if effects is None or n in effects]
-    for alias, canon in fw.ALIASES.items():
-        if alias in names and canon in names:
-            names.remove(alias)
-    fwd = fw.forward_select(prob, names, base_c, base_hold, max_effects=int(max_combo))
+    fwd = fw.forward_select(prob, fw.library(prob, effects), base_c, base_hold, max_effects=int(max_combo))
     path: list[Candidate] = fwd["path"]
     singles: list[Candidate] = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
-    ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
     final = path[-1] if len(path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     if uncertainty:
@@ -220,64 +208,18 @@ def diagnose(
                 "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)), "stationary": stat["stationary"],
                 "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"], "finding": stat["finding"],
                 "at_noise_floor": fw.at_noise_floor(r2l, f2l, sig_hold, nbin)}
-    nonstat_material = stat["stationary"] is False and stat["trend_change_N"] >= NONSTAT_FRACTION * max(excess, 1e-300)
-    if stat["stationary"] is False:
-        where.insert(0, {"finding": stat["finding"], "kind": "nonstationary", "trend_change_N": stat["trend_change_N"],
-                         "score": stat["trend_change_N"]})
-    if consistent:
-        verdict = "none"
-    elif final is None or not (final.shrinkage >= MIN_SHRINK):
-        verdict = "unexplained"
-    else:
-        verdict = "+".join(final.names)
-    if verdict not in ("none",) and stat["stationary"] is False:
-        named = "+".join(final.names) if final is not None else ""
-        msg = (f"{stat['finding']}; " + (f"the static effects {named} absorb part of it, but what is left drifts "
-               "with time" if named else "no static effect can explain it"))
-        if nonstat_material:
-            verdict = "unexplained"
-            msg += f" (trend change {stat['trend_change_N']:.3g} N over the window vs systematic residual {excess:.3g} N: no confident name)"
-        warn.append(msg)
-    for c in path[1:]:
-        if c.at_bound:
-            warn.append(f"{c.name}: parameter(s) {', '.join(c.at_bound)} at the bound of their physical range; "
-                        "the effect's form may not match the data there (read the value as a limit, not an estimate)")
+    verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     confounded = []
     for cf in fwd["confounded"]:
         confounded.append(cf | {"separate_by": separating_test(*cf["pair"])})
-    if final is None and verdict == "unexplained" and best is not None:
-        warn.append(f"no effect passed the step rule ({fwd['stop']})")
     interp = interpretation(path, prob, verdict)
-    steps = [step_dict(c, i) for i, c in enumerate(path)]
-    summary = {
-        "mechanism": mechanism(verdict, interp),
-        "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_hold, "model": getattr(model, "name", "?"),
-                     "damping_law": prob.law, "damping_law_reason": prob.law_reason, "law_params": base_c.law_params,
-                     "excess_rms_N": excess, "noise_sigma_N": sig_hold, "chi2_ratio": r2 / f2 if f2 > 0 else None,
-                     "db_over_noise": db0, "nrmse_loto": base_c.nrmse_loto},
-        "where": where,
-        "ranking": [c.to_dict() for c in ranking],
-        "steps": steps,
-        "stop": fwd["stop"],
-        "dropped": fwd["dropped"],
-        "verdict": verdict,
-        "best": best.to_dict() if best is not None else None,
-        "residual": residual,
-        "excluded": excluded,
-        "confounded": confounded,
-        "left_nrmse_holdout": left.nrmse_holdout,
-        "interpretation": interp,
-        "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {dbl:.1f} dB over noise",
-        "warnings": warn,
-        "holdout": list(hold_ok),
-        "tests": [{"test": d.test, "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma, "window": d.window,
-                   "split": "holdout" if d in prob.hold else "train",
-                   "nrmse_before": base_c.per_test[d.test],
-                   "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data],
-    }
-    summary["_problem"] = prob
-    summary["_best"] = final if final is not None else best
-    summary["_path"] = path
+    tests = [{"test": d.test, "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma, "window": d.window,
+              "split": "holdout" if d in prob.hold else "train", "nrmse_before": base_c.per_test[d.test],
+              "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data]
+    noise = {"excess_rms_N": excess, "noise_sigma_N": sig_hold, "chi2_ratio": r2 / f2 if f2 > 0 else None,
+             "db_over_noise": db0}
+    summary = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, excluded, confounded, warn,
+                       list(hold_ok), tests)
     if validate is not None:
         from chainid.gap.transfer import transfer
 

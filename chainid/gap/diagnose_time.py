@@ -21,19 +21,16 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap import selection as fw
-from chainid.gap.interpret import interpretation, mechanism, separating_test, step_dict, step_text
+from chainid.gap.interpret import interpretation, separating_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem
 from chainid.gap.timedomain import prepare_time
 from chainid.gap.timeproblem import AnyProblem
+from chainid.gap.verdict import contract, decide
 from chainid.gap.where import localise
 from chainid.gap.where_time import drift, localise_time
 
 #: blocks per record for leave-one-block-out scoring when whole tests are held out
 LOO_BLOCKS = 4
-#: the verdict names an effect only when the chain shrinks the held-out gap by at least this fraction
-MIN_SHRINK = 0.5
-#: a drift this large against the systematic residual makes the verdict `unexplained`
-NONSTAT_FRACTION = 0.25
 
 
 def build_problem(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequence[Any], holdout: Sequence[str],
@@ -76,11 +73,8 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
         if not quiet:
             print(f"chainid diagnose: test {r.test} is not a steady harmonic test: time-domain route", file=sys.stderr)
     prob = build_problem(records, hdata, time_recs, holdout, holdout_blocks, model, damping_law, warn)
-    base_c = prob.fit([]) if not prob.is_chain else Candidate("baseline", {}, 0)
-    base_c.name = "baseline"
-    prob.score(base_c, [], 1.0)
+    base_c = fw.baseline_candidate(prob)
     base_hold = base_c.nrmse_holdout
-    base_c.shrinkage = 0.0
     bev = base_c._ev  # type: ignore[attr-defined]
     where = localise_time(prob.tdata, bev["time"]["res"], bev["time"]["force"])
     if prob.hprob is not None:
@@ -89,14 +83,9 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
     sig = prob.sigma_raw
     excess = math.sqrt(max(r2 - f2, 0.0))
     consistent = fw.at_noise_floor(r2, f2, sig, prob.n_cells("hold"))
-    names = [n for n in prob.applicable() if effects is None or n in effects]
-    for alias, canon in fw.ALIASES.items():
-        if alias in names and canon in names:
-            names.remove(alias)
-    fwd = fw.forward_select(prob, names, base_c, base_hold, max_effects=int(max_combo))
+    fwd = fw.forward_select(prob, fw.library(prob, effects), base_c, base_hold, max_effects=int(max_combo))
     path: list[Candidate] = fwd["path"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
-    ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
     final = path[-1] if len(path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     left = final if final is not None else base_c
@@ -111,35 +100,12 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
                 "stationary": stat["stationary"], "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"],
                 "finding": stat["finding"], "at_noise_floor": fw.at_noise_floor(r2l, f2l, sig, prob.n_cells("hold")),
                 "chatter": bool(chatter), "where": left_where}
-    if stat["stationary"] is False:
-        where.insert(0, {"finding": stat["finding"], "kind": "nonstationary", "trend_change_N": stat["trend_change_N"],
-                         "score": stat["trend_change_N"]})
-    if consistent:
-        verdict = "none"
-    elif final is None or not (final.shrinkage >= MIN_SHRINK):
-        verdict = "unexplained"
-    else:
-        verdict = "+".join(final.names)
-    if verdict != "none" and stat["stationary"] is False:
-        named = "+".join(final.names) if final is not None else ""
-        msg = f"{stat['finding']}; " + (f"the static effects {named} absorb part of it, but what is left drifts"
-                                        if named else "no static effect can explain it")
-        if stat["trend_change_N"] >= NONSTAT_FRACTION * max(excess, 1e-300):
-            verdict = "unexplained"
-            msg += " (no confident name)"
-        warn.append(msg)
+    verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
         warn.append("stick-slip chatter after reversals (" + f"{chatter['frequency_Hz']:.3g} Hz, RMS "
                     f"{chatter['rms_N']:.3g} N): no library effect covers it; the named effects do not include it")
-    for c in path[1:]:
-        if c.at_bound:
-            warn.append(f"{c.name}: parameter(s) {', '.join(c.at_bound)} at the bound of their physical range; "
-                        "read the value as a limit, not an estimate")
-    if final is None and verdict == "unexplained" and best is not None:
-        warn.append(f"no effect passed the step rule ({fwd['stop']})")
     confounded = [cf | {"separate_by": separating_test(*cf["pair"])} for cf in fwd["confounded"]]
     interp = interpretation(path, prob, verdict)
-    steps = [step_dict(c, i) for i, c in enumerate(path)]
     tests = [{"test": d.test, "route": "time", "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma,
               "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band, "window": d.window,
               "split": ("holdout" if d in prob.hold and not any(u[0] is d for u in prob.train_units) else
@@ -152,35 +118,13 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
                    "window": d.window, "split": "holdout" if d in hp.hold else "train",
                    "nrmse_before": base_c.per_test.get(d.test),
                    "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in hp.data]
-    summary = {
-        "route": "mixed" if prob.hprob is not None else "time",
-        "mechanism": mechanism(verdict, interp),
-        "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_hold, "model": getattr(model, "name", "?"),
-                     "damping_law": prob.law, "damping_law_reason": prob.law_reason, "law_params": base_c.law_params,
-                     "excess_rms_N": excess, "noise_sigma_N": sig, "chi2_ratio": r2 / f2 if f2 > 0 else None,
-                     "db_over_noise": db0, "nrmse_loto": base_c.nrmse_loto},
-        "noise": {"method": "per record: sigma = 1.4826*MAD(second difference of F)/sqrt(6); sigma_hf from the "
-                            "force spectrum above 4x the excitation band (a check: equal for white noise)",
-                  "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band}
-                            for d in prob.tdata}},
-        "where": where,
-        "ranking": [c.to_dict() for c in ranking],
-        "steps": steps,
-        "stop": fwd["stop"],
-        "dropped": fwd["dropped"],
-        "verdict": verdict,
-        "best": best.to_dict() if best is not None else None,
-        "residual": residual,
-        "excluded": list(excluded),
-        "confounded": confounded,
-        "left_nrmse_holdout": left.nrmse_holdout,
-        "interpretation": interp,
-        "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {dbl:.1f} dB over noise",
-        "warnings": warn,
-        "holdout": list(holdout) + ([f"last of {holdout_blocks} blocks of each record"] if holdout_blocks else []),
-        "tests": tests,
-    }
-    summary["_problem"] = prob
-    summary["_best"] = final if final is not None else best
-    summary["_path"] = path
+    noise = {"excess_rms_N": excess, "noise_sigma_N": sig, "chi2_ratio": r2 / f2 if f2 > 0 else None,
+             "db_over_noise": db0}
+    hold = list(holdout) + ([f"last of {holdout_blocks} blocks of each record"] if holdout_blocks else [])
+    summary = {"route": "mixed" if prob.hprob is not None else "time"} | contract(
+        prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded, warn, hold, tests)
+    summary["noise"] = {"method": "per record: sigma = 1.4826*MAD(second difference of F)/sqrt(6); sigma_hf from the "
+                                  "force spectrum above 4x the excitation band (a check: equal for white noise)",
+                        "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band}
+                                  for d in prob.tdata}}
     return summary

@@ -34,9 +34,8 @@ from chainid.gap import law_choice as L
 from chainid.gap.prepare import Unusable, prepare_test
 from chainid.gap.problem import Problem
 from chainid.gap.timedomain import MIN_SAMPLES, prepare_time, undamped
+from chainid.gap.verdict import MIN_SHRINK
 
-#: pooled frozen-model shrinkage on the other set from which the chain is said to transfer
-MIN_SHRINK = 0.5
 
 
 def _damping(prob: Any, cand: Any, omega: float, A: float, x0: float, harmonic: bool) -> float:
