@@ -99,6 +99,10 @@ class AnyProblem(Problem):
             out = [n for n in out if n != "damping_law"]
         return out
 
+    def train_mask(self, test: str) -> np.ndarray:
+        """Boolean mask of a time record's training samples (the rest is held out)."""
+        return self._mask[test]
+
     def n_cells(self, split: str = "train") -> int:
         """Independent noise cells of a split: time samples + harmonic phase bins."""
         n = sum(int(np.sum(self._mask[d.test] if split == "train" else ~self._mask[d.test])) for d in self.tdata)
