@@ -120,9 +120,10 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
                    "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in hp.data]
     noise = {"excess_rms_N": excess, "noise_sigma_N": sig, "chi2_ratio": r2 / f2 if f2 > 0 else None,
              "db_over_noise": db0}
-    hold = list(holdout) + ([f"last of {holdout_blocks} blocks of each record"] if holdout_blocks else [])
     summary = {"route": "mixed" if prob.hprob is not None else "time"} | contract(
-        prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded, warn, hold, tests)
+        prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded, warn,
+        list(holdout), tests)
+    summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
     summary["noise"] = {"method": "per record: sigma = 1.4826*MAD(second difference of F)/sqrt(6); sigma_hf from the "
                                   "force spectrum above 4x the excitation band (a check: equal for white noise)",
                         "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band}
