@@ -13,9 +13,10 @@ rule run on it.  Its parts:
 
 Scoring units are whole harmonic tests and contiguous time blocks.  A time block's
 leave-one-block-out error is the exact leave-out residual of the model linearised at
-the fit, e_(b) = e_b + J_b (JᵀJ − J_bᵀJ_b)⁻¹ J_bᵀ e_b, over *all* fitted parameters
-(effects, spring, c), J the Jacobian of the weighted residual on the training samples;
-parameters pinned at a bound are held fixed.  The block jack-knife of the same
+the fit, e_(b) = e_b + J_b Δ_b with Δ_b = (JᵀJ − J_bᵀJ_b)⁻¹ J_bᵀ e_b, over *all* fitted
+parameters (effects, spring, c), J the Jacobian of the weighted residual on the training
+samples; parameters pinned at a bound are held fixed, and the step Δ_b is clipped so the
+left-out fit stays inside the physical bounds (as a bounded refit would).  The block jack-knife of the same
 linearisation gives the parameters' standard deviations.
 
 NRMSE = RMS(residual)/RMS(F − mean F of the record) over the unit's samples (bin means
@@ -153,11 +154,12 @@ class AnyProblem(Problem):
         return {k: Fn + c * v for k, (Fn, v) in full.items()}, c
 
     def _jacobian(self, names: Sequence[str], p: dict[str, float], Fm: dict[str, np.ndarray], c: float,
-                  at_bound: Sequence[str]) -> tuple[np.ndarray, list[str]]:
+                  at_bound: Sequence[str]) -> tuple[np.ndarray, list[str], np.ndarray]:
         """Jacobian [N per unit] of the weighted training model force w.r.t. the free parameters (unit box of
-        their physical range) and c; rows = training samples of all time records in order."""
+        their physical range) and c; rows = training samples of all time records in order.  Also the present
+        position of each column's parameter (u in the unit box, or c) for the bounds of a leave-out step."""
         keys, lo, hi, _ = self._keys(names)
-        cols, used = [], []
+        cols, used, pos = [], [], []
         rows = lambda F: np.concatenate([F[d.test][self._mask[d.test]] / d.sigma for d in self.tdata])  # noqa: E731
         f0 = rows(Fm)
         for k, a, b in zip(keys, lo, hi):
@@ -170,10 +172,12 @@ class AnyProblem(Problem):
             F1, _ = self.forces(names, pp, c)
             cols.append((rows(F1) - f0) / h)
             used.append(k)
+            pos.append(u)
         v = {d.test: undamped(names, p, self.model_for(p), d)[1] for d in self.tdata}
         cols.append(rows(v))
         used.append("c")
-        return np.column_stack(cols), used
+        pos.append(c)
+        return np.column_stack(cols), used, np.array(pos)
 
     def evaluate_time(self, names: Sequence[str], p: dict[str, float], at_bound: Sequence[str] = (),
                       loo: bool = True) -> dict[str, Any]:
@@ -186,7 +190,10 @@ class AnyProblem(Problem):
         loo_res = {d.test: res[d.test].copy() for d in self.tdata}
         sd: dict[str, float] = {}
         if loo and self.train_units:
-            J, used = self._jacobian(names, p, Fm, c, at_bound)
+            J, used, pos = self._jacobian(names, p, Fm, c, at_bound)
+            # a leave-out refit stays inside the physical bounds: θ_(b) = θ − Δ with u in [0, 1] and c >= 0
+            dlo = np.where(np.arange(pos.size) < pos.size - 1, pos - 1.0, -np.inf)
+            dhi = pos.copy()
             e = np.concatenate([res[d.test][self._mask[d.test]] / d.sigma for d in self.tdata])
             lab = np.concatenate([d.block[self._mask[d.test]] + 10_000 * i for i, d in enumerate(self.tdata)])
             A = J.T @ J
@@ -199,7 +206,7 @@ class AnyProblem(Problem):
                     sel = off + np.flatnonzero(lab[off:off + n_i] == b + 10_000 * i)
                     Jb, eb = J[sel], e[sel]
                     g = Jb.T @ eb
-                    dth = np.linalg.lstsq(A - Jb.T @ Jb, g, rcond=1e-12)[0]
+                    dth = np.clip(np.linalg.lstsq(A - Jb.T @ Jb, g, rcond=1e-12)[0], dlo, dhi)
                     eloo = (eb + Jb @ dth) * d.sigma
                     idx = np.flatnonzero(m)[sel - off]
                     loo_res[d.test][idx] = eloo
