@@ -3,8 +3,10 @@
 Pipeline: prepare every test (tests that cannot be analysed are excluded with
 their reason) → baseline (paper Eq. 1 with the chosen damping law) → where it
 misses (:mod:`.where`) → the explanation chain by forward selection conditional
-on what is already explained (:mod:`.forward`) → what is left: dB over noise and
-stationarity (:mod:`.stationarity`) → verdict.
+on what is already explained (:mod:`.selection`) → what is left: dB over noise and
+stationarity (:mod:`.stationarity`) → verdict (:mod:`.verdict`).  Records that are not steady harmonic tests
+take the time-domain route (:mod:`.diagnose_time`); ``validate`` scores the chain on another set
+(:mod:`.transfer`).
 """
 
 from __future__ import annotations
