@@ -166,7 +166,7 @@ MUTATIONS: list[Mutation] = [
       "laws ranked by in-sample RMSE instead of leave-one-out"),
     M("I10", "chainid/damping/identify.py", "W = loop_energy(xs, Fs) / win.n_cycles", "W = loop_energy(xs, Fs)",
       (T_ID, "-k", "ce_exact or loop_shape"), "loop energy summed over the cycles, not per cycle"),
-    M("D3", "chainid/gap/diagnose.py", "NONSTAT_FRACTION = 0.25", "NONSTAT_FRACTION = 25.0",
+    M("D3", "chainid/gap/verdict.py", "NONSTAT_FRACTION = 0.25", "NONSTAT_FRACTION = 25.0",
       f"{T_GAP}::test_out_of_library_drift_not_misnamed", "a drifting record given a library name"),
     M("D4", "chainid/gap/selection.py", "    return st[\"delta_loto\"] > Z * st[\"se_jackknife\"] and st",
       "    return st[\"delta_loto\"] > -1e9 * st[\"se_jackknife\"] and st",

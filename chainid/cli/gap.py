@@ -36,14 +36,20 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
             from chainid.chain.spec import load_chain
 
             model = models.model_for(load_chain(args.chain), args.variant)
-        holdout = [h for h in args.holdout.split(",") if h.strip()]
+        holdout = [h for h in (args.holdout or "").split(",") if h.strip()]
+        if args.holdout is None and not args.holdout_blocks:
+            raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
+        other = read_records(args.validate, validate=False) if args.validate else None
         res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
-                       allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict)
+                       allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
+                       holdout_blocks=args.holdout_blocks, validate=other)
         if model is not None:  # loads beyond the elastic contact or the working load (as stiffness, identify)
             from chainid.cli.chains import warn_loads
 
             warn_loads(max(float(r.F.max()) for r in recs), model.chain, res)
         print(summary(res))
+        if "transfer" in res:
+            print(f"\nTRANSFER to {args.validate}: {res['transfer']['verdict_text']}")
         if args.json:
             write_json(res, args.json, overwrite=args.force)
         if args.save_model:
@@ -81,7 +87,12 @@ def add_subparsers(subparsers: Any) -> None:
     """Add ``diagnose`` and ``benchmark-gap`` to the chainid CLI."""
     p = subparsers.add_parser("diagnose", help="sim-to-real gap: where the model misses, which effect, how much")
     p.add_argument("data", help="records CSV test,t,x,F (s, mm, N)")
-    p.add_argument("--holdout", required=True, help="held-out test id(s), comma separated")
+    p.add_argument("--holdout", help="held-out test id(s), comma separated (whole tests)")
+    p.add_argument("--holdout-blocks", dest="holdout_blocks", type=int, default=0, metavar="K",
+                   help="cut every record into K contiguous time blocks and hold out the last one of each "
+                        "(time-domain route; K >= 2)")
+    p.add_argument("--validate", metavar="OTHER.csv",
+                   help="score the fitted chain on another set (another excitation): does the chain transfer?")
     p.add_argument("--chain", metavar="FILE.toml|PRESET", help="chain TOML file or preset, e.g. din22252:26x92 (default: the paper's chain)")
     p.add_argument("--variant", default="paper", help="chain kernel variant (default paper)")
     p.add_argument("--model", choices=("chain", "linear"), default="chain",

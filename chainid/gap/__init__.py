@@ -2,7 +2,9 @@
 
 Public API
 ----------
-diagnose(records, holdout, model=None, ...) -> dict   (JSON contract of ``chainid diagnose``)
+diagnose(records, holdout, model=None, ...) -> dict   (JSON contract of ``chainid diagnose``; any excitation: records
+                                                      that are not steady harmonic tests go to the time-domain route,
+                                                      ``holdout_blocks=K``, ``validate=other_records`` → ``transfer``)
 effects.parse_effect(spec, model) -> force_fn          (``chainid simulate --effect NAME[:p=v,...]``)
 effects.EFFECT_NAMES, effects.make_effect(name, ...)    (the effect library)
 report.summary(result) -> str, report.to_json(result), report.write_json(result, path)

@@ -3,8 +3,10 @@
 Pipeline: prepare every test (tests that cannot be analysed are excluded with
 their reason) → baseline (paper Eq. 1 with the chosen damping law) → where it
 misses (:mod:`.where`) → the explanation chain by forward selection conditional
-on what is already explained (:mod:`.forward`) → what is left: dB over noise and
-stationarity (:mod:`.stationarity`) → verdict.
+on what is already explained (:mod:`.selection`) → what is left: dB over noise and
+stationarity (:mod:`.stationarity`) → verdict (:mod:`.verdict`).  Records that are not steady harmonic tests
+take the time-domain route (:mod:`.diagnose_time`); ``validate`` scores the chain on another set
+(:mod:`.transfer`).
 """
 
 from __future__ import annotations
@@ -17,18 +19,14 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap import selection as fw
+from chainid.gap.interpret import interpretation, separating_test
 from chainid.gap.modelio import step_fields, step_models
 from chainid.model.modelfile import model_to_dict
-from chainid.gap.interpret import interpretation, mechanism, separating_test, step_text
 from chainid.gap.prepare import Unusable, prepare_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
 from chainid.gap.stationarity import check as stationarity_check
+from chainid.gap.verdict import MIN_SHRINK, NONSTAT_FRACTION, contract, decide  # noqa: F401  (the verdict rule, one place)
 from chainid.gap.where import localise
-
-#: the verdict names an effect only when the chain shrinks the held-out gap by at least this fraction
-MIN_SHRINK = 0.5
-#: a trend whose change over the window is this large against the baseline's systematic residual: `unexplained`
-NONSTAT_FRACTION = 0.25
 
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
@@ -42,8 +40,13 @@ def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
 
 def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, steady_tol: float | None,
              strict: bool) -> tuple[list[Any], list[dict[str, str]]]:
+    from chainid.gap.noise import is_broadband
+
     data, excluded = [], []
     for r in records:
+        if r.t.size >= 64 and is_broadband(r.t, r.x):  # clearly not one sine: no harmonic estimate to try
+            excluded.append({"test": r.test, "reason": "not a harmonic test (broadband displacement)"})
+            continue
         try:
             data.append(prepare_test(r, n_bins=n_bins, allow_compression=allow_compression, steady_tol=steady_tol))
         except Unusable as exc:
@@ -67,6 +70,8 @@ def diagnose(
     steady_tol: float | None = None,
     strict: bool = False,
     quiet: bool = False,
+    holdout_blocks: int = 0,
+    validate: Sequence[Any] | None = None,
 ) -> dict[str, Any]:
     """Diagnose the sim-to-real gap of a test series.
 
@@ -98,6 +103,16 @@ def diagnose(
         A test that cannot be analysed is an error instead of being excluded.
     quiet : bool
         No line on stderr per excluded test.
+    holdout_blocks : int
+        K > 0: every record is cut into K contiguous time blocks and the last block of each is held out
+        (time-domain route for every record; whole tests in ``holdout`` are held out as well).
+    validate : sequence of Record, optional
+        Another set (another excitation): the chain fitted here is evaluated on it (key ``transfer``,
+        :func:`chainid.gap.transfer.transfer`).
+
+    A record that is not a steady harmonic test (a transient, sweep, random or seismic record) is analysed
+    in the time domain (:mod:`chainid.gap.diagnose_time`); harmonic tests keep the phase-bin route, and a set
+    of both kinds is diagnosed as one problem.
 
     Returns
     -------
@@ -118,10 +133,41 @@ def diagnose(
     bad = [h for h in holdout if h not in ids]
     if bad:
         raise ValueError(f"--holdout: test id(s) {bad} not in the data; valid ids: {', '.join(ids)}")
+    holdout_blocks = int(holdout_blocks)
+    if holdout_blocks < 0 or holdout_blocks == 1:
+        raise ValueError(f"--holdout-blocks = {holdout_blocks!r} is out of range; valid: 0 (off) or >= 2")
+    if not holdout and holdout_blocks == 0:
+        raise ValueError("--holdout: no test held out; give test ids or --holdout-blocks K")
     if len(set(holdout)) >= len(set(ids)):
         raise ValueError(f"--holdout: all {len(ids)} tests are held out; leave at least {MIN_TRAIN} for training")
     is_chain = model is not None and hasattr(model, "hertz_scale")
-    data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, strict)
+    data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
+    # records that are not steady harmonic tests go to the time-domain route when long enough for it
+    from chainid.gap.timedomain import MIN_SAMPLES
+
+    time_ids = {r.test for r in records if r.t.size >= MIN_SAMPLES} & {e["test"] for e in excluded}
+    excluded = [e for e in excluded if e["test"] not in time_ids]
+    if strict and excluded:
+        e = excluded[0]
+        raise ValueError(f"test {e['test']!r} cannot be used (--strict): {e['reason']}")
+    if time_ids or holdout_blocks:
+        from chainid.gap.diagnose_time import diagnose_any
+
+        for e in excluded:
+            if not quiet:
+                print(f"chainid diagnose: test {e['test']} excluded: {e['reason']}", file=sys.stderr)
+        time_recs = [r for r in records if r.test in time_ids]
+        records = [r for r in records if r.test not in {e["test"] for e in excluded}]
+        holdout = [h for h in holdout if h in {r.test for r in records}]
+        if model is None:
+            model = fit_linear_model(records, holdout)
+        res = diagnose_any(records, data, time_recs, holdout, model, holdout_blocks=holdout_blocks, effects=effects,
+                           max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet)
+        if validate is not None:
+            from chainid.gap.transfer import transfer
+
+            res["transfer"] = transfer(res, validate, n_bins=n_bins, steady_tol=steady_tol)
+        return res
     for e in excluded:
         if not quiet:
             print(f"chainid diagnose: test {e['test']} excluded: {e['reason']}", file=sys.stderr)
@@ -139,11 +185,8 @@ def diagnose(
         if not ok:
             warn.append(msg)
             warnings.warn(msg, stacklevel=2)
-    base_c = prob.fit([]) if not prob.is_chain else Candidate("baseline", {}, 0)
-    base_c.name = "baseline"
-    prob.score(base_c, [], 1.0)
+    base_c = fw.baseline_candidate(prob)
     base_hold = base_c.nrmse_holdout
-    base_c.shrinkage = 0.0
     base = base_c._ev  # type: ignore[attr-defined]
     where = localise(prob, base)
     r2, f2, db0 = prob.noise_db(base, "hold")
@@ -152,14 +195,9 @@ def diagnose(
     excess = math.sqrt(max(r2 - f2, 0.0))
     consistent = fw.at_noise_floor(r2, f2, sig_hold, nbin)
 
-    names = [n for n in prob.applicable() if effects is None or n in effects]
-    for alias, canon in fw.ALIASES.items():
-        if alias in names and canon in names:
-            names.remove(alias)
-    fwd = fw.forward_select(prob, names, base_c, base_hold, max_effects=int(max_combo))
+    fwd = fw.forward_select(prob, fw.library(prob, effects), base_c, base_hold, max_effects=int(max_combo))
     path: list[Candidate] = fwd["path"]
     singles: list[Candidate] = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
-    ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
     final = path[-1] if len(path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     if uncertainty:
@@ -174,88 +212,30 @@ def diagnose(
                 "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)), "stationary": stat["stationary"],
                 "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"], "finding": stat["finding"],
                 "at_noise_floor": fw.at_noise_floor(r2l, f2l, sig_hold, nbin)}
-    nonstat_material = stat["stationary"] is False and stat["trend_change_N"] >= NONSTAT_FRACTION * max(excess, 1e-300)
-    if stat["stationary"] is False:
-        where.insert(0, {"finding": stat["finding"], "kind": "nonstationary", "trend_change_N": stat["trend_change_N"],
-                         "score": stat["trend_change_N"]})
-    if consistent:
-        verdict = "none"
-    elif final is None or not (final.shrinkage >= MIN_SHRINK):
-        verdict = "unexplained"
-    else:
-        verdict = "+".join(final.names)
-    if verdict not in ("none",) and stat["stationary"] is False:
-        named = "+".join(final.names) if final is not None else ""
-        msg = (f"{stat['finding']}; " + (f"the static effects {named} absorb part of it, but what is left drifts "
-               "with time" if named else "no static effect can explain it"))
-        if nonstat_material:
-            verdict = "unexplained"
-            msg += f" (trend change {stat['trend_change_N']:.3g} N over the window vs systematic residual {excess:.3g} N: no confident name)"
-        warn.append(msg)
-    for c in path[1:]:
-        if c.at_bound:
-            warn.append(f"{c.name}: parameter(s) {', '.join(c.at_bound)} at the bound of their physical range; "
-                        "the effect's form may not match the data there (read the value as a limit, not an estimate)")
+    verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     confounded = []
     for cf in fwd["confounded"]:
         confounded.append(cf | {"separate_by": separating_test(*cf["pair"])})
-    if final is None and verdict == "unexplained" and best is not None:
-        warn.append(f"no effect passed the step rule ({fwd['stop']})")
     interp = interpretation(path, prob, verdict)
-    steps = [_step_dict(c, i) | step_fields(prob, c) for i, c in enumerate(path)]
-    evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol, "allow_compression": bool(allow_compression or not is_chain)}
-    models = step_models({"_problem": prob, "_path": path}, {"evaluation": evaluation})
-    summary = {
-        "mechanism": mechanism(verdict, interp),
-        "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_hold, "model": getattr(model, "name", "?"),
-                     "damping_law": prob.law, "damping_law_reason": prob.law_reason, "law_params": base_c.law_params,
-                     "excess_rms_N": excess, "noise_sigma_N": sig_hold, "chi2_ratio": r2 / f2 if f2 > 0 else None,
-                     "db_over_noise": db0, "nrmse_loto": base_c.nrmse_loto},
-        "where": where,
-        "ranking": [c.to_dict() for c in ranking],
-        "steps": steps,
-        "stop": fwd["stop"],
-        "dropped": fwd["dropped"],
-        "verdict": verdict,
-        "best": best.to_dict() if best is not None else None,
-        "residual": residual,
-        "excluded": excluded,
-        "confounded": confounded,
-        "left_nrmse_holdout": left.nrmse_holdout,
-        "interpretation": interp,
-        "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {dbl:.1f} dB over noise",
-        "warnings": warn,
-        "holdout": list(hold_ok),
-        "tests": [{"test": d.test, "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma, "window": d.window,
-                   "split": "holdout" if d in prob.hold else "train",
-                   "nrmse_before": base_c.per_test[d.test],
-                   "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data],
-    }
-    summary["model"] = model_to_dict(models[-1])  # every fitted parameter of the last step (the model file's keys)
-    summary["_problem"] = prob
+    tests = [{"test": d.test, "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma, "window": d.window,
+              "split": "holdout" if d in prob.hold else "train", "nrmse_before": base_c.per_test[d.test],
+              "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data]
+    noise = {"excess_rms_N": excess, "noise_sigma_N": sig_hold, "chi2_ratio": r2 / f2 if f2 > 0 else None,
+             "db_over_noise": db0}
+    summary = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, excluded, confounded, warn,
+                       list(hold_ok), tests)
+    for st, cand in zip(summary["steps"], summary["_path"]):
+        st.update(step_fields(prob, cand))  # every fitted parameter: base, law coefficients, mass, delay
+    evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
+                  "allow_compression": bool(allow_compression or not is_chain)}
+    models = step_models(summary, {"evaluation": evaluation})
+    summary["model"] = model_to_dict(models[-1])  # the last step's model, in the model file's keys
     summary["_models"] = models
-    summary["_best"] = final if final is not None else best
-    summary["_path"] = path
+    if validate is not None:
+        from chainid.gap.transfer import transfer
+
+        summary["transfer"] = transfer(summary, validate, n_bins=n_bins, steady_tol=steady_tol)
     return summary
-
-
-def _step_dict(c: Candidate, i: int) -> dict[str, Any]:
-    f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
-    st = getattr(c, "step_test", {})
-    return {
-        "effect": "baseline" if i == 0 else c.names[-1],
-        "effects": c.names,
-        "params": {k: f(float(v)) for k, v in c.params.items() if not k.startswith("spring.")},
-        "params_sd": {k: f(float(v)) for k, v in c.param_sd.items() if not k.startswith("spring.")},
-        "damping_law": c.law,
-        "nrmse_loto": f(c.nrmse_loto),
-        "nrmse_holdout": f(c.nrmse_holdout),
-        "shrinkage": f(c.shrinkage),
-        "db_over_noise": f(c.db_holdout),
-        "z_loto": f(float(st["z"])) if st else None,
-        "relative_gain_loto": f(float(st["relative_gain"])) if st else None,
-        "at_bound": list(c.at_bound),
-    }
 
 
 def _jackknife(prob: Problem, cand: Candidate) -> dict[str, float]:

@@ -93,3 +93,23 @@ def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
                    f"equivalently a series compliance of {extra:+.3g} mm/N (test machine, fixtures, a larger "
                    "contact flattening)")
     return "; ".join(out)
+
+
+def step_dict(c: Any, i: int) -> dict[str, Any]:
+    """One step of the explanation chain as the JSON contract writes it (step 0 is the baseline)."""
+    f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
+    st = getattr(c, "step_test", {})
+    return {
+        "effect": "baseline" if i == 0 else c.names[-1],
+        "effects": c.names,
+        "params": {k: f(float(v)) for k, v in c.params.items() if not k.startswith("spring.")},
+        "params_sd": {k: f(float(v)) for k, v in c.param_sd.items() if not k.startswith("spring.")},
+        "damping_law": c.law,
+        "nrmse_loto": f(c.nrmse_loto),
+        "nrmse_holdout": f(c.nrmse_holdout),
+        "shrinkage": f(c.shrinkage),
+        "db_over_noise": f(c.db_holdout),
+        "z_loto": f(float(st["z"])) if st else None,
+        "relative_gain_loto": f(float(st["relative_gain"])) if st else None,
+        "at_bound": list(c.at_bound),
+    }

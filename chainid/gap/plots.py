@@ -34,6 +34,17 @@ def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -
 
     out = check_output_dir(outdir, "--plots", PLOT_NAMES, force=force)
     out.mkdir(parents=True, exist_ok=True)
+    def save(fig: Any, name: str) -> Path:
+        assert name in PLOT_NAMES
+        try:
+            return save_figure(fig, out / name, force=force, what="--plots", dpi=90)
+        finally:
+            plt.close(fig)
+
+    if result.get("route") in ("time", "mixed"):  # records analysed in the time domain
+        from chainid.gap.plots_time import time_plots
+
+        return time_plots(result, save)
     prob = result["_problem"]
     best = result["_best"]
     base_c = prob.fit([]) if not prob.is_chain else None
@@ -42,14 +53,6 @@ def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -
     names = best.name.split("+") if best is not None and best.name else []
     aug = prob.evaluate(names, best.params, best.law) if best is not None else base
     paths = []
-
-    def save(fig: Any, name: str) -> Path:
-        assert name in PLOT_NAMES
-        try:
-            return save_figure(fig, out / name, force=force, what="--plots", dpi=90)
-        finally:
-            plt.close(fig)
-
     # loops
     hold = prob.hold
     fig, axs = plt.subplots(1, len(hold), figsize=(4.2 * len(hold), 3.6), squeeze=False)

@@ -113,7 +113,8 @@ class Problem:
         Baseline law name or "auto" (:func:`chainid.gap.law_choice.choose`).
     """
 
-    def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto"):
+    def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto",
+                 require_hold: bool = True):
         self.data = list(data)
         self.model = model
         ids = [d.test for d in self.data]
@@ -123,7 +124,7 @@ class Problem:
         hs = set(holdout)
         self.hold = [d for d in self.data if d.test in hs]
         self.train = [d for d in self.data if d.test not in hs]
-        if not self.hold:
+        if not self.hold and require_hold:  # (a mixed set may hold out only time-domain records)
             raise ValueError("--holdout: no test held out; give at least one test id")
         if len(self.train) < MIN_TRAIN:
             raise ValueError(
@@ -198,6 +199,11 @@ class Problem:
     def applicable(self) -> list[str]:
         """Library effects that apply to this baseline (chain-only effects need the chain model)."""
         return [n for n, e in self.effects.items() if self.is_chain or not e.chain_only]
+
+    def parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
+        """Bin means of the undamped force [N] and of the damping velocity [mm/s] of an effect set on a
+        prepared harmonic test (any test: also one outside this problem, e.g. for a transfer)."""
+        return self._parts(names, p, d)
 
     def _parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
         """Bin means of the undamped force [N] and of the velocity the damping acts on [mm/s]."""

@@ -98,7 +98,8 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     second effect, and the step rule decides whether it does)."""
     ev = cand._ev  # type: ignore[attr-defined]
     r2, f2, _ = prob.noise_db(ev, "train")
-    n = sum(d.counts.size for d in prob.train)
+    # noise cells: phase bins of harmonic tests (+ samples of time-domain records, :mod:`.timeproblem`)
+    n = prob.n_cells("train") if hasattr(prob, "n_cells") else sum(d.counts.size for d in prob.train)
     return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
 
 
@@ -329,3 +330,23 @@ def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[st
         dropped.append(n)
         path[:] = _rebuild(prob, path[0], c, base_hold)
     return dropped
+
+
+def baseline_candidate(prob: Any) -> Candidate:
+    """The scored baseline (no effect) the selection starts from: a linear spring re-fitted on the training data
+    (``--model linear``) or the chain model as given; shrinkage 0 by definition."""
+    base_c = prob.fit([]) if not prob.is_chain else Candidate("baseline", {}, 0)
+    base_c.name = "baseline"
+    prob.score(base_c, [], 1.0)
+    base_c.shrinkage = 0.0
+    return base_c
+
+
+def library(prob: Any, effects: Sequence[str] | None) -> list[str]:
+    """The library effects the selection considers: those that apply to the problem (restricted to ``effects``
+    when given), aliases of the same physics removed."""
+    names = [n for n in prob.applicable() if effects is None or n in effects]
+    for alias, canon in ALIASES.items():
+        if alias in names and canon in names:
+            names.remove(alias)
+    return names

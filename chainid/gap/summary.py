@@ -77,7 +77,8 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
         lines.append(f"  excluded test {e['test']}: {e['reason']}")
     lines += ["", "WHERE the model misses (largest first):"]
     lines += [f"  - {f['finding']}" for f in result["where"][:8]]
-    lines += ["", "WHICH effects, in order (each fitted on top of the previous ones; scored leave-one-test-out):"]
+    unit = "leave-one-block/test-out" if result.get("route") in ("time", "mixed") else "leave-one-test-out"
+    lines += ["", f"WHICH effects, in order (each fitted on top of the previous ones; scored {unit}):"]
     lines += waterfall(result)
     if result.get("stop"):
         lines.append(f"  the chain stops: {result['stop']}")

@@ -1,0 +1,148 @@
+"""Noise floor, excitation band and smooth kinematics of a record that is not a steady harmonic test.
+
+A harmonic test gets its noise from the cycle-to-cycle scatter of the phase bins
+(:mod:`chainid.gap.prepare`).  A transient, random or seismic record has no repeated
+cycle, so the noise is estimated from the record itself:
+
+* **Force noise σ [N]** — the robust scale of the second difference of the force,
+  σ = 1.4826·MAD(Δ²F)/√6.  White noise of standard deviation σ has
+  var(Δ²F) = 6σ²; a force that is smooth on the sample scale (a band far below
+  the Nyquist frequency) adds only (2π f/fs)⁴ of its own variance, and the few
+  jumps of a friction force at reversals do not move a median.  This is the
+  residual of a local quadratic fit over three samples.  The estimator is
+  biased low when the force channel is low-pass filtered close to its own
+  sampling rate (correlated noise); then the spectrum of the force above the
+  excitation band (:func:`hf_floor`) is reported beside it.
+* **Excitation band [Hz]** — the frequency below which ``BAND_FRACTION`` of the
+  displacement's variance (linear trend removed, the flat noise floor of the
+  spectrum's upper half subtracted) lies.
+* **Smooth kinematics** — x, ẋ, ẍ from a zero-phase low-pass (Butterworth,
+  run forward and backward) of the measured x at ``CUT_FACTOR`` times the band:
+  the excitation passes unchanged, the displacement noise above it is removed
+  before it can switch a memory operator (a false reversal) or be amplified by
+  differentiation.
+
+Units: t s, x mm, F N, f Hz.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: the excitation band holds this fraction of the displacement's variance (above its noise floor)
+BAND_FRACTION = 0.999
+#: the kinematics low-pass sits this many times above the band edge (a 4th-order filter run twice is
+#: down by < 1e-4 at the band edge)
+CUT_FACTOR = 4.0
+
+
+def force_noise(F: np.ndarray) -> float:
+    """Force noise σ [N] of one record: 1.4826·MAD(Δ²F)/√6 (see the module docstring).
+
+    Parameters
+    ----------
+    F : ndarray
+        Force samples [N] (uniform sampling, >= 5 samples).
+    """
+    F = np.asarray(F, float)
+    if F.size < 5:
+        raise ValueError(f"force_noise needs >= 5 samples; got {F.size}")
+    d2 = np.diff(F, 2)
+    mad = float(np.median(np.abs(d2 - np.median(d2))))
+    return 1.4826 * mad / math.sqrt(6.0)
+
+
+def sample_rate(t: np.ndarray) -> float:
+    """Sampling rate [Hz] from the median time step (t in s, increasing)."""
+    dt = float(np.median(np.diff(np.asarray(t, float))))
+    if not dt > 0:
+        raise ValueError(f"t must be increasing; median time step {dt!r} s")
+    return 1.0 / dt
+
+
+def _psd(y: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
+    y = np.asarray(y, float)
+    n = y.size
+    tt = np.arange(n)
+    y = y - np.polyval(np.polyfit(tt, y, 1), tt)  # linear trend removed (a shifted mean is not a band)
+    w = np.hanning(n)
+    P = np.abs(np.fft.rfft(y * w)) ** 2
+    f = np.fft.rfftfreq(n, 1.0 / fs)
+    return f, P
+
+
+def excitation_band(t: np.ndarray, x: np.ndarray) -> float:
+    """Upper edge [Hz] of the displacement's band: ``BAND_FRACTION`` of its variance above the noise floor.
+
+    The floor is the median power of the spectrum's upper half (a displacement excitation has no content
+    there); a record whose spectrum is flat (no band) returns the Nyquist frequency.
+    """
+    fs = sample_rate(t)
+    f, P = _psd(x, fs)
+    if f.size < 8:
+        return 0.5 * fs
+    floor = float(np.median(P[f.size // 2:]))
+    Pc = np.maximum(P - floor, 0.0)
+    Pc[0] = 0.0
+    tot = float(Pc.sum())
+    if tot <= 0:
+        return 0.5 * fs
+    k = int(np.searchsorted(np.cumsum(Pc) / tot, BAND_FRACTION))
+    return float(min(max(f[min(k, f.size - 1)], f[1]), 0.5 * fs))
+
+
+def hf_floor(t: np.ndarray, F: np.ndarray, f_band: float) -> float:
+    """RMS [N] per unit bandwidth-equivalent σ of the force spectrum above ``CUT_FACTOR``·f_band: the white
+    noise level σ that would give the median power there (an independent check of :func:`force_noise`;
+    equal to it for white noise, larger when the force has broadband content, e.g. chatter)."""
+    fs = sample_rate(t)
+    f, P = _psd(F, fs)
+    m = f > CUT_FACTOR * f_band
+    if m.sum() < 8:
+        return float("nan")
+    n = np.asarray(F).size
+    w2 = float(np.sum(np.hanning(n) ** 2))
+    # E|rfft(w·e)|² = σ²·Σw² for white e; the median of a χ²₂/2 variable is ln 2 of its mean
+    return math.sqrt(float(np.median(P[m])) / (w2 * math.log(2.0)))
+
+
+def lowpass(y: np.ndarray, fs: float, f_cut: float) -> np.ndarray:
+    """Zero-phase 4th-order Butterworth low-pass at f_cut [Hz] (forward-backward); identity at/above Nyquist."""
+    from scipy.signal import butter, sosfiltfilt
+
+    y = np.asarray(y, float)
+    if f_cut >= 0.45 * fs or y.size < 30:
+        return y.copy()
+    sos = butter(4, f_cut / (0.5 * fs), output="sos")
+    return sosfiltfilt(sos, y)
+
+
+def kinematics(t: np.ndarray, x: np.ndarray, f_band: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Smooth x [mm], ẋ [mm/s], ẍ [mm/s²]: zero-phase low-pass at ``CUT_FACTOR``·f_band, then central
+    differences on the record's own time stamps."""
+    fs = sample_rate(t)
+    xs = lowpass(x, fs, CUT_FACTOR * f_band)
+    xd = np.gradient(xs, t)
+    xdd = np.gradient(xd, t)
+    return xs, xd, xdd
+
+
+#: a steady harmonic test holds at least this share of its displacement variance within ± ``LINE_WIDTH`` of its
+#: spectral peak (one sine, even with a taper or jitter); a record below it is not a harmonic test
+LINE_SHARE = 0.2
+LINE_WIDTH = 0.1
+
+
+def is_broadband(t: np.ndarray, x: np.ndarray) -> bool:
+    """Whether the displacement is clearly not one sine: less than ``LINE_SHARE`` of its variance (linear trend
+    removed) within ± ``LINE_WIDTH`` (relative) of the spectral peak.  Such a record skips the harmonic
+    estimate (it has no steady cycles to find) and goes straight to the time-domain route."""
+    f, P = _psd(x, sample_rate(t))
+    if f.size < 8:
+        return False
+    P[0] = 0.0
+    k = int(np.argmax(P))
+    m = np.abs(f - f[k]) <= LINE_WIDTH * f[k] + (f[1] - f[0])
+    return float(P[m].sum()) < LINE_SHARE * float(P.sum())

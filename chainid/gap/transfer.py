@@ -1,0 +1,143 @@
+"""Transfer: the chain fitted on one excitation, scored on another (``chainid diagnose --validate OTHER.csv``).
+
+The model of the diagnosis (its base with the fitted spring, its effects with their
+parameters, its damping) is evaluated unchanged on every record of the other set:
+
+* a steady harmonic test on its phase bins (:mod:`chainid.gap.prepare`), the damping
+  c_e from the fitted law at the test's ω and A — or the fitted viscous c when the model
+  was fitted in the time domain;
+* any other record in the time domain (causal operators from the first sample), the
+  damping viscous: the fitted c, or the fitted c_e law written at the record's dominant
+  frequency and half its displacement range (a law identified on harmonic tests has no
+  other meaning for a transient).
+
+The baseline of the comparison is the diagnosis' own baseline (no effect) carried over the
+same way, so ``shrinkage = 1 − NRMSE_model/NRMSE_baseline`` on the other set says how much
+of the gap the chain closes there.  A second pair of numbers refits only the linear part on
+each record (offset, stiffness correction and viscous term: a least-squares fit of the
+residual on 1, x and ẋ) with the effects frozen — what a user refitting a spring and a
+dashpot would see.  The chain *transfers* when both pooled shrinkages reach ``MIN_SHRINK`` (the
+bar a diagnosis needs to name an effect): the frozen one, and the one after the linear refit (else
+what the chain gains on the other set is no more than a refitted spring and dashpot would give).
+
+Units: mm, N, s; NRMSE = RMS(residual)/RMS(F − mean F).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from chainid.gap import law_choice as L
+from chainid.gap.prepare import Unusable, prepare_test
+from chainid.gap.problem import Problem
+from chainid.gap.timedomain import MIN_SAMPLES, prepare_time, undamped
+from chainid.gap.verdict import MIN_SHRINK
+
+
+
+def _damping(prob: Any, cand: Any, omega: float, A: float, x0: float, harmonic: bool) -> float:
+    """c [N·s/mm] of a candidate on a record of dominant ω [rad/s], half range A [mm], mean x0 [mm]: the
+    time-domain c for a time record (the law when there is none), the law for a harmonic test (c when the
+    model has no harmonic law)."""
+    has_law = getattr(prob, "hprob", True) is not None
+    if "damping.c" in cand.params and (not harmonic or not has_law):
+        return float(cand.params["damping.c"])
+    ke = float(np.asarray(prob.model_for(cand.params).stiffness(np.array([x0])), float)[0])
+    X = L.design(cand.law, np.array([omega]), np.array([max(A, 1e-12)]), np.array([ke]))
+    return float((X @ np.asarray(cand.law_params, float))[0])
+
+
+def _refit(F: np.ndarray, Fm: np.ndarray, x: np.ndarray, v: np.ndarray, w: np.ndarray | None = None) -> np.ndarray:
+    """Residual after a least-squares refit of offset, stiffness and viscous corrections (weights w)."""
+    X = np.column_stack([np.ones_like(x), x, v])
+    r = F - Fm
+    sw = np.sqrt(w) if w is not None else np.ones_like(x)
+    coef, *_ = np.linalg.lstsq(X * sw[:, None], r * sw, rcond=None)
+    return r - X @ coef
+
+
+def _score(prob: Any, cand: Any, rec: Any, n_bins: int, steady_tol: float | None) -> dict[str, Any]:
+    names = cand.names
+    try:
+        d = prepare_test(rec, n_bins=n_bins, allow_compression=True, steady_tol=steady_tol)
+    except Unusable:
+        d = None
+    if d is not None:
+        Fn, v = Problem.parts(prob, names, cand.params, d)
+        c = _damping(prob, cand, d.omega, d.A, d.x0, True)
+        Fm = Fn + c * v
+        xb = d.gridmean(d.grid["x"])
+        w = d.counts
+        var = float(np.sum(w * (d.Fbar - np.sum(w * d.Fbar) / np.sum(w)) ** 2))
+        r, rr = d.Fbar - Fm, _refit(d.Fbar, Fm, xb, v, w)
+        return {"route": "harmonic", "sse": float(np.sum(w * r**2)), "sse_refit": float(np.sum(w * rr**2)), "var": var}
+    if rec.t.size < MIN_SAMPLES:
+        raise ValueError(f"--validate: test {rec.test!r} has {rec.t.size} samples; need >= {MIN_SAMPLES}")
+    d = prepare_time(rec, 1)
+    Fn, v = undamped(names, cand.params, prob.model_for(cand.params), d)
+    Fm = Fn + _damping(prob, cand, d.omega, d.A, d.x0, False) * v
+    var = float(np.sum((d.F - d.F.mean()) ** 2))
+    r, rr = d.F - Fm, _refit(d.F, Fm, d.x, v)
+    return {"route": "time", "sse": float(np.sum(r**2)), "sse_refit": float(np.sum(rr**2)), "var": var}
+
+
+def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
+             steady_tol: float | None = None) -> dict[str, Any]:
+    """Score the diagnosis' baseline and final chain on another set of records.
+
+    Parameters
+    ----------
+    result : dict
+        The result of :func:`chainid.gap.diagnose.diagnose` (its private ``_problem`` and ``_path``).
+    other : sequence of Record
+        The other excitation's records (t s, x mm, F N).
+
+    Returns
+    -------
+    dict
+        ``tests`` (per record: route, nrmse_baseline, nrmse_model, shrinkage and the same after the linear
+        refit), ``pooled``, ``chain``, ``transfers`` (bool) and ``verdict_text``.
+    """
+    prob, path = result["_problem"], result["_path"]
+    base, final = path[0], path[-1]
+    if not other:
+        raise ValueError("--validate: the other set has no records")
+    rows = []
+    tot = {k: 0.0 for k in ("b", "m", "br", "mr", "v")}
+    for rec in other:
+        sb = _score(prob, base, rec, n_bins, steady_tol)
+        sm = _score(prob, final, rec, n_bins, steady_tol) if final is not base else sb
+        v = sb["var"]
+        nr = lambda s: math.sqrt(s / v) if v > 0 else float("nan")  # noqa: E731
+        row = {"test": rec.test, "route": sb["route"], "nrmse_baseline": nr(sb["sse"]), "nrmse_model": nr(sm["sse"]),
+               "nrmse_baseline_refit": nr(sb["sse_refit"]), "nrmse_model_refit": nr(sm["sse_refit"])}
+        row["shrinkage"] = 1 - row["nrmse_model"] / row["nrmse_baseline"] if row["nrmse_baseline"] > 0 else float("nan")
+        row["shrinkage_refit"] = (1 - row["nrmse_model_refit"] / row["nrmse_baseline_refit"]
+                                  if row["nrmse_baseline_refit"] > 0 else float("nan"))
+        rows.append(row)
+        for k, s in (("b", sb["sse"]), ("m", sm["sse"]), ("br", sb["sse_refit"]), ("mr", sm["sse_refit"]), ("v", v)):
+            tot[k] += s
+    f = lambda k: math.sqrt(tot[k] / tot["v"]) if tot["v"] > 0 else float("nan")  # noqa: E731
+    pooled = {"nrmse_baseline": f("b"), "nrmse_model": f("m"), "nrmse_baseline_refit": f("br"),
+              "nrmse_model_refit": f("mr")}
+    pooled["shrinkage"] = 1 - pooled["nrmse_model"] / pooled["nrmse_baseline"] if pooled["nrmse_baseline"] > 0 else float("nan")
+    pooled["shrinkage_refit"] = (1 - pooled["nrmse_model_refit"] / pooled["nrmse_baseline_refit"]
+                                 if pooled["nrmse_baseline_refit"] > 0 else float("nan"))
+    chain = "+".join(final.names) or "baseline"
+    # both comparisons must close half the gap: against the carried-over baseline, and against a spring and a
+    # dashpot refitted on each record (else the gain is only what a refit of the linear part would give)
+    ok = bool(final is not base and pooled["shrinkage"] >= MIN_SHRINK and pooled["shrinkage_refit"] >= MIN_SHRINK)
+    kinds = sorted({r["route"] for r in rows})
+    txt = (f"the chain {chain} {'TRANSFERS' if ok else 'does NOT transfer'} to the other set ({len(rows)} "
+           f"{'/'.join(kinds)} record(s)): pooled NRMSE baseline {pooled['nrmse_baseline']:.3g} → model "
+           f"{pooled['nrmse_model']:.3g} (shrinkage {100 * pooled['shrinkage']:.0f} %); with offset, "
+           f"stiffness and viscous term refitted per record {pooled['nrmse_baseline_refit']:.3g} → "
+           f"{pooled['nrmse_model_refit']:.3g} (shrinkage {100 * pooled['shrinkage_refit']:.0f} %); both must "
+           f"reach {100 * MIN_SHRINK:.0f} %")
+    if final is base:
+        txt = (f"no effect was named on the fitting set; on the other set the baseline leaves NRMSE "
+               f"{pooled['nrmse_baseline']:.3g} ({pooled['nrmse_baseline_refit']:.3g} after the linear refit)")
+    return {"chain": chain, "tests": rows, "pooled": pooled, "transfers": ok, "verdict_text": txt}

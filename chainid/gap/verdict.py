@@ -1,0 +1,102 @@
+"""The verdict rule of the diagnosis, one for both routes (phase bins and time domain).
+
+* ``none`` — the baseline's held-out residual is consistent with the noise;
+* the chain's effects — the chain shrinks the held-out gap by at least ``MIN_SHRINK``;
+* ``unexplained`` — otherwise, or when what is left drifts with time by at least
+  ``NONSTAT_FRACTION`` of the baseline's systematic residual (no static effect explains a drift).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+#: the verdict names an effect only when the chain shrinks the held-out gap by at least this fraction
+MIN_SHRINK = 0.5
+#: a trend whose change over the window is this large against the baseline's systematic residual: `unexplained`
+NONSTAT_FRACTION = 0.25
+
+
+def decide(consistent: bool, final: Any, stat: dict[str, Any], excess: float, path: list[Any], fwd: dict[str, Any],
+           where: list[dict[str, Any]], warn: list[str], best: Any = None) -> str:
+    """The verdict; adds the non-stationarity finding to ``where`` and the warnings to ``warn``.
+
+    Parameters
+    ----------
+    consistent : the baseline's held-out residual is at the noise floor
+    final : the last candidate of the chain (None: no effect passed the step rule)
+    stat : stationarity result (``stationary``, ``trend_change_N``, ``finding``)
+    excess : the baseline's systematic held-out residual RMS [N]
+    path, fwd : the explanation chain and the forward selection's result
+    """
+    nonstat_material = stat["stationary"] is False and stat["trend_change_N"] >= NONSTAT_FRACTION * max(excess, 1e-300)
+    if stat["stationary"] is False:
+        where.insert(0, {"finding": stat["finding"], "kind": "nonstationary", "trend_change_N": stat["trend_change_N"],
+                         "score": stat["trend_change_N"]})
+    if consistent:
+        verdict = "none"
+    elif final is None or not (final.shrinkage >= MIN_SHRINK):
+        verdict = "unexplained"
+    else:
+        verdict = "+".join(final.names)
+    if verdict != "none" and stat["stationary"] is False:
+        named = "+".join(final.names) if final is not None else ""
+        msg = (f"{stat['finding']}; " + (f"the static effects {named} absorb part of it, but what is left drifts "
+               "with time" if named else "no static effect can explain it"))
+        if nonstat_material:
+            verdict = "unexplained"
+            msg += (f" (trend change {stat['trend_change_N']:.3g} N over the window vs systematic residual "
+                    f"{excess:.3g} N: no confident name)")
+        warn.append(msg)
+    for c in path[1:]:
+        if c.at_bound:
+            warn.append(f"{c.name}: parameter(s) {', '.join(c.at_bound)} at the bound of their physical range; "
+                        "the effect's form may not match the data there (read the value as a limit, not an estimate)")
+    if final is None and verdict == "unexplained" and best is not None:
+        warn.append(f"no effect passed the step rule ({fwd['stop']})")
+    return verdict
+
+
+def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dict[str, Any], verdict: str,
+             interp: str, residual: dict[str, Any], where: list[dict[str, Any]], excluded: list[dict[str, str]],
+             confounded: list[dict[str, Any]], warn: list[str], holdout: list[str], tests: list[dict[str, Any]]
+             ) -> dict[str, Any]:
+    """The JSON contract of ``chainid diagnose`` (both routes): baseline, where, ranking, steps, verdict, …
+
+    ``noise`` holds the baseline's excess_rms_N, noise_sigma_N, chi2_ratio and db_over_noise.  The private
+    keys ``_problem``, ``_best`` and ``_path`` carry the fitted objects (plots, transfer).
+    """
+    from chainid.gap.interpret import mechanism, step_dict, step_text
+
+    path = fwd["path"]
+    singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
+    ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
+    final = path[-1] if len(path) > 1 else None
+    best = final if final is not None else (singles[0] if singles else None)
+    left = final if final is not None else base_c
+    steps = [step_dict(c, i) for i, c in enumerate(path)]
+    return {
+        "mechanism": mechanism(verdict, interp),
+        "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_c.nrmse_holdout,
+                     "model": getattr(model, "name", "?"), "damping_law": prob.law,
+                     "damping_law_reason": prob.law_reason, "law_params": base_c.law_params, **noise,
+                     "nrmse_loto": base_c.nrmse_loto},
+        "where": where,
+        "ranking": [c.to_dict() for c in ranking],
+        "steps": steps,
+        "stop": fwd["stop"],
+        "dropped": fwd["dropped"],
+        "verdict": verdict,
+        "best": best.to_dict() if best is not None else None,
+        "residual": residual,
+        "excluded": excluded,
+        "confounded": confounded,
+        "left_nrmse_holdout": left.nrmse_holdout,
+        "interpretation": interp,
+        "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {residual['db_over_noise']:.1f} dB over noise",
+        "warnings": warn,
+        "holdout": holdout,
+        "tests": tests,
+        "_problem": prob,
+        "_best": best,
+        "_path": path,
+    }
