@@ -6,8 +6,8 @@ about the pre-tensioned state), :mod:`.energy`, :mod:`.sweeps` (parameter sweeps
 :mod:`.plots`.
 """
 from .drives import DRIVE_LAWS, Drive, drive_motion
-from .simulation import SCHEMES, SimResult, simulate, stable_step
+from .simulation import SCHEMES, SimResult, SimulationError, simulate, stable_step
 from .model import FAR_ENDS, LUMPINGS, ChainLine, LoadStep, viscous_equivalent
 
 __all__ = ["ChainLine", "LoadStep", "Drive", "DRIVE_LAWS", "FAR_ENDS", "LUMPINGS", "SCHEMES", "SimResult",
-           "simulate", "stable_step", "viscous_equivalent", "drive_motion"]
+           "SimulationError", "simulate", "stable_step", "viscous_equivalent", "drive_motion"]

@@ -1,0 +1,131 @@
+"""Segment force law of the lumped chain in numba: spring, viscous damper and hysteretic (Jenkins) elements.
+
+Units mm, N, s.  A segment j of elongation e_j [mm] and elongation rate ė_j [mm/s] carries
+
+    T_j = F_k(e_j) + c_j·ė_j + Σ_q z_jq      if e_j > 0 and that sum is > 0, else 0,
+
+with F_k the generated chain kernel (Eq. 15 inverted), c_j the viscous damper [N·s/mm] and z_jq the forces
+[N] of Jenkins elements (a spring k_jq [N/mm] in series with a Coulomb slider of force f_jq [N]) in parallel
+with the spring.  One Jenkins element with a stiff spring is Coulomb friction with stick (the stick phase
+is elastic with k_stick); several elements of graded slip forces are an Iwan (parallel Masing) model of
+rate-independent hysteresis.  Their state z is advanced by :func:`jenkins_step`, an exact return map for a
+linear path of e over the step (the dissipation f·|slip| is exact for that path).
+
+When the segment is slack (e <= 0) or its tension would be negative (the dampers cannot push), the segment
+carries nothing and its Jenkins elements are released (z = 0; their stored energy z²/(2k) counts as
+dissipated: the contacts open).  Energy bookkeeping: elastic energy = U(e) of the kernel + Σ z²/(2k)
+(:func:`stored_energy`); dissipation = trapezoidal work of the viscous part over the step + slip work +
+released energy (:func:`tensions`).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..generated.stiffness_paper import force as _force
+from ..generated.stiffness_paper import stiffness as _stiffness
+from .energy import elastic_energy_array
+
+__all__ = ["jenkins_step", "tensions", "stored_energy"]
+
+_FM = {"contract", "arcp", "nsz"}
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def jenkins_step(z, de, k, f):
+    """One Jenkins element under an elongation increment: (z_new [N], dissipated [N·mm], tangent [N/mm]).
+
+    Parameters: z force at the start [N] (|z| <= f), de increment [mm], k spring [N/mm] (> 0), f slip force
+    [N] (>= 0).  The trial z + k·de sticks if |trial| <= f; else the slider slips by (|trial| − f)/k at force
+    f, dissipating f·slip (exact for a monotone path over the step).
+    """
+    zt = z + k * de
+    if zt > f:
+        return f, f * (zt - f) / k, 0.0
+    if zt < -f:
+        return -f, f * (-f - zt) / k, 0.0
+    return zt, 0.0, k
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def _springs(u, epre, cl, ch, Fk, kind):
+    """F_k of every segment [N]: the generated kernel (kind 0); benchmark floors: cbrt (1), linear (2)."""
+    if kind == 0:
+        for j in range(Fk.shape[0]):
+            Fk[j] = _force(epre[j] + u[j] - u[j + 1], cl[j], ch[j])
+    elif kind == 1:  # benchmark floor: a spring that costs one cube root, cbrt(e)/c_lin (not a chain model)
+        for j in range(Fk.shape[0]):
+            e = epre[j] + u[j] - u[j + 1]
+            Fk[j] = np.cbrt(e) / cl[j] if e > 0.0 else 0.0
+    else:  # benchmark floor: a linear tension-only spring e/c_lin, the cheapest spring there is
+        for j in range(Fk.shape[0]):
+            e = epre[j] + u[j] - u[j + 1]
+            Fk[j] = e / cl[j] if e > 0.0 else 0.0
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def tensions(u, v, us, Ts, epre, cl, ch, cd, hk, hf, zs, dvs, z, dv, T, Fk, ks, cs, kind, tangent):
+    """Segment tensions at the end of a step from its start state.
+
+    Inputs: u, v node displacements [mm] and speeds [mm/s] at the end; us, Ts, zs, dvs displacements,
+    tensions, Jenkins forces and viscous forces at the start.  Outputs: z, dv, T (and, with ``tangent``, the
+    tangent stiffness ks [N/mm] and damping cs [N·s/mm] of each segment for Newton's method).
+
+    Returns
+    -------
+    (dD, peak)
+        Dissipation over the step [N·mm] (trapezoidal viscous work + slip + released energy) and the largest
+        tension [N].
+    """
+    _springs(u, epre, cl, ch, Fk, kind)
+    n_el = hk.shape[1]
+    dD = 0.0
+    peak = 0.0
+    for j in range(T.shape[0]):
+        e = epre[j] + u[j] - u[j + 1]
+        de = (u[j] - us[j]) - (u[j + 1] - us[j + 1])
+        f = Fk[j]
+        zsum = 0.0
+        slip = 0.0
+        kz = 0.0
+        for q in range(n_el):
+            zq, dq, kq = jenkins_step(zs[j, q], de, hk[j, q], hf[j, q])
+            z[j, q] = zq
+            zsum += zq
+            slip += dq
+            kz += kq
+        dvis = cd[j] * (v[j] - v[j + 1])
+        t = f + dvis + zsum
+        if e > 0.0 and t > 0.0:
+            T[j] = t
+            dv[j] = dvis
+            dD += slip
+            if tangent:
+                ks[j] = _stiffness(e, cl[j], ch[j]) + kz
+                cs[j] = cd[j]
+        else:
+            T[j] = 0.0
+            dv[j] = -f
+            for q in range(n_el):  # released: the stored energy at the start is dissipated
+                dD += 0.5 * zs[j, q] * zs[j, q] / hk[j, q]
+                z[j, q] = 0.0
+            if tangent:
+                ks[j] = 0.0
+                cs[j] = 0.0
+        dD += 0.5 * (dvs[j] + dv[j]) * de
+        peak = peak if peak > T[j] else T[j]
+    return dD, peak
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def stored_energy(u, epre, cl, ch, hk, z):
+    """Elastic energy [N·mm]: Σ U(e_j) of the kernel + Σ z²/(2k) of the Jenkins springs."""
+    N = cl.shape[0]
+    e = np.empty(N)
+    for j in range(N):
+        e[j] = epre[j] + u[j] - u[j + 1]
+    s = elastic_energy_array(e, cl, ch)
+    for j in range(N):
+        for q in range(hk.shape[1]):
+            s += 0.5 * z[j, q] * z[j, q] / hk[j, q]
+    return s
