@@ -40,7 +40,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from chainid import records  # noqa: E402
+from chainid.records import files as records  # noqa: E402
 from timing import median_time  # benchmarks/timing.py (this folder is on sys.path when run)  # noqa: E402
 
 

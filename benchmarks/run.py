@@ -113,7 +113,7 @@ def bench_kernels(quick: bool) -> dict:
     import numpy as np
 
     import chainid
-    from chainid import kernels
+    from chainid.model import kernels
 
     gen = kernels.variant_module("paper")
     cl, ch = kernels.coefficients(None)
@@ -309,9 +309,9 @@ def child_workflow(which: str) -> None:
     try:
         import numpy as np  # noqa: F401
 
-        from chainid.identify import PolynomialLaw, identify_records
-        from chainid.models import ChainModel
-        from chainid.simulate import paper_plan, simulate
+        from chainid.damping.identify import PolynomialLaw, identify_records
+        from chainid.model.base import ChainModel
+        from chainid.records.simulate import paper_plan, simulate
         if which == "gap":
             from chainid.gap import diagnose
             from chainid.gap.benchmark import grid3x3_plan

@@ -19,8 +19,8 @@ _root = _Path(__file__).resolve().parent.parent
 if not (_Path(__file__).resolve().parent / "generated").is_dir() and (_root / "generated" / "__init__.py").is_file():
     __path__.append(str(_root))  # type: ignore[name-defined]  # noqa: F821
 
-from .kernels import displacement, force, stiffness  # noqa: E402
-from .spec import ChainSpec, default_chain, load_chain  # noqa: E402
+from chainid.model.kernels import displacement, force, stiffness  # noqa: E402
+from chainid.chain.spec import ChainSpec, default_chain, load_chain  # noqa: E402
 
 __version__ = "0.1.0"
 __all__ = ["ChainSpec", "default_chain", "load_chain", "force", "displacement", "stiffness", "__version__"]

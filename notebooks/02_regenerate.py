@@ -26,7 +26,8 @@ from pathlib import Path
 
 import sympy as sp
 
-from chainid import default_chain, kernels
+from chainid.chain.spec import default_chain
+from chainid.model import kernels
 from chainid.derive import chain, emit
 
 # %%

@@ -24,12 +24,14 @@
 # %%
 import numpy as np
 
-from chainid import identify, simulate
-from chainid.models import ChainModel
+from chainid.damping import identify
+from chainid.model import laws
+from chainid.records import simulate
+from chainid.model.base import ChainModel
 
 model = ChainModel()  # the built-in 14x50 chain, n = 16
 plan = simulate.paper_plan()  # Table 1: ω = π/10 × the table's column [rad/s], x₀, A [mm]
-true_law = identify.PolynomialLaw([40.0, -300.0, -2000.0, 3000.0, 2500.0])  # [N·s/mm]
+true_law = laws.PolynomialLaw([40.0, -300.0, -2000.0, 3000.0, 2500.0])  # [N·s/mm]
 records = simulate.simulate(plan, model, true_law, seed=3, noise_F=5.0, noise_x=1e-4)
 print(len(records), "tests;", records[0].t.size, "samples in test", records[0].test)
 
@@ -49,12 +51,12 @@ for r in results:
 omega = np.array([r.omega for r in results])
 A = np.array([r.A for r in results])
 ce = np.array([r.c_e for r in results])
-fit = identify.fit_law(identify.PolynomialLaw(), omega, A, ce)
+fit = laws.fit_law(laws.PolynomialLaw(), omega, A, ce)
 print(fit.to_dict())
 
 # %%
 x0 = np.array([r.x0 for r in results])
-for row in identify.rank_laws(omega, A, ce, x0, model=model):
+for row in laws.rank_laws(omega, A, ce, x0, model=model):
     print(f"{row['law']:>20}: {row['n_params']} parameters, leave-one-out RMSE {row['loo_rmse']:.3g} N·s/mm")
 
 # %% [markdown]

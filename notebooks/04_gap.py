@@ -35,11 +35,11 @@ import numpy as np
 
 import chainid
 from chainid.gap import diagnose, parse_effect
-from chainid.gap.effects import EFFECT_NAMES
-from chainid.gap.report import summary
-from chainid.identify import PolynomialLaw
-from chainid.models import ChainModel
-from chainid.simulate import grid_plan, simulate
+from chainid.model.effects import EFFECT_NAMES
+from chainid.gap.summary import summary
+from chainid.model.laws import PolynomialLaw
+from chainid.model.base import ChainModel
+from chainid.records.simulate import grid_plan, simulate
 
 print("effect library:", ", ".join(EFFECT_NAMES))
 
@@ -133,7 +133,7 @@ assert control["verdict"] == "none"
 # %%
 real = Path(chainid.__file__).resolve().parents[2] / "shared" / "realdata" / "friction-damper" / "brfd_ds2_tension30lb.csv"
 if real.is_file():
-    from chainid.records import read_records
+    from chainid.records.files import read_records
 
     recs = read_records(real, allow_compression=True)
     res = diagnose(recs, ["f0.5_a1.0", "f1.0_a0.5", "f0.25_a1.5"], None, uncertainty=False)

@@ -76,7 +76,7 @@ res.energy_balance()
 # chain speed varies as v̄·(π/z)/sin(π/z)·cos φ, with the period p/v̄ of one pitch (derivation in
 # `chainid.dynamics.drives`).  A 50 m chain (1000 links, 100 masses), 10 kN take-up, 5 kN resistance; the
 # peak-to-peak drive-end tension over the last quarter of a 3 s run, for several mean speeds.  The sweep
-# runs on `chainid.parallel.run_cases` (here `scheduler="serial"` to keep the notebook light; the default
+# runs on `chainid.infra.parallel.run_cases` (here `scheduler="serial"` to keep the notebook light; the default
 # is a dask LocalCluster).
 
 # %%

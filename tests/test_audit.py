@@ -9,8 +9,8 @@ import pytest
 
 import paper_forms  # tests/paper_forms.py: the paper's closed forms in plain Python
 
-from chainid.audit import EQ28_PAPER, audit, eq28, format_audit, load_table1
-from chainid.cli_identify import main as cli
+from chainid.damping.audit import EQ28_PAPER, audit, eq28, format_audit, load_table1
+from chainid.cli.identify import main as cli
 
 
 class Lin:
@@ -26,13 +26,13 @@ class Lin:
 
 def _models_available():
     try:
-        from chainid import models  # noqa: F401
+        from chainid.model import base as models  # noqa: F401
     except ImportError:
         return False
     return hasattr(models, "model_for") and hasattr(models, "LinearModel")
 
 
-needs_models = pytest.mark.skipif(not _models_available(), reason="chainid.models (lead's module) not available yet")
+needs_models = pytest.mark.skipif(not _models_available(), reason="chainid.model.base (lead's module) not available yet")
 
 
 def four_sf(v):

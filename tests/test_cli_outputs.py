@@ -32,7 +32,7 @@ def no_work(monkeypatch):
     """Make the expensive part of each command fail loudly: the target check must come first."""
     import chainid.derive.verify as verify
     import chainid.gap.benchmark as bench
-    import chainid.records as records
+    import chainid.records.files as records
 
     def boom(*a, **k):
         raise AssertionError("the work started before the output target was checked")
@@ -83,7 +83,7 @@ def test_bad_output_target_is_one_line_rc2_before_work(tmp_path, capsys, no_work
 def test_stiffness_json_is_strict_with_null_for_non_finite(tmp_path, capsys, monkeypatch):
     import numpy as np
 
-    from chainid import kernels
+    from chainid.model import kernels
 
     monkeypatch.setattr(kernels, "force", lambda x, *a, **k: np.full(np.shape(x), np.nan))
     monkeypatch.setattr(kernels, "stiffness", lambda x, *a, **k: np.full(np.shape(x), np.inf))
@@ -125,7 +125,7 @@ def test_simulate_refuses_bad_options_and_writes_nothing(tmp_path, capsys, extra
 
 
 def test_simulate_compressive_plan_is_fine_with_a_linear_model(tmp_path, capsys):
-    from chainid.records import read_records
+    from chainid.records.files import read_records
 
     (tmp_path / "plan.csv").write_text("test,omega,x0,A\n1,2,0.2,0.3\n")
     rc, _, _ = _run(capsys, ["simulate", tmp_path / "out.csv", "--plan", tmp_path / "plan.csv", "--model", "linear",
@@ -139,8 +139,8 @@ def test_simulate_memory_estimate_matches_the_allocation():
     """n_samples is the size simulate_test allocates: (x0/ramp + cycles·2π/ω) / (2π/(ω·spc)), hand-computed."""
     import math
 
-    from chainid.models import model_for
-    from chainid.simulate import TestSpec, n_samples, simulate_test
+    from chainid.model.base import model_for
+    from chainid.records.simulate import TestSpec, n_samples, simulate_test
 
     spec = TestSpec("1", 2.0, 2.2, 0.3)
     n_hand = (2.2 / 0.08973 + 6 * math.pi) / (math.pi / 200)  # = 2760.6...
@@ -150,7 +150,7 @@ def test_simulate_memory_estimate_matches_the_allocation():
 
 
 def test_simulate_refuses_a_huge_plan_fast_and_max_memory_raises_the_limit(tmp_path, capsys, monkeypatch):
-    import chainid.simulate as sim
+    import chainid.records.simulate as sim
 
     real = sim.simulate_test
 
@@ -178,9 +178,9 @@ def test_simulate_refuses_a_huge_plan_fast_and_max_memory_raises_the_limit(tmp_p
 # -- identify --plots: one file per test id, no silent overwrite ----------------------------------------------
 
 def test_identify_plots_names_do_not_collide_and_need_force(tmp_path, capsys):
-    from chainid.models import model_for
-    from chainid.records import write_records
-    from chainid.simulate import TestSpec, simulate
+    from chainid.model.base import model_for
+    from chainid.records.files import write_records
+    from chainid.records.simulate import TestSpec, simulate
 
     ids = ["T 1", "T_1", "T/1", "T-1", "t 1", "T.1"]
     plan = [TestSpec(i, w, 2.2, A) for i, (w, A) in zip(ids, [(1, .2), (2, .2), (3, .3), (1, .3), (2, .4), (3, .4)])]
@@ -202,7 +202,7 @@ def test_identify_plots_names_do_not_collide_and_need_force(tmp_path, capsys):
 
 _SLOW_WRITER = textwrap.dedent("""
     import contextlib, os, signal, sys
-    import chainid.fileio as fio
+    import chainid.infra.fileio as fio
     _orig = fio.atomic_open
 
     @contextlib.contextmanager
@@ -249,12 +249,12 @@ def test_sigint_mid_write_exits_130_and_leaves_no_partial_output(tmp_path, exist
 @pytest.fixture
 def fake_steps(monkeypatch):
     """Fast stand-ins for the report steps; ``state['figs']`` names the figures step 2 writes."""
-    from chainid import report
+    from chainid.report import build as report
 
     state = {"figs": ["a.png"], "fail": None}
 
     def verification(folder, say):
-        report._dump(folder, "verify.json", {"ok": True})
+        report.dump_json(folder, "verify.json", {"ok": True})
         return "## 1. Verification\n"
 
     def stiffness(folder, chain, say):

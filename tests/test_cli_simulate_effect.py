@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from chainid.cli import main
-from chainid.records import read_records
+from chainid.records.files import read_records
 
 
 def _sim(path, *extra):

@@ -4,12 +4,12 @@ import math
 import numpy as np
 import pytest
 
-from chainid import kernels
+from chainid.model import kernels
 from chainid.dynamics import ChainLine, Drive, LoadStep, drive_motion, simulate, stable_step
 from chainid.dynamics.modes import modes
-from chainid.models import ChainModel
-from chainid.simulate import TestSpec, simulate_test
-from chainid.spec import default_chain
+from chainid.model.base import ChainModel
+from chainid.records.simulate import TestSpec, simulate_test
+from chainid.chain.spec import default_chain
 
 
 def test_segments_sum_to_the_whole_chain_kernel():

@@ -1,4 +1,4 @@
-"""chainid.fileio: target checks, atomic writes, strict JSON, injective file names, deferred SIGINT."""
+"""chainid.infra.fileio: target checks, atomic writes, strict JSON, injective file names, deferred SIGINT."""
 from __future__ import annotations
 
 import json
@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chainid import fileio
-from chainid.fileio import OutputError
+from chainid.infra import fileio
+from chainid.infra.fileio import OutputError
 
 
 def _strict_loads(text: str):

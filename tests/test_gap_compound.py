@@ -9,14 +9,14 @@ import math
 import numpy as np
 import pytest
 
-from chainid.gap import forward as fw
+from chainid.gap import selection as fw
 from chainid.gap.benchmark import grid3x3_plan
 from chainid.gap.diagnose import diagnose
-from chainid.gap.effects import parse_effect
+from chainid.model.effects import parse_effect
 from chainid.gap.problem import Candidate
-from chainid.identify import PolynomialLaw
-from chainid.models import ChainModel
-from chainid.simulate import TestSpec, simulate, simulate_test
+from chainid.model.laws import PolynomialLaw
+from chainid.model.base import ChainModel
+from chainid.records.simulate import TestSpec, simulate, simulate_test
 
 MODEL = ChainModel()  # what the diagnosis is told
 LAW = PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0])  # N·s/mm, ω rad/s, A mm
@@ -132,7 +132,7 @@ def test_step_rule_by_hand():
 
 def test_cli_steps_json_and_options(tmp_path, capsys):
     from chainid.cli import main
-    from chainid.records import write_records
+    from chainid.records.files import write_records
 
     data = tmp_path / "d.csv"
     write_records(data, records("friction:F_c=150"))

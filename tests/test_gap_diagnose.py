@@ -12,10 +12,10 @@ import pytest
 
 from chainid.gap.benchmark import grid3x3_plan
 from chainid.gap.diagnose import diagnose
-from chainid.gap.effects import parse_effect, play_operator, stick_slip
-from chainid.identify import PolynomialLaw
-from chainid.models import ChainModel
-from chainid.simulate import TestSpec, simulate
+from chainid.model.effects import parse_effect, play_operator, stick_slip
+from chainid.model.laws import PolynomialLaw
+from chainid.model.base import ChainModel
+from chainid.records.simulate import TestSpec, simulate
 
 REAL = Path(__file__).parents[2] / "shared" / "realdata" / "friction-damper" / "brfd_ds2_tension30lb.csv"
 HOLD = ["3", "7", "11"]
@@ -190,7 +190,7 @@ def test_out_of_library_drift_not_misnamed():
 
 @pytest.mark.skipif(not REAL.is_file(), reason="shared real data not present")
 def test_real_friction_damper_linear():
-    from chainid.records import read_records
+    from chainid.records.files import read_records
 
     recs = read_records(REAL, allow_compression=True)
     res = diagnose(recs, ["f0.5_a1.0", "f1.0_a0.5", "f0.25_a1.5"], None, uncertainty=False)
@@ -249,7 +249,7 @@ def test_parse_effect_errors_and_operators():
 
 def test_cli_json_contract(tmp_path):
     from chainid.cli import main
-    from chainid.records import write_records
+    from chainid.records.files import write_records
 
     data = tmp_path / "d.csv"
     write_records(data, records("friction:F_c=150"))
@@ -276,16 +276,16 @@ def test_plots(tmp_path, monkeypatch):
 
     from chainid.gap.plots import make_plots
 
-    import chainid.fileio
+    import chainid.infra.fileio
 
     figs = {}
-    orig = chainid.fileio.save_figure
+    orig = chainid.infra.fileio.save_figure
 
     def spy(fig, path, *a, **k):  # the figures are written atomically: spy on the target name
         figs[Path(path).name] = fig
         return orig(fig, path, *a, **k)
 
-    monkeypatch.setattr(chainid.fileio, "save_figure", spy)
+    monkeypatch.setattr(chainid.infra.fileio, "save_figure", spy)
     res = diagnose(records("backlash:b=0.02"), HOLD, MODEL, max_combo=1, uncertainty=False)
     paths = make_plots(res, tmp_path / "figs")
     assert [p.name for p in paths] == ["loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png",

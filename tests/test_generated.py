@@ -86,7 +86,7 @@ def test_import_and_kernel_call_do_not_import_sympy():
     code = (
         "import sys, chainid, numpy as np\n"
         "chainid.force(np.array([1.0, 2.2])); chainid.stiffness(2.2); chainid.displacement(1e4)\n"
-        "import chainid.models, chainid.cli\n"
+        "import chainid.model.base, chainid.cli\n"
         "assert 'sympy' not in sys.modules, 'sympy imported'\n"
         "print('ok')\n"
     )

@@ -7,22 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chainid.identify import (
-    CombinedLaw,
-    CoulombLaw,
-    HystereticLaw,
-    PolynomialLaw,
-    ViscousLaw,
-    fit_harmonic,
-    fit_law,
-    identify_records,
-    identify_test,
-    inertia_force_N,
-    law_from_dict,
-    predict_force,
-    rank_laws,
-)
-from chainid.simulate import TestSpec, model_force, simulate, simulate_test
+from chainid.model.laws import CombinedLaw, CoulombLaw, HystereticLaw, PolynomialLaw, ViscousLaw, fit_law, law_from_dict, rank_laws
+from chainid.model.predict import inertia_force_N, predict_force
+from chainid.damping.identify import fit_harmonic, identify_records, identify_test
+from chainid.records.simulate import TestSpec, model_force, simulate, simulate_test
 
 
 class Lin:
@@ -113,8 +101,8 @@ def test_mass_term_units():
 def test_linear_spring_fit_removes_inertia():
     """`identify --model linear` without --k fits F - m xddot 1e-3 = k (x - x_ref): with m = 200 kg at
     20-60 rad/s the inertia m w^2 = 80-720 N/mm is a large part of k = 2000 N/mm and must be removed."""
-    from chainid.identify import linear_model_from_records
-    from chainid.models import LinearModel
+    from chainid.damping.identify import linear_model_from_records
+    from chainid.model.base import LinearModel
 
     true = LinearModel(2000.0, 1.0, mass=200.0)
     plan = [TestSpec(f"t{i}", w, 2.0, a) for i, (w, a) in enumerate([(20.0, 0.2), (40.0, 0.3), (60.0, 0.4),
@@ -268,15 +256,15 @@ def test_to_dict_has_contract_keys():
 
 # --------------------------------------------------------------------------- with the real chain model
 def _chain_model():
-    models = pytest.importorskip("chainid.models")
+    models = pytest.importorskip("chainid.model.base")
     if not hasattr(models, "model_for"):
-        pytest.skip("chainid.models.model_for not available")
+        pytest.skip("chainid.model.base.model_for not available")
     return models.model_for(None)
 
 
 def test_ce_within_1_percent_chain_model_paper_plan():
     """Paper's plan (Table 1, omega in rad/s), ramp of Eq. 25, viscous law, noise: c_e per test within 1 %."""
-    from chainid.simulate import PAPER_RAMP_RATE, paper_plan
+    from chainid.records.simulate import PAPER_RAMP_RATE, paper_plan
 
     model = _chain_model()
     recs = simulate(paper_plan(), model, ViscousLaw([2834.4]), seed=11, ramp_rate=PAPER_RAMP_RATE,
@@ -321,9 +309,9 @@ REAL = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "friction-d
 def test_real_friction_damper_prefers_coulomb():
     """Real BRFD friction-damper loops (tapered records, force changes sign): the steady
     plateau is found in every test and a Coulomb-type law beats viscous by LOO error."""
-    from chainid.records import read_records
+    from chainid.records.files import read_records
 
-    from chainid.records import analyse_record
+    from chainid.records.files import analyse_record
 
     recs = read_records(REAL, allow_compression=True)
     assert len(recs) == 10

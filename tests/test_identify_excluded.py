@@ -7,9 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from chainid.identify import ViscousLaw, identify_records
-from chainid.records import Record, write_records
-from chainid.simulate import TestSpec, simulate
+from chainid.model.laws import ViscousLaw
+from chainid.damping.identify import identify_records
+from chainid.records.files import Record, write_records
+from chainid.records.simulate import TestSpec, simulate
 
 
 class Lin:
@@ -107,14 +108,14 @@ def test_cli_identify_too_few_tests_left(tmp_path, capsys):
 
 @pytest.mark.parametrize("tol, ok", [("5%", 0.05), ("0.05", 0.05), ("auto", None)])
 def test_cli_steady_tol_parsing(tol, ok):
-    from chainid.cli_identify import _steady_tol
+    from chainid.cli.identify import _steady_tol
 
     assert _steady_tol(tol) == ok
 
 
 @pytest.mark.parametrize("tol", ["0", "1.5", "150%", "abc", "nan"])
 def test_cli_steady_tol_rejects(tol):
-    from chainid.cli_identify import _steady_tol
+    from chainid.cli.identify import _steady_tol
 
     with pytest.raises(ValueError, match="--steady-tol"):
         _steady_tol(tol)

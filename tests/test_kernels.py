@@ -10,9 +10,9 @@ from hypothesis import strategies as st
 
 import chainid
 import paper_forms  # tests/paper_forms.py: the paper's closed forms in plain Python
-from chainid import kernels
-from chainid.models import ChainModel, LinearModel
-from chainid.spec import ChainSpec, default_chain
+from chainid.model import kernels
+from chainid.model.base import ChainModel, LinearModel
+from chainid.chain.spec import ChainSpec, default_chain
 
 
 def paper_coefficients(d, pitch, width, n, E, nu, contact="outer", kappa=1.0):

@@ -6,7 +6,7 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from chainid.laws import PolynomialLaw, fit_law
+from chainid.model.laws import PolynomialLaw, fit_law
 
 
 def test_loo_leverages_match_hat_matrix_small():

@@ -1,4 +1,4 @@
-"""The numba cache never crashes a kernel call (chainid._numba_cache), each case in a fresh subprocess.
+"""The numba cache never crashes a kernel call (chainid.infra.numba_cache), each case in a fresh subprocess.
 
 - a read-only install with an unwritable HOME: falls back to a private folder in the temporary
   directory (one NumbaCacheWarning), then to no disk cache at all;
@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import chainid
-from chainid.models import ChainModel
+from chainid.model.base import ChainModel
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -138,7 +138,7 @@ def test_disable_jit_runs_pure_python_with_the_same_results(tmp_path):
     x = np.array([0.0, 1e-5, 1.0, 2.2, 10.0, 1e70, np.inf, np.nan, -1.0])
     script = (
         "import json, warnings, numpy as np, chainid\n"
-        "from chainid.models import ChainModel\n"
+        "from chainid.model.base import ChainModel\n"
         "from numba.core import config\n"
         "warnings.simplefilter('error')\n"  # no RuntimeWarning from numpy scalars on the Python path
         "x = np.array([0.0, 1e-5, 1.0, 2.2, 10.0, 1e70, np.inf, np.nan, -1.0])\n"

@@ -1,9 +1,9 @@
-"""chainid.parallel.run_cases: same results, in case order, on every back end; errors propagate cleanly."""
+"""chainid.infra.parallel.run_cases: same results, in case order, on every back end; errors propagate cleanly."""
 import multiprocessing
 
 import pytest
 
-from chainid.parallel import dask_available, run_cases
+from chainid.infra.parallel import dask_available, run_cases
 
 
 def _square_plus(case):

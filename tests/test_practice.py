@@ -1,12 +1,13 @@
-"""chainid.practice against hand computations from the cited sources (units mm, N, MPa)."""
+"""chainid.model.practice against hand computations from the cited sources (units mm, N, MPa)."""
 from __future__ import annotations
 
 import math
 
 import pytest
 
-from chainid import kernels, practice, presets
-from chainid.spec import PAPER_CHAIN
+from chainid.model import kernels, practice
+from chainid.chain import presets
+from chainid.chain.spec import PAPER_CHAIN
 
 
 def test_orcaflex_ea_at_two_diameters():
@@ -145,7 +146,7 @@ def test_bad_input_raises(call):
 def test_report_step_writes_table_and_figures(tmp_path):
     import json
 
-    from chainid.report import step_practice
+    from chainid.report.build import step_practice
 
     md = step_practice(tmp_path, PAPER_CHAIN, lambda s: None)
     assert "## 2b. The model against practice" in md and "| din22252:42x146 |" in md

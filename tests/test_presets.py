@@ -11,8 +11,8 @@ import math
 
 import pytest
 
-from chainid import presets
-from chainid.spec import PAPER_CHAIN, ChainSpec, load_chain
+from chainid.chain import presets
+from chainid.chain.spec import PAPER_CHAIN, ChainSpec, load_chain
 
 # size: (d, pitch, inner width, max outer width, kg/m)
 DIN22252 = {

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from chainid.records import (
+from chainid.records.files import (
     Record,
     analyse_record,
     estimate_harmonic,

@@ -18,9 +18,9 @@ def _saved_figures(monkeypatch) -> dict:
     figs = {}
     orig = matplotlib.figure.Figure.savefig
 
-    import chainid.fileio
+    import chainid.infra.fileio
 
-    orig_save = chainid.fileio.save_figure
+    orig_save = chainid.infra.fileio.save_figure
 
     def spy(self, fname, *a, **k):
         if isinstance(fname, (str, os.PathLike)):  # atomic saves write to an open temporary file: see spy_save
@@ -32,13 +32,13 @@ def _saved_figures(monkeypatch) -> dict:
         return orig_save(fig, path, *a, **k)
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", spy)
-    monkeypatch.setattr(chainid.fileio, "save_figure", spy_save)
+    monkeypatch.setattr(chainid.infra.fileio, "save_figure", spy_save)
     return figs
 
 
 def test_fig8_curves_are_the_closed_form_stiffness(tmp_path, monkeypatch):
     """Fig. 8a/8b plot k_e(x) of Eq. 15/16 (typed in paper_forms) for n = 8…64 links and E = 0.5…1.5 E0."""
-    from chainid.plots import plot_stiffness_vs_length, plot_stiffness_vs_modulus
+    from chainid.report.figures import plot_stiffness_vs_length, plot_stiffness_vs_modulus
 
     figs = _saved_figures(monkeypatch)
     plot_stiffness_vs_length(tmp_path / "a.png")
@@ -93,10 +93,10 @@ def test_report_data_step_with_compressive_records_uses_a_linear_spring(tmp_path
     """--data records whose force changes sign (not a chain): step 3 says so and fits k, not the chain."""
     import json
 
-    from chainid.models import ChainModel, LinearModel
-    from chainid.records import write_records
-    from chainid.report import step_identify_data
-    from chainid.simulate import TestSpec, simulate
+    from chainid.model.base import ChainModel, LinearModel
+    from chainid.records.files import write_records
+    from chainid.report.build import step_identify_data
+    from chainid.records.simulate import TestSpec, simulate
 
     true = LinearModel(150.0, 5.0, mass=0.0)  # k = 150 N/mm, F = 0 at x = 5 mm: F swings through zero
     plan = [TestSpec(str(i), w, 5.0, A) for i, (w, A) in enumerate([(1, 1), (2, 1), (3, 2), (1, 2), (2, 3), (3, 3)])]

@@ -1,4 +1,4 @@
-"""Step 4 of `chainid report` (chainid.gap.report_steps): simulated blind diagnosis, Eq. 26, Table 1, --data."""
+"""Step 4 of `chainid report` (chainid.report.gap): simulated blind diagnosis, Eq. 26, Table 1, --data."""
 from __future__ import annotations
 
 import json
@@ -11,11 +11,11 @@ import pytest
 
 import paper_forms  # tests/paper_forms.py: the paper's closed forms in plain Python
 
-from chainid.gap import report_steps
-from chainid.identify import PolynomialLaw
-from chainid.models import ChainModel, LinearModel
-from chainid.records import write_records
-from chainid.simulate import TestSpec, simulate
+from chainid.report import gap as report_steps
+from chainid.model.laws import PolynomialLaw
+from chainid.model.base import ChainModel, LinearModel
+from chainid.records.files import write_records
+from chainid.records.simulate import TestSpec, simulate
 
 MODEL = ChainModel()
 TABLE1 = Path(report_steps.__file__).parents[1] / "data" / "table1.csv"
@@ -35,9 +35,9 @@ def builtin(tmp_path_factory):
     msgs: list[str] = []
     orig = matplotlib.figure.Figure.savefig
 
-    import chainid.fileio
+    import chainid.infra.fileio
 
-    orig_save = chainid.fileio.save_figure
+    orig_save = chainid.infra.fileio.save_figure
 
     def spy(self, fname, *a, **k):
         if isinstance(fname, (str, Path)):  # atomic saves write to an open temporary file: see spy_save
@@ -50,7 +50,7 @@ def builtin(tmp_path_factory):
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(matplotlib.figure.Figure, "savefig", spy)
-        mp.setattr(chainid.fileio, "save_figure", spy_save)
+        mp.setattr(chainid.infra.fileio, "save_figure", spy_save)
         md = report_steps.report_section(folder, MODEL, None, msgs.append)
     return folder, md, msgs
 
@@ -246,7 +246,7 @@ LAW = PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0])
 
 
 def test_data_diagnosis(tmp_path):
-    from chainid.gap.effects import parse_effect
+    from chainid.model.effects import parse_effect
 
     recs = simulate(_plan(8), MODEL, LAW, n_cycles=6, samples_per_cycle=128, noise_F=20.0, seed=3,
                     force_fn=parse_effect("backlash:b=0.02", MODEL))
@@ -274,7 +274,7 @@ def test_data_too_few_tests_is_skipped(tmp_path):
 
 
 def test_data_not_a_chain_uses_linear_spring(tmp_path):
-    from chainid.gap.effects import parse_effect
+    from chainid.model.effects import parse_effect
 
     spring = LinearModel(k=200.0)
     recs = simulate(_plan(8, x0=1.0), spring, 5.0, n_cycles=6, samples_per_cycle=128, noise_F=0.5, seed=3,

@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from chainid.identify import PolynomialLaw, ViscousLaw
-from chainid.records import read_records, write_records
-from chainid.simulate import (
+from chainid.model.laws import PolynomialLaw, ViscousLaw
+from chainid.records.files import read_records, write_records
+from chainid.records.simulate import (
     PAPER_RAMP_RATE,
     TestSpec,
     model_force,
@@ -142,7 +142,7 @@ def test_bad_settings():
 
 
 def test_grid_plan_order_ids_and_extras():
-    from chainid.simulate import grid_plan
+    from chainid.records.simulate import grid_plan
 
     plan = grid_plan((1.0, 2.0), (0.1, 0.3), 2.0, extra=[(3.0, 2.2, 0.15)], prefix="g")
     assert [p.test for p in plan] == ["g1", "g2", "g3", "g4", "g5"]

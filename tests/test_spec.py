@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from chainid.spec import ChainSpec, default_chain, load_chain
+from chainid.chain.spec import ChainSpec, default_chain, load_chain
 
 GOOD = dict(d=14.0, pitch=50.0, width=17.0, n=16, E=210000.0, nu=0.3, mass_per_m=4.0)
 

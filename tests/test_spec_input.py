@@ -11,9 +11,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import chainid
-from chainid import cli, kernels
-from chainid.models import ChainModel
-from chainid.spec import ChainSpec, load_chain, steel_mass_per_m
+from chainid import cli
+from chainid.model import kernels
+from chainid.model.base import ChainModel
+from chainid.chain.spec import ChainSpec, load_chain, steel_mass_per_m
 
 GOOD = dict(d=14.0, pitch=50.0, width=17.0, n=16, E=210000.0, nu=0.3, mass_per_m=4.0)
 

@@ -10,9 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from chainid.harmonic import estimate_harmonic
-from chainid.records import Record, try_analyse
-from chainid.steady import TOL_FLOOR, TOL_MAX, _scatter, select_steady, steady_tolerance
+from chainid.signal.harmonic import estimate_harmonic
+from chainid.records.files import Record, try_analyse
+from chainid.signal.steady import TOL_FLOOR, TOL_MAX, _scatter, select_steady, steady_tolerance
 
 
 def _rec(t, x, F0=20000.0, k=1000.0, test="T"):
@@ -182,7 +182,7 @@ def test_try_analyse_reason_and_data_errors():
 def test_cycle_stats_match_per_cycle_lstsq():
     """The batched O(N) per-cycle fits equal an independent per-cycle numpy.linalg.lstsq on
     [1, t - tc, sin psi, cos psi] (to 1e-9 mm), on a record with a ramp, taper and noise."""
-    from chainid.steady import _cycle_stats
+    from chainid.signal.steady import _cycle_stats
 
     rng = np.random.default_rng(5)
     w, theta = 7.0, 0.4
@@ -210,7 +210,7 @@ def test_long_record_decimated_search_is_accurate():
     """A 400k-sample record takes the decimated candidate search (stride > 1); the final fit uses
     every sample.  Noise 2 um over ~390k kept samples: omega within 1e-6 relative, A and x0 within
     1e-4 mm (standard errors ~ 5e-6 mm)."""
-    from chainid.harmonic import _search_stride
+    from chainid.signal.harmonic import _search_stride
 
     f, fs, n = 18.0, 10_000.0, 400_000
     w = 2 * math.pi * f

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..generated.stiffness_paper import force as _force
+from chainid.generated.stiffness_paper import force as _force
 
 __all__ = ["elastic_energy", "elastic_energy_array", "balance"]
 

@@ -36,8 +36,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .drives import drive_state
-from .segments import stored_energy, tensions
+from chainid.dynamics.drives import drive_state
+from chainid.dynamics.segments import stored_energy, tensions
 
 __all__ = ["run", "explicit_core", "implicit_core"]
 

@@ -56,8 +56,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import kernels
-from ..spec import ChainSpec, default_chain
+from chainid.model import kernels
+from chainid.chain.spec import ChainSpec, default_chain
 
 __all__ = ["ChainLine", "LoadStep", "viscous_equivalent", "FAR_ENDS", "LUMPINGS"]
 
@@ -101,7 +101,7 @@ class ChainLine:
     chain : ChainSpec, optional
         Link geometry, material and mass per metre (its ``n`` is ignored); default the built-in 14x50 chain.
     variant : str
-        Kernel variant (``chainid.kernels.VARIANTS``).
+        Kernel variant (``chainid.model.kernels.VARIANTS``).
     pretension_N : float
         Static tension of every segment at t = 0 [N], >= 0 (the tensioner force at the far end).
     far_end : str
@@ -303,7 +303,7 @@ def viscous_equivalent(law_or_ce: object, omega: float, A: float, x0: float) -> 
 
     Parameters
     ----------
-    law_or_ce : chainid.identify.DampingLaw or float
+    law_or_ce : chainid.damping.identify.DampingLaw or float
         An identified law c_e(ω, A, x0) or a constant [N·s/mm].
     omega : float
         Operating circular frequency [rad/s], > 0 (e.g. the first natural frequency, or 2π·v/pitch for the

@@ -17,8 +17,8 @@ import numpy as np
 
 from scipy.linalg import eigh_tridiagonal
 
-from ..generated.stiffness_paper import stiffness as _stiffness
-from .model import ChainLine
+from chainid.generated.stiffness_paper import stiffness as _stiffness
+from chainid.dynamics.model import ChainLine
 
 __all__ = ["Modes", "modes", "tangent_system", "tangent_tridiagonal"]
 

@@ -14,9 +14,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..fileio import save_figure  # noqa: E402
-from .simulation import SimResult  # noqa: E402
-from .modes import Modes  # noqa: E402
+from chainid.infra.fileio import save_figure  # noqa: E402
+from chainid.dynamics.simulation import SimResult  # noqa: E402
+from chainid.dynamics.modes import Modes  # noqa: E402
 
 __all__ = ["plot_heatmap", "plot_drive_tension", "plot_modes", "save"]
 

@@ -22,9 +22,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..generated.stiffness_paper import force as _force
-from ..generated.stiffness_paper import stiffness as _stiffness
-from .energy import elastic_energy_array
+from chainid.generated.stiffness_paper import force as _force
+from chainid.generated.stiffness_paper import stiffness as _stiffness
+from chainid.dynamics.energy import elastic_energy_array
 
 __all__ = ["jenkins_step", "tensions", "stored_energy"]
 

@@ -16,10 +16,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .drives import Drive
-from .energy import balance
-from .integrators import run
-from .model import ChainLine
+from chainid.dynamics.drives import Drive
+from chainid.dynamics.energy import balance
+from chainid.dynamics.integrators import run
+from chainid.dynamics.model import ChainLine
 
 __all__ = ["SCHEMES", "SimResult", "SimulationError", "simulate", "stable_step", "core_arguments", "estimate",
            "BALANCE_TOL", "PEAK_TOL", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_WORK"]

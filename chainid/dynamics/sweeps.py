@@ -1,4 +1,4 @@
-"""Parameter sweeps of the chain line (pretension × drive speed × N) on :func:`chainid.parallel.run_cases`.
+"""Parameter sweeps of the chain line (pretension × drive speed × N) on :func:`chainid.infra.parallel.run_cases`.
 
 Every case is an independent :func:`~chainid.dynamics.integrators.simulate` run; the cases go to the same
 parallel back end as ``benchmark-gap`` (dask.distributed LocalCluster by default, an existing cluster by
@@ -13,10 +13,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..parallel import run_cases
-from .drives import Drive
-from .simulation import simulate
-from .model import ChainLine
+from chainid.infra.parallel import run_cases
+from chainid.dynamics.drives import Drive
+from chainid.dynamics.simulation import simulate
+from chainid.dynamics.model import ChainLine
 
 __all__ = ["sweep", "run_case", "sweep_cases", "as_table"]
 
@@ -80,7 +80,7 @@ def sweep(
     pretensions, speeds, n_masses : sequences, optional
         Values to sweep (None: the base case's value).
     scheduler, n_workers, progress
-        Passed to :func:`chainid.parallel.run_cases`.
+        Passed to :func:`chainid.infra.parallel.run_cases`.
     **sim_kw
         Further keyword arguments of :func:`simulate` (``scheme``, ``peak_force``, ``n_out``, ...).
 

@@ -10,7 +10,7 @@ plots.make_plots(result, outdir) -> list of paths
 benchmark.run_benchmark(small=False, json_path=None)   (``chainid benchmark-gap``)
 """
 
-from .diagnose import diagnose
-from .effects import EFFECT_NAMES, parse_effect
+from chainid.gap.diagnose import diagnose
+from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 __all__ = ["diagnose", "parse_effect", "EFFECT_NAMES"]

@@ -12,7 +12,7 @@ Case families (the diagnosis sees only the records, the nominal chain and the he
   mean force within each test.
 
 "Residual over noise" (snr) of a case is the baseline's systematic held-out residual over the noise σ.
-Cases run in parallel through :func:`chainid.parallel.run_cases` (dask LocalCluster by default, an existing
+Cases run in parallel through :func:`chainid.infra.parallel.run_cases` (dask LocalCluster by default, an existing
 cluster by address, a process pool without dask).
 """
 
@@ -24,29 +24,19 @@ from typing import Any
 
 import numpy as np
 
-from .effects import EFFECT_NAMES, parse_effect
-
-#: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
-CANONICAL = {"machine_compliance": "stiffness_level"}
-
-
-def canon(names: Any) -> set[str]:
-    """Canonical effect names of a verdict string or list."""
-    if isinstance(names, str):
-        names = [] if names in ("none", "unexplained") else names.split("+")
-    return {CANONICAL.get(n, n) for n in names}
-
+from chainid.gap.benchmark_report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
+from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
     """The 11-test plan of the benchmark: ω ∈ {1, 2, 4} rad/s × A ∈ {0.1, 0.2, 0.3} mm at x0 = 2 mm,
     plus (ω, x0, A) = (3 rad/s, 2.2 mm, 0.15 mm) and (1.5 rad/s, 1.8 mm, 0.25 mm); ids ``prefix1`` … ``prefix11``."""
-    from ..simulate import grid_plan
+    from chainid.records.simulate import grid_plan
 
     return grid_plan((1.0, 2.0, 4.0), (0.1, 0.2, 0.3), 2.0, extra=[(3.0, 2.2, 0.15), (1.5, 1.8, 0.25)], prefix=prefix)
 
 
 def _plans() -> dict[str, list[Any]]:
-    from ..simulate import TestSpec
+    from chainid.records.simulate import TestSpec
 
     a, b = grid3x3_plan("a"), []
     i = 0
@@ -58,7 +48,7 @@ def _plans() -> dict[str, list[Any]]:
 
 
 def _chains() -> dict[str, Any]:
-    from ..spec import default_chain
+    from chainid.chain.spec import default_chain
 
     c = default_chain()
     return {"14x50": c, "small": replace(c, d=10.0, pitch=35.0, width=12.0)}
@@ -105,10 +95,10 @@ def _outside_hook(kind: str, level: float, S: float) -> Any:
 
 def run_case(case: dict[str, Any]) -> dict[str, Any]:
     """Simulate one case and diagnose it blind; returns the case with the verdict and scores."""
-    from ..identify import PolynomialLaw
-    from ..models import ChainModel
-    from ..simulate import simulate
-    from .diagnose import diagnose
+    from chainid.model.laws import PolynomialLaw
+    from chainid.model.base import ChainModel
+    from chainid.records.simulate import simulate
+    from chainid.gap.diagnose import diagnose
 
     chain = _chains()[case["chain"]]
     plan = _plans()[case["plan"]]
@@ -224,9 +214,9 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     n_workers : worker processes (default: the machine's cores)
     progress : progress bar on stderr
     """
-    from ..parallel import run_cases
-    from ..fileio import check_output_file, write_json
-    from .benchmark_report import format_summary, summarise
+    from chainid.infra.parallel import run_cases
+    from chainid.infra.fileio import check_output_file, write_json
+    from chainid.gap.benchmark_report import format_summary, summarise
 
     if json_path:  # check the target before the long work
         check_output_file(json_path, force=overwrite, what="--json")

@@ -6,10 +6,20 @@ from typing import Any
 
 import numpy as np
 
-from .benchmark import canon
 
 #: a case counts for the right-verdict rates when the baseline's residual is at least this many noise σ
 SNR_MIN = 3.0
+
+
+#: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
+CANONICAL = {"machine_compliance": "stiffness_level"}
+
+
+def canon(names: Any) -> set[str]:
+    """Canonical effect names of a verdict string or list."""
+    if isinstance(names, str):
+        names = [] if names in ("none", "unexplained") else names.split("+")
+    return {CANONICAL.get(n, n) for n in names}
 
 
 def _rate(rows: list[dict[str, Any]], ok: Any) -> float | None:

@@ -16,12 +16,12 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import forward as fw
-from .interpret import interpretation, mechanism, separating_test, step_text
-from .prepare import Unusable, prepare_test
-from .problem import MIN_TRAIN, Candidate, Problem, damping_separable
-from .stationarity import check as stationarity_check
-from .where import localise
+from chainid.gap import selection as fw
+from chainid.gap.interpret import interpretation, mechanism, separating_test, step_text
+from chainid.gap.prepare import Unusable, prepare_test
+from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
+from chainid.gap.stationarity import check as stationarity_check
+from chainid.gap.where import localise
 
 #: the verdict names an effect only when the chain shrinks the held-out gap by at least this fraction
 MIN_SHRINK = 0.5
@@ -31,7 +31,7 @@ NONSTAT_FRACTION = 0.25
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
     """LinearModel F = k(x − x_ref) [N/mm, mm] fitted on the training records' samples."""
-    from ..models import LinearModel
+    from chainid.model.base import LinearModel
 
     xs = np.concatenate([r.x for r in records if r.test not in set(holdout)])
     Fs = np.concatenate([r.F for r in records if r.test not in set(holdout)])

@@ -30,7 +30,7 @@ def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..fileio import check_output_dir, save_figure
+    from chainid.infra.fileio import check_output_dir, save_figure
 
     out = check_output_dir(outdir, "--plots", PLOT_NAMES, force=force)
     out.mkdir(parents=True, exist_ok=True)
@@ -115,7 +115,7 @@ def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -
     fig.subplots_adjust(bottom=0.16, right=0.84)
     fig.colorbar(sc, cax=fig.add_axes([0.87, 0.16, 0.02, 0.72]), label="NRMSE per test")
     paths.append(save(fig, "heatmap.png"))
-    from .plot_steps import waterfall_figure
+    from chainid.gap.plot_steps import waterfall_figure
 
     paths.append(save(waterfall_figure(result), "waterfall.png"))
     return paths

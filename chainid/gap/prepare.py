@@ -23,6 +23,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from chainid.signal.cycles import segment_lstsq
+
 
 @dataclass
 class TestData:
@@ -136,7 +138,7 @@ class Unusable(ValueError):
 
 def _estimate(rec: Any, allow_compression: bool, steady_tol: float | None) -> Any:
     """The record's harmonic estimate with its steady window; :class:`Unusable` with the reason if none."""
-    from ..records import try_analyse
+    from chainid.records.files import try_analyse
 
     est, reason = try_analyse(rec, allow_compression=allow_compression, steady_tol=steady_tol)
     if est is None:
@@ -166,20 +168,11 @@ def cycle_stats(t: np.ndarray, F: np.ndarray, omega: float, theta: float,
     full &= cnt >= 0.9 * med
     if not np.any(full):
         return empty
-    sn, cs = np.sin(psi), np.cos(psi)
-
-    def S(w: np.ndarray) -> np.ndarray:
-        return np.bincount(k, weights=w, minlength=n)
-
     xx = x if x is not None else np.zeros_like(t)
-    M = np.stack([np.stack([cnt, S(sn), S(cs)], -1), np.stack([S(sn), S(sn * sn), S(sn * cs)], -1),
-                  np.stack([S(cs), S(sn * cs), S(cs * cs)], -1)], 1)[full]
-    rf = np.stack([S(F), S(F * sn), S(F * cs)], -1)[full]
-    rx = np.stack([S(xx), S(xx * sn), S(xx * cs)], -1)[full]
-    cf = np.linalg.solve(M, rf[..., None])[..., 0]
-    cx = np.linalg.solve(M, rx[..., None])[..., 0]
-    return {"t": S(t)[full] / cnt[full], "mean": cf[:, 0], "a": cf[:, 1], "b": cf[:, 2],
-            "xm": cx[:, 0], "xa": np.hypot(cx[:, 1], cx[:, 2]), "n": cnt[full]}
+    beta, _ = segment_lstsq(k, n, (np.ones_like(t), np.sin(psi), np.cos(psi)), (F, xx), full)
+    cf, cx = beta[full, :, 0], beta[full, :, 1]
+    t_mid = np.bincount(k, weights=t, minlength=n)[full] / cnt[full]
+    return {"t": t_mid, "mean": cf[:, 0], "a": cf[:, 1], "b": cf[:, 2], "xm": cx[:, 0], "xa": np.hypot(cx[:, 1], cx[:, 2]), "n": cnt[full]}
 
 
 def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,

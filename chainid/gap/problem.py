@@ -3,7 +3,7 @@
 Method (all on whole tests, never on random samples):
 
 * Baseline: F = m·ẍ + F_k(x) + c_e·ẋ (paper Eq. 1); c_e per training test from
-  the bin means, damping law (:mod:`chainid.gap.laws`) fitted on training tests
+  the bin means, damping law (:mod:`chainid.gap.law_choice`) fitted on training tests
   only, held-out c_e predicted by the law.
 * An effect set: its physical parameters (all of them, jointly) are fitted by
   ``scipy.optimize.least_squares`` (bounded) on the training tests, the
@@ -23,9 +23,9 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import least_squares
 
-from . import laws as L
-from .effects import EFFECT_NAMES, STIFFNESS_SIDE, make_effect, modify_model
-from .prepare import TestData
+from chainid.gap import law_choice as L
+from chainid.model.effects import EFFECT_NAMES, STIFFNESS_SIDE, make_effect, modify_model
+from chainid.gap.prepare import TestData
 
 #: fewest training tests the diagnosis runs with (a 1-coefficient law + leave-one-out needs >= 2; 3 gives a spread)
 MIN_TRAIN = 3
@@ -110,7 +110,7 @@ class Problem:
     holdout : sequence of str
         Held-out test ids.
     damping_law : str
-        Baseline law name or "auto" (:func:`chainid.gap.laws.choose`).
+        Baseline law name or "auto" (:func:`chainid.gap.law_choice.choose`).
     """
 
     def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto"):
@@ -190,7 +190,7 @@ class Problem:
     def model_for(self, p: dict[str, float]) -> Any:
         """The stiffness model, with a re-fitted linear spring when ``spring.k`` is in p."""
         if "spring.k" in p:
-            from ..models import LinearModel
+            from chainid.model.base import LinearModel
 
             return LinearModel(max(p["spring.k"], 0.0), p["spring.x_ref"], mass=float(getattr(self.model, "mass_kg", 0.0)))
         return self.model
@@ -323,7 +323,7 @@ class Problem:
         polish_only : bool
             Only a local least-squares polish from ``start`` (jack-knife refits).
         """
-        from .fitgrid import starts
+        from chainid.gap.fitgrid import starts
 
         keys, lo, hi, x0 = self._keys(names)
         lo_a, hi_a = np.array(lo), np.array(hi)

@@ -1,0 +1,79 @@
+"""``chainid chains``: the standard chain presets, and the model against practice.
+
+Units: mm, N, MPa, kg.  ``chainid chains`` lists the presets (name, d, pitch,
+inner width, mass per metre, grade, source); ``--compare`` adds the model's EA
+against the catalogue EA and the elastic-contact limit against the proof load
+(:mod:`chainid.model.practice`).  ``--json [F]`` for machines.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+__all__ = ["add_subparsers", "cmd_chains", "warn_loads"]
+
+
+def warn_loads(F_max_N: float, chain: Any, doc: dict | None = None) -> list[str]:
+    """Print :func:`chainid.model.practice.load_warnings` to stderr (and add them to ``doc["warnings"]``)."""
+    from chainid.model.practice import load_warnings
+
+    msgs = load_warnings(F_max_N, chain)
+    for m in msgs:
+        print(f"warning: {m}", file=sys.stderr)
+    if doc is not None and msgs:
+        doc.setdefault("warnings", []).extend(msgs)
+    return msgs
+
+
+def cmd_chains(args: argparse.Namespace) -> int:
+    """``chainid chains``: list presets; ``--compare``: model EA vs catalogue, contact limit vs proof."""
+    from chainid.chain import presets
+    from chainid.cli.common import write_json
+
+    fams = tuple(args.family) if args.family else presets.FAMILIES
+    items = presets.listed(fams)
+    doc: dict[str, Any] = {"presets": [], "default_n": presets.data()["defaults"]["n"]}
+    for p in items:
+        c = p.chain
+        doc["presets"].append({"name": p.name, "family": p.family, "d_mm": c.d, "pitch_mm": c.pitch,
+                               "width_mm": c.width, "outer_width_mm": p.outer_width,
+                               "mass_per_m_kg": c.mass_per_m, "grade": p.grade, "source": p.source})
+    if args.compare:
+        from chainid.model.practice import comparison_table
+
+        doc["comparison"] = comparison_table(items)
+    if args.json == "-":
+        write_json(doc, "-")
+        return 0
+    print(f"{'name':18s} {'d mm':>6s} {'pitch mm':>9s} {'width mm':>9s} {'outer mm':>9s} {'kg/m':>8s} grade")
+    for r in doc["presets"]:
+        print(f"{r['name']:18s} {r['d_mm']:6g} {r['pitch_mm']:9g} {r['width_mm']:9.4g} {r['outer_width_mm']:9.4g} "
+              f"{r['mass_per_m_kg']:8.4g} {r['grade']}")
+    print(f"n = {doc['default_n']} links by default (`din22252:14x50:n=32` to change); studless/studlink accept any "
+          f"d in their range; sources: chainid/data/chains.toml")
+    if args.compare:
+        print(f"\n{'name':18s} {'EA model N':>11s} {'EA cat. N':>11s} {'ratio':>6s} {'EA tan(proof)':>13s} "
+              f"{'F_lim N':>9s} {'proof N':>10s} {'MBL N':>10s}")
+        for r in doc["comparison"]:
+            print(f"{r['preset']:18s} {r['EA_model_N']:11.4g} {r['EA_catalogue_orcaflex_N']:11.4g} "
+                  f"{r['ratio_model_catalogue']:6.3f} {r['EA_tangent_proof_N']:13.4g} {r['contact_limit_load_N']:9.4g} "
+                  f"{r['proof_load_N']:10.4g} {r['breaking_load_N']:10.4g}"
+                  + ("  (model has no stud)" if r["model_has_no_stud"] else ""))
+        print("EA model = n*pitch/c_lin (Eq. 15, linear term); catalogue: OrcaFlex 0.854e8 d^2 kN studless, "
+              "1.01e8 d^2 kN studlink (d in m); F_lim: Hertz sigma_max (Eq. 12) = grade yield")
+    write_json(doc, args.json, args.force)
+    return 0
+
+
+def add_subparsers(subparsers: Any) -> None:
+    """Register ``chainid chains``."""
+    from chainid.chain.presets import FAMILIES
+
+    p = subparsers.add_parser("chains", help="standard chain presets (DIN 22252, mooring); --compare: model vs practice")
+    p.add_argument("--family", nargs="+", choices=FAMILIES, help="only these families")
+    p.add_argument("--compare", action="store_true",
+                   help="model EA vs catalogue EA, elastic-contact limit vs proof and breaking load")
+    p.add_argument("--json", nargs="?", const="-", metavar="FILE", help="JSON to FILE, or to stdout with no FILE")
+    p.add_argument("--force", action="store_true", help="overwrite an existing output file")
+    p.set_defaults(func=cmd_chains)

@@ -1,0 +1,108 @@
+"""CLI: ``chainid diagnose`` and ``chainid benchmark-gap`` (see :mod:`chainid.gap`)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+
+def cmd_diagnose(args: argparse.Namespace) -> int:
+    from chainid.gap.diagnose import diagnose
+    from chainid.gap.summary import summary, write_json
+    from chainid.records.files import read_records
+
+    try:
+        if args.steady_tol is not None and not (0.0 < args.steady_tol < 1.0):
+            raise ValueError(f"--steady-tol = {args.steady_tol!r} is out of range; valid range 0 < tol < 1 "
+                             "(a fraction of the plateau, e.g. 0.05)")
+        from chainid.infra.fileio import check_output_dir, check_output_file
+
+        if args.json:  # output targets first: the diagnosis takes a while
+            check_output_file(args.json, force=args.force, what="--json")
+        if args.plots:
+            from chainid.gap.plots import PLOT_NAMES
+
+            check_output_dir(args.plots, "--plots", PLOT_NAMES, force=args.force)
+        # per-test problems are reported (and the test left out) by the diagnosis; data errors stop it
+        recs = read_records(args.data, validate=False)
+        if args.model == "linear":
+            model = None
+        else:
+            from chainid.model import base as models
+            from chainid.chain.spec import load_chain
+
+            model = models.model_for(load_chain(args.chain), args.variant)
+        holdout = [h for h in args.holdout.split(",") if h.strip()]
+        res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
+                       allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict)
+        if model is not None:  # loads beyond the elastic contact or the working load (as stiffness, identify)
+            from chainid.cli.chains import warn_loads
+
+            warn_loads(max(float(r.F.max()) for r in recs), model.chain, res)
+        print(summary(res))
+        if args.json:
+            write_json(res, args.json, overwrite=args.force)
+        if args.plots:
+            from chainid.gap.plots import make_plots
+
+            for p in make_plots(res, args.plots, force=args.force):
+                print(f"wrote {p}")
+    except ValueError as exc:
+        print(f"chainid diagnose: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def cmd_benchmark(args: argparse.Namespace) -> int:
+    from chainid.gap.benchmark import run_benchmark
+
+    try:
+        if args.json:  # before the grid runs (minutes)
+            from chainid.infra.fileio import check_output_file
+
+            check_output_file(args.json, force=args.force, what="--json")
+        run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed,
+                      scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress)
+    except ValueError as exc:
+        print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def add_subparsers(subparsers: Any) -> None:
+    """Add ``diagnose`` and ``benchmark-gap`` to the chainid CLI."""
+    p = subparsers.add_parser("diagnose", help="sim-to-real gap: where the model misses, which effect, how much")
+    p.add_argument("data", help="records CSV test,t,x,F (s, mm, N)")
+    p.add_argument("--holdout", required=True, help="held-out test id(s), comma separated")
+    p.add_argument("--chain", metavar="FILE.toml|PRESET", help="chain TOML file or preset, e.g. din22252:26x92 (default: the paper's chain)")
+    p.add_argument("--variant", default="paper", help="chain kernel variant (default paper)")
+    p.add_argument("--model", choices=("chain", "linear"), default="chain",
+                   help="baseline stiffness: chain (default) or a linear spring fitted on the training tests")
+    p.add_argument("--max-combo", dest="max_combo", type=int, default=3, choices=(1, 2, 3),
+                   help="most effects in the explanation chain (default 3)")
+    p.add_argument("--damping-law", dest="damping_law", default="auto",
+                   choices=("auto", "polynomial", "viscous", "coulomb", "viscous+coulomb", "hysteretic"),
+                   help="baseline damping law (default auto: Eq. 21 when the plan separates it, else the "
+                        "leave-one-out best simple law)")
+    p.add_argument("--allow-compression", dest="allow_compression", action="store_true",
+                   help="accept compressive forces with the chain model (which carries none)")
+    p.add_argument("--steady-tol", dest="steady_tol", type=float, default=None, metavar="TOL",
+                   help="steady-cycle tolerance as a fraction of the plateau (default: adaptive per record)")
+    p.add_argument("--strict", action="store_true", help="a test that cannot be analysed is an error (rc 2)")
+    p.add_argument("--json", metavar="FILE", help="write the JSON result")
+    p.add_argument("--plots", metavar="DIR", help="write figures to DIR")
+    p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots files")
+    p.set_defaults(func=cmd_diagnose)
+    b = subparsers.add_parser("benchmark-gap", help="blind benchmark of the diagnosis on simulated effects")
+    b.add_argument("--small", action="store_true", help="a small, fast grid")
+    b.add_argument("--json", metavar="FILE", help="write the JSON summary")
+    b.add_argument("--seed", type=int, default=0)
+    b.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="dask scheduler address of an existing cluster, or local (default: a dask LocalCluster "
+                        "when dask is installed, else a process pool), processes, serial")
+    b.add_argument("--workers", type=int, default=None, help="worker processes (default: the machine's cores)")
+    b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
+    b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
+    b.set_defaults(func=cmd_benchmark)
+

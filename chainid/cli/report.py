@@ -1,0 +1,26 @@
+"""``chainid report``: the command (the work is :func:`chainid.report.run_report`)."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from chainid.report import run_report
+
+__all__ = ["cmd_report", "add_subparsers"]
+
+def cmd_report(args: argparse.Namespace) -> int:
+    path = run_report(Path(args.out), args.chain, args.data, args.force)
+    print(f"report written: {path.resolve()}")
+    return 0
+
+
+def add_subparsers(subparsers: Any) -> None:
+    """Register ``chainid report``."""
+    p = subparsers.add_parser("report", help="the main job: verification, stiffness, damping and gap report")
+    p.add_argument("--out", default="chainid-report", metavar="DIR", help="report folder (default ./chainid-report)")
+    p.add_argument("--chain", metavar="FILE.toml", help="chain file or preset name, e.g. din22252:26x92 (default: the built-in 14x50 chain)")
+    p.add_argument("--data", metavar="DATA.csv", help="run steps 3-4 on these records (header test,t,x,F)")
+    p.add_argument("--force", action="store_true",
+                   help="re-run into an existing folder (replaces only the previous report's files)")
+    p.set_defaults(func=cmd_report)

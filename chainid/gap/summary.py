@@ -1,0 +1,112 @@
+"""Terminal summary and JSON contract of ``chainid diagnose``."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+
+def _clean(o: Any) -> Any:
+    if isinstance(o, dict):
+        return {k: _clean(v) for k, v in o.items() if not str(k).startswith("_")}
+    if isinstance(o, (list, tuple)):
+        return [_clean(v) for v in o]
+    if isinstance(o, float):
+        return o if math.isfinite(o) else None
+    if hasattr(o, "item"):
+        return _clean(o.item())
+    return o
+
+
+def to_json(result: dict[str, Any]) -> dict[str, Any]:
+    """The JSON contract: baseline, where, ranking (best first), verdict (+ extras); private keys dropped."""
+    return _clean(result)
+
+
+def write_json(result: dict[str, Any], path: str | Path, overwrite: bool = False) -> Path:
+    """Write the JSON contract; refuses to overwrite an existing file unless asked."""
+    from chainid.infra.fileio import write_json as _write  # strict JSON, temp file + rename
+
+    p = Path(path)
+    _write(to_json(result), p, force=overwrite, what="--json")
+    return p
+
+
+def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = ()) -> str:
+    sd = sd or {}
+    out = []
+    for k, v in p.items():
+        if v is None or k.startswith("law.") or k.startswith("spring."):
+            continue
+        s = f"{k}={v:.4g}"
+        if sd.get(k) is not None:
+            s += f"±{sd[k]:.2g}"
+        if k in bound:
+            s += " (at bound)"
+        out.append(s)
+    return ", ".join(out)
+
+
+def waterfall(result: dict[str, Any]) -> list[str]:
+    """The explanation chain as table lines: step, effect, held-out NRMSE, shrinkage, dB over noise, params."""
+    lines = [f"  {'step':<5} {'+ effect':<20} {'LOTO':>8} {'held-out':>9} {'shrink':>7} {'dB/noise':>8}  parameters"]
+    for i, st in enumerate(result.get("steps", [])):
+        lines.append(f"  {i:<5} {st['effect']:<20} {st['nrmse_loto']:>8.4g} {st['nrmse_holdout']:>9.4g} "
+                     f"{100 * (st['shrinkage'] or 0):>6.1f}% {st['db_over_noise']:>8.1f}  "
+                     f"{_params(st['params'], st.get('params_sd'), st.get('at_bound', ()))}")
+    r = result.get("residual") or {}
+    if r:
+        stat = {True: "stationary", False: "NOT stationary", None: "stationarity not checked"}[r.get("stationary")]
+        lines.append(f"  left: {r['db_over_noise']:.1f} dB over the noise floor"
+                     f"{' (at the floor)' if r.get('at_noise_floor') else ''}; {stat}")
+    return lines
+
+
+def summary(result: dict[str, Any], n_rank: int = 6) -> str:
+    """Readable terminal summary: where, which (the explanation chain), how much, what is left."""
+    b = result["baseline"]
+    lines = [
+        f"Baseline ({b['model']}, damping law: {b['damping_law']}): NRMSE train {b['nrmse_train']:.4g}, "
+        f"held-out {b['nrmse_holdout']:.4g} ({b['db_over_noise']:.1f} dB over the noise floor; systematic "
+        f"{b['excess_rms_N']:.4g} N vs noise σ {b['noise_sigma_N']:.4g} N)",
+    ]
+    if b.get("damping_law_reason") and b["damping_law_reason"] != "given":
+        lines.append(f"  damping law: {b['damping_law_reason']}")
+    for e in result.get("excluded", []):
+        lines.append(f"  excluded test {e['test']}: {e['reason']}")
+    lines += ["", "WHERE the model misses (largest first):"]
+    lines += [f"  - {f['finding']}" for f in result["where"][:8]]
+    lines += ["", "WHICH effects, in order (each fitted on top of the previous ones; scored leave-one-test-out):"]
+    lines += waterfall(result)
+    if result.get("stop"):
+        lines.append(f"  the chain stops: {result['stop']}")
+    lines += ["", "Each effect alone on the baseline (ranking):"]
+    lines.append(f"  {'effect':<30} {'LOTO':>8} {'held-out':>9} {'shrink':>7}  params")
+    for c in result["ranking"][:n_rank]:
+        lines.append(f"  {c['effect']:<30} {c['nrmse_loto']:>8.4g} {c['nrmse_holdout']:>9.4g} "
+                     f"{100 * c['shrinkage']:>6.1f}%  {_params(c['params'], None, c.get('at_bound', ()))}")
+    for cf in result.get("confounded", []):
+        lines.append(f"  confounded: {cf['pair'][0]} ~ {cf['pair'][1]}; to separate them: {cf['separate_by']}")
+    lines.append("")
+    v = result["verdict"]
+    steps = result.get("steps", [])
+    if v == "none":
+        lines.append("VERDICT: none — the baseline's held-out residual is consistent with the noise.")
+    elif v == "unexplained":
+        why = "no library effect passed the step rule or shrinks the held-out gap by half"
+        if (result.get("residual") or {}).get("stationary") is False:
+            why = "what is left changes with time within the tests (no static effect explains that)"
+        lines.append(f"VERDICT: unexplained — {why}; held-out NRMSE left {result.get('left_nrmse_holdout'):.4g}.")
+    else:
+        last = steps[-1] if steps else result.get("best") or {}
+        lines.append(f"VERDICT: {v} — {result.get('chain_text', '')}")
+        lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {last['nrmse_holdout']:.4g} "
+                     f"(shrinkage {100 * last['shrinkage']:.0f} %)")
+    if result.get("interpretation"):
+        lines.append(f"  meaning: {result['interpretation']}")
+    if result.get("mechanism") and result["mechanism"] not in ("none", "unexplained"):
+        lines.append(f"  mechanism: {result['mechanism']}")
+    for w in result.get("warnings", []):
+        lines.append(f"WARNING: {w}")
+    return "\n".join(lines)

@@ -1,0 +1,36 @@
+"""Plumbing every floor may use: atomic files and strict JSON (:mod:`.fileio`), parallel execution on
+dask.distributed or a process pool (:mod:`.parallel`), and a numba cache that never crashes (:mod:`.numba_cache`).
+Nothing here knows about chains.
+"""
+from __future__ import annotations
+
+from .lazy import exports
+
+#: Public name -> module of this package that defines it (imported on first use, so that importing the
+#: package stays cheap).
+_LAZY = {
+    "OutputError": "fileio",
+    "EXIT_INTERRUPTED": "fileio",
+    "check_output_file": "fileio",
+    "check_output_dir": "fileio",
+    "atomic_open": "fileio",
+    "atomic_write_text": "fileio",
+    "to_jsonable": "fileio",
+    "dumps_json": "fileio",
+    "write_json": "fileio",
+    "save_figure": "fileio",
+    "safe_filename": "fileio",
+    "deferred_sigint": "fileio",
+    "interrupted": "fileio",
+    "exports": "lazy",
+    "NumbaCacheWarning": "numba_cache",
+    "load_kernel_module": "numba_cache",
+    "njit_cached": "numba_cache",
+    "cache_mode": "numba_cache",
+    "run_cases": "parallel",
+    "dask_available": "parallel",
+    "SCHEDULERS": "parallel",
+}
+
+__all__ = sorted(_LAZY)
+__getattr__, __dir__ = exports(__name__, _LAZY, globals())

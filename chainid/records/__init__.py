@@ -1,0 +1,42 @@
+"""Test records: the :class:`Record` (t s, x mm, F N), reading and writing them (:mod:`.files`), their
+validation and per-test harmonic analysis (:mod:`.validate`), the paper's Table 1 (:mod:`.table1`) and synthetic
+records from a model (:mod:`.simulate`).
+"""
+from __future__ import annotations
+
+from chainid.infra.lazy import exports
+
+#: Public name -> module of this package that defines it (imported on first use, so that importing the
+#: package stays cheap).
+_LAZY = {
+    "Record": "files",
+    "HarmonicEstimate": "files",
+    "SteadyWindow": "files",
+    "read_records": "files",
+    "write_records": "files",
+    "validate_record": "files",
+    "estimate_harmonic": "files",
+    "select_steady": "files",
+    "analyse_record": "files",
+    "try_analyse": "files",
+    "check_data": "files",
+    "read_side_file": "files",
+    "write_side_file": "files",
+    "REQUIRED_COLUMNS": "files",
+    "TestSpec": "simulate",
+    "ForceHook": "simulate",
+    "PAPER_RAMP_RATE": "simulate",
+    "OMEGA_COLUMN_TO_RAD_S": "simulate",
+    "paper_plan": "simulate",
+    "read_plan": "simulate",
+    "write_plan": "simulate",
+    "model_force": "simulate",
+    "simulate_test": "simulate",
+    "DEFAULT_MAX_MEMORY": "simulate",
+    "n_samples": "simulate",
+    "estimate_memory": "simulate",
+    "load_table1": "table1",
+}
+
+__all__ = sorted(_LAZY)
+__getattr__, __dir__ = exports(__name__, _LAZY, globals())
