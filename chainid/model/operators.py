@@ -1,0 +1,270 @@
+"""Causal state operators (memory effects) that run forward over any sampled x(t).
+
+Every operator here is *rate independent*: its output at a sample depends only on the sequence of
+displacement values, never on the time stamps, so uniform and non-uniform sampling of the same path give
+the same result.  Each has
+
+* a scalar one-step function (numba) ``*_step(state, x_new, ...)`` a time-stepping loop (e.g. a
+  dynamics integrator) calls once per step, returning the new state, the force and the energy dissipated
+  over the step;
+* an array runner over a whole series with a stated initial state, returning the force and the
+  per-sample dissipated-energy increments (``dE[0] = 0``, ``dE[i]`` over the step i−1 → i).
+
+Operators (units: x mm, force N, energy N·mm = 1e-3 J):
+
+* :func:`play` — play/backlash of half-width b [mm]: y follows x with a dead band ±b (no force, no
+  dissipation; it maps a displacement);
+* :func:`jenkins` — Jenkins element: a Coulomb slider of slip force F_c [N] in series with an elastic
+  stick spring of stiffness F_c/x_s (stick travel x_s [mm]); force = F_c·(x − y)/x_s with y = play(x, x_s),
+  dissipation F_c·|Δy|.  x_s → 0 is Coulomb friction with stick (see :func:`coulomb_sign`);
+  loop area of a cycle of amplitude A > x_s: 4·F_c·(A − x_s);
+* :func:`dahl` — Dahl hysteresis: dz/dx = (F_h/x_h)(1 − sgn(ẋ)·z/F_h), solved exactly between samples
+  (x piecewise linear); stored energy z²/(2k₀), k₀ = F_h/x_h, so the dissipation rate is z²|ẋ|/F_h ≥ 0;
+  loop area of a symmetric cycle of amplitude A: 4·F_h·(A − x_h·tanh(A/x_h));
+* :func:`iwan` — Masing/Iwan model: Jenkins elements (F_c,i, x_s,i) in parallel, a rate-independent
+  hysteretic damping; :func:`iwan_for_loss` builds the distribution whose loop area is π·η·k·A² (the
+  structural-damping energy) for every A up to its largest stick travel.
+
+Initial states (stated): play y₀ = x₀ (centred in the dead band); Jenkins and Iwan sliders y₀ = x₀
+(unstressed); Dahl z₀ = 0.  ``periodic=True`` runs the series twice and returns the second pass (the
+periodic steady state of a series that is one period).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+try:  # numba with a cache that never crashes chainid; plain Python if numba is absent
+    from ._numba_cache import njit_cached as njit
+except Exception:  # pragma: no cover
+    def njit(*a: Any, **k: Any) -> Any:  # type: ignore
+        def deco(f: Any) -> Any:
+            return f
+        return deco if not (a and callable(a[0])) else a[0]
+
+__all__ = ["play_step", "jenkins_step", "dahl_step", "iwan_step", "play", "jenkins", "dahl", "iwan",
+           "iwan_for_loss", "coulomb_sign", "dahl_cycle_energy", "jenkins_cycle_energy"]
+
+
+# ------------------------------------------------------------------ one-step functions (numba)
+@njit()
+def play_step(y: float, x: float, b: float) -> float:  # pragma: no cover - numba
+    """Play output [mm] after x moves to ``x`` [mm], from output ``y`` [mm], half-width ``b`` [mm] (≥ 0)."""
+    if x - b > y:
+        return x - b
+    if x + b < y:
+        return x + b
+    return y
+
+
+@njit()
+def jenkins_step(y: float, x: float, F_c: float, x_s: float) -> tuple[float, float, float]:  # pragma: no cover
+    """One step of a Jenkins element (slip force F_c [N], stick travel x_s [mm] > 0).
+
+    Returns (slider position y [mm], force [N], dissipated energy over the step [N·mm]).
+    """
+    yn = play_step(y, x, x_s)
+    return yn, F_c * (x - yn) / x_s, F_c * abs(yn - y)
+
+
+@njit()
+def dahl_step(z: float, x_prev: float, x: float, F_h: float, x_h: float) -> tuple[float, float]:  # pragma: no cover
+    """One exact step of the Dahl model from (z [N] at x_prev [mm]) to x [mm].
+
+    Returns (z [N] at x, dissipated energy over the step [N·mm]): the work ∫z dx of the exact exponential
+    branch minus the change of the stored energy z²/(2F_h/x_h).
+    """
+    dx = x - x_prev
+    if dx == 0.0 or F_h == 0.0:
+        return z, 0.0
+    s = 1.0 if dx > 0 else -1.0
+    e = math.exp(-abs(dx) / x_h)
+    zn = s * F_h + (z - s * F_h) * e
+    work = s * (s * F_h * abs(dx) + (z - s * F_h) * x_h * (1.0 - e))
+    stored = (zn * zn - z * z) * x_h / (2.0 * F_h)
+    return zn, work - stored
+
+
+@njit()
+def iwan_step(y: np.ndarray, x: float, F_c: np.ndarray, x_s: np.ndarray) -> tuple[float, float]:  # pragma: no cover
+    """One step of parallel Jenkins elements; ``y`` (slider positions [mm]) is updated in place.
+
+    Returns (force [N], dissipated energy over the step [N·mm]).
+    """
+    F = 0.0
+    dE = 0.0
+    for i in range(y.size):
+        yn, f, d = jenkins_step(y[i], x, F_c[i], x_s[i])
+        y[i] = yn
+        F += f
+        dE += d
+    return F, dE
+
+
+# ------------------------------------------------------------------ array loops (numba)
+@njit()
+def _play_run(x: np.ndarray, b: float, y0: float) -> np.ndarray:  # pragma: no cover - numba
+    y = np.empty_like(x)
+    yi = y0
+    for i in range(x.size):
+        yi = play_step(yi, x[i], b)
+        y[i] = yi
+    return y
+
+
+@njit()
+def _dahl_run(x: np.ndarray, F_h: float, x_h: float, z0: float) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover
+    z = np.empty_like(x)
+    dE = np.zeros_like(x)
+    zi = z0
+    z[0] = zi
+    for i in range(1, x.size):
+        zi, d = dahl_step(zi, x[i - 1], x[i], F_h, x_h)
+        z[i] = zi
+        dE[i] = d
+    return z, dE
+
+
+@njit()
+def _iwan_run(x: np.ndarray, F_c: np.ndarray, x_s: np.ndarray, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover
+    y = y0.copy()
+    F = np.empty_like(x)
+    dE = np.zeros_like(x)
+    for i in range(x.size):
+        F[i], dE[i] = iwan_step(y, x[i], F_c, x_s)
+    return F, dE
+
+
+# ------------------------------------------------------------------ array runners (public)
+def _series(x: Any, periodic: bool) -> tuple[np.ndarray, int]:
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    if x.ndim != 1 or x.size == 0:
+        raise ValueError(f"x must be a non-empty 1-D series of displacements [mm]; got shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("x contains NaN or infinite values; the operators need finite displacements [mm]")
+    return (np.concatenate([x, x]) if periodic else x), (x.size if periodic else 0)
+
+
+def _nonneg(name: str, v: float) -> float:
+    v = float(v)
+    if not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{name} = {v!r} is out of range; valid range >= 0")
+    return v
+
+
+def play(x: Any, b: float, y0: float | None = None, periodic: bool = False) -> np.ndarray:
+    """Play (backlash) output y [mm] of x [mm] with half-width b [mm]; initial output y0 (default x[0])."""
+    b = _nonneg("b (play half-width, mm)", b)
+    xs, k = _series(x, periodic)
+    if b == 0:
+        return xs[k:].copy()
+    return _play_run(xs, b, float(xs[0] if y0 is None else y0))[k:]
+
+
+def coulomb_sign(xd: Any, periodic: bool = True) -> np.ndarray:
+    """sgn(ẋ) of Coulomb sliding (the x_s → 0 limit of :func:`jenkins`), 0 for a sample at a reversal.
+
+    A sample whose neighbours move in opposite directions and whose speed is below half of theirs is closer
+    to the turning point than half a sample step: the set-valued friction force there is taken at its
+    midpoint, 0 (stick), so the sign does not depend on round-off in t or x.  ``periodic``: the series is
+    one cycle (neighbours wrap around).
+    """
+    xd = np.asarray(xd, dtype=float)
+    s = np.sign(xd)
+    if xd.size < 3:
+        return s
+    a = np.abs(xd)
+    prev, nxt = np.roll(a, 1), np.roll(a, -1)
+    near = (np.roll(s, 1) * np.roll(s, -1) < 0) & (a < 0.5 * np.minimum(prev, nxt))
+    if not periodic:
+        near[0] = near[-1] = False
+    return np.where(near, 0.0, s)
+
+
+def jenkins(x: Any, F_c: float, x_s: float, y0: float | None = None,
+            periodic: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Force [N] and dissipated-energy increments [N·mm] of a Jenkins element over x [mm].
+
+    F_c [N] ≥ 0 slip force, x_s [mm] > 0 stick travel (for x_s = 0 use :func:`coulomb_sign` with the
+    velocity: the set-valued Coulomb limit needs ẋ), y0 the initial slider position (default x[0]:
+    unstressed).
+    """
+    F_c = _nonneg("F_c (slip force, N)", F_c)
+    x_s = _nonneg("x_s (stick travel, mm)", x_s)
+    if x_s == 0:
+        raise ValueError("x_s = 0 (Coulomb with rigid stick) needs the velocity: use coulomb_sign(xdot)·F_c")
+    xs, k = _series(x, periodic)
+    F, dE = _iwan_run(xs, np.array([F_c]), np.array([x_s]), np.array([float(xs[0] if y0 is None else y0)]))
+    return F[k:], dE[k:]
+
+
+def dahl(x: Any, F_h: float, x_h: float, z0: float = 0.0,
+         periodic: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Dahl force z [N] and dissipated-energy increments [N·mm] over x [mm].
+
+    F_h [N] the saturation force, x_h [mm] > 0 the travel over which z approaches ±F_h, z0 [N] the
+    initial force (|z0| ≤ F_h).
+    """
+    F_h = float(F_h)
+    if not math.isfinite(F_h):
+        raise ValueError(f"F_h = {F_h!r} must be finite [N]")
+    x_h = float(x_h)
+    if not (math.isfinite(x_h) and x_h > 0):
+        raise ValueError(f"x_h = {x_h!r} is out of range; valid range > 0 [mm]")
+    xs, k = _series(x, periodic)
+    z, dE = _dahl_run(xs, F_h, x_h, float(z0))
+    return z[k:], dE[k:]
+
+
+def iwan(x: Any, F_c: Any, x_s: Any, y0: Any = None, periodic: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Force [N] and dissipated-energy increments [N·mm] of parallel Jenkins elements (Masing/Iwan).
+
+    F_c, x_s : arrays of slip forces [N] (≥ 0) and stick travels [mm] (> 0), one per element.
+    y0 : initial slider positions [mm] (default x[0] for every element: unstressed).
+    """
+    Fc = np.ascontiguousarray(F_c, dtype=np.float64).ravel()
+    xs_ = np.ascontiguousarray(x_s, dtype=np.float64).ravel()
+    if Fc.size != xs_.size or Fc.size == 0:
+        raise ValueError(f"iwan: F_c ({Fc.size}) and x_s ({xs_.size}) need the same number (>= 1) of elements")
+    if np.any(~np.isfinite(Fc)) or np.any(Fc < 0) or np.any(~np.isfinite(xs_)) or np.any(xs_ <= 0):
+        raise ValueError("iwan: every F_c must be >= 0 [N] and every x_s > 0 [mm]")
+    xx, k = _series(x, periodic)
+    y = np.full(Fc.size, float(xx[0])) if y0 is None else np.ascontiguousarray(y0, dtype=np.float64).copy()
+    F, dE = _iwan_run(xx, Fc, xs_, y)
+    return F[k:], dE[k:]
+
+
+def iwan_for_loss(eta_k: float, x_max: float, n: int = 32) -> tuple[np.ndarray, np.ndarray]:
+    """Iwan elements whose loop area is π·η·k·A² [N·mm] for every amplitude A ≤ x_max [mm].
+
+    A uniform density φ = π·η·k/2 [N/mm] of slip force over the stick travel s ∈ (0, x_max] gives
+    W(A) = ∫₀ᴬ 4φ(A − s) ds = 2φA² = πηkA² (structural damping).  Midpoint discretisation with ``n``
+    elements: s_i = (i − ½)·x_max/n, F_c,i = φ·x_max/n (exact at A = j·x_max/n).
+
+    Parameters
+    ----------
+    eta_k : float
+        Loss factor times stiffness, η·k [N/mm] (≥ 0).
+    x_max : float
+        Largest amplitude the distribution covers [mm] (> 0); beyond it the loop area grows only linearly.
+    """
+    eta_k = _nonneg("eta_k (N/mm)", eta_k)
+    if not (math.isfinite(x_max) and x_max > 0):
+        raise ValueError(f"x_max = {x_max!r} is out of range; valid range > 0 [mm]")
+    if n < 1:
+        raise ValueError(f"n = {n!r} is out of range; valid range >= 1")
+    d = x_max / n
+    return np.full(n, 0.5 * math.pi * eta_k * d), (np.arange(n) + 0.5) * d
+
+
+def jenkins_cycle_energy(F_c: float, x_s: float, A: float) -> float:
+    """Closed-form loop area [N·mm] of a Jenkins element over a symmetric cycle ±A [mm]: 4F_c(A − x_s)⁺."""
+    return 4.0 * F_c * max(A - x_s, 0.0)
+
+
+def dahl_cycle_energy(F_h: float, x_h: float, A: float) -> float:
+    """Closed-form loop area [N·mm] of the Dahl model over a symmetric cycle ±A [mm]: 4F_h(A − x_h·tanh(A/x_h))."""
+    return 4.0 * F_h * (A - x_h * math.tanh(A / x_h))
