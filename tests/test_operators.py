@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from chainid import operators as ops
+from chainid.model import operators as ops
 
 
 def cycles(A: float, n: int = 4, per: int = 2000, x0: float = 0.0) -> np.ndarray:

@@ -124,7 +124,7 @@ class ChainLine:
         ``"half"`` or ``"drive"``.
     hysteresis : tuple of (k, f)
         Jenkins elements of the specimen (``damping_ref_links`` links): stiffness k [N/mm] > 0 and slip force
-        f [N] >= 0 each (an Iwan model; see the module docstring for the scaling to segments).
+        f [N] > 0 each (an Iwan model; see the module docstring for the scaling to segments).
     coulomb_N : float
         Coulomb friction force with stick of the specimen [N], >= 0.
     coulomb_stiffness : float, optional
@@ -173,8 +173,8 @@ class ChainLine:
             raise _bad("damping_ref_links", self.damping_ref_links, "an int >= 1")
         hyst = tuple(tuple(float(x) for x in el) for el in self.hysteresis)
         for el in hyst:
-            if len(el) != 2 or not (math.isfinite(el[0]) and el[0] > 0 and math.isfinite(el[1]) and el[1] >= 0):
-                raise _bad("hysteresis", el, "pairs (k > 0 N/mm, f >= 0 N), finite")
+            if len(el) != 2 or not (math.isfinite(el[0]) and el[0] > 0 and math.isfinite(el[1]) and el[1] > 0):
+                raise _bad("hysteresis", el, "pairs (k > 0 N/mm, f > 0 N), finite")
         object.__setattr__(self, "hysteresis", hyst)
         if not (isinstance(self.coulomb_N, (int, float, np.floating)) and not isinstance(self.coulomb_N, bool)
                 and math.isfinite(self.coulomb_N) and self.coulomb_N >= 0):

@@ -8,14 +8,16 @@ with F_k the generated chain kernel (Eq. 15 inverted), c_j the viscous damper [N
 [N] of Jenkins elements (a spring k_jq [N/mm] in series with a Coulomb slider of force f_jq [N]) in parallel
 with the spring.  One Jenkins element with a stiff spring is Coulomb friction with stick (the stick phase
 is elastic with k_stick); several elements of graded slip forces are an Iwan (parallel Masing) model of
-rate-independent hysteresis.  Their state z is advanced by :func:`jenkins_step`, an exact return map for a
-linear path of e over the step (the dissipation f·|slip| is exact for that path).
+rate-independent hysteresis.  Their state is the slider position y_jq [mm] on the segment's elongation
+axis, z = k·(e − y); it is advanced by the ONE implementation of the operator,
+:func:`chainid.model.operators.jenkins_step` (slip force F_c = f, stick travel x_s = f/k; exact
+dissipation F_c·|Δy| for a monotone path over the step).  Initial state: unstressed (y = e at t = 0).
 
 When the segment is slack (e <= 0) or its tension would be negative (the dampers cannot push), the segment
-carries nothing and its Jenkins elements are released (z = 0; their stored energy z²/(2k) counts as
-dissipated: the contacts open).  Energy bookkeeping: elastic energy = U(e) of the kernel + Σ z²/(2k)
-(:func:`stored_energy`); dissipation = trapezoidal work of the viscous part over the step + slip work +
-released energy (:func:`tensions`).
+carries nothing and its Jenkins elements are released (y = e, z = 0; their stored energy k·(e − y)²/2 at
+the start of the step counts as dissipated: the contacts open).  Energy bookkeeping: stored energy =
+U(e) of the kernel + Σ k·(e − y)²/2 (:func:`stored_energy`); dissipation = trapezoidal work of the viscous
+part over the step + slip work + released energy (:func:`tensions`).
 """
 from __future__ import annotations
 
@@ -25,26 +27,11 @@ from numba import njit
 from chainid.generated.stiffness_paper import force as _force
 from chainid.generated.stiffness_paper import stiffness as _stiffness
 from chainid.dynamics.energy import elastic_energy_array
+from chainid.model.operators import jenkins_step
 
-__all__ = ["jenkins_step", "tensions", "stored_energy"]
+__all__ = ["tensions", "stored_energy"]
 
 _FM = {"contract", "arcp", "nsz"}
-
-
-@njit(cache=True, fastmath=_FM, error_model="numpy")
-def jenkins_step(z, de, k, f):
-    """One Jenkins element under an elongation increment: (z_new [N], dissipated [N·mm], tangent [N/mm]).
-
-    Parameters: z force at the start [N] (|z| <= f), de increment [mm], k spring [N/mm] (> 0), f slip force
-    [N] (>= 0).  The trial z + k·de sticks if |trial| <= f; else the slider slips by (|trial| − f)/k at force
-    f, dissipating f·slip (exact for a monotone path over the step).
-    """
-    zt = z + k * de
-    if zt > f:
-        return f, f * (zt - f) / k, 0.0
-    if zt < -f:
-        return -f, f * (-f - zt) / k, 0.0
-    return zt, 0.0, k
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
@@ -64,12 +51,13 @@ def _springs(u, epre, cl, ch, Fk, kind):
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def tensions(u, v, us, Ts, epre, cl, ch, cd, hk, hf, zs, dvs, z, dv, T, Fk, ks, cs, kind, tangent):
+def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, kind, tangent):
     """Segment tensions at the end of a step from its start state.
 
-    Inputs: u, v node displacements [mm] and speeds [mm/s] at the end; us, Ts, zs, dvs displacements,
-    tensions, Jenkins forces and viscous forces at the start.  Outputs: z, dv, T (and, with ``tangent``, the
-    tangent stiffness ks [N/mm] and damping cs [N·s/mm] of each segment for Newton's method).
+    Inputs: u, v node displacements [mm] and speeds [mm/s] at the end; us, ys, dvs displacements, Jenkins
+    slider positions [mm] and viscous forces [N] at the start; hf, hx slip forces [N] and stick travels
+    [mm] of the Jenkins elements (N, n_el).  Outputs: y, dv, T (and, with ``tangent``, the tangent
+    stiffness ks [N/mm] and damping cs [N·s/mm] of each segment for Newton's method).
 
     Returns
     -------
@@ -78,7 +66,7 @@ def tensions(u, v, us, Ts, epre, cl, ch, cd, hk, hf, zs, dvs, z, dv, T, Fk, ks, 
         tension [N].
     """
     _springs(u, epre, cl, ch, Fk, kind)
-    n_el = hk.shape[1]
+    n_el = hf.shape[1]
     dD = 0.0
     peak = 0.0
     for j in range(T.shape[0]):
@@ -89,11 +77,11 @@ def tensions(u, v, us, Ts, epre, cl, ch, cd, hk, hf, zs, dvs, z, dv, T, Fk, ks, 
         slip = 0.0
         kz = 0.0
         for q in range(n_el):
-            zq, dq, kq = jenkins_step(zs[j, q], de, hk[j, q], hf[j, q])
-            z[j, q] = zq
+            yq, zq, dq = jenkins_step(ys[j, q], e, hf[j, q], hx[j, q])
+            y[j, q] = yq
             zsum += zq
             slip += dq
-            kz += kq
+            kz += hf[j, q] / hx[j, q] if yq == ys[j, q] else 0.0
         dvis = cd[j] * (v[j] - v[j + 1])
         t = f + dvis + zsum
         if e > 0.0 and t > 0.0:
@@ -106,9 +94,11 @@ def tensions(u, v, us, Ts, epre, cl, ch, cd, hk, hf, zs, dvs, z, dv, T, Fk, ks, 
         else:
             T[j] = 0.0
             dv[j] = -f
-            for q in range(n_el):  # released: the stored energy at the start is dissipated
-                dD += 0.5 * zs[j, q] * zs[j, q] / hk[j, q]
-                z[j, q] = 0.0
+            es = e - de
+            for q in range(n_el):  # released: the energy stored at the start is dissipated
+                w = es - ys[j, q]
+                dD += 0.5 * hf[j, q] / hx[j, q] * w * w
+                y[j, q] = e
             if tangent:
                 ks[j] = 0.0
                 cs[j] = 0.0
@@ -118,14 +108,15 @@ def tensions(u, v, us, Ts, epre, cl, ch, cd, hk, hf, zs, dvs, z, dv, T, Fk, ks, 
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def stored_energy(u, epre, cl, ch, hk, z):
-    """Elastic energy [N·mm]: Σ U(e_j) of the kernel + Σ z²/(2k) of the Jenkins springs."""
+def stored_energy(u, epre, cl, ch, hf, hx, y):
+    """Stored energy [N·mm]: Σ U(e_j) of the kernel + Σ k·(e_j − y_jq)²/2 of the Jenkins springs (k = f/x_s)."""
     N = cl.shape[0]
     e = np.empty(N)
     for j in range(N):
         e[j] = epre[j] + u[j] - u[j + 1]
     s = elastic_energy_array(e, cl, ch)
     for j in range(N):
-        for q in range(hk.shape[1]):
-            s += 0.5 * z[j, q] * z[j, q] / hk[j, q]
+        for q in range(hf.shape[1]):
+            w = e[j] - y[j, q]
+            s += 0.5 * hf[j, q] / hx[j, q] * w * w
     return s

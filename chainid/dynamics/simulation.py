@@ -127,7 +127,7 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
             tgt[:] = a
     if line.far_end == "fixed":
         u_init[-1] = v_init[-1] = 0.0
-    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hk, hf,
+    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hf / hk,
             line.pretension_elongation(), line.resistance_per_node(), float(line.resistance_v_eps),
             np.array([ld.node for ld in loads], dtype=np.int64), np.array([ld.force_N for ld in loads], dtype=float),
             np.array([ld.t_on for ld in loads], dtype=float), line.far_end == "tensioner",

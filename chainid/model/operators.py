@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 try:  # numba with a cache that never crashes chainid; plain Python if numba is absent
-    from ._numba_cache import njit_cached as njit
+    from chainid.infra.numba_cache import njit_cached as njit
 except Exception:  # pragma: no cover
     def njit(*a: Any, **k: Any) -> Any:  # type: ignore
         def deco(f: Any) -> Any:
