@@ -69,6 +69,19 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, 
     n_el = hf.shape[1]
     dD = 0.0
     peak = 0.0
+    if n_el == 0 and not tangent:  # the explicit scheme's viscous-only path: one branch-free loop (vectorised)
+        for j in range(T.shape[0]):
+            e = epre[j] + u[j] - u[j + 1]
+            f = Fk[j]
+            t = f + cd[j] * (v[j] - v[j + 1])
+            t = t if t > 0.0 else 0.0
+            t = t if e > 0.0 else 0.0
+            d = t - f
+            dD += 0.5 * (dvs[j] + d) * ((u[j] - us[j]) - (u[j + 1] - us[j + 1]))
+            dv[j] = d
+            T[j] = t
+            peak = peak if peak > t else t
+        return dD, peak
     for j in range(T.shape[0]):
         e = epre[j] + u[j] - u[j + 1]
         de = (u[j] - us[j]) - (u[j + 1] - us[j + 1])
