@@ -56,7 +56,7 @@ def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissi
         ``work_in``, ``kinetic``, ``elastic``, ``dissipated`` (final values, changes for the stored energies),
         ``residual`` (at the end, N·mm), ``worst_residual`` (the largest |r|, signed, N·mm), ``worst_t_s`` (its
         time, or its output index without ``t``), ``relative_error`` (|worst_residual| / the energy scale),
-        ``scale`` (the energy scale: the largest over the run of |W| and |ΔE_kin| + |ΔE_el| + |D|, N·mm; so
+        ``scale`` (the energy scale: the largest over the run of |W|, |ΔE_kin|, |ΔE_el| and |D|, N·mm; so
         that a free vibration without work input is measured too) and ``finite`` (all energies finite).
         ``relative_error`` is 0 when nothing happened (scale 0) and nan when an energy is not finite.
     """
@@ -68,7 +68,7 @@ def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissi
         return {"work_in": float(work_in[-1]), "kinetic": float(dk[-1]), "elastic": float(de[-1]),
                 "dissipated": float(dissipated[-1]), "residual": float(res[-1]), "worst_residual": math.nan,
                 "worst_t_s": math.nan, "relative_error": math.nan, "scale": math.nan, "finite": False}
-    scale = float(np.max(np.maximum(np.abs(work_in), np.abs(dk) + np.abs(de) + np.abs(dissipated))))
+    scale = float(max(np.max(np.abs(work_in)), np.max(np.abs(dk)), np.max(np.abs(de)), np.max(np.abs(dissipated))))
     k = int(np.argmax(np.abs(res)))
     return {
         "work_in": float(work_in[-1]),
