@@ -1,0 +1,105 @@
+"""Time-domain segment damping in dynamics (issue 17): Jenkins/Iwan hysteresis, Coulomb with stick, scaling.
+
+Independent references: the loop area of a Jenkins element (spring k in series with a slider of force f),
+4·f·(A − f/k) per cycle of elongation amplitude A, and its virgin and closing branches; the energy balance.
+Units mm, N, s, kg; energies N·mm.
+"""
+import math
+
+import numpy as np
+import pytest
+
+from chainid.chain.spec import default_chain
+from chainid.dynamics import ChainLine, Drive, simulate
+from chainid.model import kernels
+
+K, F = 2_000.0, 150.0  # N/mm, N: the specimen's Jenkins element (stick travel f/k = 0.075 mm)
+A = 0.3                 # mm elongation amplitude
+X0 = 0.8                # mm mean elongation (taut throughout)
+
+
+def _jenkins_dissipation(n_cycles, A, k, f):
+    """Slip work of x = A·sin(ωt) over n whole cycles from an unstressed element (hand count of the branches):
+    virgin quarter f(A − a), 2n − 1 half swings 2f(A − a), the last quarter from −A up to 0: f(A − 2a), a = f/k."""
+    a = f / k
+    return f * (A - a) + (2 * n_cycles - 1) * 2 * f * (A - a) + f * max(A - 2 * a, 0.0)
+
+
+def _specimen(n_masses, lumping, **kw):
+    chain = default_chain()
+    F0 = float(kernels.force(X0, chain))
+    return ChainLine(n_links=chain.n, n_masses=n_masses, chain=chain, pretension_N=F0, far_end="fixed",
+                     lumping=lumping, **kw)
+
+
+@pytest.mark.parametrize("scheme", ["explicit", "implicit"])
+def test_one_segment_dissipates_the_jenkins_loop(scheme):
+    """N = 1 (the specimen itself, drive-lumped): the elongation is the drive's sine, the dissipation is exact."""
+    line = _specimen(1, "drive", hysteresis=((K, F),))
+    w, n = 2.0, 3
+    T = 2 * math.pi / w
+    res = simulate(line, Drive("sine", A=A, omega=w), n * T, dt=T / 4000, n_out=4000, scheme=scheme)
+    assert res.tension.min() > 0
+    assert res.dissipated[-1] == pytest.approx(_jenkins_dissipation(n, A, K, F), rel=1e-6)
+    assert res.energy_balance()["relative_error"] < 1e-6
+
+
+def test_specimen_to_segment_scaling_in_series():
+    """4 and 8 segments of the same 16-link specimen, quasi-static: the chain dissipates the specimen's loop.
+
+    Series rule: a segment of n_s links of a specimen of n_ref links has k·n_ref/n_s and the same f.  Without
+    the scaling each segment would see A/4 = f/k and dissipate nothing."""
+    line1 = _specimen(1, "drive", hysteresis=((K, F),))
+    line4 = _specimen(4, "half", hysteresis=((K, F),))
+    k4, f4 = line4.segment_elements()
+    np.testing.assert_allclose(k4, K * 16 / 4, rtol=1e-15)
+    np.testing.assert_allclose(f4, F, rtol=1e-15)
+    w, n = 20.0, 3
+    D = _jenkins_dissipation(n, A, K, F)
+    for line in (line1, line4, _specimen(8, "half", hysteresis=((K, F),))):
+        res = simulate(line, Drive("sine", A=A, omega=w), n * 2 * math.pi / w, n_out=2000)
+        assert res.dissipated[-1] == pytest.approx(D, rel=2e-3)
+        assert res.energy_balance()["relative_error"] < 1e-3
+
+
+def test_coulomb_sticks_below_its_slip_travel():
+    """Coulomb with stick (stick stiffness k_s): an amplitude below f/k_s never slips (no dissipation);
+    above it, it dissipates the Jenkins loop of (k_s, f)."""
+    ks = 5_000.0
+    w, n = 2.0, 2
+    T = 2 * math.pi / w
+    small = _specimen(1, "drive", coulomb_N=F, coulomb_stiffness=ks)
+    res = simulate(small, Drive("sine", A=0.02, omega=w), n * T, dt=T / 2000, n_out=2000)  # 0.02 < 0.03 mm
+    assert res.dissipated[-1] == 0.0
+    # the stuck element is a spring k_s in parallel with the chain: T = F_k(e) + k_s·(e − e_0) at every sample
+    e = small.pretension_elongation()[0] + res.u[:, 0]
+    Fk = np.array([float(kernels.force(x, default_chain())) for x in e])
+    np.testing.assert_allclose(res.tension[:, 0], Fk + ks * res.u[:, 0], rtol=1e-12, atol=1e-9)
+    big = simulate(_specimen(1, "drive", coulomb_N=F, coulomb_stiffness=ks), Drive("sine", A=A, omega=w),
+                   n * T, dt=T / 2000, n_out=2000)
+    assert big.dissipated[-1] == pytest.approx(_jenkins_dissipation(n, A, ks, F), rel=1e-6)
+
+
+@pytest.mark.parametrize("scheme", ["explicit", "implicit"])
+def test_hysteretic_chain_keeps_its_energy_balance(scheme):
+    """A dynamic chain with an Iwan pair and Coulomb friction in every segment: balance within 1e-3 with
+    the hysteretic dissipation counted (it is most of the work done over 10 cycles)."""
+    line = ChainLine(n_links=100, n_masses=10, pretension_N=5_000.0, far_end="fixed",
+                     hysteresis=((3_000.0, 200.0), (1_000.0, 400.0)), coulomb_N=100.0)
+    res = simulate(line, Drive("sine", A=0.3, omega=300.0), 10 * 2 * math.pi / 300.0, scheme=scheme, n_out=2000)
+    eb = res.energy_balance()
+    assert res.tension.min() > 0
+    assert eb["relative_error"] < 1e-3
+    assert eb["dissipated"] > 0.9 * eb["work_in"] > 0
+
+
+@pytest.mark.parametrize("kw, field", [
+    (dict(hysteresis=((0.0, 10.0),)), "hysteresis"),
+    (dict(hysteresis=((100.0, 0.0),)), "hysteresis"),
+    (dict(hysteresis=((100.0,),)), "hysteresis"),
+    (dict(coulomb_N=-1.0), "coulomb_N"),
+    (dict(coulomb_N=5.0, coulomb_stiffness=0.0), "coulomb_stiffness"),
+])
+def test_bad_segment_damping(kw, field):
+    with pytest.raises(ValueError, match=field):
+        ChainLine(n_links=10, n_masses=2, **kw)
