@@ -103,3 +103,73 @@ def test_hysteretic_chain_keeps_its_energy_balance(scheme):
 def test_bad_segment_damping(kw, field):
     with pytest.raises(ValueError, match=field):
         ChainLine(n_links=10, n_masses=2, **kw)
+
+
+# ------------------------------------------------------------------ --segment-model (issue 17 model file)
+MODEL = """format_version = 1
+kind = "chainid-augmented-model"
+mass_kg = 3.2
+delay_s = 0.0
+[units]
+length = "mm"
+force = "N"
+time = "s"
+mass = "kg"
+[base]
+model = "chain"
+variant = "paper"
+[base.chain]
+d = 14.0
+pitch = 50.0
+width = 17.0
+n = 16
+E = 210000.0
+nu = 0.3
+mass_per_m = 4.0
+[damping]
+form = "{form}"
+[damping.params]
+{params}
+"""
+
+
+def _model_file(tmp_path, form, params, name="m.toml"):
+    p = tmp_path / name
+    p.write_text(MODEL.format(form=form, params=params))
+    return p
+
+
+def test_segment_model_hysteretic_loop_is_the_structural_damping_energy(tmp_path):
+    """form = hysteretic (η·k, x_max, n): the specimen dissipates π·η·k·A² per steady cycle (A = x_max/2, n even)."""
+    from chainid.dynamics.segment_model import segment_kwargs
+    eta_k, x_max = 400.0, 0.4
+    kw = segment_kwargs(_model_file(tmp_path, "hysteretic", f"eta_k = {eta_k}\nx_max = {x_max}\nn = 8"))
+    assert kw["damping_ref_links"] == 16 and len(kw["hysteresis"]) == 8
+    F0 = float(kernels.force(X0, kw["chain"]))
+    line = ChainLine(n_links=16, n_masses=1, pretension_N=F0, far_end="fixed", lumping="drive", **kw)
+    w, Amp = 2.0, x_max / 2
+    T = 2 * math.pi / w
+    res = simulate(line, Drive("sine", A=Amp, omega=w), 3 * T, dt=T / 4000, n_out=12000)
+    i1 = int(np.argmin(np.abs(res.t - T)))
+    assert res.dissipated[-1] - res.dissipated[i1] == pytest.approx(2 * math.pi * eta_k * Amp ** 2, rel=1e-6)
+
+
+def test_cli_segment_model(tmp_path, capsys):
+    import json
+
+    from chainid.cli import main
+    m = _model_file(tmp_path, "coulomb", "F_c = 80.0\nx_s = 0.01")
+    out = tmp_path / "r.json"
+    argv = ["dynamics", "--links", "64", "--masses", "4", "--pretension", "2000", "--drive", "sine",
+            "--amplitude", "0.3", "--omega", "50", "--t-end", "0.5", "--segment-model", str(m), "--quiet"]
+    assert main(argv + ["--json", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["line"]["hysteresis"] == [[8000.0, 80.0]] and doc["line"]["damping_ref_links"] == 16
+    assert doc["summary"]["energy_N_mm"]["dissipated"] > 0
+    assert doc["summary"]["energy_N_mm"]["relative_error"] < 1e-3
+    capsys.readouterr()
+    assert main(argv + ["--damping", "5"]) == 2
+    assert "--damping cannot be given with it" in capsys.readouterr().err
+    bad = _model_file(tmp_path, "dahl", "F_h = 10.0\nx_h = 0.05", "dahl.toml")
+    assert main(argv[:-3] + ["--segment-model", str(bad), "--quiet"]) == 2
+    assert "damping form 'dahl' is not supported" in capsys.readouterr().err

@@ -69,6 +69,10 @@ def add_subparsers(subparsers: Any) -> None:
     g.add_argument("--tensioner-stiffness", dest="kt", type=float, default=0.0, help="take-up spring [N/mm]")
     g.add_argument("--damping", type=float, default=0.0,
                    help="viscous-equivalent c_e of the tested specimen [N·s/mm] (default 0)")
+    g.add_argument("--segment-model", dest="segment_model", metavar="M.toml",
+                   help="diagnosed model file (issue 17) of the tested specimen: its chain, kernel variant and "
+                        "time-domain damping go into every segment, scaled in series (see "
+                        "chainid.dynamics.segment_model)")
     g.add_argument("--damping-ref-links", dest="ref_links", type=int, metavar="N",
                    help="links of the specimen the damping data belong to (default: the chain file's n)")
     g.add_argument("--hysteresis", action="append", type=_element, default=[], metavar="K:F",
@@ -134,6 +138,14 @@ def _check_args(args: argparse.Namespace, sweeping: bool) -> None:
     if sweeping and args.plots:
         raise ValueError(f"--plots = {args.plots!r} is invalid with a sweep: figures are drawn for a single run "
                          "(use --json for the sweep table)")
+    if args.segment_model:
+        given = [o for o, v in (("--chain", args.chain), ("--variant", args.variant != "paper"),
+                                ("--damping", args.damping), ("--damping-ref-links", args.ref_links),
+                                ("--hysteresis", args.hysteresis), ("--coulomb", args.coulomb),
+                                ("--coulomb-stiffness", args.coulomb_k)) if v]
+        if given:
+            raise ValueError(f"--segment-model comes with its own chain and damping: {', '.join(given)} cannot be "
+                             "given with it")
     check_json_target(args.json, args.force)
     if args.plots:
         check_output_dir(args.plots, "--plots", _FIGS, force=args.force)
@@ -161,11 +173,17 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
 
     sweeping = any(v is not None for v in (args.sw_p, args.sw_v, args.sw_n))
     _check_args(args, sweeping)
-    chain = load_chain(args.chain)
-    kw = dict(chain=chain, variant=args.variant, pretension_N=args.pretension, far_end=args.far_end,
-              tensioner_stiffness=args.kt, damping=args.damping, resistance_N=args.resistance,
-              loads=tuple(args.load), damping_ref_links=args.ref_links, hysteresis=tuple(args.hysteresis),
-              coulomb_N=args.coulomb, coulomb_stiffness=args.coulomb_k)
+    kw = dict(pretension_N=args.pretension, far_end=args.far_end, tensioner_stiffness=args.kt,
+              resistance_N=args.resistance, loads=tuple(args.load))
+    if args.segment_model:
+        from chainid.dynamics.segment_model import segment_kwargs
+
+        kw.update(segment_kwargs(args.segment_model))
+        chain = kw["chain"]
+    else:
+        chain = load_chain(args.chain)
+        kw.update(chain=chain, variant=args.variant, damping=args.damping, damping_ref_links=args.ref_links,
+                  hysteresis=tuple(args.hysteresis), coulomb_N=args.coulomb, coulomb_stiffness=args.coulomb_k)
     if args.length is not None:
         line = ChainLine.from_length(args.length, args.masses, **kw)
     else:
@@ -173,7 +191,8 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
     drive = Drive(args.drive, v=args.speed, t_ramp=args.t_ramp, A=args.amplitude, omega=args.omega, z=args.teeth)
     sim_kw = dict(dt=args.dt, scheme=args.scheme, peak_force=args.peak_force, refine=args.refine,
                   strict=args.strict, max_memory=args.max_memory * 1024**3, max_work=args.max_work)
-    doc: dict[str, Any] = {"line": {k: v for k, v in dataclasses.asdict(line).items() if k not in ("chain", "loads")},
+    doc: dict[str, Any] = {"segment_model": args.segment_model,
+                           "line": {k: v for k, v in dataclasses.asdict(line).items() if k not in ("chain", "loads")},
                            "chain": chain.to_dict(), "drive": dataclasses.asdict(drive),
                            "loads": [dataclasses.asdict(ld) for ld in line.loads]}
     loads_before = warn_loads(max(args.pretension, max((ld.force_N for ld in line.loads), default=0.0)), chain, doc)
