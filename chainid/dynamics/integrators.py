@@ -195,13 +195,16 @@ def _record(k, t, S, m, epre, cl, ch, hf, hx, code, p, W, D, t_out, T_out, Fd_ou
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
-        dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, t_out, T_out, Fd_out, u_out, v_out, en_out,
+        dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, dt_explicit, t_out, T_out, Fd_out, u_out, v_out,
+        en_out,
         stats, kind=0):
     """Integrate ``n_steps`` steps of ``dt`` [s] (see the module docstring); returns (status, peak [N]).
 
     status 0: done; 1: non-finite state (stopped at the last good output); 2: Newton did not converge at the
-    shortest sub-step dt/2^levels.  ``stats`` receives [accepted sub-steps, rejected sub-steps, largest
-    Newton iteration count, shortest sub-step / dt].
+    shortest sub-step dt/2^levels, which is above ``dt_explicit`` (the explicit stable step; below it, such a
+    sub-step is taken by the explicit scheme: Newton cannot converge where a segment's damper force jumps
+    as it goes taut).  ``stats`` receives [accepted sub-steps, rejected sub-steps, largest Newton iteration
+    count, shortest sub-step / dt, explicit fallback sub-steps].
     """
     nn = u.shape[0]
     N = nn - 1
@@ -240,7 +243,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
     status = 0
     unit = 1 << levels
     hu = unit
-    n_acc, n_rej, it_max, hu_min = 0, 0, 0, unit
+    n_acc, n_rej, it_max, hu_min, n_fb = 0, 0, 0, unit, 0
     for n in range(n_steps):
         done = 0
         while done < unit:
@@ -260,6 +263,10 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
                 hu //= 2
                 n_rej += 1
                 continue
+            if not ok and h <= dt_explicit:  # Newton stuck at a non-smooth point: one Verlet sub-step instead
+                dW, dD, pk = _explicit_step(h, t1, c, S, X, inv, has_res, 0)
+                ok = True
+                n_fb += 1
             if not ok:
                 status = 2
                 break
@@ -285,6 +292,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
     stats[1] = n_rej
     stats[2] = it_max
     stats[3] = hu_min / unit
+    stats[4] = n_fb
     return status, peak
 
 

@@ -104,13 +104,14 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
 def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_every: int,
                    initial_u: np.ndarray | None = None, initial_v: np.ndarray | None = None, *,
                    levels: int = 6, tol_abs: float = 1e-6, tol_rel: float = 1e-9,
-                   max_it: int = 25) -> tuple[tuple, tuple]:
+                   max_it: int = 25, dt_explicit: float = 0.0) -> tuple[tuple, tuple]:
     """(arguments, output arrays) of :func:`chainid.dynamics.integrators.run` after its ``implicit`` flag.
 
     Output arrays: t [s], tension [N], drive force [N], u [mm], v [mm/s], energies (W, E_kin, E_stored, D)
     [N·mm] at every ``out_every``-th of ``n_steps`` steps of ``dt`` [s], and the loop statistics (4,).
     ``levels``: sub-steps down to dt/2^levels at slack/taut changes; ``tol_abs`` [N], ``tol_rel``, ``max_it``:
-    Newton's tolerance and iteration limit (implicit scheme).
+    Newton's tolerance and iteration limit (implicit scheme); ``dt_explicit`` [s]: sub-steps of at most this
+    length that Newton cannot solve are taken by the explicit scheme (0: never).
     """
     n_rec = n_steps // out_every + 1
     nn, N = line.n_nodes, line.n_masses
@@ -132,10 +133,10 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
             np.array([ld.node for ld in loads], dtype=np.int64), np.array([ld.force_N for ld in loads], dtype=float),
             np.array([ld.t_on for ld in loads], dtype=float), line.far_end == "tensioner",
             float(line.pretension_N), float(line.tensioner_stiffness), code, p, float(dt), int(n_steps),
-            int(out_every), int(levels), float(tol_abs), float(tol_rel), int(max_it))
+            int(out_every), int(levels), float(tol_abs), float(tol_rel), int(max_it), float(dt_explicit))
     t_out, Fd_out = np.zeros(n_rec), np.zeros(n_rec)
     T_out, u_out, v_out, en_out = np.zeros((n_rec, N)), np.zeros((n_rec, nn)), np.zeros((n_rec, nn)), np.zeros((n_rec, 4))
-    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out, np.zeros(4))
+    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out, np.zeros(5))
 
 
 def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "explicit") -> dict:
@@ -182,6 +183,7 @@ class SimResult:
     n_steps : steps of dt
     substeps, rejected : accepted and rejected sub-steps (sub-steps at slack/taut changes, Newton halving)
     shortest_substep_s : the shortest sub-step taken [s]
+    explicit_fallbacks : implicit sub-steps taken by the explicit scheme (Newton stuck at a damper jump)
     warnings : messages of the checks (energy balance)
     """
 
@@ -208,6 +210,7 @@ class SimResult:
     warnings: list = field(default_factory=list)
     refinements: int = 0
     peak_change: float = math.nan
+    explicit_fallbacks: int = 0
 
     def energy_balance(self) -> dict:
         """The energy balance at its worst output time (see :func:`chainid.dynamics.energy.balance`)."""
@@ -218,7 +221,8 @@ class SimResult:
         return {"peak_tension_N": self.peak_tension, "static_tension_N": self.static_tension,
                 "dynamic_factor": self.dynamic_factor, "dt_s": self.dt, "dt_stable_s": self.dt_stable,
                 "scheme": self.scheme, "n_steps": self.n_steps, "t_end_s": float(self.t[-1]),
-                "refinements": self.refinements, "peak_change_last_halving": self.peak_change, "substeps": self.substeps, "rejected_substeps": self.rejected,
+                "refinements": self.refinements, "peak_change_last_halving": self.peak_change,
+                "explicit_fallback_substeps": self.explicit_fallbacks, "substeps": self.substeps, "rejected_substeps": self.rejected,
                 "shortest_substep_s": self.shortest_substep_s,
                 "energy_N_mm": self.energy_balance(), "warnings": list(self.warnings)}
 
@@ -389,7 +393,8 @@ def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float
     n_steps = int(math.ceil(n_steps / out_every)) * out_every
     dt = t_end / n_steps  # <= the requested step; the last output is at t_end
     levels = int(levels)
-    args, outs = core_arguments(line, drive, dt, n_steps, out_every, initial_u, initial_v, levels=levels)
+    args, outs = core_arguments(line, drive, dt, n_steps, out_every, initial_u, initial_v, levels=levels,
+                                dt_explicit=0.9 * dts)
     t_out, T_out, Fd_out, u_out, v_out, en_out, stats = outs
     status, peak = run(scheme == "implicit", *args, *outs)
     if status == 1:
@@ -406,6 +411,7 @@ def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float
         scheme=scheme, n_steps=n_steps,
         positions=np.concatenate([[0.0], np.cumsum(line.segment_lengths())]),
         substeps=int(stats[0]), rejected=int(stats[1]), shortest_substep_s=float(stats[3] * dt),
+        explicit_fallbacks=int(stats[4]),
     )
     if not res.energy_balance()["finite"]:
         raise SimulationError(f"the {scheme} integration produced non-finite energies (dt = {dt:.3g} s): no result")
