@@ -21,6 +21,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from chainid.model import operators as _ops
+
 try:  # numba for the sequential (memory) operators (a cache that never crashes); numpy fallback if absent
     from chainid.infra.numba_cache import njit_cached as njit
 except Exception:  # pragma: no cover
@@ -102,24 +104,8 @@ def dahl_operator(x: np.ndarray, F_h: float, x_h: float, periodic: bool = True) 
     return _dahl(x, float(F_h), xh, 0.0)
 
 
-def coulomb_sign(xd: np.ndarray, periodic: bool = True) -> np.ndarray:
-    """sgn(ẋ) of Coulomb sliding, with 0 for a sample that lies at a reversal.
-
-    A sample whose neighbours move in opposite directions and whose speed is below half of theirs is closer
-    to the turning point than half a sample step: the set-valued friction force there is taken at its
-    midpoint, 0, so the sign does not depend on round-off in t or x (or on which side of the turning point a
-    quantised time stamp falls).  ``periodic``: the series is one cycle (neighbours wrap around).
-    """
-    xd = np.asarray(xd, dtype=float)
-    s = np.sign(xd)
-    if xd.size < 3:
-        return s
-    a = np.abs(xd)
-    prev, nxt = np.roll(a, 1), np.roll(a, -1)
-    near = (np.roll(s, 1) * np.roll(s, -1) < 0) & (a < 0.5 * np.minimum(prev, nxt))
-    if not periodic:
-        near[0] = near[-1] = False
-    return np.where(near, 0.0, s)
+#: sgn(ẋ) of Coulomb sliding with 0 at a reversal (one implementation: :func:`chainid.model.operators.coulomb_sign`)
+coulomb_sign = _ops.coulomb_sign
 
 
 def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True) -> np.ndarray:
