@@ -154,3 +154,15 @@ def test_refined_schemes_agree_on_a_damped_slack_polygon_drive():
     assert a.peak_change <= 0.02 and b.peak_change <= 0.02
     assert b.peak_tension == pytest.approx(a.peak_tension, rel=0.02)
     assert a.energy_balance()["relative_error"] < 1e-3 and b.energy_balance()["relative_error"] < 1e-3
+
+
+def test_taut_runs_are_not_refined_slack_runs_are_checked():
+    """The peak check under halving applies where snap loads can occur (a segment carried nothing)."""
+    taut = simulate(ChainLine(n_links=100, n_masses=10, pretension_N=5_000.0), Drive("ramp", v=200.0, t_ramp=0.05),
+                    0.1, refine=5)
+    assert taut.slack_substeps == 0 and taut.refinements == 0 and not taut.warnings
+    line, d = _slack_polygon(pretension=100.0, damping=2.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        slack = simulate(line, d, 0.5, refine=5)
+    assert slack.slack_substeps > 0 and slack.refinements >= 1 and slack.peak_change <= 0.02

@@ -104,7 +104,7 @@ def _drive_work(us, vs, Ts, u, v, T, m0):
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
-    """One Verlet step of length h [s] from state S into X; returns (dW, dD, peak)."""
+    """One Verlet step of length h [s] from state S into X; returns (dW, dD, peak, lowest tension)."""
     (m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, last) = c
     us, vs, accs, zs, dvs, fes, Ts = S
     u, v, acc, z, dv, fe, T, Fk, ks, cs = X
@@ -114,7 +114,7 @@ def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
         v[i] = vh
         u[i] = us[i] + h * vh
     u[0], v[0], _ = drive_state(t1, code, p)
-    dD, pk = tensions(u, v, us, epre, cl, ch, cd, hf, hx, zs, dvs, z, dv, T, Fk, ks, cs, kind, False)
+    dD, pk, low = tensions(u, v, us, epre, cl, ch, cd, hf, hx, zs, dvs, z, dv, T, Fk, ks, cs, kind, False)
     dW = _drive_work(us, vs, Ts, u, v, T, m[0])
     if tens or load_node.shape[0] > 0:
         _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, False)
@@ -128,12 +128,12 @@ def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
         v[i] += 0.5 * h * acc[i]
     if has_res:
         dW += _resist(v, m, res, veps, h, last)
-    return dW, dD, pk
+    return dW, dD, pk, low
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
-    """One Newmark (sub-)step by Newton's method; returns (converged, dW, dD, peak, iterations)."""
+    """One Newmark (sub-)step by Newton's method; returns (converged, dW, dD, peak, lowest tension, iterations)."""
     (m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, nf) = c
     us, vs, accs, zs, dvs, fes, Ts = S
     u, v, acc, z, dv, fe, T, Fk, ks, cs = X
@@ -144,12 +144,12 @@ def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
     v[N] = vs[N]
     for i in range(1, nf + 1):
         acc[i] = accs[i]
-    dD, pk = 0.0, 0.0
+    dD, pk, low = 0.0, 0.0, 0.0
     for it in range(max_it):
         for i in range(1, nf + 1):
             u[i] = us[i] + h * vs[i] + 0.25 * h * h * (accs[i] + acc[i])
             v[i] = vs[i] + 0.5 * h * (accs[i] + acc[i])
-        dD, pk = tensions(u, v, us, epre, cl, ch, cd, hf, hx, zs, dvs, z, dv, T, Fk, ks, cs, 0, True)
+        dD, pk, low = tensions(u, v, us, epre, cl, ch, cd, hf, hx, zs, dvs, z, dv, T, Fk, ks, cs, 0, True)
         _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, True)
         rmax = 0.0
         for i in range(1, nf + 1):
@@ -164,16 +164,16 @@ def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
             up[k] = -(0.5 * h * cn + 0.25 * h * h * (ks[i] if i < N else 0.0))
             rmax = max(rmax, abs(r[k]))
         if not math.isfinite(rmax):
-            return False, 0.0, 0.0, 0.0, it + 1
+            return False, 0.0, 0.0, 0.0, 0.0, it + 1
         if rmax <= tol or nf == 0:
             dW = _drive_work(us, vs, Ts, u, v, T, m[0])
             for i in range(1, nf + 1):
                 dW += 0.5 * (fes[i] + fe[i]) * (u[i] - us[i])
-            return True, dW, dD, pk, it + 1
+            return True, dW, dD, pk, low, it + 1
         _thomas(lo[:nf], di[:nf], up[:nf], r[:nf], dx[:nf])
         for i in range(1, nf + 1):
             acc[i] += dx[i - 1]
-    return False, 0.0, 0.0, 0.0, max_it
+    return False, 0.0, 0.0, 0.0, 0.0, max_it
 
 
 @njit(cache=True)
@@ -204,7 +204,8 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
     shortest sub-step dt/2^levels, which is above ``dt_explicit`` (the explicit stable step; below it, such a
     sub-step is taken by the explicit scheme: Newton cannot converge where a segment's damper force jumps
     as it goes taut).  ``stats`` receives [accepted sub-steps, rejected sub-steps, largest Newton iteration
-    count, shortest sub-step / dt, explicit fallback sub-steps].
+    count, shortest sub-step / dt, explicit fallback sub-steps, sub-steps ending with a segment that carries
+    nothing (slack or clipped)].
     """
     nn = u.shape[0]
     N = nn - 1
@@ -226,7 +227,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
     for j in range(N):  # Jenkins sliders unstressed at t = 0
         for q in range(hf.shape[1]):
             zs[j, q] = epre[j] + us[j] - us[j + 1]
-    _, peak = tensions(us, vs, us, epre, cl, ch, cd, hf, hx, zs, dvs, X[3], dvs, Ts, X[7], X[8], X[9], kind, False)
+    _, peak, low = tensions(us, vs, us, epre, cl, ch, cd, hf, hx, zs, dvs, X[3], dvs, Ts, X[7], X[8], X[9], kind, False)
     _external(0.0, us, vs, res, veps, load_node, load_F, load_t, tens, Ft, kt, fes, implicit)
     if not (tens or load_node.shape[0] > 0 or implicit):
         fes[:] = 0.0
@@ -243,7 +244,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
     status = 0
     unit = 1 << levels
     hu = unit
-    n_acc, n_rej, it_max, hu_min, n_fb = 0, 0, 0, unit, 0
+    n_acc, n_rej, it_max, hu_min, n_fb, n_slack = 0, 0, 0, unit, 0, 0
     for n in range(n_steps):
         done = 0
         while done < unit:
@@ -254,17 +255,17 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
                 Fref = Fbase
                 for j in range(N):
                     Fref = max(Fref, S[6][j])
-                ok, dW, dD, pk, its = _implicit_step(h, t1, c, S, X, lin, tol_abs + tol_rel * Fref, max_it)
+                ok, dW, dD, pk, low, its = _implicit_step(h, t1, c, S, X, lin, tol_abs + tol_rel * Fref, max_it)
                 it_max = max(it_max, its)
             else:
-                dW, dD, pk = _explicit_step(h, t1, c, S, X, inv, has_res, kind)
+                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, kind)
                 ok = True
             if not ok and hu > 1:
                 hu //= 2
                 n_rej += 1
                 continue
             if not ok and h <= dt_explicit:  # Newton stuck at a non-smooth point: one Verlet sub-step instead
-                dW, dD, pk = _explicit_step(h, t1, c, S, X, inv, has_res, 0)
+                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, 0)
                 ok = True
                 n_fb += 1
             if not ok:
@@ -275,6 +276,8 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
             W += dW
             D += dD
             peak = max(peak, pk)
+            if low <= 0.0:
+                n_slack += 1
             done += hu
             n_acc += 1
             hu_min = min(hu_min, hu)
@@ -293,6 +296,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
     stats[2] = it_max
     stats[3] = hu_min / unit
     stats[4] = n_fb
+    stats[5] = n_slack
     return status, peak
 
 

@@ -61,14 +61,15 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, 
 
     Returns
     -------
-    (dD, peak)
-        Dissipation over the step [N·mm] (trapezoidal viscous work + slip + released energy) and the largest
-        tension [N].
+    (dD, peak, low)
+        Dissipation over the step [N·mm] (trapezoidal viscous work + slip + released energy), the largest and
+        the smallest tension [N] (0: a segment carries nothing, slack or clipped).
     """
     _springs(u, epre, cl, ch, Fk, kind)
     n_el = hf.shape[1]
     dD = 0.0
     peak = 0.0
+    low = np.inf
     if n_el == 0 and not tangent:  # the explicit scheme's viscous-only path: one branch-free loop (vectorised)
         for j in range(T.shape[0]):
             e = epre[j] + u[j] - u[j + 1]
@@ -81,7 +82,8 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, 
             dv[j] = d
             T[j] = t
             peak = peak if peak > t else t
-        return dD, peak
+            low = low if low < t else t
+        return dD, peak, low
     for j in range(T.shape[0]):
         e = epre[j] + u[j] - u[j + 1]
         de = (u[j] - us[j]) - (u[j + 1] - us[j + 1])
@@ -117,7 +119,8 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, 
                 cs[j] = 0.0
         dD += 0.5 * (dvs[j] + dv[j]) * de
         peak = peak if peak > T[j] else T[j]
-    return dD, peak
+        low = low if low < T[j] else T[j]
+    return dD, peak, low
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
