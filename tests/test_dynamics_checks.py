@@ -166,3 +166,16 @@ def test_taut_runs_are_not_refined_slack_runs_are_checked():
         warnings.simplefilter("ignore", RuntimeWarning)
         slack = simulate(line, d, 0.5, refine=5)
     assert slack.slack_substeps > 0 and slack.refinements >= 1 and slack.peak_change <= 0.02
+
+
+def test_a_too_small_peak_force_is_an_error_or_refined_never_a_blow_up():
+    """peak_force = 1 N sets a step above the real stable step: no 1e192 N result (was exit 0)."""
+    line = ChainLine(n_links=400, n_masses=40, pretension_N=5_000.0)
+    d = Drive("ramp", v=1000.0, t_ramp=0.2)
+    with pytest.raises(SimulationError, match="non-finite.*peak_force = 1 N"):
+        simulate(line, d, 0.5, peak_force=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = simulate(line, d, 0.5, peak_force=1.0, refine=4)
+    assert res.refinements >= 1 and res.energy_balance()["relative_error"] < 1e-3
+    assert 5_000.0 < res.peak_tension < 10_000.0

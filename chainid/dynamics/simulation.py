@@ -336,8 +336,16 @@ def simulate(
     dt0 = dt
     prev: SimResult | None = None
     for attempt in range(refine + 1):
-        res = _run_once(line, drive, t_end, dt, dts, scheme, n_out, initial_u, initial_v, substep_levels,
-                        max_work, max_memory)
+        try:
+            res = _run_once(line, drive, t_end, dt, dts, scheme, n_out, initial_u, initial_v, substep_levels,
+                            max_work, max_memory)
+        except SimulationError as exc:  # non-finite or Newton failure: the strongest error estimate there is
+            if attempt == refine:
+                hint = (f"; peak_force = {peak_force:g} N sets the stable step: give the expected peak"
+                        if peak_force is not None and scheme == "explicit" else "")
+                raise SimulationError(f"{exc}{hint}") from None
+            dt = dt / 2.0
+            continue
         eb = res.energy_balance()
         if prev is not None:
             res.peak_change = abs(res.peak_tension - prev.peak_tension) / max(res.peak_tension, 1e-300)
