@@ -35,7 +35,7 @@ import json, sys, warnings
 warnings.simplefilter("always")
 {pre}
 import chainid
-from chainid import _numba_cache
+from chainid.infra import numba_cache as _numba_cache
 from numba.core import config
 with warnings.catch_warnings(record=True) as w:
     warnings.simplefilter("always")
@@ -86,8 +86,8 @@ def test_readonly_install_falls_back_to_a_temp_cache(readonly_install, tmp_path)
     tmp.mkdir()
     before = _files(pkg)
     env = _env(PYTHONPATH=str(pkg), HOME=str(home), TMPDIR=str(tmp))
-    # the hand-written numba operators of the gap effects (chainid/gap/effects.py) use the same fallback
-    post = ("from chainid.gap import effects; import numpy as np; "
+    # the hand-written numba operators of the gap effects (chainid/model/effects.py) use the same fallback
+    post = ("from chainid.model import effects; import numpy as np; "
             "extra = effects.play_operator(np.array([0.0, 1.0, 0.4, -1.0]), 0.25, periodic=False).tolist()")
     first = _run(env, cwd=tmp_path, post=post)
     # play operator, half width 0.25, by hand: starts at x0 = 0, moves only when x leaves y ± 0.25
