@@ -24,6 +24,9 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
             from chainid.gap.plots import PLOT_NAMES
 
             check_output_dir(args.plots, "--plots", PLOT_NAMES, force=args.force)
+        from chainid.cli.model import check_model_targets, save_models
+
+        check_model_targets(args.save_model, args.save_steps, args.force, max_steps=int(args.max_combo) + 1)
         # per-test problems are reported (and the test left out) by the diagnosis; data errors stop it
         recs = read_records(args.data, validate=False)
         if args.model == "linear":
@@ -43,6 +46,10 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         print(summary(res))
         if args.json:
             write_json(res, args.json, overwrite=args.force)
+        if args.save_model:
+            for p in save_models(res, args.save_model, args.save_steps, args.data, getattr(args, "argv", None),
+                                 args.force):
+                print(f"wrote {p}")
         if args.plots:
             from chainid.gap.plots import make_plots
 
@@ -92,7 +99,12 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("--strict", action="store_true", help="a test that cannot be analysed is an error (rc 2)")
     p.add_argument("--json", metavar="FILE", help="write the JSON result")
     p.add_argument("--plots", metavar="DIR", help="write figures to DIR")
-    p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots files")
+    p.add_argument("--save-model", dest="save_model", metavar="M.toml",
+                   help="write the chosen chain as a model file (TOML, or JSON by the .json suffix) for predict, "
+                        "simulate --model and dynamics --segment-model")
+    p.add_argument("--save-steps", dest="save_steps", action="store_true",
+                   help="also write the model after each step: M.step0.toml (baseline), M.step1.toml, ...")
+    p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots / model files")
     p.set_defaults(func=cmd_diagnose)
     b = subparsers.add_parser("benchmark-gap", help="blind benchmark of the diagnosis on simulated effects")
     b.add_argument("--small", action="store_true", help="a small, fast grid")

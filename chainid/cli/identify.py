@@ -266,6 +266,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     _check_out(args.out, args.force, "output")
     _check_simulate_options(args)
     plan = paper_plan() if args.plan in (None, "paper") else read_plan(args.plan)
+    if args.model not in ("chain", "linear"):
+        return _simulate_model_file(args, plan)
     if args.model == "linear" and args.k is None:
         raise ValueError("--model linear needs --k [N/mm] (and --x-ref [mm]) for simulation")
     model = _model(args)
@@ -296,6 +298,28 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     effect = f", effect {args.effect}" if args.effect else ""
     print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}{effect}, noise x {args.noise_x} mm, "
           f"F {args.noise_F} N, seed {args.seed})")
+    return 0
+
+
+def _simulate_model_file(args: argparse.Namespace, plan: Sequence[Any]) -> int:
+    """``simulate --model M.toml``: records of the plan from an augmented model file."""
+    from chainid.model.modelfile import load_model
+    from chainid.records import write_records
+    from chainid.records.simulate import simulate_model
+
+    clash = [o for o, v in (("--effect", args.effect), ("--params", args.params), ("--k", args.k)) if v is not None]
+    if clash:
+        raise ValueError(f"--model {args.model!r} is a model file: {', '.join(clash)} do not apply (the file holds "
+                         "the effects, damping and base)")
+    model = load_model(args.model)
+    ramp = None if args.ramp_rate <= 0 else args.ramp_rate
+    recs = simulate_model(plan, model, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
+                          ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F,
+                          max_memory=args.max_memory * 1024**3)
+    write_records(args.out, recs, overwrite=args.force)
+    names = "+".join(n for n, _ in model.effects) or "no effects"
+    print(f"wrote {len(recs)} test(s) to {args.out} (model {args.model}: {names}, damping {model.damping.form}, "
+          f"delay {model.delay_s:g} s, noise x {args.noise_x} mm, F {args.noise_F} N, seed {args.seed})")
     return 0
 
 
@@ -355,11 +379,16 @@ def _wrap(fn: Any) -> Any:
     return run
 
 
-def _model_options(p: argparse.ArgumentParser) -> None:
+def _model_options(p: argparse.ArgumentParser, model_file: bool = False) -> None:
     p.add_argument("--chain", metavar="FILE.toml", help="chain TOML file or preset name, e.g. din22252:26x92 (default: the paper's 14x50 chain)")
     p.add_argument("--variant", default="paper", help="stiffness model variant (default: paper)")
-    p.add_argument("--model", choices=("chain", "linear"), default="chain",
-                   help="stiffness model: the chain (default) or linear F = k (x - x_ref) (allows compressive force)")
+    if model_file:
+        p.add_argument("--model", default="chain", metavar="chain|linear|M.toml",
+                       help="stiffness model: the chain (default), linear F = k (x - x_ref), or an augmented model "
+                            "file written by diagnose --save-model (then --law/--params/--effect/--k do not apply)")
+    else:
+        p.add_argument("--model", choices=("chain", "linear"), default="chain",
+                       help="stiffness model: the chain (default) or linear F = k (x - x_ref) (allows compressive force)")
     p.add_argument("--k", type=float, help="linear model stiffness [N/mm] (identify: fitted from the data if omitted)")
     p.add_argument("--x-ref", dest="x_ref", type=float, default=0.0, help="linear model unloaded length offset [mm]")
     p.add_argument("--mass", type=float, default=None, help="mass m [kg] (default: the chain's / 0 for linear)")
@@ -389,7 +418,7 @@ def add_subparsers(subparsers: Any) -> None:
     s = subparsers.add_parser("simulate", help="simulate a test series into a records CSV",
                               description=cmd_simulate.__doc__)
     s.add_argument("out", help="output records CSV")
-    _model_options(s)
+    _model_options(s, model_file=True)
     s.add_argument("--plan", default="paper", help="plan CSV test,omega,x0,A (rad/s, mm, mm) or 'paper' (Table 1)")
     s.add_argument("--law", choices=LAW_NAMES, default="viscous", help="damping law (default viscous)")
     s.add_argument("--params", help="law parameters, comma separated (viscous default 2834.4 N.s/mm, Eq. 27)")

@@ -19,7 +19,7 @@ __all__ = ["main", "build_parser"]
 
 #: Modules that add their own subcommands via ``add_subparsers(subparsers)``.
 SUBCOMMAND_MODULES = ("chainid.cli.identify", "chainid.cli.gap", "chainid.cli.report", "chainid.cli.chains",
-                      "chainid.cli.dynamics")
+                      "chainid.cli.dynamics", "chainid.cli.model")
 
 
 
@@ -178,6 +178,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``chainid`` command."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:
         return int(args.func(args) or 0)
     except ValueError as exc:

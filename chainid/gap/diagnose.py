@@ -17,6 +17,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap import selection as fw
+from chainid.gap.modelio import step_fields, step_models
+from chainid.model.modelfile import model_to_dict
 from chainid.gap.interpret import interpretation, mechanism, separating_test, step_text
 from chainid.gap.prepare import Unusable, prepare_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
@@ -200,7 +202,12 @@ def diagnose(
     if final is None and verdict == "unexplained" and best is not None:
         warn.append(f"no effect passed the step rule ({fwd['stop']})")
     interp = interpretation(path, prob, verdict)
-    steps = [_step_dict(c, i) for i, c in enumerate(path)]
+    from chainid.gap.modelio import step_fields, step_models
+    from chainid.model.modelfile import model_to_dict  # (lazy: chainid.augmented imports the effect library)
+
+    steps = [_step_dict(c, i) | step_fields(prob, c) for i, c in enumerate(path)]
+    evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol, "allow_compression": bool(allow_compression or not is_chain)}
+    models = step_models({"_problem": prob, "_path": path}, {"evaluation": evaluation})
     summary = {
         "mechanism": mechanism(verdict, interp),
         "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_hold, "model": getattr(model, "name", "?"),
@@ -227,7 +234,9 @@ def diagnose(
                    "nrmse_before": base_c.per_test[d.test],
                    "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data],
     }
+    summary["model"] = model_to_dict(models[-1])  # every fitted parameter of the last step (the model file's keys)
     summary["_problem"] = prob
+    summary["_models"] = models
     summary["_best"] = final if final is not None else best
     summary["_path"] = path
     return summary

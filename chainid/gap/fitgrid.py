@@ -14,6 +14,8 @@ import numpy as np
 
 GRID1 = (0.0, 0.003, 0.01, 0.03, 0.1, 0.3, 0.6)
 GRID2 = (0.0, 0.003, 0.03, 0.2)
+#: start points of a delay over its range (± half the shortest period): spacing 1/40 of a period at ω_max
+DELAY_GRID = 40
 
 
 def starts(keys: Sequence[str], names: Sequence[str], ug: np.ndarray, fixed: np.ndarray,
@@ -44,6 +46,8 @@ def starts(keys: Sequence[str], names: Sequence[str], ug: np.ndarray, fixed: np.
         if lo[i] < 0 < hi[i]:
             z = -lo[i] / (hi[i] - lo[i])
             out += [put([z + s * g]) for g in (0.002, 0.01, 0.05, 0.15) for s in (-1, 1)]
+        if keys[i].endswith(".tau"):  # a global start for a delay: a grid over ± half the shortest period
+            out += [put([u]) for u in (np.arange(DELAY_GRID) + 0.5) / DELAY_GRID]
         if keys[i].endswith(".scale") or keys[i].endswith(".tau"):  # around the neutral value
             z = float(ug[i])
             out += [put([z * f]) for f in (0.5, 0.7, 0.85, 1.2, 1.5, 2.0, 3.0)]

@@ -18,34 +18,12 @@ from typing import Sequence
 
 import numpy as np
 
-#: law name -> number of coefficients
-LAWS: dict[str, int] = {
-    "polynomial": 5,
-    "viscous": 1,
-    "coulomb": 1,
-    "hysteretic": 1,
-    "viscous+coulomb": 2,
-    "viscous+hysteretic": 2,
-    "viscous+coulomb+hysteretic": 3,
-}
+from chainid.model.timedamping import LAWS, design  # noqa: F401  (one definition of the laws, in the model floor)
+
 #: the forms the ``damping_law`` effect tries instead of the baseline's law
 ALT_LAWS = ("viscous+hysteretic", "viscous+coulomb", "viscous+coulomb+hysteretic", "coulomb", "hysteretic")
 #: choices of ``--damping-law``
 CHOICES = ("auto", "polynomial", "viscous", "coulomb", "viscous+coulomb", "hysteretic")
-
-
-def design(kind: str, w: np.ndarray, A: np.ndarray, ke: np.ndarray) -> np.ndarray:
-    """Design matrix of law ``kind`` at ω [rad/s], A [mm], k_e [N/mm] (one row per test)."""
-    w = np.asarray(w, float)
-    A = np.asarray(A, float)
-    ke = np.asarray(ke, float)
-    one = np.ones_like(w)
-    cols = {"viscous": one, "coulomb": 4.0 / (math.pi * w * A), "hysteretic": ke / w}
-    if kind == "polynomial":
-        return np.column_stack([w**2, w, A**2, A, one])
-    if kind not in LAWS:
-        raise ValueError(f"damping law = {kind!r} is unknown; valid: {', '.join(LAWS)}")
-    return np.column_stack([cols[p] for p in kind.split("+")])
 
 
 def fit_loo(X: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

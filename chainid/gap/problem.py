@@ -24,7 +24,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from chainid.gap import law_choice as L
-from chainid.model.effects import EFFECT_NAMES, STIFFNESS_SIDE, make_effect, modify_model
+from chainid.model.effects import EFFECT_NAMES, make_effect, undamped_force
 from chainid.gap.prepare import TestData
 
 #: fewest training tests the diagnosis runs with (a 1-coefficient law + leave-one-out needs >= 2; 3 gives a spread)
@@ -202,29 +202,13 @@ class Problem:
     def _parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
         """Bin means of the undamped force [N] and of the velocity the damping acts on [mm/s]."""
         model = self.model_for(p)
-        rest = []
-        for n in names:  # stiffness-side effects change the model; the others act on the changed model
-            if n in STIFFNESS_SIDE:
-                model = modify_model(n, {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")},
-                                     model)
-            else:
-                rest.append(n)
-        names = rest
-        m = float(getattr(model, "mass_kg", 0.0))
+        eff = [(n, {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")}) for n in names]
         g = d.grid
         t, x, xd, xdd = g["t"], g["x"], g["xd"], g["xdd"]
         if "sensor_delay" in names:  # the force channel lags the whole force: evaluate everything at t − τ
             tau = float(p.get("sensor_delay.tau", 0.0))
             x, xd, xdd = d.xfun(t - tau)
-        base = m * xdd * 1e-3 + np.asarray(model.force(x), float)
-        Fn = base.copy()
-        for n in names:
-            if n in ("damping_law", "sensor_delay"):
-                continue
-            e = self.effects[n]
-            pp = {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")}
-            Fe, _, _ = e.force(pp, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun)
-            Fn += Fe - base
+        Fn = undamped_force(eff, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun)
         v = xd
         return d.gridmean(Fn), d.gridmean(v)
 

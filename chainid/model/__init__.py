@@ -1,7 +1,8 @@
 """The model of the paper's Eq. 1, F = m·ẍ + F_k(x) + c_e(ω, A)·ẋ, and what extends it: the generated kernels
 behind a numpy API (:mod:`.kernels`), base models (chain, linear spring; :mod:`.base`), the damping laws c_e(ω, A)
-(:mod:`.laws`), the Eq. 1 prediction (:mod:`.predict`), the effect library (:mod:`.effects`) and the model against
-catalogue practice (:mod:`.practice`). Units mm, N, s, MPa, kg.
+(:mod:`.laws`), the Eq. 1 prediction (:mod:`.predict`), the effect library (:mod:`.effects`), the model against
+catalogue practice (:mod:`.practice`), the causal state operators (:mod:`.operators`), time-domain damping
+(:mod:`.timedamping`), the augmented model (:mod:`.augmented`) and its file (:mod:`.modelfile`). Units mm, N, s, MPa, kg.
 """
 from __future__ import annotations
 
@@ -26,6 +27,21 @@ _LAZY = {
     "coulomb_sign": "effects",
     "stick_slip": "effects",
     "series_compliance_force": "effects",
+    "undamped_force": "effects",
+    "play": "operators",
+    "jenkins": "operators",
+    "dahl": "operators",
+    "iwan": "operators",
+    "iwan_for_loss": "operators",
+    "play_step": "operators",
+    "jenkins_step": "operators",
+    "dahl_step": "operators",
+    "iwan_step": "operators",
+    "AugmentedModel": "augmented",
+    "Damping": "timedamping",
+    "dominant": "timedamping",
+    "load_model": "modelfile",
+    "save_model": "modelfile",
     "VARIANTS": "kernels",
     "variant_module": "kernels",
     "coefficients": "kernels",

@@ -17,22 +17,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from chainid.model import operators as _ops
-
-try:  # numba for the sequential (memory) operators (a cache that never crashes); numpy fallback if absent
-    from chainid.infra.numba_cache import njit_cached as njit
-except Exception:  # pragma: no cover
-    def njit(*a: Any, **k: Any) -> Any:  # type: ignore
-        def deco(f: Any) -> Any:
-            return f
-        return deco if not (a and callable(a[0])) else a[0]
+from chainid.model import operators as ops
 
 __all__ = ["EFFECT_NAMES", "STIFFNESS_SIDE", "Effect", "make_effect", "parse_effect", "parse_spec", "modify_model",
-           "play_operator", "dahl_operator", "coulomb_sign", "stick_slip", "series_compliance_force"]
+           "play_operator", "dahl_operator", "coulomb_sign", "stick_slip", "series_compliance_force", "undamped_force"]
 
 EFFECT_NAMES = (
     "stiffness_level",
@@ -47,36 +39,8 @@ EFFECT_NAMES = (
 )
 
 
-@njit()
-def _play(x: np.ndarray, h: float) -> np.ndarray:  # pragma: no cover - numba
-    y = np.empty_like(x)
-    yi = x[0]
-    for i in range(x.size):
-        if x[i] - h > yi:
-            yi = x[i] - h
-        elif x[i] + h < yi:
-            yi = x[i] + h
-        y[i] = yi
-    return y
-
-
-@njit()
-def _dahl(x: np.ndarray, Fh: float, xh: float, z0: float) -> np.ndarray:  # pragma: no cover - numba
-    z = np.empty_like(x)
-    zi = z0
-    z[0] = zi
-    for i in range(1, x.size):
-        dx = x[i] - x[i - 1]
-        if dx > 0:
-            zi = Fh + (zi - Fh) * math.exp(-dx / xh)
-        elif dx < 0:
-            zi = -Fh + (zi + Fh) * math.exp(dx / xh)
-        z[i] = zi
-    return z
-
-
 def play_operator(x: np.ndarray, half_width: float, periodic: bool = True) -> np.ndarray:
-    """Backlash (play) operator: output follows x with a dead band ±half_width [mm].
+    """Backlash (play) operator: output follows x with a dead band ±half_width [mm] (:func:`chainid.operators.play`).
 
     With ``periodic`` the series is run twice and the second pass returned
     (steady state of a periodic input).
@@ -84,13 +48,11 @@ def play_operator(x: np.ndarray, half_width: float, periodic: bool = True) -> np
     x = np.ascontiguousarray(x, dtype=np.float64)
     if half_width <= 0:
         return x.copy()
-    if periodic:
-        return _play(np.concatenate([x, x]), float(half_width))[x.size :]
-    return _play(x, float(half_width))
+    return ops.play(x, float(half_width), periodic=periodic)
 
 
 def dahl_operator(x: np.ndarray, F_h: float, x_h: float, periodic: bool = True) -> np.ndarray:
-    """Rate-independent Dahl hysteresis force z(x) [N].
+    """Rate-independent Dahl hysteresis force z(x) [N] (:func:`chainid.operators.dahl`, z₀ = 0).
 
     dz/dx = (F_h/x_h)(1 − sgn(ẋ) z/F_h), solved exactly between samples:
     z → ±F_h exponentially over a travel x_h [mm] after each reversal.
@@ -98,28 +60,25 @@ def dahl_operator(x: np.ndarray, F_h: float, x_h: float, periodic: bool = True) 
     x = np.ascontiguousarray(x, dtype=np.float64)
     if F_h == 0:
         return np.zeros_like(x)
-    xh = max(float(x_h), 1e-9)
-    if periodic:
-        return _dahl(np.concatenate([x, x]), float(F_h), xh, 0.0)[x.size :]
-    return _dahl(x, float(F_h), xh, 0.0)
+    return ops.dahl(x, float(F_h), max(float(x_h), 1e-9), 0.0, periodic=periodic)[0]
 
 
-#: sgn(ẋ) of Coulomb sliding with 0 at a reversal (one implementation: :func:`chainid.model.operators.coulomb_sign`)
-coulomb_sign = _ops.coulomb_sign
+#: sgn(ẋ) of Coulomb sliding with 0 at a reversal (one implementation: :func:`chainid.operators.coulomb_sign`)
+coulomb_sign = ops.coulomb_sign
 
 
 def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True) -> np.ndarray:
     """Normalised Coulomb friction with elastic stick (Jenkins element), in [-1, 1].
 
     After a reversal the contact sticks elastically over a travel 2·x_s [mm]
-    before sliding again (stop operator (x − play(x, x_s))/x_s); x_s = 0 (or below
+    before sliding again (:func:`chainid.operators.jenkins` with F_c = 1); x_s = 0 (or below
     1e-4 of the stroke) gives sgn(ẋ), pure Coulomb sliding friction.
     """
     x = np.asarray(x, dtype=float)
     if x_s <= 1e-4 * (float(np.ptp(x)) if x.size else 0.0):
         # a stick travel below 1e-4 of the stroke is not resolved by any record: pure Coulomb sliding.
         return coulomb_sign(xd, periodic)
-    return (np.asarray(x, float) - play_operator(x, x_s, periodic)) / x_s
+    return ops.jenkins(x, 1.0, float(x_s), periodic=periodic)[0]
 
 
 def series_compliance_force(model: Any, x: np.ndarray, c: float, iters: int = 8) -> np.ndarray:
@@ -221,22 +180,26 @@ class Effect:
         A: float,
         x0: float,
         xfun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
+        periodic: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Undamped force [N], the velocity the damping acts on [mm/s], and an extra c_e factor.
 
         Returns ``(F_nodamp, xd_damp, extra_c)`` with the model force
-        F = F_nodamp + (c_e + extra_c)·xd_damp.
+        F = F_nodamp + (c_e + extra_c)·xd_damp.  ``periodic``: the memory operators return the periodic
+        steady state of a series that is one period (the diagnosis' phase grid); False runs them forward
+        from their stated initial state (:mod:`chainid.operators`), for any x(t).
         """
         m = float(getattr(model, "mass_kg", 0.0))
         inert = m * xdd * 1e-3
         Fk = np.asarray(model.force(x), dtype=float)
         extra = 0.0
         if self.name == "friction":
-            F = inert + Fk + (p.get("F_c", 0.0) + p.get("mu", 0.0) * np.abs(Fk)) * stick_slip(x, xd, p.get("x_s", 0.0))
+            F = inert + Fk + (p.get("F_c", 0.0) + p.get("mu", 0.0) * np.abs(Fk)) * stick_slip(x, xd, p.get("x_s", 0.0),
+                                                                                          periodic)
         elif self.name == "hysteresis":
-            F = inert + Fk + dahl_operator(x, p.get("F_h", 0.0), p.get("x_h", 1.0))
+            F = inert + Fk + dahl_operator(x, p.get("F_h", 0.0), p.get("x_h", 1.0), periodic)
         elif self.name == "backlash":
-            F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0))), dtype=float)
+            F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0), periodic)), dtype=float)
         elif self.name == "slack" and not _is_chain(model):
             F = inert + np.asarray(model.force(x - p.get("s", 0.0)), dtype=float)
         elif self.name == "machine_compliance" and not _is_chain(model):
@@ -259,6 +222,33 @@ class Effect:
         return F, xd, np.full_like(t, extra)
 
 
+def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, t: np.ndarray, x: np.ndarray,
+                   xd: np.ndarray, xdd: np.ndarray, omega: float, A: float, x0: float,
+                   xfun: Callable | None = None, periodic: bool = True) -> np.ndarray:
+    """Undamped model force [N] of an ordered effect set on a stiffness model (paper Eq. 1 without c_e·ẋ).
+
+    The one place where effects are composed (the diagnosis and :class:`chainid.augmented.AugmentedModel`):
+    stiffness-side effects change the model (:func:`modify_model`), the others add their force change on the
+    changed model.  ``sensor_delay`` and ``damping_law`` are not force terms here: the caller evaluates the
+    inputs at t − τ and the damping law.  Units: t s, x mm, ẋ mm/s, ẍ mm/s², ω rad/s, A mm, x0 mm.
+    """
+    rest = []
+    for n, pp in effects:
+        if n in STIFFNESS_SIDE and _is_chain(model):  # (a linear spring: slack/compliance as force terms)
+            model = modify_model(n, pp, model)
+        else:
+            rest.append((n, pp))
+    m = float(getattr(model, "mass_kg", 0.0))
+    base = m * xdd * 1e-3 + np.asarray(model.force(x), float)
+    Fn = base.copy()
+    for n, pp in rest:
+        if n in ("damping_law", "sensor_delay"):
+            continue
+        Fe, _, _ = make_effect(n).force(pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic)
+        Fn += Fe - base
+    return Fn
+
+
 def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max: float = 10.0) -> Effect:
     """The library entry ``name`` with bounds set from the data scales.
 
@@ -271,7 +261,8 @@ def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max
     x_scale : float
         Displacement scale, e.g. the largest amplitude [mm] (> 0).
     omega_max : float
-        Largest test frequency [rad/s] (> 0); bounds the delay to a quarter period.
+        Largest test frequency [rad/s] (> 0); bounds the delay to ± half its period (π/ω_max): a lag up to
+        half the shortest period is found (the fit starts from a grid over that range, :mod:`.fitgrid`).
     """
     if name not in EFFECT_NAMES:
         raise ValueError(f"effect = {name!r} is unknown; valid: {', '.join(EFFECT_NAMES)}")
@@ -304,7 +295,7 @@ def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max
                       chain_only=True,
                       description="contact compliance c_hertz·scale with exponent beta (Hertz: 1, 2/3)")
     if name == "sensor_delay":
-        q = 0.5 * math.pi / max(omega_max, 1e-9)
+        q = math.pi / max(omega_max, 1e-9)  # ± half the shortest period
         return Effect(name, ("tau",), ("s",), ((-q, q),), (0.0,),
                       description="force channel lags displacement by tau")
     return Effect(name, ("eta", "F_f"), ("-", "N"), ((0.0, 2.0), (0.0, 5 * F_scale)), (0.0, 0.0),

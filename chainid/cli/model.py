@@ -1,0 +1,152 @@
+"""CLI: ``chainid predict MODEL DATA`` and the model-file outputs of ``diagnose`` (``--save-model``, ``--save-steps``).
+
+``chainid predict M.toml DATA.csv [--tests IDS] [--fitted-damping] [--json F] [--plots DIR]`` prints per-test
+and pooled NRMSE of the model file's baseline and of the model, and the shrinkage (see
+:mod:`chainid.gap.modelio` for how each record is evaluated).
+"""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import sys
+from pathlib import Path
+from typing import Any, Sequence
+
+#: figure names of ``predict --plots`` per test (overlay and residual over t and over x)
+PLOT_NAME = "predict_{test}.png"
+
+
+def step_paths(path: str | Path, n_steps: int) -> list[Path]:
+    """``M.toml`` → ``M.step0.toml``, ``M.step1.toml`` … (one file per step of the explanation chain)."""
+    p = Path(path)
+    return [p.with_name(f"{p.stem}.step{i}{p.suffix}") for i in range(n_steps)]
+
+
+def check_model_targets(path: str | None, save_steps: bool, force: bool, max_steps: int = 4) -> None:
+    """Check the ``--save-model`` target (and the step files it may write) before the diagnosis runs."""
+    if not path:
+        if save_steps:
+            raise ValueError("--save-steps needs --save-model M.toml (the step files are named after it)")
+        return
+    from chainid.infra.fileio import check_output_file
+
+    if Path(path).suffix.lower() not in (".toml", ".json"):
+        raise ValueError(f"--save-model {path!r}: the model file name must end in .toml or .json")
+    check_output_file(path, force=force, what="--save-model")
+    if save_steps:
+        for p in step_paths(path, max_steps):
+            check_output_file(p, force=force, what="--save-steps")
+
+
+def save_models(res: dict[str, Any], path: str, save_steps: bool, data_file: str,
+                argv: Sequence[str] | None, force: bool) -> list[Path]:
+    """Write the chosen chain's model to ``path`` (and every step's model with ``save_steps``)."""
+    from chainid.gap.modelio import provenance
+    from chainid.model.modelfile import save_model
+
+    cmd = "chainid " + " ".join(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
+    prov = provenance(data_file, cmd)
+    models = res["_models"]
+    for m in models:
+        m.info["provenance"] = prov
+    out = [save_model(models[-1], path, overwrite=force)]
+    if save_steps:
+        out += [save_model(m, p, overwrite=force) for m, p in zip(models, step_paths(path, len(models)))]
+    return out
+
+
+def cmd_predict(args: argparse.Namespace) -> int:
+    """``chainid predict``: a saved model on records → per-test and pooled NRMSE of baseline and model."""
+    from chainid.infra.fileio import check_output_dir, check_output_file, write_json
+    from chainid.gap.modelio import predict
+    from chainid.model.modelfile import load_model
+    from chainid.records import read_records
+
+    try:
+        if args.json:
+            check_output_file(args.json, force=args.force, what="--json")
+        if args.plots:
+            check_output_dir(args.plots, "--plots", (), force=args.force)
+        model = load_model(args.model)
+        recs = read_records(args.data, validate=False)
+        tests = [s.strip() for s in args.tests.split(",") if s.strip()] if args.tests else None
+        res = predict(model, recs, tests, fitted=args.fitted_damping, keep=bool(args.plots))
+        print(_table(res))
+        if args.json:
+            write_json({k: v for k, v in res.items() if not k.startswith("_")}, args.json, force=args.force)
+            print(f"wrote {args.json}")
+        if args.plots:
+            for p in plot_predictions(res["_series"], args.plots, force=args.force):
+                print(f"wrote {p}")
+    except ValueError as exc:
+        print(f"chainid predict: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def _table(res: dict[str, Any]) -> str:
+    def f(v: Any) -> str:
+        return "-" if v is None else f"{v:.4g}"
+
+    rows = [f"{'test':>8}  {'mode':>12}  {'NRMSE base':>10}  {'NRMSE model':>11}  {'shrinkage':>9}"]
+    for r in res["tests"]:
+        rows.append(f"{r['test']:>8}  {r['mode']:>12}  {f(r['nrmse_baseline']):>10}  {f(r['nrmse_model']):>11}  "
+                    f"{f(r['shrinkage']):>9}")
+    p = res["pooled"]
+    rows.append(f"{'pooled':>8}  {'':>12}  {f(p['nrmse_baseline']):>10}  {f(p['nrmse_model']):>11}  "
+                f"{f(p['shrinkage']):>9}   (damping: {res['damping_used']})")
+    return "\n".join(rows)
+
+
+def plot_predictions(series: dict[str, Any], outdir: str, force: bool = False) -> list[Path]:
+    """Per test: measured and predicted force over t and over x, and the residual over t and over x (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from chainid.infra.fileio import save_figure
+
+    out = []
+    d = Path(outdir)
+    d.mkdir(parents=True, exist_ok=True)
+    for test, (t, x, F, Fm, Fb) in series.items():
+        fig, ax = plt.subplots(2, 2, figsize=(10, 7))
+        ax[0, 0].plot(t, F, ".", ms=2, color="0.6", label="measured")
+        ax[0, 0].plot(t, Fb, "-", lw=1, label="baseline")
+        ax[0, 0].plot(t, Fm, "-", lw=1, label="model")
+        ax[0, 0].set(xlabel="t [s]", ylabel="F [N]", title=f"test {test}: force over time")
+        ax[0, 0].legend(fontsize=8)
+        ax[1, 0].plot(t, F - Fb, ".", ms=2, label="baseline")
+        ax[1, 0].plot(t, F - Fm, ".", ms=2, label="model")
+        ax[1, 0].set(xlabel="t [s]", ylabel="residual [N]", title="residual over time")
+        ax[1, 0].legend(fontsize=8)
+        ax[0, 1].plot(x, F, ".", ms=2, color="0.6", label="measured")
+        ax[0, 1].plot(x, Fb, ".", ms=1, label="baseline")
+        ax[0, 1].plot(x, Fm, ".", ms=1, label="model")
+        ax[0, 1].set(xlabel="x [mm]", ylabel="F [N]", title="force over x")
+        ax[1, 1].plot(x, F - Fb, ".", ms=2, label="baseline")
+        ax[1, 1].plot(x, F - Fm, ".", ms=2, label="model")
+        ax[1, 1].set(xlabel="x [mm]", ylabel="residual [N]", title="residual over x")
+        fig.tight_layout()
+        p = d / PLOT_NAME.format(test="".join(c if c.isalnum() or c in "-_." else "_" for c in str(test)))
+        save_figure(fig, p, force=force, dpi=90)
+        plt.close(fig)
+        out.append(p)
+    return out
+
+
+def add_subparsers(subparsers: Any) -> None:
+    """Add ``predict`` to the chainid CLI."""
+    p = subparsers.add_parser("predict", help="a saved model (diagnose --save-model) on records: NRMSE and shrinkage",
+                              description=cmd_predict.__doc__)
+    p.add_argument("model", help="model file (TOML or JSON) written by diagnose --save-model")
+    p.add_argument("data", help="records CSV test,t,x,F (s, mm, N)")
+    p.add_argument("--tests", metavar="IDS", help="only these test ids, comma separated (e.g. the held-out ones)")
+    p.add_argument("--fitted-damping", dest="fitted_damping", action="store_true",
+                   help="use the per-test c_e the law was fitted on for those tests (default: the law for every test)")
+    p.add_argument("--json", metavar="FILE", help="write the JSON result")
+    p.add_argument("--plots", metavar="DIR", help="write overlay/residual figures (over t and over x) per test")
+    p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots files")
+    p.set_defaults(func=cmd_predict)
