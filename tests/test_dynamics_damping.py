@@ -143,8 +143,8 @@ def test_segment_model_hysteretic_loop_is_the_structural_damping_energy(tmp_path
     """form = hysteretic (η·k, x_max, n): the specimen dissipates π·η·k·A² per steady cycle (A = x_max/2, n even)."""
     from chainid.dynamics.segment_model import segment_kwargs
     eta_k, x_max = 400.0, 0.4
-    kw = segment_kwargs(_model_file(tmp_path, "hysteretic", f"eta_k = {eta_k}\nx_max = {x_max}\nn = 8"))
-    assert kw["damping_ref_links"] == 16 and len(kw["hysteresis"]) == 8
+    kw, notes = segment_kwargs(_model_file(tmp_path, "hysteretic", f"eta_k = {eta_k}\nx_max = {x_max}\nn = 8"))
+    assert kw["damping_ref_links"] == 16 and len(kw["hysteresis"]) == 8 and notes == []
     F0 = float(kernels.force(X0, kw["chain"]))
     line = ChainLine(n_links=16, n_masses=1, pretension_N=F0, far_end="fixed", lumping="drive", **kw)
     w, Amp = 2.0, x_max / 2
@@ -173,3 +173,30 @@ def test_cli_segment_model(tmp_path, capsys):
     bad = _model_file(tmp_path, "dahl", "F_h = 10.0\nx_h = 0.05", "dahl.toml")
     assert main(argv[:-3] + ["--segment-model", str(bad), "--quiet"]) == 2
     assert "damping form 'dahl' is not supported" in capsys.readouterr().err
+
+
+def test_segment_model_law_needs_and_uses_its_operating_point(tmp_path, capsys):
+    """An identified law c_e = p_1·4/(π ω A) (Coulomb-equivalent): resolved (rule viscous) at the stated ω, A."""
+    from chainid.cli import main
+    from chainid.dynamics.segment_model import segment_kwargs
+    p = tmp_path / "law.toml"
+    p.write_text(MODEL.replace('form = "{form}"\n[damping.params]\n{params}\n',
+                               'form = "law"\nlaw = "coulomb"\ncoefficients = [50.0]\nrule = "viscous"\n'))
+    kw, notes = segment_kwargs(p, pretension_N=2000.0, omega=40.0, amplitude=0.2)
+    assert kw["damping"] == pytest.approx(50.0 * 4 / (math.pi * 40.0 * 0.2), rel=1e-12)
+    assert "resolved" in notes[0]
+    argv = ["dynamics", "--links", "64", "--masses", "4", "--pretension", "2000", "--t-end", "0.05",
+            "--segment-model", str(p), "--quiet"]
+    assert main(argv) == 2
+    assert "operating point" in capsys.readouterr().err
+    assert main(argv + ["--segment-omega", "40", "--segment-amplitude", "0.2"]) == 0
+    assert "note: damping law 'coulomb' resolved" in capsys.readouterr().err
+
+
+def test_segment_model_refuses_a_modified_kernel(tmp_path):
+    from chainid.dynamics.segment_model import segment_kwargs
+    p = tmp_path / "slack.toml"
+    p.write_text(MODEL.format(form="viscous", params="c = 2.0").replace('variant = "paper"',
+                                                                         'variant = "paper"\nslack = 0.1'))
+    with pytest.raises(ValueError, match=r"kernel modifiers \['slack'\]"):
+        segment_kwargs(p)

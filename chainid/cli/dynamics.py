@@ -73,6 +73,11 @@ def add_subparsers(subparsers: Any) -> None:
                    help="diagnosed model file (issue 17) of the tested specimen: its chain, kernel variant and "
                         "time-domain damping go into every segment, scaled in series (see "
                         "chainid.dynamics.segment_model)")
+    g.add_argument("--segment-omega", dest="seg_omega", type=float, metavar="RAD_S",
+                   help="operating circular frequency of a model file's damping law (e.g. the first natural "
+                        "frequency or the polygon frequency 2*pi*v/p)")
+    g.add_argument("--segment-amplitude", dest="seg_amplitude", type=float, metavar="MM",
+                   help="operating elongation amplitude of the specimen for a model file's damping law [mm]")
     g.add_argument("--damping-ref-links", dest="ref_links", type=int, metavar="N",
                    help="links of the specimen the damping data belong to (default: the chain file's n)")
     g.add_argument("--hysteresis", action="append", type=_element, default=[], metavar="K:F",
@@ -173,13 +178,19 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
 
     sweeping = any(v is not None for v in (args.sw_p, args.sw_v, args.sw_n))
     _check_args(args, sweeping)
+    seg_notes: list[str] = []
     kw = dict(pretension_N=args.pretension, far_end=args.far_end, tensioner_stiffness=args.kt,
               resistance_N=args.resistance, loads=tuple(args.load))
     if args.segment_model:
         from chainid.dynamics.segment_model import segment_kwargs
 
-        kw.update(segment_kwargs(args.segment_model))
+        seg, notes = segment_kwargs(args.segment_model, pretension_N=args.pretension, omega=args.seg_omega,
+                                    amplitude=args.seg_amplitude)
+        kw.update(seg)
         chain = kw["chain"]
+        for m in notes:
+            print(f"note: {m}", file=sys.stderr)
+        seg_notes = notes
     else:
         chain = load_chain(args.chain)
         kw.update(chain=chain, variant=args.variant, damping=args.damping, damping_ref_links=args.ref_links,
@@ -191,7 +202,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
     drive = Drive(args.drive, v=args.speed, t_ramp=args.t_ramp, A=args.amplitude, omega=args.omega, z=args.teeth)
     sim_kw = dict(dt=args.dt, scheme=args.scheme, peak_force=args.peak_force, refine=args.refine,
                   strict=args.strict, max_memory=args.max_memory * 1024**3, max_work=args.max_work)
-    doc: dict[str, Any] = {"segment_model": args.segment_model,
+    doc: dict[str, Any] = {"segment_model": args.segment_model, "segment_model_notes": seg_notes,
                            "line": {k: v for k, v in dataclasses.asdict(line).items() if k not in ("chain", "loads")},
                            "chain": chain.to_dict(), "drive": dataclasses.asdict(drive),
                            "loads": [dataclasses.asdict(ld) for ld in line.loads]}

@@ -1,129 +1,129 @@
 """A diagnosed model file (issue 17) as the segments of a chain line: ``chainid dynamics --segment-model M.toml``.
 
-The model file describes one *specimen* (the tested piece of chain of n_ref = ``base.chain.n`` links):
-its chain kernel (``base``), memory effects and a time-domain damping.  Every segment of the chain line
-carries the same physics, scaled in series (springs and dampers in series: a segment of n_s links carries
-the specimen's force at n_s/n_ref times its elongation, so every compliance scales by n_s/n_ref and every
-force is unchanged; see :class:`chainid.dynamics.model.ChainLine`):
+The file is read by the one loader, :func:`chainid.model.modelfile.load_model` (an
+:class:`~chainid.model.augmented.AugmentedModel`).  It describes one *specimen* (the tested piece of chain
+of n_ref = ``base.chain.n`` links): its chain kernel, memory effects and a time-domain damping.  Every
+segment of the chain line carries the same physics, scaled in series (springs and dampers in series: a
+segment of n_s links carries the specimen's force at n_s/n_ref times its elongation, so every compliance
+scales by n_s/n_ref and every force is unchanged; see :class:`chainid.dynamics.model.ChainLine`):
 
-==================================  ==================================================================
-model file                          segment (specimen values; scaled by ChainLine)
-==================================  ==================================================================
-``base.model = "chain"``            chain spec and kernel variant of the line; n_ref = base.chain.n
-``damping.form = "viscous"`` c      viscous c [N·s/mm] (``damping``)
-``damping.form = "hysteretic"``     Iwan elements of :func:`chainid.model.operators.iwan_for_loss`
-  eta_k, x_max, n                   (F_c,i, x_s,i) → Jenkins (k = F_c/x_s, f = F_c) (``hysteresis``)
-``damping.form = "coulomb"``        Coulomb with stick: f = F_c, stick stiffness F_c/x_s (x_s = 0: rigid
-  F_c, x_s                          stick, regularised by the specimen's link stiffness 1/c_lin)
-``effects`` ``friction``            the same Jenkins element (mu = 0 only: a load-dependent friction
-  F_c, x_s, mu                      force is not a segment element)
-==================================  ==================================================================
+=====================================  ===============================================================
+model                                  segment (specimen values; scaled by ChainLine)
+=====================================  ===============================================================
+chain base (spec, variant)             the line's chain and kernel variant; n_ref = base.chain.n
+damping ``viscous`` c                  viscous c [N·s/mm] (``damping``)
+damping ``hysteretic`` η·k, x_max, n   Iwan elements of :func:`chainid.model.operators.iwan_for_loss`,
+                                       (F_c,i, x_s,i) → Jenkins (k = F_c/x_s, f = F_c) (``hysteresis``)
+damping ``coulomb`` F_c, x_s           Jenkins element; x_s = 0 (rigid stick): Coulomb with the
+                                       specimen's link stiffness as stick stiffness (``coulomb_N``)
+damping ``law`` (identified c_e)       resolved by the model's own rule (:meth:`Damping.resolve`) at a
+                                       stated operating point ω [rad/s], A [mm] (``omega``, ``amplitude``)
+effect ``friction`` F_c, x_s (mu = 0)  the same Jenkins element
+=====================================  ===============================================================
 
-Refused with a message naming the key: a linear base, kernel modifiers and stiffness-side effects (the
-segments carry the generated chain kernel), Dahl hysteresis (no segment form; use ``hysteretic``), an
-identified ``law`` (c_e(ω, A) has no meaning in a transient: convert it to a time-domain form first), the
-mass and the delay are not used (segment masses come from the chain, a sensor lag is not dynamics).
+Refused with a message naming the part: a linear base, kernel modifiers and stiffness-side effects (the
+segments carry the generated chain kernel), Dahl hysteresis, load-dependent friction (mu > 0).  The rule
+``hysteretic``'s compensating spring k_comp (it cancels the Iwan elements' in-phase stiffness on one
+harmonic cycle) is not carried: reported in the returned notes.  The model's mass and delay are not used
+(the segment masses come from the chain; a channel lag is a property of the rig, not of the chain).
 """
 from __future__ import annotations
 
-import json
 import math
-import tomllib
 from pathlib import Path
 from typing import Any
 
-from chainid.chain.spec import chain_from_mapping
+from chainid.model import kernels
+from chainid.model.modelfile import load_model
 from chainid.model.operators import iwan_for_loss
 
-__all__ = ["segment_kwargs", "read_model_file"]
+__all__ = ["segment_kwargs"]
 
-_STIFFNESS_SIDE = ("slack", "compliance", "hertz_scale", "contact_exponent", "contact_ref_force", "ea_scale")
-
-
-def read_model_file(path: str | Path) -> dict[str, Any]:
-    """The model file's dict (TOML, or JSON by the ``.json`` suffix), checked for format_version 1."""
-    p = Path(path)
-    if not p.is_file():
-        raise ValueError(f"--segment-model {str(p)!r}: not an existing file")
-    try:
-        d = json.loads(p.read_text(encoding="utf-8")) if p.suffix.lower() == ".json" else \
-            tomllib.loads(p.read_text(encoding="utf-8"))
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise ValueError(f"--segment-model {str(p)!r}: not a readable model file ({exc})") from None
-    if d.get("format_version") != 1:
-        raise ValueError(f"{p}: format_version = {d.get('format_version')!r} is not supported; valid: 1")
-    units = d.get("units", {"length": "mm", "force": "N", "time": "s", "mass": "kg"})
-    if units.get("length", "mm") != "mm" or units.get("force", "N") != "N":
-        raise ValueError(f"{p}: units = {units!r}; valid: length mm, force N")
-    return d
+#: kernel modifiers of a chain base and their neutral values (chainid.model.base.ChainModel)
+_MODIFIERS = {"slack": 0.0, "compliance": 0.0, "hertz_scale": 1.0, "contact_exponent": None, "ea_scale": 1.0}
 
 
-def _num(d: dict[str, Any], key: str, where: str, default: float | None = None) -> float:
-    v = d.get(key, default)
-    if v is None or isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-        raise ValueError(f"{where}.{key} = {v!r} is invalid: valid range a finite number >= 0")
-    return float(v)
-
-
-def segment_kwargs(path: str | Path) -> dict[str, Any]:
-    """Keyword arguments of :class:`~chainid.dynamics.model.ChainLine` from a model file (see the module docstring).
-
-    Returns
-    -------
-    dict
-        ``chain``, ``variant``, ``damping_ref_links`` (n_ref), ``damping`` [N·s/mm], ``hysteresis``
-        ((k [N/mm], f [N]), ...), ``coulomb_N`` [N], ``coulomb_stiffness`` [N/mm] or None.
-    """
-    d = read_model_file(path)
-    src = str(path)
-    base = d.get("base", {})
-    if base.get("model") != "chain":
-        raise ValueError(f"{src}: base.model = {base.get('model')!r}; dynamics segments need a chain base "
-                         "(the generated kernel of a chain spec)")
-    mods = [k for k in _STIFFNESS_SIDE if base.get(k) is not None]
-    if mods:
-        raise ValueError(f"{src}: base kernel modifiers {mods} are not supported by dynamics segments "
-                         "(they carry the unmodified chain kernel)")
-    chain = chain_from_mapping(dict(base.get("chain", {})), source=f"{src}: base.chain")
-    out: dict[str, Any] = {"chain": chain, "variant": str(base.get("variant", "paper")),
-                           "damping_ref_links": int(chain.n), "damping": 0.0, "hysteresis": (),
-                           "coulomb_N": 0.0, "coulomb_stiffness": None}
-    els: list[tuple[float, float]] = []
-    for i, eff in enumerate(d.get("effects", [])):
-        name, p = eff.get("name"), eff.get("params", {})
-        where = f"{src}: effects[{i}] ({name})"
-        if name != "friction":
-            raise ValueError(f"{where}: effect {name!r} is not supported by dynamics segments; valid: friction "
-                             "(with mu = 0)")
-        if _num(p, "mu", where, 0.0) != 0.0:
-            raise ValueError(f"{where}: mu = {p['mu']!r}; a load-dependent friction is not a segment element "
-                             "(valid: mu = 0)")
-        F_c, x_s = _num(p, "F_c", where), _num(p, "x_s", where, 0.0)
-        if F_c > 0:
-            _add(out, els, F_c, x_s)
-    dmp = d.get("damping", {"form": "none"})
-    form, p = dmp.get("form", "none"), dmp.get("params", {})
-    where = f"{src}: damping ({form})"
-    if form == "viscous":
-        out["damping"] = _num(p, "c", where)
-    elif form == "hysteretic":
-        n = int(p.get("n", 32))
-        F_c, x_s = iwan_for_loss(_num(p, "eta_k", where), _num(p, "x_max", where), n)
-        els += [(float(f) / float(x), float(f)) for f, x in zip(F_c, x_s) if f > 0]
-    elif form == "coulomb":
-        _add(out, els, _num(p, "F_c", where), _num(p, "x_s", where, 0.0))
-    elif form != "none":
-        raise ValueError(f"{where}: damping form {form!r} is not supported by dynamics segments; valid: none, "
-                         "viscous, hysteretic, coulomb (convert a law or a Dahl model to one of them)")
-    out["hysteresis"] = tuple(els)
-    return out
-
-
-def _add(out: dict[str, Any], els: list[tuple[float, float]], F_c: float, x_s: float) -> None:
+def _add_jenkins(out: dict[str, Any], els: list[tuple[float, float]], F_c: float, x_s: float, where: str) -> None:
     """A Jenkins element (x_s > 0) or, for a rigid stick (x_s = 0), the line's Coulomb element."""
+    if F_c <= 0:
+        return
     if x_s > 0:
         els.append((F_c / x_s, F_c))
     elif out["coulomb_N"] > 0:
-        raise ValueError("two Coulomb elements with rigid stick (x_s = 0) in one model; valid: one")
+        raise ValueError(f"{where}: a second Coulomb element with rigid stick (x_s = 0); valid: one")
     else:
         out["coulomb_N"] = F_c
+
+
+def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float | None = None,
+                   amplitude: float | None = None) -> tuple[dict[str, Any], list[str]]:
+    """ChainLine keyword arguments of a model file, and notes (see the module docstring).
+
+    Parameters
+    ----------
+    path : str or Path
+        The model file (TOML or JSON).
+    pretension_N : float
+        The line's pretension [N]: the specimen's mean elongation x0 and tangent k_e for a ``law``.
+    omega, amplitude : float, optional
+        Operating point of a ``law`` damping: circular frequency [rad/s] (> 0) and the specimen's elongation
+        amplitude [mm] (> 0); required for a law (c_e(ω, A) has no meaning in a transient).
+
+    Returns
+    -------
+    (dict, list of str)
+        ``chain``, ``variant``, ``damping_ref_links``, ``damping`` [N·s/mm], ``hysteresis``
+        ((k [N/mm], f [N]), ...), ``coulomb_N`` [N]; and notes for the user.
+    """
+    src = f"--segment-model {str(path)!r}"
+    m = load_model(path)
+    base = m.base
+    if not hasattr(base, "hertz_scale"):
+        raise ValueError(f"{src}: base {getattr(base, 'name', base)!r}; dynamics segments need a chain base "
+                         "(the generated kernel of a chain spec)")
+    mods = [k for k, neutral in _MODIFIERS.items() if getattr(base, k, neutral) != neutral]
+    if mods:
+        raise ValueError(f"{src}: base kernel modifiers {mods} are not supported by dynamics segments "
+                         "(they carry the unmodified chain kernel)")
+    chain = base.chain
+    out: dict[str, Any] = {"chain": chain, "variant": base.variant, "damping_ref_links": int(chain.n),
+                           "damping": 0.0, "hysteresis": (), "coulomb_N": 0.0}
+    notes: list[str] = []
+    els: list[tuple[float, float]] = []
+    for name, p in m.effects:
+        where = f"{src}: effect {name!r}"
+        if name != "friction":
+            raise ValueError(f"{where} is not supported by dynamics segments; valid: friction (with mu = 0)")
+        if p.get("mu", 0.0) != 0.0:
+            raise ValueError(f"{where}: mu = {p['mu']!r}; a load-dependent friction is not a segment element "
+                             "(valid: mu = 0)")
+        _add_jenkins(out, els, p.get("F_c", 0.0), p.get("x_s", 0.0), where)
+    d = m.damping
+    if d.form == "law":
+        for name, v in (("omega", omega), ("amplitude", amplitude)):
+            if v is None or not (math.isfinite(v) and v > 0):
+                raise ValueError(f"{src}: the damping is an identified law c_e(ω, A); give its operating point: "
+                                 f"{name} = {v!r} is invalid: valid range > 0 (--segment-omega rad/s, "
+                                 "--segment-amplitude mm)")
+        x0 = float(kernels.displacement(pretension_N, chain, base.variant)) if pretension_N > 0 else 0.0
+        ke = d.k_e if d.k_e is not None else float(kernels.stiffness(max(x0, 1e-6), chain, base.variant))
+        d = d.resolve(float(omega), float(amplitude), ke, x0=x0)
+        notes.append(f"damping law {m.damping.law!r} resolved by rule {m.damping.rule!r} at omega = {omega:g} rad/s, "
+                     f"A = {amplitude:g} mm, k_e = {ke:.6g} N/mm: {d.form} {d.params}")
+    p = d.params
+    where = f"{src}: damping ({d.form})"
+    if d.form == "viscous":
+        out["damping"] = float(p.get("c", 0.0))
+    elif d.form == "hysteretic":
+        F_c, x_s = iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", 32)))
+        els += [(float(f) / float(x), float(f)) for f, x in zip(F_c, x_s) if f > 0]
+        if p.get("k_comp", 0.0):
+            notes.append(f"the hysteretic rule's compensating spring k_comp = {p['k_comp']:.6g} N/mm is not carried "
+                         "by dynamics segments: the Iwan elements keep their in-phase stiffness")
+    elif d.form == "coulomb":
+        _add_jenkins(out, els, p.get("F_c", 0.0), p.get("x_s", 0.0), where)
+    elif d.form != "none":
+        raise ValueError(f"{where}: damping form {d.form!r} is not supported by dynamics segments; valid: none, "
+                         "viscous, hysteretic, coulomb, law (Dahl: convert to hysteretic)")
+    out["hysteresis"] = tuple(els)
+    return out, notes
