@@ -196,8 +196,7 @@ def _record(k, t, S, m, epre, cl, ch, hf, hx, code, p, W, D, t_out, T_out, Fd_ou
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
         dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, dt_explicit, t_out, T_out, Fd_out, u_out, v_out,
-        en_out,
-        stats, kind=0):
+        en_out, stats, kind=0):
     """Integrate ``n_steps`` steps of ``dt`` [s] (see the module docstring); returns (status, peak [N]).
 
     status 0: done; 1: non-finite state (stopped at the last good output); 2: Newton did not converge at the
@@ -268,6 +267,10 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, epre, res, veps, load_node, load_
                 dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, 0)
                 ok = True
                 n_fb += 1
+                if has_res:  # the implicit state's forces and acceleration include the resistance
+                    _external(t1, X[0], X[1], res, veps, load_node, load_F, load_t, tens, Ft, kt, X[5], True)
+                    for i in range(1, last + 1):
+                        X[2][i] = (X[6][i - 1] - (X[6][i] if i < N else 0.0) + X[5][i]) * inv[i]
             if not ok:
                 status = 2
                 break
