@@ -14,15 +14,15 @@ chain base (spec, variant)             the line's chain and kernel variant; n_re
 damping ``viscous`` c                  viscous c [N·s/mm] (``damping``)
 damping ``hysteretic`` η·k, x_max, n   Iwan elements of :func:`chainid.model.operators.iwan_for_loss`,
                                        (F_c,i, x_s,i) → Jenkins (k = F_c/x_s, f = F_c) (``hysteresis``)
-damping ``coulomb`` F_c, x_s           Jenkins element; x_s = 0 (rigid stick): Coulomb with the
-                                       specimen's link stiffness as stick stiffness (``coulomb_N``)
+damping ``coulomb`` F_c, x_s           Jenkins element; a stick stiffer than the specimen's link (x_s = 0
+                                       included): Coulomb with the link stiffness as stick (``coulomb_N``)
 damping ``law`` (identified c_e)       resolved by the model's own rule (:meth:`Damping.resolve`) at a
                                        stated operating point ω [rad/s], A [mm] (``omega``, ``amplitude``)
-effect ``friction`` F_c, x_s (mu = 0)  the same Jenkins element
+effect ``friction`` F_c, x_s, mu      the same Jenkins element, slip force F_c + mu·pretension
 =====================================  ===============================================================
 
 Refused with a message naming the part: a linear base, kernel modifiers and stiffness-side effects (the
-segments carry the generated chain kernel), Dahl hysteresis, load-dependent friction (mu > 0).  The rule
+segments carry the generated chain kernel), Dahl hysteresis.  The rule
 ``hysteretic``'s compensating spring k_comp (it cancels the Iwan elements' in-phase stiffness on one
 harmonic cycle) is not carried: reported in the returned notes.  The model's mass and delay are not used
 (the segment masses come from the chain; a channel lag is a property of the rig, not of the chain).
@@ -43,16 +43,24 @@ __all__ = ["segment_kwargs"]
 _MODIFIERS = {"slack": 0.0, "compliance": 0.0, "hertz_scale": 1.0, "contact_exponent": None, "ea_scale": 1.0}
 
 
-def _add_jenkins(out: dict[str, Any], els: list[tuple[float, float]], F_c: float, x_s: float, where: str) -> None:
-    """A Jenkins element (x_s > 0) or, for a rigid stick (x_s = 0), the line's Coulomb element."""
+def _add_jenkins(out: dict[str, Any], els: list[tuple[float, float]], F_c: float, x_s: float, where: str,
+                 k_link: float, notes: list[str]) -> None:
+    """A Jenkins element, or the line's Coulomb element for a stick stiffer than the link (x_s = 0 included).
+
+    A stick stiffness F_c/x_s above the specimen's link stiffness k_link = 1/c_lin is not resolved by a time
+    step the chain itself allows (it would shrink dt_stable by √(k/k_link)): such a stick is the Coulomb
+    element with stick stiffness k_link (a note says so).
+    """
     if F_c <= 0:
         return
-    if x_s > 0:
+    if x_s > 0 and F_c / x_s <= k_link:
         els.append((F_c / x_s, F_c))
-    elif out["coulomb_N"] > 0:
-        raise ValueError(f"{where}: a second Coulomb element with rigid stick (x_s = 0); valid: one")
-    else:
-        out["coulomb_N"] = F_c
+        return
+    if out["coulomb_N"] > 0:
+        raise ValueError(f"{where}: a second Coulomb element with a (near-)rigid stick; valid: one")
+    out["coulomb_N"] = F_c
+    notes.append(f"{where}: stick travel x_s = {x_s:.3g} mm is stiffer than the link ({k_link:.4g} N/mm): Coulomb "
+                 f"friction {F_c:.6g} N with the link stiffness as stick stiffness")
 
 
 def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float | None = None,
@@ -90,14 +98,17 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
                            "damping": 0.0, "hysteresis": (), "coulomb_N": 0.0}
     notes: list[str] = []
     els: list[tuple[float, float]] = []
+    k_link = 1.0 / float(kernels.coefficients(chain, base.variant)[0])  # N/mm: the specimen's link stiffness
     for name, p in m.effects:
         where = f"{src}: effect {name!r}"
         if name != "friction":
-            raise ValueError(f"{where} is not supported by dynamics segments; valid: friction (with mu = 0)")
-        if p.get("mu", 0.0) != 0.0:
-            raise ValueError(f"{where}: mu = {p['mu']!r}; a load-dependent friction is not a segment element "
-                             "(valid: mu = 0)")
-        _add_jenkins(out, els, p.get("F_c", 0.0), p.get("x_s", 0.0), where)
+            raise ValueError(f"{where} is not supported by dynamics segments; valid: friction")
+        F_c = p.get("F_c", 0.0)
+        if p.get("mu", 0.0):
+            F_c += p["mu"] * pretension_N
+            notes.append(f"{where}: the load-dependent part mu·|F_k| (mu = {p['mu']:.4g}) is taken at the "
+                         f"pretension: slip force {F_c:.6g} N")
+        _add_jenkins(out, els, F_c, p.get("x_s", 0.0), where, k_link, notes)
     d = m.damping
     if d.form == "law":
         for name, v in (("omega", omega), ("amplitude", amplitude)):
@@ -114,6 +125,10 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
     where = f"{src}: damping ({d.form})"
     if d.form == "viscous":
         out["damping"] = float(p.get("c", 0.0))
+        if not out["damping"] >= 0:
+            at = f" at omega = {omega:g} rad/s, A = {amplitude:g} mm" if m.damping.form == "law" else ""
+            raise ValueError(f"{where}: c = {out['damping']:.6g} N·s/mm{at} is invalid: valid range >= 0 (a law "
+                             "extrapolated beyond its tests can turn negative: choose an operating point inside them)")
     elif d.form == "hysteretic":
         F_c, x_s = iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", 32)))
         els += [(float(f) / float(x), float(f)) for f, x in zip(F_c, x_s) if f > 0]
@@ -121,7 +136,7 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
             notes.append(f"the hysteretic rule's compensating spring k_comp = {p['k_comp']:.6g} N/mm is not carried "
                          "by dynamics segments: the Iwan elements keep their in-phase stiffness")
     elif d.form == "coulomb":
-        _add_jenkins(out, els, p.get("F_c", 0.0), p.get("x_s", 0.0), where)
+        _add_jenkins(out, els, p.get("F_c", 0.0), p.get("x_s", 0.0), where, k_link, notes)
     elif d.form != "none":
         raise ValueError(f"{where}: damping form {d.form!r} is not supported by dynamics segments; valid: none, "
                          "viscous, hysteretic, coulomb, law (Dahl: convert to hysteretic)")
