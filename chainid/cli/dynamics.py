@@ -42,7 +42,8 @@ def _element(text: str) -> tuple[float, float]:
         k, f = (float(v) for v in text.split(":"))
         return (k, f)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"--hysteresis {text!r}: expected K_N_PER_MM:F_N, e.g. 2000:150") from None
+        raise argparse.ArgumentTypeError(f"{text!r}: expected two numbers A:B (--hysteresis K_N_PER_MM:F_N, e.g. "
+                                         "2000:150; --dahl F_H_N:X_H_MM, e.g. 120:0.05)") from None
 
 
 def _load(text: str):
@@ -83,6 +84,9 @@ def add_subparsers(subparsers: Any) -> None:
     g.add_argument("--hysteresis", action="append", type=_element, default=[], metavar="K:F",
                    help="Jenkins element of the specimen: spring K [N/mm] in series with a slider of force F [N] "
                         "(repeatable: an Iwan model of hysteretic damping)")
+    g.add_argument("--dahl", action="append", type=_element, default=[], metavar="F_H:X_H",
+                   help="Dahl hysteresis of the specimen: force F_H [N] reached over a travel X_H [mm] after each "
+                        "reversal (repeatable)")
     g.add_argument("--coulomb", type=float, default=0.0, metavar="F",
                    help="Coulomb friction with stick of the specimen [N] (default 0)")
     g.add_argument("--coulomb-stiffness", dest="coulomb_k", type=float, metavar="K",
@@ -146,7 +150,7 @@ def _check_args(args: argparse.Namespace, sweeping: bool) -> None:
     if args.segment_model:
         given = [o for o, v in (("--chain", args.chain), ("--variant", args.variant != "paper"),
                                 ("--damping", args.damping), ("--damping-ref-links", args.ref_links),
-                                ("--hysteresis", args.hysteresis), ("--coulomb", args.coulomb),
+                                ("--hysteresis", args.hysteresis), ("--dahl", args.dahl), ("--coulomb", args.coulomb),
                                 ("--coulomb-stiffness", args.coulomb_k)) if v]
         if given:
             raise ValueError(f"--segment-model comes with its own chain and damping: {', '.join(given)} cannot be "
@@ -194,7 +198,8 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
     else:
         chain = load_chain(args.chain)
         kw.update(chain=chain, variant=args.variant, damping=args.damping, damping_ref_links=args.ref_links,
-                  hysteresis=tuple(args.hysteresis), coulomb_N=args.coulomb, coulomb_stiffness=args.coulomb_k)
+                  hysteresis=tuple(args.hysteresis), dahl=tuple(args.dahl), coulomb_N=args.coulomb,
+                  coulomb_stiffness=args.coulomb_k)
     if args.length is not None:
         line = ChainLine.from_length(args.length, args.masses, **kw)
     else:

@@ -125,6 +125,9 @@ class ChainLine:
     hysteresis : tuple of (k, f)
         Jenkins elements of the specimen (``damping_ref_links`` links): stiffness k [N/mm] > 0 and slip force
         f [N] > 0 each (an Iwan model; see the module docstring for the scaling to segments).
+    dahl : tuple of (F_h, x_h)
+        Dahl elements of the specimen: force F_h [N] > 0 approached over a travel x_h [mm] > 0 after each
+        reversal (segment: x_h·n_s/n_ref, F_h unchanged).
     coulomb_N : float
         Coulomb friction force with stick of the specimen [N], >= 0.
     coulomb_stiffness : float, optional
@@ -146,6 +149,7 @@ class ChainLine:
     loads: tuple[LoadStep, ...] = ()
     lumping: str = "half"
     hysteresis: tuple[tuple[float, float], ...] = ()
+    dahl: tuple[tuple[float, float], ...] = ()
     coulomb_N: float = 0.0
     coulomb_stiffness: float | None = None
 
@@ -176,6 +180,11 @@ class ChainLine:
             if len(el) != 2 or not (math.isfinite(el[0]) and el[0] > 0 and math.isfinite(el[1]) and el[1] > 0):
                 raise _bad("hysteresis", el, "pairs (k > 0 N/mm, f > 0 N), finite")
         object.__setattr__(self, "hysteresis", hyst)
+        dahl = tuple(tuple(float(x) for x in el) for el in self.dahl)
+        for el in dahl:
+            if len(el) != 2 or not all(math.isfinite(x) and x > 0 for x in el):
+                raise _bad("dahl", el, "pairs (F_h > 0 N, x_h > 0 mm), finite")
+        object.__setattr__(self, "dahl", dahl)
         if not (isinstance(self.coulomb_N, (int, float, np.floating)) and not isinstance(self.coulomb_N, bool)
                 and math.isfinite(self.coulomb_N) and self.coulomb_N >= 0):
             raise _bad("coulomb_N", self.coulomb_N, ">= 0 N (finite)")
@@ -260,6 +269,20 @@ class ChainLine:
         k = np.array([[e[0] for e in els]] * self.n_masses, dtype=float).reshape(self.n_masses, len(els))
         f = np.array([[e[1] for e in els]] * self.n_masses, dtype=float).reshape(self.n_masses, len(els))
         return k * scale[:, None], f
+
+    def segment_element_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """All elements of every segment for the integrator, shape (N, n_elements) each: (force [N],
+        travel [mm], kind) — Jenkins (slip force f, stick travel f/k; kind 0) then Dahl (F_h, x_h·n_s/n_ref;
+        kind 1)."""
+        k, f = self.segment_elements()
+        scale = self.links_per_segment().astype(float) / self.reference_links()
+        N, nd = self.n_masses, len(self.dahl)
+        Fh = np.array([[e[0] for e in self.dahl]] * N, dtype=float).reshape(N, nd)
+        xh = np.array([[e[1] for e in self.dahl]] * N, dtype=float).reshape(N, nd) * scale[:, None]
+        kind = np.concatenate([np.zeros(f.shape, dtype=np.int64), np.ones((N, nd), dtype=np.int64)], axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            travel = np.where(k > 0, f / np.where(k > 0, k, 1.0), 0.0)
+        return np.concatenate([f, Fh], axis=1), np.concatenate([travel, xh], axis=1), kind
 
     def node_masses(self) -> np.ndarray:
         """Lumped masses of nodes 0..N [kg] (node N includes ``tail_mass_kg``)."""

@@ -18,11 +18,13 @@ damping ``coulomb`` F_c, x_s           Jenkins element; a stick stiffer than the
                                        included): Coulomb with the link stiffness as stick (``coulomb_N``)
 damping ``law`` (identified c_e)       resolved by the model's own rule (:meth:`Damping.resolve`) at a
                                        stated operating point ω [rad/s], A [mm] (``omega``, ``amplitude``)
+damping ``dahl`` F_h, x_h              a Dahl element (``dahl``; x_h scales like a compliance)
 effect ``friction`` F_c, x_s, mu      the same Jenkins element, slip force F_c + mu·pretension
+effect ``hysteresis`` F_h, x_h        a Dahl element
 =====================================  ===============================================================
 
 Refused with a message naming the part: a linear base, kernel modifiers and stiffness-side effects (the
-segments carry the generated chain kernel), Dahl hysteresis.  The rule
+segments carry the generated chain kernel).  The rule
 ``hysteretic``'s compensating spring k_comp (it cancels the Iwan elements' in-phase stiffness on one
 harmonic cycle) is not carried: reported in the returned notes.  The model's mass and delay are not used
 (the segment masses come from the chain; a channel lag is a property of the rig, not of the chain).
@@ -81,7 +83,7 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
     -------
     (dict, list of str)
         ``chain``, ``variant``, ``damping_ref_links``, ``damping`` [N·s/mm], ``hysteresis``
-        ((k [N/mm], f [N]), ...), ``coulomb_N`` [N]; and notes for the user.
+        ((k [N/mm], f [N]), ...), ``dahl`` ((F_h [N], x_h [mm]), ...), ``coulomb_N`` [N]; and notes.
     """
     src = f"--segment-model {str(path)!r}"
     m = load_model(path)
@@ -95,14 +97,17 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
                          "(they carry the unmodified chain kernel)")
     chain = base.chain
     out: dict[str, Any] = {"chain": chain, "variant": base.variant, "damping_ref_links": int(chain.n),
-                           "damping": 0.0, "hysteresis": (), "coulomb_N": 0.0}
+                           "damping": 0.0, "hysteresis": (), "dahl": (), "coulomb_N": 0.0}
     notes: list[str] = []
     els: list[tuple[float, float]] = []
     k_link = 1.0 / float(kernels.coefficients(chain, base.variant)[0])  # N/mm: the specimen's link stiffness
     for name, p in m.effects:
         where = f"{src}: effect {name!r}"
+        if name == "hysteresis":  # Dahl
+            out["dahl"] += ((p.get("F_h", 0.0), p.get("x_h", 0.05)),) if p.get("F_h", 0.0) > 0 else ()
+            continue
         if name != "friction":
-            raise ValueError(f"{where} is not supported by dynamics segments; valid: friction")
+            raise ValueError(f"{where} is not supported by dynamics segments; valid: friction, hysteresis")
         F_c = p.get("F_c", 0.0)
         if p.get("mu", 0.0):
             F_c += p["mu"] * pretension_N
@@ -137,8 +142,10 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
                          "by dynamics segments: the Iwan elements keep their in-phase stiffness")
     elif d.form == "coulomb":
         _add_jenkins(out, els, p.get("F_c", 0.0), p.get("x_s", 0.0), where, k_link, notes)
+    elif d.form == "dahl":
+        out["dahl"] += ((p.get("F_h", 0.0), p.get("x_h", 1.0)),) if p.get("F_h", 0.0) > 0 else ()
     elif d.form != "none":
         raise ValueError(f"{where}: damping form {d.form!r} is not supported by dynamics segments; valid: none, "
-                         "viscous, hysteretic, coulomb, law (Dahl: convert to hysteretic)")
+                         "viscous, hysteretic, dahl, coulomb, law")
     out["hysteresis"] = tuple(els)
     return out, notes

@@ -8,7 +8,9 @@ with F_k the generated chain kernel (Eq. 15 inverted), c_j the viscous damper [N
 [N] of Jenkins elements (a spring k_jq [N/mm] in series with a Coulomb slider of force f_jq [N]) in parallel
 with the spring.  One Jenkins element with a stiff spring is Coulomb friction with stick (the stick phase
 is elastic with k_stick); several elements of graded slip forces are an Iwan (parallel Masing) model of
-rate-independent hysteresis.  Their state is the slider position y_jq [mm] on the segment's elongation
+rate-independent hysteresis.  Dahl elements (force z → ±F_h over a travel x_h after each reversal,
+:func:`chainid.model.operators.dahl_step`, exact for a linear path) are the smooth alternative; their
+state is z, their stored energy z²/(2F_h/x_h).  The Jenkins elements' state is the slider position y_jq [mm] on the segment's elongation
 axis, z = k·(e − y); it is advanced by the ONE implementation of the operator,
 :func:`chainid.model.operators.jenkins_step` (slip force F_c = f, stick travel x_s = f/k; exact
 dissipation F_c·|Δy| for a monotone path over the step).  Initial state: unstressed (y = e at t = 0).
@@ -27,7 +29,7 @@ from numba import njit
 from chainid.generated.stiffness_paper import force as _force
 from chainid.generated.stiffness_paper import stiffness as _stiffness
 from chainid.dynamics.energy import elastic_energy_array
-from chainid.model.operators import jenkins_step
+from chainid.model.operators import dahl_step, jenkins_step
 
 __all__ = ["tensions", "stored_energy"]
 
@@ -51,12 +53,13 @@ def _springs(u, epre, cl, ch, Fk, kind):
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, kind, tangent):
+def tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, ys, dvs, y, dv, T, Fk, ks, cs, kind, tangent):
     """Segment tensions at the end of a step from its start state.
 
-    Inputs: u, v node displacements [mm] and speeds [mm/s] at the end; us, ys, dvs displacements, Jenkins
-    slider positions [mm] and viscous forces [N] at the start; hf, hx slip forces [N] and stick travels
-    [mm] of the Jenkins elements (N, n_el).  Outputs: y, dv, T (and, with ``tangent``, the tangent
+    Inputs: u, v node displacements [mm] and speeds [mm/s] at the end; us, ys, dvs displacements, element
+    states and viscous forces [N] at the start.  Elements (N, n_el): ``hd`` 0 — a Jenkins element of slip
+    force hf [N] and stick travel hx [mm], state its slider position [mm]; 1 — a Dahl element of force
+    F_h = hf [N] and travel x_h = hx [mm], state its force z [N].  Outputs: y, dv, T (and, with ``tangent``, the tangent
     stiffness ks [N/mm] and damping cs [N·s/mm] of each segment for Newton's method).
 
     Returns
@@ -92,11 +95,17 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, 
         slip = 0.0
         kz = 0.0
         for q in range(n_el):
-            yq, zq, dq = jenkins_step(ys[j, q], e, hf[j, q], hx[j, q])
+            if hd[j, q] == 0:
+                yq, zq, dq = jenkins_step(ys[j, q], e, hf[j, q], hx[j, q])
+                kz += hf[j, q] / hx[j, q] if yq == ys[j, q] else 0.0
+            else:
+                zq, dq = dahl_step(ys[j, q], e - de, e, hf[j, q], hx[j, q])
+                yq = zq
+                sg = 1.0 if de >= 0.0 else -1.0
+                kz += hf[j, q] / hx[j, q] * (1.0 - sg * zq / hf[j, q])
             y[j, q] = yq
             zsum += zq
             slip += dq
-            kz += hf[j, q] / hx[j, q] if yq == ys[j, q] else 0.0
         dvis = cd[j] * (v[j] - v[j + 1])
         t = f + dvis + zsum
         if e > 0.0 and t > 0.0:
@@ -111,9 +120,9 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, 
             dv[j] = -f
             es = e - de
             for q in range(n_el):  # released: the energy stored at the start is dissipated
-                w = es - ys[j, q]
+                w = es - ys[j, q] if hd[j, q] == 0 else ys[j, q] * hx[j, q] / hf[j, q]
                 dD += 0.5 * hf[j, q] / hx[j, q] * w * w
-                y[j, q] = e
+                y[j, q] = e if hd[j, q] == 0 else 0.0
             if tangent:
                 ks[j] = 0.0
                 cs[j] = 0.0
@@ -124,8 +133,9 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, ys, dvs, y, dv, T, Fk, ks, cs, 
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def stored_energy(u, epre, cl, ch, hf, hx, y):
-    """Stored energy [N·mm]: Σ U(e_j) of the kernel + Σ k·(e_j − y_jq)²/2 of the Jenkins springs (k = f/x_s)."""
+def stored_energy(u, epre, cl, ch, hf, hx, hd, y):
+    """Stored energy [N·mm]: Σ U(e_j) of the kernel + Σ k·(e_j − y_jq)²/2 of the Jenkins springs (k = f/x_s)
+    + Σ z²/(2k₀) of the Dahl elements (k₀ = F_h/x_h)."""
     N = cl.shape[0]
     e = np.empty(N)
     for j in range(N):
@@ -133,6 +143,6 @@ def stored_energy(u, epre, cl, ch, hf, hx, y):
     s = elastic_energy_array(e, cl, ch)
     for j in range(N):
         for q in range(hf.shape[1]):
-            w = e[j] - y[j, q]
+            w = e[j] - y[j, q] if hd[j, q] == 0 else y[j, q] * hx[j, q] / hf[j, q]
             s += 0.5 * hf[j, q] / hx[j, q] * w * w
     return s

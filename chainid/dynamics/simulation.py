@@ -81,8 +81,10 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
         peak_force = _number("peak_force", peak_force, "> 0 N")
         uu = np.cbrt(peak_force)
         k = 3.0 * uu / (2.0 * c_h + 3.0 * c_lin * uu)
-    hk, _ = line.segment_elements()
-    k = k + hk.sum(axis=1)  # Jenkins springs in parallel (sticking: their largest stiffness)
+    hf, hx, hd = line.segment_element_table()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k_el = np.where(hx > 0, hf / np.where(hx > 0, hx, 1.0), 0.0) * np.where(hd == 1, 2.0, 1.0)
+    k = k + k_el.sum(axis=1)  # elements in parallel at their stiffest (Jenkins sticking; Dahl at a reversal 2F_h/x_h)
     c = line.segment_damping()
     m = line.node_masses()
     N = line.n_masses
@@ -116,7 +118,7 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
     n_rec = n_steps // out_every + 1
     nn, N = line.n_nodes, line.n_masses
     c_lin, c_h = line.segment_coefficients()
-    hk, hf = line.segment_elements()
+    hf, hx, hd = line.segment_element_table()
     code, p = drive.params(line.chain.pitch)
     loads = line.loads
     u_init, v_init = np.zeros(nn), np.zeros(nn)
@@ -128,7 +130,7 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
             tgt[:] = a
     if line.far_end == "fixed":
         u_init[-1] = v_init[-1] = 0.0
-    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hf / hk,
+    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hx, hd,
             line.pretension_elongation(), line.resistance_per_node(), float(line.resistance_v_eps),
             np.array([ld.node for ld in loads], dtype=np.int64), np.array([ld.force_N for ld in loads], dtype=float),
             np.array([ld.t_on for ld in loads], dtype=float), line.far_end == "tensioner",
@@ -157,7 +159,7 @@ def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "expli
         arrays).
     """
     nn, N = line.n_nodes, line.n_masses
-    n_el = len(line.specimen_elements())
+    n_el = len(line.specimen_elements()) + len(line.dahl)
     work = float(n_steps) * nn * (IMPLICIT_COST if scheme == "implicit" else 1.0)
     mem = 8.0 * (float(n_rec) * (3 * nn + N + 5) + 40 * nn + 4 * N * n_el)
     return {"node_steps": work, "seconds": work / NODE_STEPS_PER_S, "bytes": mem}
