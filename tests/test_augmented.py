@@ -37,7 +37,8 @@ def test_saved_model_reproduces_the_diagnosis_held_out_nrmse(tmp_path, effect, b
                  "--save-model", str(m), "--save-steps"]) == 0
     diag = json.loads(r.read_text())
     assert diag["verdict"] == effect.split(":")[0]
-    assert main(["predict", str(m), str(data), "--tests", HOLD, "--json", str(p)]) == 0
+    assert main(["predict", str(m), str(data), "--tests", HOLD, "--json", str(p), "--plots", str(tmp_path / "fig")]) == 0
+    assert sorted(f.name for f in (tmp_path / "fig").iterdir()) == [f"predict_{t}.png" for t in sorted(HOLD.split(","))]
     pred = json.loads(p.read_text())
     assert pred["pooled"]["nrmse_model"] == pytest.approx(diag["steps"][-1]["nrmse_holdout"], rel=1e-9)
     assert pred["pooled"]["nrmse_baseline"] == pytest.approx(diag["baseline"]["nrmse_holdout"], rel=1e-9)

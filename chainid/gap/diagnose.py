@@ -202,9 +202,6 @@ def diagnose(
     if final is None and verdict == "unexplained" and best is not None:
         warn.append(f"no effect passed the step rule ({fwd['stop']})")
     interp = interpretation(path, prob, verdict)
-    from chainid.gap.modelio import step_fields, step_models
-    from chainid.model.modelfile import model_to_dict  # (lazy: chainid.augmented imports the effect library)
-
     steps = [_step_dict(c, i) | step_fields(prob, c) for i, c in enumerate(path)]
     evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol, "allow_compression": bool(allow_compression or not is_chain)}
     models = step_models({"_problem": prob, "_path": path}, {"evaluation": evaluation})

@@ -13,7 +13,6 @@ Units: ω rad/s, A mm, k_e N/mm, c_e N·s/mm.
 
 from __future__ import annotations
 
-import math
 from typing import Sequence
 
 import numpy as np
