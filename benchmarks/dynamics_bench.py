@@ -62,7 +62,7 @@ def bench_loop(t_sim: float, repeats: int) -> dict:
     def run(k, ns=n_steps):
         args, outs = core_arguments(line, drive, dt, ns, max(1, ns // 100))
         t0 = time.perf_counter()
-        explicit_core(*args, *outs, k)
+        explicit_core(*args, *outs, kind=k)
         return time.perf_counter() - t0
 
     for k, _ in kinds:

@@ -2,16 +2,18 @@
 
 Units on the command line: mm, N, s, kg (speeds mm/s, damping N·s/mm).  ``--json FILE`` (or ``-``) for
 machines; ``--plots DIR`` writes the tension heat map, the drive-end tension and the first mode shapes.
-Outputs are written atomically and never overwrite an existing file without ``--force``; the targets are
-checked before the simulation starts.
+Outputs are written atomically (chainid.fileio) and never overwrite an existing file without ``--force``;
+the targets are checked before the simulation starts.  Every run is checked (finite, energy balance within
+1e-3 at its worst time, peak converged under step halving with ``--refine``); a failed check is a warning,
+and with ``--strict`` an error (exit code 2).  Loads beyond the chain's limits are warned about as in the
+other commands.
 """
 from __future__ import annotations
 
 import argparse
-import json
-import os
+import re
 import sys
-import tempfile
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +27,23 @@ def _floats(text: str) -> list[float]:
         return [float(v) for v in text.split(",") if v.strip()]
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of numbers") from None
+
+
+def _ints(text: str) -> list[int]:
+    vals = _floats(text)
+    bad = [v for v in vals if v != int(v) or v < 1]
+    if bad:
+        raise argparse.ArgumentTypeError(f"{text!r}: the numbers of masses must be whole numbers >= 1 (got {bad[0]:g})")
+    return [int(v) for v in vals]
+
+
+def _element(text: str) -> tuple[float, float]:
+    try:
+        k, f = (float(v) for v in text.split(":"))
+        return (k, f)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected two numbers A:B (--hysteresis K_N_PER_MM:F_N, e.g. "
+                                         "2000:150; --dahl F_H_N:X_H_MM, e.g. 120:0.05)") from None
 
 
 def _load(text: str):
@@ -51,6 +70,27 @@ def add_subparsers(subparsers: Any) -> None:
     g.add_argument("--tensioner-stiffness", dest="kt", type=float, default=0.0, help="take-up spring [N/mm]")
     g.add_argument("--damping", type=float, default=0.0,
                    help="viscous-equivalent c_e of the tested specimen [N·s/mm] (default 0)")
+    g.add_argument("--segment-model", dest="segment_model", metavar="M.toml",
+                   help="diagnosed model file (issue 17) of the tested specimen: its chain, kernel variant and "
+                        "time-domain damping go into every segment, scaled in series (see "
+                        "chainid.dynamics.segment_model)")
+    g.add_argument("--segment-omega", dest="seg_omega", type=float, metavar="RAD_S",
+                   help="operating circular frequency of a model file's damping law (e.g. the first natural "
+                        "frequency or the polygon frequency 2*pi*v/p)")
+    g.add_argument("--segment-amplitude", dest="seg_amplitude", type=float, metavar="MM",
+                   help="operating elongation amplitude of the specimen for a model file's damping law [mm]")
+    g.add_argument("--damping-ref-links", dest="ref_links", type=int, metavar="N",
+                   help="links of the specimen the damping data belong to (default: the chain file's n)")
+    g.add_argument("--hysteresis", action="append", type=_element, default=[], metavar="K:F",
+                   help="Jenkins element of the specimen: spring K [N/mm] in series with a slider of force F [N] "
+                        "(repeatable: an Iwan model of hysteretic damping)")
+    g.add_argument("--dahl", action="append", type=_element, default=[], metavar="F_H:X_H",
+                   help="Dahl hysteresis of the specimen: force F_H [N] reached over a travel X_H [mm] after each "
+                        "reversal (repeatable)")
+    g.add_argument("--coulomb", type=float, default=0.0, metavar="F",
+                   help="Coulomb friction with stick of the specimen [N] (default 0)")
+    g.add_argument("--coulomb-stiffness", dest="coulomb_k", type=float, metavar="K",
+                   help="stick stiffness of the Coulomb element [N/mm] (default: the specimen's link stiffness)")
     g.add_argument("--resistance", type=float, default=0.0, help="total moving resistance [N] (default 0)")
     g.add_argument("--load", action="append", type=_load, default=[], metavar="NODE:F:T",
                    help="load step of F [N] on a node from time T [s] (repeatable)")
@@ -67,11 +107,20 @@ def add_subparsers(subparsers: Any) -> None:
     s.add_argument("--scheme", default="explicit", help="explicit (default) | implicit")
     s.add_argument("--peak-force", dest="peak_force", type=float,
                    help="expected peak tension [N] for the stable step (default: the load-independent bound)")
-    s.add_argument("--modes", type=int, default=4, help="natural frequencies to report (default 4)")
+    s.add_argument("--modes", type=int, default=4, help="natural frequencies to report (>= 1, default 4)")
+    s.add_argument("--refine", type=int, default=5,
+                   help="step halvings allowed until the energy balance is within 1e-3 and the peak changes by "
+                        "<= 2 %% under halving (0..10, default 5)")
+    s.add_argument("--strict", action="store_true",
+                   help="a run that fails its checks (energy balance, peak convergence) is an error (exit 2)")
+    s.add_argument("--max-memory", dest="max_memory", type=float, default=2.0, metavar="GIB",
+                   help="refuse runs estimated above this memory [GiB] (default 2)")
+    s.add_argument("--max-work", dest="max_work", type=float, default=2e10, metavar="NODE_STEPS",
+                   help="refuse runs estimated above this many node-steps (default 2e10, about 10 min)")
     w = p.add_argument_group("sweep (any of these runs a sweep over their product)")
     w.add_argument("--sweep-pretension", dest="sw_p", type=_floats, metavar="N,N,..")
     w.add_argument("--sweep-speed", dest="sw_v", type=_floats, metavar="V,V,..")
-    w.add_argument("--sweep-masses", dest="sw_n", type=_floats, metavar="N,N,..")
+    w.add_argument("--sweep-masses", dest="sw_n", type=_ints, metavar="N,N,..")
     w.add_argument("--scheduler", help="local (default: dask LocalCluster or a process pool) | processes | "
                                        "serial | the address of a dask scheduler")
     w.add_argument("--workers", type=int, help="worker processes (default: the number of cores)")
@@ -83,89 +132,125 @@ def add_subparsers(subparsers: Any) -> None:
     p.set_defaults(func=cmd_dynamics)
 
 
-def _check_targets(args: argparse.Namespace, sweeping: bool) -> None:
+def _check_args(args: argparse.Namespace, sweeping: bool) -> None:
+    """Options and output targets, before any work."""
+    from chainid.cli.common import check_json_target
+    from chainid.infra.fileio import check_output_dir
+
+    if args.modes < 1:
+        raise ValueError(f"--modes = {args.modes} is invalid: valid range an int >= 1")
+    if not 0 <= args.refine <= 10:
+        raise ValueError(f"--refine = {args.refine} is invalid: valid range 0 .. 10")
+    for name, v in (("--max-memory", args.max_memory), ("--max-work", args.max_work)):
+        if not (v > 0 and v < float("inf")):
+            raise ValueError(f"{name} = {v!r} is invalid: valid range > 0 (finite)")
     if sweeping and args.plots:
         raise ValueError(f"--plots = {args.plots!r} is invalid with a sweep: figures are drawn for a single run "
                          "(use --json for the sweep table)")
-    targets = []
-    if args.json and args.json != "-":
-        targets.append(Path(args.json))
-    if args.plots and not sweeping:
-        targets += [Path(args.plots) / f for f in _FIGS]
-    for t in targets:
-        if t.exists() and not args.force:
-            raise ValueError(f"output file {str(t)!r} exists; pass --force to overwrite it")
+    if args.segment_model:
+        given = [o for o, v in (("--chain", args.chain), ("--variant", args.variant != "paper"),
+                                ("--damping", args.damping), ("--damping-ref-links", args.ref_links),
+                                ("--hysteresis", args.hysteresis), ("--dahl", args.dahl), ("--coulomb", args.coulomb),
+                                ("--coulomb-stiffness", args.coulomb_k)) if v]
+        if given:
+            raise ValueError(f"--segment-model comes with its own chain and damping: {', '.join(given)} cannot be "
+                             "given with it")
+    check_json_target(args.json, args.force)
+    if args.plots:
+        check_output_dir(args.plots, "--plots", _FIGS, force=args.force)
 
 
-def _write_json(doc: dict, target: str, force: bool) -> None:
-    from chainid.infra.fileio import json_default
+def _limit_kind(msg: str) -> str:
+    """A load warning without its numbers (which limit it names)."""
+    return re.sub(r"\d[\d.e+-]*", "#", msg)
 
-    text = json.dumps(doc, indent=2, ensure_ascii=False, default=json_default) + "\n"
-    if target == "-":
-        sys.stdout.write(text)
-        return
-    p = Path(target)
-    if p.exists() and not force:
-        raise ValueError(f"output file {str(p)!r} exists; pass --force to overwrite it")
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, p)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+
+def _say(args: argparse.Namespace, text: str) -> None:
+    """The text report: stdout, or stderr when the JSON goes to stdout."""
+    print(text, file=sys.stderr if args.json == "-" else sys.stdout)
 
 
 def cmd_dynamics(args: argparse.Namespace) -> int:
     import dataclasses
 
+    from chainid.cli.chains import warn_loads
+    from chainid.cli.common import write_json
+    from chainid.chain.spec import load_chain
     from chainid.dynamics import ChainLine, Drive, simulate
     from chainid.dynamics.modes import modes
-    from chainid.chain.spec import load_chain
+    from chainid.model.practice import load_warnings
 
     sweeping = any(v is not None for v in (args.sw_p, args.sw_v, args.sw_n))
-    _check_targets(args, sweeping)
-    chain = load_chain(args.chain)
-    kw = dict(chain=chain, variant=args.variant, pretension_N=args.pretension, far_end=args.far_end,
-              tensioner_stiffness=args.kt, damping=args.damping, resistance_N=args.resistance,
-              loads=tuple(args.load))
+    _check_args(args, sweeping)
+    seg_notes: list[str] = []
+    kw = dict(pretension_N=args.pretension, far_end=args.far_end, tensioner_stiffness=args.kt,
+              resistance_N=args.resistance, loads=tuple(args.load))
+    if args.segment_model:
+        from chainid.dynamics.segment_model import segment_kwargs
+
+        seg, notes = segment_kwargs(args.segment_model, pretension_N=args.pretension, omega=args.seg_omega,
+                                    amplitude=args.seg_amplitude)
+        kw.update(seg)
+        chain = kw["chain"]
+        for m in notes:
+            print(f"note: {m}", file=sys.stderr)
+        seg_notes = notes
+    else:
+        chain = load_chain(args.chain)
+        kw.update(chain=chain, variant=args.variant, damping=args.damping, damping_ref_links=args.ref_links,
+                  hysteresis=tuple(args.hysteresis), dahl=tuple(args.dahl), coulomb_N=args.coulomb,
+                  coulomb_stiffness=args.coulomb_k)
     if args.length is not None:
         line = ChainLine.from_length(args.length, args.masses, **kw)
     else:
         line = ChainLine(n_links=args.links, n_masses=args.masses, **kw)
     drive = Drive(args.drive, v=args.speed, t_ramp=args.t_ramp, A=args.amplitude, omega=args.omega, z=args.teeth)
-    sim_kw = dict(dt=args.dt, scheme=args.scheme, peak_force=args.peak_force)
-    doc: dict[str, Any] = {"line": {k: v for k, v in dataclasses.asdict(line).items() if k not in ("chain", "loads")},
+    sim_kw = dict(dt=args.dt, scheme=args.scheme, peak_force=args.peak_force, refine=args.refine,
+                  strict=args.strict, max_memory=args.max_memory * 1024**3, max_work=args.max_work)
+    doc: dict[str, Any] = {"segment_model": args.segment_model, "segment_model_notes": seg_notes,
+                           "line": {k: v for k, v in dataclasses.asdict(line).items() if k not in ("chain", "loads")},
                            "chain": chain.to_dict(), "drive": dataclasses.asdict(drive),
                            "loads": [dataclasses.asdict(ld) for ld in line.loads]}
+    loads_before = warn_loads(max(args.pretension, max((ld.force_N for ld in line.loads), default=0.0)), chain, doc)
     if sweeping:
         from chainid.dynamics.sweeps import sweep
 
-        rows = sweep(line, drive, args.t_end, pretensions=args.sw_p, speeds=args.sw_v,
-                     n_masses=None if args.sw_n is None else [int(n) for n in args.sw_n],
+        rows = sweep(line, drive, args.t_end, pretensions=args.sw_p, speeds=args.sw_v, n_masses=args.sw_n,
                      scheduler=args.scheduler, n_workers=args.workers, progress=not args.quiet, **sim_kw)
         doc["cases"] = rows
-        print(f"{'pretension N':>13} {'v mm/s':>8} {'N':>5} {'peak N':>10} {'dyn.factor':>10} {'ripple N':>9}")
+        _say(args, f"{'pretension N':>13} {'v mm/s':>8} {'N':>5} {'peak N':>10} {'dyn.factor':>10} {'ripple N':>9}")
         for r in rows:
-            print(f"{r['pretension_N']:13.6g} {r['v']:8.4g} {r['n_masses']:5d} {r['peak_tension_N']:10.5g} "
-                  f"{r['dynamic_factor']:10.4g} {r['drive_tension_ripple_N']:9.4g}")
+            _say(args, f"{r['pretension_N']:13.6g} {r['v']:8.4g} {r['n_masses']:5d} {r['peak_tension_N']:10.5g} "
+                 f"{r['dynamic_factor']:10.4g} {r['drive_tension_ripple_N']:9.4g}")
+            for m in r.get("warnings", []):
+                print(f"warning: case P = {r['pretension_N']:g} N, v = {r['v']:g} mm/s, N = {r['n_masses']}: {m}",
+                      file=sys.stderr)
     else:
-        res = simulate(line, drive, args.t_end, **sim_kw)
-        md = modes(line, n_modes=max(1, args.modes))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # reported below from res.warnings
+            res = simulate(line, drive, args.t_end, **sim_kw)
+        md = modes(line, n_modes=args.modes)
         doc["summary"] = res.summary()
         doc["modes"] = {"frequency_hz": md.frequency_hz.tolist()}
         doc["tension_final_N"] = res.tension[-1].tolist()
         s = doc["summary"]
         eb = s["energy_N_mm"]
-        print(f"chain {line.n_links} links ({line.length_mm / 1000:.4g} m) in {line.n_masses} masses, "
-              f"{args.scheme}, dt = {res.dt:.3g} s ({res.n_steps} steps)")
-        print(f"peak tension {res.peak_tension:.6g} N, static {res.static_tension:.6g} N, "
-              f"dynamic factor {res.dynamic_factor:.4g}")
-        print("natural frequencies [Hz]: " + ", ".join(f"{f:.4g}" for f in md.frequency_hz))
-        print(f"energy [N·mm]: work in {eb['work_in']:.6g} = kinetic {eb['kinetic']:.6g} + elastic "
-              f"{eb['elastic']:.6g} + dissipated {eb['dissipated']:.6g} (balance error {eb['relative_error']:.2g})")
+        _say(args, f"chain {line.n_links} links ({line.length_mm / 1000:.4g} m) in {line.n_masses} masses, "
+             f"{args.scheme}, dt = {res.dt:.3g} s ({res.n_steps} steps, {res.refinements} refinement(s))")
+        _say(args, f"peak tension {res.peak_tension:.6g} N, static {res.static_tension:.6g} N, "
+             f"dynamic factor {res.dynamic_factor:.4g}")
+        _say(args, "natural frequencies [Hz]: " + ", ".join(f"{f:.4g}" for f in md.frequency_hz))
+        _say(args, f"energy [N·mm]: work in {eb['work_in']:.6g} = kinetic {eb['kinetic']:.6g} + stored "
+             f"{eb['elastic']:.6g} + dissipated {eb['dissipated']:.6g} (balance error {eb['relative_error']:.2g} "
+             f"at its worst, t = {eb['worst_t_s']:.4g} s)")
+        for m in res.warnings:
+            print(f"warning: {m}", file=sys.stderr)
+        doc.setdefault("warnings", []).extend(res.warnings)
+        seen = {_limit_kind(m) for m in loads_before}
+        for m in load_warnings(res.peak_tension, chain):  # limits the peak exceeds beyond those already named
+            if _limit_kind(m) not in seen:
+                print(f"warning: peak tension: {m}", file=sys.stderr)
+                doc["warnings"].append(f"peak tension: {m}")
         if args.plots:
             from chainid.dynamics import plots
 
@@ -174,5 +259,5 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
                 plots.save(fig, Path(args.plots) / name, force=args.force)
             print(f"figures written to {args.plots}", file=sys.stderr)
     if args.json:
-        _write_json(doc, args.json, args.force)
+        write_json(doc, args.json, args.force)
     return 0

@@ -6,8 +6,8 @@ about the pre-tensioned state), :mod:`.energy`, :mod:`.sweeps` (parameter sweeps
 :mod:`.plots`.
 """
 from chainid.dynamics.drives import DRIVE_LAWS, Drive, drive_motion
-from chainid.dynamics.simulation import SCHEMES, SimResult, simulate, stable_step
+from chainid.dynamics.simulation import SCHEMES, SimResult, SimulationError, simulate, stable_step
 from chainid.dynamics.model import FAR_ENDS, LUMPINGS, ChainLine, LoadStep, viscous_equivalent
 
 __all__ = ["ChainLine", "LoadStep", "Drive", "DRIVE_LAWS", "FAR_ENDS", "LUMPINGS", "SCHEMES", "SimResult",
-           "simulate", "stable_step", "viscous_equivalent", "drive_motion"]
+           "SimulationError", "simulate", "stable_step", "viscous_equivalent", "drive_motion"]

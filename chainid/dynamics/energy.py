@@ -7,6 +7,8 @@ U(e) = ∫₀^e F_k de' = F·e − ∫₀^F x dF' = F·e − c_lin·F²/2 − (3
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -34,23 +36,49 @@ def elastic_energy_array(e, c_lin, c_hertz):
     return s
 
 
-def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissipated: np.ndarray) -> dict:
-    """The energy balance W_in = ΔE_kin + ΔE_el + D over a run (arrays over output times, N·mm).
+def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissipated: np.ndarray,
+            t: np.ndarray | None = None) -> dict:
+    """The energy balance W_in = ΔE_kin + ΔE_el + D over a run (arrays over output times, N·mm), at its WORST point.
+
+    The residual r(t) = W − ΔE_kin − ΔE_el − D is evaluated at every output time; the balance reports the
+    output time where |r| is largest (not the last one: an error that later cancels must not hide).
+
+    Parameters
+    ----------
+    work_in, kinetic, elastic, dissipated : ndarray
+        Energies over the output times [N·mm].
+    t : ndarray, optional
+        Output times [s] (for ``worst_t_s``).
 
     Returns
     -------
     dict
         ``work_in``, ``kinetic``, ``elastic``, ``dissipated`` (final values, changes for the stored energies),
-        ``residual`` (W − ΔE_kin − ΔE_el − D at the end, N·mm) and ``relative_error`` (the largest |residual|
-        over the run / the largest |W| over the run; 0 when no work was done).
+        ``residual`` (at the end, N·mm), ``worst_residual`` (the largest |r|, signed, N·mm), ``worst_t_s`` (its
+        time, or its output index without ``t``), ``relative_error`` (|worst_residual| / the energy scale),
+        ``scale`` (the energy scale: the largest over the run of |W|, |ΔE_kin|, |ΔE_el| and |D|, N·mm; so
+        that a free vibration without work input is measured too) and ``finite`` (all energies finite).
+        ``relative_error`` is 0 when nothing happened (scale 0) and nan when an energy is not finite.
     """
-    res = work_in - (kinetic - kinetic[0]) - (elastic - elastic[0]) - dissipated
-    scale = float(np.max(np.abs(work_in))) if work_in.size else 0.0
+    dk = kinetic - kinetic[0]
+    de = elastic - elastic[0]
+    res = work_in - dk - de - dissipated
+    finite = bool(np.all(np.isfinite(res)))
+    if not finite:
+        return {"work_in": float(work_in[-1]), "kinetic": float(dk[-1]), "elastic": float(de[-1]),
+                "dissipated": float(dissipated[-1]), "residual": float(res[-1]), "worst_residual": math.nan,
+                "worst_t_s": math.nan, "relative_error": math.nan, "scale": math.nan, "finite": False}
+    scale = float(max(np.max(np.abs(work_in)), np.max(np.abs(dk)), np.max(np.abs(de)), np.max(np.abs(dissipated))))
+    k = int(np.argmax(np.abs(res)))
     return {
         "work_in": float(work_in[-1]),
-        "kinetic": float(kinetic[-1] - kinetic[0]),
-        "elastic": float(elastic[-1] - elastic[0]),
+        "kinetic": float(dk[-1]),
+        "elastic": float(de[-1]),
         "dissipated": float(dissipated[-1]),
         "residual": float(res[-1]),
-        "relative_error": float(np.max(np.abs(res)) / scale) if scale > 0 else 0.0,
+        "worst_residual": float(res[k]),
+        "worst_t_s": float(t[k]) if t is not None else float(k),
+        "relative_error": float(abs(res[k]) / scale) if scale > 0 else 0.0,
+        "scale": scale,
+        "finite": True,
     }

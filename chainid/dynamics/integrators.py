@@ -1,24 +1,33 @@
-"""Time integration of the lumped chain in numba, directly on the generated kernels (the compiled cores).
+"""Time integration of the lumped chain in numba: one step loop, two schemes (units mm, N, s, kg).
 
-Two schemes (units mm, N, s, kg; accelerations a = 1e3·f/m mm/s² for f in N and m in kg):
+The loop (:func:`run`) advances the chain over steps of ``dt`` and stores every ``out_every``-th state; each
+step is made of one or more sub-steps, taken by one of two schemes (accelerations a = 1e3·f/m mm/s² for f in
+N and m in kg):
 
 ``"explicit"``  velocity Verlet (central difference, kick-drift-kick; the dampers see the half-step
                 velocity; the moving resistance, stiff near standstill, is applied by a backward-Euler
-                velocity update per node at the end of the step, see ``_resist``: it does not limit the
-                step, and its work is exactly the kinetic energy it removes.  Near standstill (|v| ~ ε) the
-                creep speeds are first-order accurate only; tensions are insensitive to that, see the
-                benchmark notes).  Stable for dt <= dt_stable = (2/ω_max)(√(1+ζ²) − ζ), with
-                ω_max² the Gershgorin bound max_i 2·1e3·(k_{i−1} + k_i)/m_i of the tangent stiffnesses k_e at
-                the peak load (``peak_force``; by default the bound k_e <= 1/c_lin, safe at any load) and
-                ζ from the dampers the same way.  One F_k evaluation per segment and step.
-``"implicit"``  Newmark's average acceleration (trapezoidal rule: unconditionally stable, no numerical
-                damping), solved by Newton's method on the tangent k_e with a tridiagonal (Thomas) solve in
-                numba.  For very short (stiff) segments where dt_stable is tiny.
+                velocity update per node at the end of the (sub-)step, see ``_resist``: it does not limit the
+                step, and its work is exactly the kinetic energy it removes).  Stable for a linear chain for
+                dt <= dt_stable (see :func:`chainid.dynamics.simulation.stable_step`).
+``"implicit"``  Newmark's average acceleration (trapezoidal rule: unconditionally stable for a linear chain,
+                no numerical damping), solved by Newton's method on the tangent (chain kernel k_e + Jenkins
+                springs, dampers) with a tridiagonal (Thomas) solve.  Convergence: the largest force residual
+                below tol_abs + tol_rel·F_ref [N], F_ref fixed for the step (the largest of the tensions at
+                its start, the pretension, the loads and the resistance; never the iterate's own forces),
+                within ``max_it`` iterations; otherwise the sub-step is rejected and halved.
 
-Both use the generated kernels' scalar functions (``chainid.generated.stiffness_paper.force`` and
-``stiffness``, inlined by numba).  The kernels of all variants share this math and differ only in their
-coefficients (``coefficients()``), which the chain line computes for its variant.  Work, dissipation,
-kinetic and elastic energy are accumulated by the trapezoidal rule on the same steps (:mod:`.energy`).
+Snap loads (slack ↔ taut).  A segment that starts or stops carrying load switches its stiffness between 0
+and k_e within a step; Verlet is then only first-order accurate at that step and, near dt_stable, the
+switching of two stable linear maps can pump energy into the chain (a slack polygon drive at 0.9·dt_stable
+gained 0.9x its work input).  The remedy is in :func:`chainid.dynamics.simulation.simulate`: an adaptive
+step with an error estimate, the estimate being the run's energy-balance residual (see there for why, with
+the measurements that ruled out sub-stepping at the transitions).  Within a run the step is constant, so
+Verlet keeps its time-reversible (symplectic) character.  The loop can still split a step into halves
+(down to dt/2^levels): the implicit scheme does so when Newton's method fails.
+
+Energy: work in (drive: trapezoidal T_1 work + the exact change of the drive node's kinetic energy; external
+forces trapezoidal; resistance exact in the explicit scheme), dissipation (:func:`.segments.tensions`),
+kinetic and stored energy, accumulated per sub-step (:mod:`.energy`).
 """
 from __future__ import annotations
 
@@ -27,63 +36,20 @@ import math
 import numpy as np
 from numba import njit
 
-from chainid.generated.stiffness_paper import force as _force
-from chainid.generated.stiffness_paper import stiffness as _stiffness
 from chainid.dynamics.drives import drive_state
-from chainid.dynamics.energy import elastic_energy_array
+from chainid.dynamics.segments import stored_energy, tensions
 
-__all__ = ["explicit_core", "implicit_core"]
+__all__ = ["run", "explicit_core", "implicit_core"]
 
 _FM = {"contract", "arcp", "nsz"}
 
 
-# ---------------------------------------------------------------------------------------------- kernels
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def _springs(u, epre, cl, ch, Fk, kind):
-    """F_k of every segment [N]: the generated kernel (kind 0); benchmark floors: cbrt (1), linear (2)."""
-    if kind == 0:
-        for j in range(Fk.shape[0]):
-            Fk[j] = _force(epre[j] + u[j] - u[j + 1], cl[j], ch[j])
-    elif kind == 1:  # benchmark floor: a spring that costs one cube root, cbrt(e)/c_lin (not a chain model)
-        for j in range(Fk.shape[0]):
-            e = epre[j] + u[j] - u[j + 1]
-            Fk[j] = np.cbrt(e) / cl[j] if e > 0.0 else 0.0
-    else:  # benchmark floor: a linear tension-only spring e/c_lin, the cheapest spring there is
-        for j in range(Fk.shape[0]):
-            e = epre[j] + u[j] - u[j + 1]
-            Fk[j] = e / cl[j] if e > 0.0 else 0.0
-
-
-@njit(cache=True, fastmath=_FM, error_model="numpy")
-def _segments(u, v, du, epre, cl, ch, cd, T, Fk, dprev, kind):
-    """Tensions T_j [N] and the trapezoidal damper work over the last step [N·mm]; peak tension.
-
-    Two loops (the spring kernel first) so that numba vectorises both."""
-    _springs(u, epre, cl, ch, Fk, kind)
-    N = T.shape[0]
-    dw = 0.0
-    peak = 0.0
-    for j in range(N):
-        e = epre[j] + u[j] - u[j + 1]
-        f = Fk[j]
-        t = f + cd[j] * (v[j] - v[j + 1])
-        t = t if t > 0.0 else 0.0
-        t = t if e > 0.0 else 0.0
-        d = t - f
-        dw += 0.5 * (dprev[j] + d) * (du[j] - du[j + 1])
-        dprev[j] = d
-        T[j] = t
-        peak = peak if peak > t else t
-    return dw, peak
-
-
-@njit(cache=True, fastmath=_FM, error_model="numpy")
-def _external(t, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, with_res=True):
+def _external(t, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, with_res):
     """External forces on the nodes [N]: resistance (unless with_res is False), load steps, tensioner (into fe)."""
     nn = u.shape[0]
     for i in range(nn):
-        vi = v[i]
-        r = vi / veps
+        r = v[i] / veps
         r = r if r < 1.0 else 1.0
         r = r if r > -1.0 else -1.0
         fe[i] = -res[i] * r if with_res else 0.0
@@ -115,96 +81,6 @@ def _resist(v, m, res, veps, dt, last):
     return dW
 
 
-@njit(cache=True)
-def _record(k, t, u, v, m, T, Fd, epre, cl, ch, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out):
-    t_out[k] = t
-    T_out[k, :] = T
-    Fd_out[k] = Fd
-    u_out[k, :] = u
-    v_out[k, :] = v
-    ek = 0.0
-    for i in range(u.shape[0]):
-        ek += 0.5e-3 * m[i] * v[i] * v[i]
-    N = T.shape[0]
-    e = np.empty(N)
-    for j in range(N):
-        e[j] = epre[j] + u[j] - u[j + 1]
-    en_out[k, 0] = W
-    en_out[k, 1] = ek
-    en_out[k, 2] = elastic_energy_array(e, cl, ch)
-    en_out[k, 3] = D
-
-
-@njit(cache=True, fastmath=_FM, error_model="numpy")
-def _explicit(u, v, m, cl, ch, cd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
-              dt, n_steps, out_every, t_out, T_out, Fd_out, u_out, v_out, en_out, kind=0):
-    nn = u.shape[0]
-    N = nn - 1
-    last = N if tens else N - 1  # last free node
-    has_ext = tens or load_node.shape[0] > 0
-    has_res = np.any(res > 0.0)
-    T = np.zeros(N)
-    Fk = np.zeros(N)
-    dprev = np.zeros(N)
-    du = np.zeros(nn)
-    fe = np.zeros(nn)
-    feprev = np.zeros(nn)
-    acc = np.zeros(nn)
-    inv = np.zeros(nn)
-    for i in range(1, last + 1):
-        inv[i] = 1e3 / m[i]
-    u0, v0, a0 = drive_state(0.0, code, p)
-    u[0] = u0
-    v[0] = v0
-    _, peak = _segments(u, v, du, epre, cl, ch, cd, T, Fk, dprev, kind)
-    if has_ext:
-        _external(0.0, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, feprev, False)
-    for i in range(1, last + 1):
-        nxt = T[i] if i < N else 0.0
-        acc[i] = (T[i - 1] - nxt + feprev[i]) * inv[i]
-    Fd = 1e-3 * m[0] * a0 + T[0]
-    W = 0.0
-    D = 0.0
-    _record(0, 0.0, u, v, m, T, Fd, epre, cl, ch, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out)
-    status = 0
-    for n in range(n_steps):
-        t1 = (n + 1) * dt
-        for i in range(1, last + 1):
-            v[i] += 0.5 * dt * acc[i]
-            du[i] = dt * v[i]
-            u[i] += du[i]
-        u0, v0, a0 = drive_state(t1, code, p)
-        du[0] = u0 - u[0]
-        u[0] = u0
-        v[0] = v0
-        dD, pk = _segments(u, v, du, epre, cl, ch, cd, T, Fk, dprev, kind)
-        D += dD
-        peak = max(peak, pk)
-        if has_ext:
-            _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, False)
-            for i in range(1, last + 1):
-                W += 0.5 * (feprev[i] + fe[i]) * du[i]
-                feprev[i] = fe[i]
-        for i in range(1, N):
-            acc[i] = (T[i - 1] - T[i] + fe[i]) * inv[i]
-        if tens:
-            acc[N] = (T[N - 1] + fe[N]) * inv[N]
-        for i in range(1, last + 1):
-            v[i] += 0.5 * dt * acc[i]
-        if has_res:
-            W += _resist(v, m, res, veps, dt, last)
-        Fd1 = 1e-3 * m[0] * a0 + T[0]
-        W += 0.5 * (Fd + Fd1) * du[0]
-        Fd = Fd1
-        if (n + 1) % out_every == 0:
-            if not math.isfinite(peak + u[last]):
-                status = 1
-                break
-            _record((n + 1) // out_every, t1, u, v, m, T, Fd, epre, cl, ch, W, D,
-                    t_out, T_out, Fd_out, u_out, v_out, en_out)
-    return status, peak
-
-
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def _thomas(lo, di, up, r, x):
     """Solve the tridiagonal system (lo: sub, di: diagonal, up: super diagonal) for x; r is overwritten."""
@@ -221,116 +97,218 @@ def _thomas(lo, di, up, r, x):
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def _implicit(u, v, m, cl, ch, cd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
-              dt, n_steps, out_every, t_out, T_out, Fd_out, u_out, v_out, en_out):
+def _drive_work(us, vs, Ts, u, v, T, m0):
+    """Work of the drive on node 0 over a step [N·mm]: trapezoidal T_1·Δu_0 + exact Δ(½ m_0 v_0²)."""
+    return 0.5 * (Ts[0] + T[0]) * (u[0] - us[0]) + 0.5e-3 * m0 * (v[0] * v[0] - vs[0] * vs[0])
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
+    """One Verlet step of length h [s] from state S into X; returns (dW, dD, peak, lowest tension)."""
+    (m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, last) = c
+    us, vs, accs, zs, dvs, fes, Ts = S
+    u, v, acc, z, dv, fe, T, Fk, ks, cs = X
+    N = T.shape[0]
+    for i in range(1, last + 1):
+        vh = vs[i] + 0.5 * h * accs[i]
+        v[i] = vh
+        u[i] = us[i] + h * vh
+    u[0], v[0], _ = drive_state(t1, code, p)
+    dD, pk, low = tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, zs, dvs, z, dv, T, Fk, ks, cs, kind, False)
+    dW = _drive_work(us, vs, Ts, u, v, T, m[0])
+    if tens or load_node.shape[0] > 0:
+        _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, False)
+        for i in range(1, last + 1):
+            dW += 0.5 * (fes[i] + fe[i]) * (u[i] - us[i])
+    for i in range(1, N):
+        acc[i] = (T[i - 1] - T[i] + fe[i]) * inv[i]
+    if tens:
+        acc[N] = (T[N - 1] + fe[N]) * inv[N]
+    for i in range(1, last + 1):
+        v[i] += 0.5 * h * acc[i]
+    if has_res:
+        dW += _resist(v, m, res, veps, h, last)
+    return dW, dD, pk, low
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
+    """One Newmark (sub-)step by Newton's method; returns (converged, dW, dD, peak, lowest tension, iterations)."""
+    (m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, nf) = c
+    us, vs, accs, zs, dvs, fes, Ts = S
+    u, v, acc, z, dv, fe, T, Fk, ks, cs = X
+    lo, di, up, r, dx = lin
+    N = T.shape[0]
+    u[0], v[0], _ = drive_state(t1, code, p)
+    u[N] = us[N]
+    v[N] = vs[N]
+    for i in range(1, nf + 1):
+        acc[i] = accs[i]
+    dD, pk, low = 0.0, 0.0, 0.0
+    for it in range(max_it):
+        for i in range(1, nf + 1):
+            u[i] = us[i] + h * vs[i] + 0.25 * h * h * (accs[i] + acc[i])
+            v[i] = vs[i] + 0.5 * h * (accs[i] + acc[i])
+        dD, pk, low = tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, zs, dvs, z, dv, T, Fk, ks, cs, 0, True)
+        _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, True)
+        rmax = 0.0
+        for i in range(1, nf + 1):
+            nxt = T[i] if i < N else 0.0
+            kn = ks[i] if i < N else (kt if tens else 0.0)
+            cn = cs[i] if i < N else 0.0
+            cres = res[i] / veps if abs(v[i]) < veps else 0.0  # -d(resistance)/dv
+            k = i - 1
+            r[k] = (T[i - 1] - nxt + fe[i]) - 1e-3 * m[i] * acc[i]
+            di[k] = 1e-3 * m[i] + 0.5 * h * (cs[i - 1] + cn + cres) + 0.25 * h * h * (ks[i - 1] + kn)
+            lo[k] = -(0.5 * h * cs[i - 1] + 0.25 * h * h * ks[i - 1])
+            up[k] = -(0.5 * h * cn + 0.25 * h * h * (ks[i] if i < N else 0.0))
+            rmax = max(rmax, abs(r[k]))
+        if not math.isfinite(rmax):
+            return False, 0.0, 0.0, 0.0, 0.0, it + 1
+        if rmax <= tol or nf == 0:
+            dW = _drive_work(us, vs, Ts, u, v, T, m[0])
+            for i in range(1, nf + 1):
+                dW += 0.5 * (fes[i] + fe[i]) * (u[i] - us[i])
+            return True, dW, dD, pk, low, it + 1
+        _thomas(lo[:nf], di[:nf], up[:nf], r[:nf], dx[:nf])
+        for i in range(1, nf + 1):
+            acc[i] += dx[i - 1]
+    return False, 0.0, 0.0, 0.0, 0.0, max_it
+
+
+@njit(cache=True)
+def _record(k, t, S, m, epre, cl, ch, hf, hx, hd, code, p, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out):
+    us, vs, accs, zs, dvs, fes, Ts = S
+    t_out[k] = t
+    T_out[k, :] = Ts
+    Fd_out[k] = 1e-3 * m[0] * drive_state(t, code, p)[2] + Ts[0]
+    u_out[k, :] = us
+    v_out[k, :] = vs
+    ek = 0.0
+    for i in range(us.shape[0]):
+        ek += 0.5e-3 * m[i] * vs[i] * vs[i]
+    en_out[k, 0] = W
+    en_out[k, 1] = ek
+    en_out[k, 2] = stored_energy(us, epre, cl, ch, hf, hx, hd, zs)
+    en_out[k, 3] = D
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
+        dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, dt_explicit, t_out, T_out, Fd_out, u_out, v_out,
+        en_out, stats, kind=0):
+    """Integrate ``n_steps`` steps of ``dt`` [s] (see the module docstring); returns (status, peak [N]).
+
+    status 0: done; 1: non-finite state (stopped at the last good output); 2: Newton did not converge at the
+    shortest sub-step dt/2^levels, which is above ``dt_explicit`` (the explicit stable step; below it, such a
+    sub-step is taken by the explicit scheme: Newton cannot converge where a segment's damper force jumps
+    as it goes taut).  ``stats`` receives [accepted sub-steps, rejected sub-steps, largest Newton iteration
+    count, shortest sub-step / dt, explicit fallback sub-steps, sub-steps ending with a segment that carries
+    nothing (slack or clipped)].
+    """
     nn = u.shape[0]
     N = nn - 1
-    nf = N if tens else N - 1  # free nodes 1..nf
-    T = np.zeros(N)
-    dprev = np.zeros(N)
-    du = np.zeros(nn)
-    fe = np.zeros(nn)
-    feprev = np.zeros(nn)
-    acc = np.zeros(nn)
-    un = np.zeros(nn)
-    vn = np.zeros(nn)
-    ks = np.zeros(N)
-    cs = np.zeros(N)
-    lo = np.zeros(max(nf, 1))
-    di = np.zeros(max(nf, 1))
-    up = np.zeros(max(nf, 1))
-    r = np.zeros(max(nf, 1))
-    dx = np.zeros(max(nf, 1))
-    u0, v0, a0 = drive_state(0.0, code, p)
-    u[0] = u0
-    v[0] = v0
-    _, peak = _segments(u, v, du, epre, cl, ch, cd, T, np.zeros(N), dprev, 0)
-    _external(0.0, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, feprev)
-    for i in range(1, nf + 1):
-        nxt = T[i] if i < N else 0.0
-        acc[i] = 1e3 * (T[i - 1] - nxt + feprev[i]) / m[i]
-    Fd = 1e-3 * m[0] * a0 + T[0]
+    last = N if tens else N - 1  # last free node
+    S = (u.copy(), v.copy(), np.zeros(nn), np.zeros(hf.shape), np.zeros(N), np.zeros(nn), np.zeros(N))
+    X = (u.copy(), v.copy(), np.zeros(nn), np.zeros(hf.shape), np.zeros(N), np.zeros(nn), np.zeros(N),
+         np.zeros(N), np.zeros(N), np.zeros(N))
+    nb = max(last, 1)
+    lin = (np.zeros(nb), np.zeros(nb), np.zeros(nb), np.zeros(nb), np.zeros(nb))
+    has_res = np.any(res > 0.0)
+    inv = np.zeros(nn)
+    for i in range(1, last + 1):
+        inv[i] = 1e3 / m[i]
+    c = (m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, last)
+    us, vs, accs, zs, dvs, fes, Ts = S
+    us[0], vs[0], _ = drive_state(0.0, code, p)
+    X[0][0] = us[0]
+    X[1][0] = vs[0]
+    for j in range(N):  # elements unstressed at t = 0 (Jenkins slider at e, Dahl force 0)
+        for q in range(hf.shape[1]):
+            zs[j, q] = epre[j] + us[j] - us[j + 1] if hd[j, q] == 0 else 0.0
+    _, peak, low = tensions(us, vs, us, epre, cl, ch, cd, hf, hx, hd, zs, dvs, X[3], dvs, Ts, X[7], X[8], X[9], kind,
+                            False)
+    _external(0.0, us, vs, res, veps, load_node, load_F, load_t, tens, Ft, kt, fes, implicit)
+    if not (tens or load_node.shape[0] > 0 or implicit):
+        fes[:] = 0.0
+    for i in range(1, last + 1):
+        nxt = Ts[i] if i < N else 0.0
+        accs[i] = (Ts[i - 1] - nxt + fes[i]) * inv[i]
+    Fbase = max(1.0, Ft)
+    for k in range(load_F.shape[0]):
+        Fbase += abs(load_F[k])
+    Fbase += np.sum(res)
     W = 0.0
     D = 0.0
-    _record(0, 0.0, u, v, m, T, Fd, epre, cl, ch, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out)
+    _record(0, 0.0, S, m, epre, cl, ch, hf, hx, hd, code, p, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out)
     status = 0
-    anew = acc.copy()
+    unit = 1 << levels
+    hu = unit
+    n_acc, n_rej, it_max, hu_min, n_fb, n_slack = 0, 0, 0, unit, 0, 0
     for n in range(n_steps):
-        t1 = (n + 1) * dt
-        u0, v0, a0 = drive_state(t1, code, p)
-        un[0] = u0
-        vn[0] = v0
-        if not tens:
-            un[N] = u[N]
-            vn[N] = v[N]
-        converged = False
-        for it in range(30):
-            for i in range(1, nf + 1):
-                un[i] = u[i] + dt * v[i] + 0.25 * dt * dt * (acc[i] + anew[i])
-                vn[i] = v[i] + 0.5 * dt * (acc[i] + anew[i])
-            fmax = 0.0
-            for j in range(N):
-                e = epre[j] + un[j] - un[j + 1]
-                f = _force(e, cl[j], ch[j])
-                t = f + cd[j] * (vn[j] - vn[j + 1])
-                taut = e > 0.0 and t > 0.0
-                T[j] = t if taut else 0.0
-                ks[j] = _stiffness(e, cl[j], ch[j]) if taut else 0.0
-                cs[j] = cd[j] if taut else 0.0
-                fmax = max(fmax, abs(T[j]))
-            _external(t1, un, vn, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe)
-            rmax = 0.0
-            for i in range(1, nf + 1):
-                nxt = T[i] if i < N else 0.0
-                kn = ks[i] if i < N else (kt if tens else 0.0)
-                cn = cs[i] if i < N else 0.0
-                cres = res[i] / veps if abs(vn[i]) < veps else 0.0  # -d(resistance)/dv
-                k = i - 1
-                r[k] = -(1e-3 * m[i] * anew[i] - (T[i - 1] - nxt + fe[i]))
-                di[k] = 1e-3 * m[i] + 0.5 * dt * (cs[i - 1] + cn + cres) + 0.25 * dt * dt * (ks[i - 1] + kn)
-                lo[k] = -(0.5 * dt * cs[i - 1] + 0.25 * dt * dt * ks[i - 1])
-                up[k] = -(0.5 * dt * cn + 0.25 * dt * dt * (ks[i] if i < N else 0.0))
-                rmax = max(rmax, abs(r[k]))
-            if rmax <= 1e-10 * (1.0 + fmax) or nf == 0:
-                converged = True
+        done = 0
+        while done < unit:
+            hu = min(hu, unit - done)
+            h = hu * dt / unit
+            t1 = (n + (done + hu) / unit) * dt
+            if implicit:
+                Fref = Fbase
+                for j in range(N):
+                    Fref = max(Fref, S[6][j])
+                ok, dW, dD, pk, low, its = _implicit_step(h, t1, c, S, X, lin, tol_abs + tol_rel * Fref, max_it)
+                it_max = max(it_max, its)
+            else:
+                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, kind)
+                ok = True
+            if not ok and hu > 1:
+                hu //= 2
+                n_rej += 1
+                continue
+            if not ok and h <= dt_explicit:  # Newton stuck at a non-smooth point: one Verlet sub-step instead
+                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, 0)
+                ok = True
+                n_fb += 1
+                if has_res:  # the implicit state's forces and acceleration include the resistance
+                    _external(t1, X[0], X[1], res, veps, load_node, load_F, load_t, tens, Ft, kt, X[5], True)
+                    for i in range(1, last + 1):
+                        X[2][i] = (X[6][i - 1] - (X[6][i] if i < N else 0.0) + X[5][i]) * inv[i]
+            if not ok:
+                status = 2
                 break
-            _thomas(lo[:nf], di[:nf], up[:nf], r[:nf], dx[:nf])
-            for i in range(1, nf + 1):
-                anew[i] += dx[i - 1]
-        if not converged:
-            status = 2
+            S, X = (X[0], X[1], X[2], X[3], X[4], X[5], X[6]), (S[0], S[1], S[2], S[3], S[4], S[5], S[6],
+                                                                 X[7], X[8], X[9])
+            W += dW
+            D += dD
+            peak = max(peak, pk)
+            if low <= 0.0:
+                n_slack += 1
+            done += hu
+            n_acc += 1
+            hu_min = min(hu_min, hu)
+            if hu < unit:
+                hu *= 2
+        if status:
             break
-        for i in range(nn):
-            du[i] = un[i] - u[i]
-        pk = 0.0
-        dD = 0.0
-        for j in range(N):
-            e = epre[j] + un[j] - un[j + 1]
-            d = T[j] - _force(e, cl[j], ch[j]) if T[j] > 0.0 else (0.0 if e <= 0.0 else -_force(e, cl[j], ch[j]))
-            dD += 0.5 * (dprev[j] + d) * (du[j] - du[j + 1])
-            dprev[j] = d
-            pk = max(pk, T[j])
-        D += dD
-        peak = max(peak, pk)
-        for i in range(1, nf + 1):
-            W += 0.5 * (feprev[i] + fe[i]) * du[i]
-            feprev[i] = fe[i]
-        for i in range(nn):
-            u[i] = un[i]
-            v[i] = vn[i]
-            acc[i] = anew[i]
-        Fd1 = 1e-3 * m[0] * a0 + T[0]
-        W += 0.5 * (Fd + Fd1) * du[0]
-        Fd = Fd1
         if (n + 1) % out_every == 0:
-            if not math.isfinite(peak + u[N]):
+            if not math.isfinite(peak + W + D + S[0][last] + S[1][last]):
                 status = 1
                 break
-            _record((n + 1) // out_every, t1, u, v, m, T, Fd, epre, cl, ch, W, D,
+            _record((n + 1) // out_every, (n + 1) * dt, S, m, epre, cl, ch, hf, hx, hd, code, p, W, D,
                     t_out, T_out, Fd_out, u_out, v_out, en_out)
+    stats[0] = n_acc
+    stats[1] = n_rej
+    stats[2] = it_max
+    stats[3] = hu_min / unit
+    stats[4] = n_fb
+    stats[5] = n_slack
     return status, peak
 
 
-#: The compiled cores (public names for :mod:`.simulation` and the benchmarks).
-explicit_core = _explicit
-implicit_core = _implicit
+def explicit_core(*args, kind: int = 0):
+    """The explicit scheme through :func:`run` (arguments as :func:`run` without ``implicit``)."""
+    return run(False, *args, kind=kind)
+
+
+def implicit_core(*args):
+    """The implicit scheme through :func:`run` (arguments as :func:`run` without ``implicit``)."""
+    return run(True, *args)

@@ -26,7 +26,18 @@ natural frequency or the polygon frequency, and the expected dynamic elongation 
 for the energy per cycle at that point, keeps the model linear in velocity (the energy balance can be checked)
 and adds no history state.  Dampers of a chain act in series like its springs: c_e measured on a specimen of
 ``damping_ref_links`` links gives a segment of n_s links c_e·n_ref/n_s.  The damper acts only while the
-segment is taut and can never push: T_j = max(F_k(e_j) + c_j·ė_j, 0) for e_j > 0, else 0.
+segment is taut and can never push: T_j = max(F_k(e_j) + c_j·ė_j + Σ z_jq, 0) for e_j > 0, else 0.
+
+Time-domain hysteretic damping (issue 17).  Besides (or instead of) the viscous c_e, a segment can carry
+Jenkins elements (spring k in series with a Coulomb slider of force f, state z = element force, see
+:mod:`.segments`): ``hysteresis`` = ((k [N/mm], f [N]), ...) of the specimen, an Iwan (parallel Masing)
+model of rate-independent hysteresis, and ``coulomb_N`` = Coulomb friction with stick (one Jenkins element
+of slip force coulomb_N and stick stiffness ``coulomb_stiffness``, default the specimen's link stiffness
+1/c_lin).  Specimen-to-segment scaling: springs and dampers in series, so a specimen of n_ref links and a
+segment of n_s links carry the same force at n_s/n_ref times the elongation: every compliance scales by
+n_s/n_ref (k·n_ref/n_s, c·n_ref/n_s) and every force (the slip forces f) is unchanged.  A harmonic
+elongation of amplitude A about a taut mean dissipates, per cycle and element, 4·f·(A − f/k) when
+A > f/k (else 0), the loop area of a Jenkins element.
 
 Masses.  ``lumping="half"`` (default) puts half of each segment's mass on each of its nodes (the standard
 lumped-mass chain); ``lumping="drive"`` puts each segment's mass on its drive-side node, which for one
@@ -111,6 +122,16 @@ class ChainLine:
         Load steps.
     lumping : str
         ``"half"`` or ``"drive"``.
+    hysteresis : tuple of (k, f)
+        Jenkins elements of the specimen (``damping_ref_links`` links): stiffness k [N/mm] > 0 and slip force
+        f [N] > 0 each (an Iwan model; see the module docstring for the scaling to segments).
+    dahl : tuple of (F_h, x_h)
+        Dahl elements of the specimen: force F_h [N] > 0 approached over a travel x_h [mm] > 0 after each
+        reversal (segment: x_h·n_s/n_ref, F_h unchanged).
+    coulomb_N : float
+        Coulomb friction force with stick of the specimen [N], >= 0.
+    coulomb_stiffness : float, optional
+        Stick stiffness of the Coulomb element for the specimen [N/mm], > 0; default 1/c_lin of the specimen.
     """
 
     n_links: int
@@ -127,6 +148,10 @@ class ChainLine:
     resistance_v_eps: float = 1.0
     loads: tuple[LoadStep, ...] = ()
     lumping: str = "half"
+    hysteresis: tuple[tuple[float, float], ...] = ()
+    dahl: tuple[tuple[float, float], ...] = ()
+    coulomb_N: float = 0.0
+    coulomb_stiffness: float | None = None
 
     def __post_init__(self) -> None:
         if self.chain is None:
@@ -150,6 +175,22 @@ class ChainLine:
             raise _bad("lumping", self.lumping, f"one of {list(LUMPINGS)}")
         if self.damping_ref_links is not None and not (int(self.damping_ref_links) >= 1):
             raise _bad("damping_ref_links", self.damping_ref_links, "an int >= 1")
+        hyst = tuple(tuple(float(x) for x in el) for el in self.hysteresis)
+        for el in hyst:
+            if len(el) != 2 or not (math.isfinite(el[0]) and el[0] > 0 and math.isfinite(el[1]) and el[1] > 0):
+                raise _bad("hysteresis", el, "pairs (k > 0 N/mm, f > 0 N), finite")
+        object.__setattr__(self, "hysteresis", hyst)
+        dahl = tuple(tuple(float(x) for x in el) for el in self.dahl)
+        for el in dahl:
+            if len(el) != 2 or not all(math.isfinite(x) and x > 0 for x in el):
+                raise _bad("dahl", el, "pairs (F_h > 0 N, x_h > 0 mm), finite")
+        object.__setattr__(self, "dahl", dahl)
+        if not (isinstance(self.coulomb_N, (int, float, np.floating)) and not isinstance(self.coulomb_N, bool)
+                and math.isfinite(self.coulomb_N) and self.coulomb_N >= 0):
+            raise _bad("coulomb_N", self.coulomb_N, ">= 0 N (finite)")
+        if self.coulomb_stiffness is not None and not (math.isfinite(self.coulomb_stiffness)
+                                                       and self.coulomb_stiffness > 0):
+            raise _bad("coulomb_stiffness", self.coulomb_stiffness, "> 0 N/mm (finite) or None")
         if self.chain.mass_per_m <= 0:
             raise _bad("chain.mass_per_m", self.chain.mass_per_m, "> 0 kg/m (a dynamic model needs mass)")
         for ld in self.loads:
@@ -202,8 +243,46 @@ class ChainLine:
 
     def segment_damping(self) -> np.ndarray:
         """Viscous damping of every segment [N·s/mm]: c_e·n_ref/n_s (dampers in series)."""
-        n_ref = self.chain.n if self.damping_ref_links is None else int(self.damping_ref_links)
-        return self.damping * n_ref / self.links_per_segment().astype(float)
+        return self.damping * self.reference_links() / self.links_per_segment().astype(float)
+
+    def reference_links(self) -> int:
+        """Links n_ref of the specimen the damping data belong to (``damping_ref_links``, default chain.n)."""
+        return int(self.chain.n if self.damping_ref_links is None else self.damping_ref_links)
+
+    def specimen_elements(self) -> list[tuple[float, float]]:
+        """Jenkins elements (k [N/mm], f [N]) of the specimen: ``hysteresis`` plus the Coulomb element."""
+        els = list(self.hysteresis)
+        if self.coulomb_N > 0:
+            k = self.coulomb_stiffness
+            if k is None:
+                k = 1.0 / kernels.coefficients(self.chain.replace(n=self.reference_links()), self.variant)[0]
+            els.append((float(k), float(self.coulomb_N)))
+        return els
+
+    def segment_elements(self) -> tuple[np.ndarray, np.ndarray]:
+        """(k [N/mm], f [N]) of every segment's Jenkins elements, shape (N, n_elements).
+
+        Series scaling from the specimen of n_ref links to a segment of n_s links: k·n_ref/n_s, f unchanged.
+        """
+        els = self.specimen_elements()
+        scale = self.reference_links() / self.links_per_segment().astype(float)
+        k = np.array([[e[0] for e in els]] * self.n_masses, dtype=float).reshape(self.n_masses, len(els))
+        f = np.array([[e[1] for e in els]] * self.n_masses, dtype=float).reshape(self.n_masses, len(els))
+        return k * scale[:, None], f
+
+    def segment_element_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """All elements of every segment for the integrator, shape (N, n_elements) each: (force [N],
+        travel [mm], kind) — Jenkins (slip force f, stick travel f/k; kind 0) then Dahl (F_h, x_h·n_s/n_ref;
+        kind 1)."""
+        k, f = self.segment_elements()
+        scale = self.links_per_segment().astype(float) / self.reference_links()
+        N, nd = self.n_masses, len(self.dahl)
+        Fh = np.array([[e[0] for e in self.dahl]] * N, dtype=float).reshape(N, nd)
+        xh = np.array([[e[1] for e in self.dahl]] * N, dtype=float).reshape(N, nd) * scale[:, None]
+        kind = np.concatenate([np.zeros(f.shape, dtype=np.int64), np.ones((N, nd), dtype=np.int64)], axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            travel = np.where(k > 0, f / np.where(k > 0, k, 1.0), 0.0)
+        return np.concatenate([f, Fh], axis=1), np.concatenate([travel, xh], axis=1), kind
 
     def node_masses(self) -> np.ndarray:
         """Lumped masses of nodes 0..N [kg] (node N includes ``tail_mass_kg``)."""

@@ -1,13 +1,11 @@
 """Figures of a chain-line simulation (matplotlib, Agg): tension heat map, drive-end tension, mode shapes.
 
-Every function draws on a new figure and returns it; :func:`save` writes it atomically (a temporary file in
-the target folder, then os.replace) and refuses to overwrite an existing file without ``force``.
+Every function draws on a new figure and returns it; :func:`save` writes it atomically (chainid.fileio)
+and refuses to overwrite an existing file without ``force``.
 Units: t s, positions m (from the drive), tension kN.
 """
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -16,6 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from chainid.infra.fileio import save_figure  # noqa: E402
 from chainid.dynamics.simulation import SimResult  # noqa: E402
 from chainid.dynamics.modes import Modes  # noqa: E402
 
@@ -68,19 +67,8 @@ def plot_modes(md: Modes, n: int = 4, title: str = "Mode shapes about the preten
 
 
 def save(fig: plt.Figure, path: str | Path, force: bool = False, dpi: int = 120) -> Path:
-    """Write ``fig`` to ``path`` atomically; ValueError if it exists and ``force`` is False."""
-    p = Path(path)
-    if p.exists() and not force:
-        plt.close(fig)
-        raise ValueError(f"output file {str(p)!r} exists; pass --force to overwrite it")
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent)
-    os.close(fd)
+    """Write ``fig`` to ``path`` atomically (chainid.fileio); OutputError (a ValueError) if it exists without ``force``."""
     try:
-        fig.savefig(tmp, dpi=dpi)
-        os.replace(tmp, p)
+        return save_figure(fig, path, force=force, what="--plots", dpi=dpi)
     finally:
         plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return p

@@ -1,7 +1,12 @@
 """Simulation API of the lumped chain: stable step, :func:`simulate` and its :class:`SimResult`.
 
-Units mm, N, s, kg; energies N·mm.  The numba cores and the two schemes are described in
+Units mm, N, s, kg; energies N·mm.  The numba loop and the two schemes are described in
 :mod:`chainid.dynamics.integrators`.
+
+Checks on every run: the work and memory are estimated before integrating and refused beyond
+``max_work`` (node-steps) and ``max_memory`` (bytes); after the run, every energy must be finite and the
+energy balance (at its worst output time, :func:`chainid.dynamics.energy.balance`) within
+:data:`BALANCE_TOL`: otherwise a RuntimeWarning, or with ``strict=True`` a :class:`SimulationError`.
 """
 from __future__ import annotations
 
@@ -13,12 +18,41 @@ import numpy as np
 
 from chainid.dynamics.drives import Drive
 from chainid.dynamics.energy import balance
-from chainid.dynamics.integrators import explicit_core, implicit_core
+from chainid.dynamics.integrators import run
 from chainid.dynamics.model import ChainLine
 
-__all__ = ["SCHEMES", "SimResult", "simulate", "stable_step", "core_arguments"]
+__all__ = ["SCHEMES", "SimResult", "SimulationError", "simulate", "stable_step", "core_arguments", "estimate",
+           "BALANCE_TOL", "PEAK_TOL", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_WORK"]
 
 SCHEMES: tuple[str, ...] = ("explicit", "implicit")
+#: Largest relative energy-balance error of a trusted run (worst output time).
+BALANCE_TOL = 1e-3
+#: Largest relative change of the peak tension between a run and its half-step rerun (``refine`` > 0).
+PEAK_TOL = 0.02
+#: Default ceiling of the memory estimate [bytes] (2 GiB, as ``chainid simulate --max-memory``).
+DEFAULT_MAX_MEMORY = 2 * 1024**3
+#: Default ceiling of the work estimate [node-steps; an implicit node-step counts IMPLICIT_COST]: about
+#: 10 min at the explicit loop's measured 3e7 node-steps/s.
+DEFAULT_MAX_WORK = 2e10
+#: Cost of an implicit node-step in explicit node-steps (Newton: 2-4 iterations of kernel + tangent + solve).
+IMPLICIT_COST = 8.0
+#: Nominal speed of the explicit loop [node-steps/s] for the time estimate (benchmarks/dynamics_bench.py).
+NODE_STEPS_PER_S = 3e7
+
+
+class SimulationError(ValueError, FloatingPointError):
+    """A run whose result cannot be trusted: non-finite values, a Newton failure at the shortest sub-step,
+    or (with ``strict``) an energy-balance error above :data:`BALANCE_TOL`."""
+
+
+def _number(name: str, value: object, valid: str, positive: bool = True) -> float:
+    """``value`` as a finite float (Python or numpy int/float, never bool), > 0 if ``positive``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise _bad(name, value, valid)
+    v = float(value)
+    if not math.isfinite(v) or (positive and v <= 0):
+        raise _bad(name, value, valid)
+    return v
 
 
 def _bad(name: str, value: object, valid: str) -> ValueError:
@@ -44,10 +78,13 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
     if peak_force is None:
         k = 1.0 / c_lin
     else:
-        if not (math.isfinite(peak_force) and peak_force > 0):
-            raise _bad("peak_force", peak_force, "> 0 N")
+        peak_force = _number("peak_force", peak_force, "> 0 N")
         uu = np.cbrt(peak_force)
         k = 3.0 * uu / (2.0 * c_h + 3.0 * c_lin * uu)
+    hf, hx, hd = line.segment_element_table()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k_el = np.where(hx > 0, hf / np.where(hx > 0, hx, 1.0), 0.0) * np.where(hd == 1, 2.0, 1.0)
+    k = k + k_el.sum(axis=1)  # elements in parallel at their stiffest (Jenkins sticking; Dahl at a reversal 2F_h/x_h)
     c = line.segment_damping()
     m = line.node_masses()
     N = line.n_masses
@@ -63,19 +100,25 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
         return math.inf
     w = math.sqrt(w2)
     zeta = lam_c / (2.0 * w)
-    return (2.0 / w) * (math.sqrt(1.0 + zeta * zeta) - zeta)
+    return (2.0 / w) / (math.sqrt(1.0 + zeta * zeta) + zeta)  # = (2/ω)(√(1+ζ²) − ζ), no cancellation
 
 
 def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_every: int,
-                   initial_u: np.ndarray | None = None, initial_v: np.ndarray | None = None) -> tuple[tuple, tuple]:
-    """(arguments, output arrays) of the numba cores for a line, drive and step (used by simulate, benchmarks).
+                   initial_u: np.ndarray | None = None, initial_v: np.ndarray | None = None, *,
+                   levels: int = 6, tol_abs: float = 1e-6, tol_rel: float = 1e-9,
+                   max_it: int = 25, dt_explicit: float = 0.0) -> tuple[tuple, tuple]:
+    """(arguments, output arrays) of :func:`chainid.dynamics.integrators.run` after its ``implicit`` flag.
 
-    Output arrays: t [s], tension [N], drive force [N], u [mm], v [mm/s], energies (W, E_kin, E_el, D) [N·mm]
-    at every ``out_every``-th of ``n_steps`` steps of ``dt`` [s].
+    Output arrays: t [s], tension [N], drive force [N], u [mm], v [mm/s], energies (W, E_kin, E_stored, D)
+    [N·mm] at every ``out_every``-th of ``n_steps`` steps of ``dt`` [s], and the loop statistics (4,).
+    ``levels``: sub-steps down to dt/2^levels at slack/taut changes; ``tol_abs`` [N], ``tol_rel``, ``max_it``:
+    Newton's tolerance and iteration limit (implicit scheme); ``dt_explicit`` [s]: sub-steps of at most this
+    length that Newton cannot solve are taken by the explicit scheme (0: never).
     """
     n_rec = n_steps // out_every + 1
     nn, N = line.n_nodes, line.n_masses
     c_lin, c_h = line.segment_coefficients()
+    hf, hx, hd = line.segment_element_table()
     code, p = drive.params(line.chain.pitch)
     loads = line.loads
     u_init, v_init = np.zeros(nn), np.zeros(nn)
@@ -87,14 +130,39 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
             tgt[:] = a
     if line.far_end == "fixed":
         u_init[-1] = v_init[-1] = 0.0
-    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(),
+    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hx, hd,
             line.pretension_elongation(), line.resistance_per_node(), float(line.resistance_v_eps),
             np.array([ld.node for ld in loads], dtype=np.int64), np.array([ld.force_N for ld in loads], dtype=float),
             np.array([ld.t_on for ld in loads], dtype=float), line.far_end == "tensioner",
-            float(line.pretension_N), float(line.tensioner_stiffness), code, p, float(dt), n_steps, out_every)
+            float(line.pretension_N), float(line.tensioner_stiffness), code, p, float(dt), int(n_steps),
+            int(out_every), int(levels), float(tol_abs), float(tol_rel), int(max_it), float(dt_explicit))
     t_out, Fd_out = np.zeros(n_rec), np.zeros(n_rec)
     T_out, u_out, v_out, en_out = np.zeros((n_rec, N)), np.zeros((n_rec, nn)), np.zeros((n_rec, nn)), np.zeros((n_rec, 4))
-    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out)
+    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out, np.zeros(6))
+
+
+def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "explicit") -> dict:
+    """Work and memory of a run before it starts.
+
+    Parameters
+    ----------
+    line : ChainLine
+    n_steps, n_rec : float
+        Steps and stored output samples.
+    scheme : str
+
+    Returns
+    -------
+    dict
+        ``node_steps`` (steps × nodes, × IMPLICIT_COST for the implicit scheme; sub-steps at slack/taut
+        changes come on top), ``seconds`` (at the nominal NODE_STEPS_PER_S) and ``bytes`` (outputs and work
+        arrays).
+    """
+    nn, N = line.n_nodes, line.n_masses
+    n_el = len(line.specimen_elements()) + len(line.dahl)
+    work = float(n_steps) * nn * (IMPLICIT_COST if scheme == "implicit" else 1.0)
+    mem = 8.0 * (float(n_rec) * (3 * nn + N + 5) + 40 * nn + 4 * N * n_el)
+    return {"node_steps": work, "seconds": work / NODE_STEPS_PER_S, "bytes": mem}
 
 
 @dataclass
@@ -109,10 +177,17 @@ class SimResult:
     u, v : (n_out, N+1) node displacements [mm] from the pre-tensioned state and speeds [mm/s]
     work_in, kinetic, elastic, dissipated : (n_out,) energies [N·mm]; work_in = drive + external work
     peak_tension : largest segment tension over all steps [N]
+    refinements : step halvings done by ``refine``; peak_change : relative change of the peak at the last one
     static_tension : the steady (static) drive-end tension the dynamic factor refers to [N]
     dynamic_factor : peak_tension / static_tension (nan when static_tension = 0)
     dt, dt_stable : step used and the explicit stable step [s]
     scheme : "explicit" or "implicit"
+    n_steps : steps of dt
+    substeps, rejected : accepted and rejected sub-steps (sub-steps at slack/taut changes, Newton halving)
+    shortest_substep_s : the shortest sub-step taken [s]
+    explicit_fallbacks : implicit sub-steps taken by the explicit scheme (Newton stuck at a damper jump)
+    slack_substeps : sub-steps that ended with a segment carrying nothing (snap loads possible)
+    warnings : messages of the checks (energy balance)
     """
 
     t: np.ndarray
@@ -132,17 +207,29 @@ class SimResult:
     scheme: str
     n_steps: int
     positions: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    substeps: int = 0
+    rejected: int = 0
+    shortest_substep_s: float = math.nan
+    warnings: list = field(default_factory=list)
+    refinements: int = 0
+    peak_change: float = math.nan
+    explicit_fallbacks: int = 0
+    slack_substeps: int = 0
 
     def energy_balance(self) -> dict:
-        """The energy balance (see :func:`chainid.dynamics.energy.balance`)."""
-        return balance(self.work_in, self.kinetic, self.elastic, self.dissipated)
+        """The energy balance at its worst output time (see :func:`chainid.dynamics.energy.balance`)."""
+        return balance(self.work_in, self.kinetic, self.elastic, self.dissipated, self.t)
 
     def summary(self) -> dict:
         """JSON-ready summary: peak, static, dynamic factor, steps, energy balance."""
         return {"peak_tension_N": self.peak_tension, "static_tension_N": self.static_tension,
                 "dynamic_factor": self.dynamic_factor, "dt_s": self.dt, "dt_stable_s": self.dt_stable,
                 "scheme": self.scheme, "n_steps": self.n_steps, "t_end_s": float(self.t[-1]),
-                "energy_N_mm": self.energy_balance()}
+                "refinements": self.refinements, "peak_change_last_halving": self.peak_change,
+                "explicit_fallback_substeps": self.explicit_fallbacks,
+                "slack_substeps": self.slack_substeps, "substeps": self.substeps, "rejected_substeps": self.rejected,
+                "shortest_substep_s": self.shortest_substep_s,
+                "energy_N_mm": self.energy_balance(), "warnings": list(self.warnings)}
 
 
 def simulate(
@@ -157,6 +244,11 @@ def simulate(
     n_out: int = 500,
     initial_u: np.ndarray | None = None,
     initial_v: np.ndarray | None = None,
+    substep_levels: int = 6,
+    strict: bool = False,
+    max_work: float | None = DEFAULT_MAX_WORK,
+    max_memory: float | None = DEFAULT_MAX_MEMORY,
+    refine: int = 0,
 ) -> SimResult:
     """Integrate the chain line under a drive law from the pre-tensioned static state.
 
@@ -165,7 +257,7 @@ def simulate(
     line : ChainLine
     drive : Drive
     t_end : float
-        Simulated time [s], > 0.
+        Simulated time [s], > 0 (Python or numpy number).
     dt : float, optional
         Step [s], > 0; with ``scheme="explicit"`` at most the stable step.  Default: ``safety·dt_stable``
         (explicit) or dt_stable·10 capped at t_end/1000 (implicit).
@@ -181,6 +273,24 @@ def simulate(
     initial_u, initial_v : ndarray, optional
         Node displacements [mm] and speeds [mm/s] at t = 0 (length N+1; default 0, the static state).  The
         drive node follows its law and a fixed far end stays at 0 whatever is given for them.
+    substep_levels : int
+        0 .. 20: the implicit scheme halves a step whose Newton iteration fails down to dt/2^levels (0: no
+        halving, the run fails at once).
+    strict : bool
+        Raise :class:`SimulationError` when the energy balance error exceeds :data:`BALANCE_TOL` (default:
+        a RuntimeWarning, and the message in ``SimResult.warnings``).
+    max_work, max_memory : float or None
+        Refuse runs whose estimate (:func:`estimate`) exceeds this many node-steps / bytes (None: no limit).
+    refine : int
+        0 .. 10: adaptive step on an error estimate.  While the energy-balance error exceeds
+        :data:`BALANCE_TOL`, or (when a segment went slack: snap loads) the peak tension changed by more
+        than :data:`PEAK_TOL` from the previous run (the error estimate of the peak), the run is repeated with dt halved, at most ``refine`` times (the
+        cost is at most twice that of the last run).  If it does not converge: a warning (``strict``: an
+        error).  0: one run, balance check only.  Why this and not sub-stepping at each slack/taut change: a
+        variable step breaks Verlet's time reversibility; bisecting the transitions (tried, to dt/64) left a
+        balance drift of 1e-2 and scattered the peak of the slack polygon drive by ±5 %, while constant-step
+        runs converge as dt² (balance 0.89, 3.4e-3, 1.7e-4 at dt = 250, 62.5, 15.6 µs) with peaks within
+        1.1 % (see NOTES_h20a.md).
 
     Returns
     -------
@@ -189,9 +299,11 @@ def simulate(
     Raises
     ------
     ValueError
-        Bad input (naming the field, value and valid range), or an explicit ``dt`` above the stable step.
-    FloatingPointError
-        If the integration produced non-finite numbers (should not happen within the stable step).
+        Bad input (naming the field, value and valid range), an explicit ``dt`` above the stable step, or an
+        estimate beyond ``max_work`` / ``max_memory``.
+    SimulationError
+        (a ValueError and FloatingPointError) non-finite values, a Newton failure at the shortest sub-step,
+        or with ``strict`` an energy-balance error above :data:`BALANCE_TOL`.
     """
     if not isinstance(line, ChainLine):
         raise _bad("line", type(line).__name__, "a ChainLine")
@@ -199,47 +311,123 @@ def simulate(
         raise _bad("drive", type(drive).__name__, "a Drive")
     if scheme not in SCHEMES:
         raise _bad("scheme", scheme, f"one of {list(SCHEMES)}")
-    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
-        raise _bad("t_end", t_end, "> 0 s")
-    if not (0 < safety <= 1):
+    t_end = _number("t_end", t_end, "> 0 s (a finite number)")
+    safety = _number("safety", safety, "0 < safety <= 1")
+    if safety > 1:
         raise _bad("safety", safety, "0 < safety <= 1")
-    if isinstance(n_out, bool) or not isinstance(n_out, (int, np.integer)) or n_out < 2:
+    if isinstance(n_out, (bool, np.bool_)) or not isinstance(n_out, (int, np.integer)) or n_out < 2:
         raise _bad("n_out", n_out, "an int >= 2")
+    if isinstance(substep_levels, (bool, np.bool_)) or not isinstance(substep_levels, (int, np.integer)) \
+            or not 0 <= substep_levels <= 20:
+        raise _bad("substep_levels", substep_levels, "an int 0 .. 20")
+    if isinstance(refine, (bool, np.bool_)) or not isinstance(refine, (int, np.integer)) or not 0 <= refine <= 10:
+        raise _bad("refine", refine, "an int 0 .. 10")
+    for name, lim in (("max_work", max_work), ("max_memory", max_memory)):
+        if lim is not None:
+            _number(name, lim, "> 0 (or None)")
     dts = stable_step(line, peak_force)
     if dt is None:
         dt = safety * dts if scheme == "explicit" else min(10.0 * dts, t_end / 1000.0)
         dt = min(dt, t_end / n_out)
     else:
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
-            raise _bad("dt", dt, "> 0 s")
+        dt = _number("dt", dt, "> 0 s (a finite number)")
         if scheme == "explicit" and dt > dts:
             raise _bad("dt", dt, f"0 < dt <= {dts:.6g} s (the explicit stable step at "
                        f"{'peak_force = %g N' % peak_force if peak_force else 'any load'}); "
                        "use a smaller dt or scheme='implicit'")
-    n_steps = int(math.ceil(t_end / dt - 1e-9))
+    dt0 = dt
+    prev: SimResult | None = None
+    for attempt in range(refine + 1):
+        try:
+            res = _run_once(line, drive, t_end, dt, dts, scheme, n_out, initial_u, initial_v, substep_levels,
+                            max_work, max_memory)
+        except SimulationError as exc:  # non-finite or Newton failure: the strongest error estimate there is
+            if attempt == refine:
+                hint = (f"; peak_force = {peak_force:g} N sets the stable step: give the expected peak"
+                        if peak_force is not None and scheme == "explicit" else "")
+                raise SimulationError(f"{exc}{hint}") from None
+            dt = dt / 2.0
+            continue
+        eb = res.energy_balance()
+        if prev is not None:
+            res.peak_change = abs(res.peak_tension - prev.peak_tension) / max(res.peak_tension, 1e-300)
+        snaps = res.slack_substeps > 0  # the peak is checked under halving only where snap loads can occur
+        if eb["relative_error"] <= BALANCE_TOL and (refine == 0 or not snaps or res.peak_change <= PEAK_TOL) \
+                or attempt == refine:
+            break
+        prev = res
+        dt = res.dt / 2.0
+    res.refinements = attempt
+    msgs: list[str] = []
+    if attempt:
+        msgs.append(f"step refined {attempt} time(s) (energy balance and peak under halving): dt {dt0:.3g} s -> "
+                    f"{res.dt:.3g} s")
+    if refine and res.slack_substeps > 0 and not res.peak_change <= PEAK_TOL:
+        msgs.append(f"peak tension not converged under step refinement: {res.peak_tension:.6g} N at dt = "
+                    f"{res.dt:.3g} s vs {prev.peak_tension if prev else math.nan:.6g} N at twice that step "
+                    f"({100 * res.peak_change:.3g} % > {100 * PEAK_TOL:g} %): snap loads make the peak sensitive; "
+                    "raise --refine or give a smaller --dt")
+        if strict:
+            raise SimulationError(f"strict: {msgs[-1]}")
+    if scheme == "explicit" and peak_force is not None and res.peak_tension > peak_force:
+        peak = res.peak_tension
+        dts_peak = stable_step(line, float(peak))
+        if res.dt > dts_peak:
+            msgs.append(f"peak tension {peak:.4g} N exceeded peak_force = {peak_force:.4g} N and dt = {res.dt:.3g} s "
+                        f"is above the stable step {dts_peak:.3g} s there: rerun with peak_force >= {peak:.4g} N")
+    if eb["relative_error"] > BALANCE_TOL:
+        msgs.append(f"energy balance error {eb['relative_error']:.3g} at t = {eb['worst_t_s']:.6g} s exceeds "
+                    f"{BALANCE_TOL:g} ({scheme}, dt = {res.dt:.3g} s): the result is not converged; use a smaller dt "
+                    "or more refinements (and compare the peak under step refinement)")
+        if strict:
+            raise SimulationError(f"strict: {msgs[-1]}")
+    for m in msgs:
+        warnings.warn(m, RuntimeWarning, stacklevel=2)
+    res.warnings = msgs
+    return res
+
+
+def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float, scheme: str, n_out: int,
+              initial_u: np.ndarray | None, initial_v: np.ndarray | None, levels: int,
+              max_work: float | None, max_memory: float | None) -> SimResult:
+    """One run at step ``dt`` (checked against the limits first); raises SimulationError on a failed run."""
+    steps = t_end / dt if dt > 0 else math.inf
+    n_rec = min(float(n_out), steps) + 1
+    est = estimate(line, steps, n_rec, scheme)
+    if max_work is not None and not est["node_steps"] <= max_work:
+        raise ValueError(f"the run would take about {est['node_steps']:.3g} node-steps ({steps:.3g} steps of "
+                         f"dt = {dt:.3g} s for t_end = {t_end:g} s, {line.n_nodes} nodes; about "
+                         f"{est['seconds']:.3g} s), over max_work = {max_work:.3g} node-steps: valid range <= the "
+                         "limit; use a shorter t_end, a larger dt, fewer masses, or raise --max-work")
+    if max_memory is not None and not est["bytes"] <= max_memory:
+        raise ValueError(f"the run would need about {est['bytes'] / 1024**3:.3g} GiB ({n_rec:.4g} output samples x "
+                         f"{line.n_nodes} nodes), over max_memory = {max_memory / 1024**3:.3g} GiB: valid range <= "
+                         "the limit; use a smaller n_out, fewer masses, or raise --max-memory")
+    n_steps = int(math.ceil(steps - 1e-9))
     out_every = max(1, int(math.ceil(n_steps / n_out)))
     n_steps = int(math.ceil(n_steps / out_every)) * out_every
     dt = t_end / n_steps  # <= the requested step; the last output is at t_end
-    args, outs = core_arguments(line, drive, dt, n_steps, out_every, initial_u, initial_v)
-    t_out, T_out, Fd_out, u_out, v_out, en_out = outs
-    core = explicit_core if scheme == "explicit" else implicit_core
-    status, peak = core(*args, t_out, T_out, Fd_out, u_out, v_out, en_out)
+    levels = int(levels)
+    args, outs = core_arguments(line, drive, dt, n_steps, out_every, initial_u, initial_v, levels=levels,
+                                dt_explicit=0.9 * dts)
+    t_out, T_out, Fd_out, u_out, v_out, en_out, stats = outs
+    status, peak = run(scheme == "implicit", *args, *outs)
     if status == 1:
-        raise FloatingPointError(f"the {scheme} integration produced non-finite values (dt = {dt:.3g} s, "
-                                 f"dt_stable = {dts:.3g} s)")
+        raise SimulationError(f"the {scheme} integration produced non-finite values (dt = {dt:.3g} s, "
+                              f"dt_stable = {dts:.3g} s): no result")
     if status == 2:
-        raise FloatingPointError(f"the implicit step did not converge (dt = {dt:.3g} s); use a smaller dt")
-    if scheme == "explicit" and peak_force is not None and peak > peak_force:
-        dts_peak = stable_step(line, float(peak))
-        if dt > dts_peak:
-            warnings.warn(f"peak tension {peak:.4g} N exceeded peak_force = {peak_force:.4g} N and dt = {dt:.3g} s "
-                          f"is above the stable step {dts_peak:.3g} s there: rerun with peak_force >= {peak:.4g} N",
-                          RuntimeWarning, stacklevel=2)
+        raise SimulationError(f"the implicit step did not converge even at dt/{2 ** levels} = "
+                              f"{dt / 2 ** levels:.3g} s (dt = {dt:.3g} s); use a smaller dt")
     static = line.static_tension_at_speed() if drive.law in ("ramp", "polygon") else float(line.pretension_N)
-    return SimResult(
+    res = SimResult(
         t=t_out, tension=T_out, drive_force=Fd_out, u=u_out, v=v_out, work_in=en_out[:, 0], kinetic=en_out[:, 1],
         elastic=en_out[:, 2], dissipated=en_out[:, 3], peak_tension=float(peak), static_tension=static,
         dynamic_factor=float(peak / static) if static > 0 else math.nan, dt=float(dt), dt_stable=float(dts),
         scheme=scheme, n_steps=n_steps,
         positions=np.concatenate([[0.0], np.cumsum(line.segment_lengths())]),
+        substeps=int(stats[0]), rejected=int(stats[1]), shortest_substep_s=float(stats[3] * dt),
+        explicit_fallbacks=int(stats[4]), slack_substeps=int(stats[5]),
     )
+    if not res.energy_balance()["finite"]:
+        raise SimulationError(f"the {scheme} integration produced non-finite energies (dt = {dt:.3g} s): no result")
+    return res
