@@ -290,7 +290,7 @@ def simulate(
         variable step breaks Verlet's time reversibility; bisecting the transitions (tried, to dt/64) left a
         balance drift of 1e-2 and scattered the peak of the slack polygon drive by ±5 %, while constant-step
         runs converge as dt² (balance 0.89, 3.4e-3, 1.7e-4 at dt = 250, 62.5, 15.6 µs) with peaks within
-        1.1 % (see NOTES_h20a.md).
+        1.1 % (see docs/dynamics_convergence.md).
 
     Returns
     -------
