@@ -172,7 +172,9 @@ class TestResult:
     Fc0 : float
         Mean of F_c [N]; ≈ 0 if the stiffness model is right.
     theta : float
-        Phase of x = x0 + A sin(omega t + theta) [rad].
+        Phase of x = x0 + A sin(omega (t - t_origin) + theta) [rad].
+    t_origin : float
+        Time origin of ``theta`` [s]: the record's first sample (any time stamp, e.g. Unix time).
     noise_x : float
         RMS residual of x about the harmonic [mm].
     mass_kg : float
@@ -219,6 +221,7 @@ class TestResult:
     source: str = "estimated"
     steady: str = ""
     steady_tol: float = float("nan")
+    t_origin: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (contract keys test, omega, x0, A, F0, FA, phi, r2, F_ac, c_e, W, + extras)."""
@@ -317,6 +320,7 @@ def identify_test(
         F_as=hc.a,
         Fc0=hc.F0,
         theta=est.theta,
+        t_origin=float(getattr(est, "t_origin", 0.0)),
         noise_x=est.noise,
         mass_kg=mass,
         t_start=win.t_start,
