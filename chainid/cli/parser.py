@@ -180,6 +180,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:
+        from chainid.cli.common import check_io
+
+        check_io(args)  # an output that is an input of the same run: refused before any work
+        if getattr(args, "json", None) == "-":  # the JSON alone on stdout, every other line on stderr
+            from chainid.infra.fileio import json_to_stdout
+
+            with json_to_stdout():
+                return int(args.func(args) or 0)
         return int(args.func(args) or 0)
     except ValueError as exc:
         print(f"chainid {args.command}: error: {exc}", file=sys.stderr)
