@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import select
 import stat
 import threading
 
@@ -67,11 +68,24 @@ def test_force_onto_a_fifo_with_reader_writes_through(tmp_path):
     opened = threading.Event()
 
     def reader() -> None:
-        fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # open without waiting for a writer
-        os.set_blocking(fd, True)
+        # O_RDWR: open without waiting for a writer (Linux), and no EOF before the writer came
+        fd = os.open(fifo, os.O_RDWR)
         opened.set()
-        with os.fdopen(fd, "rb") as fh:
-            got.append(fh.read())
+        buf = b""
+        try:
+            while True:
+                r, _, _ = select.select([fd], [], [], 10)
+                if not r:
+                    break
+                buf += os.read(fd, 65536)
+                try:
+                    json.loads(buf)
+                    break
+                except ValueError:
+                    continue
+        finally:
+            os.close(fd)
+            got.append(buf)
 
     th = threading.Thread(target=reader, daemon=True)
     th.start()
