@@ -120,6 +120,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
     from chainid.damping.identify import identify_records
     from chainid.records.files import analyse_record, read_records, read_side_file, write_side_file
 
+    _check_model_numbers(args)
     _check_out(args.json, args.force)
     if args.write_side:
         _check_out(args.write_side, args.force, "--write-side")
@@ -321,6 +322,15 @@ def _simulate_model_file(args: argparse.Namespace, plan: Sequence[Any]) -> int:
     print(f"wrote {len(recs)} test(s) to {args.out} (model {args.model}: {names}, damping {model.damping.form}, "
           f"delay {model.delay_s:g} s, noise x {args.noise_x} mm, F {args.noise_F} N, seed {args.seed})")
     return 0
+
+
+def _check_model_numbers(args: argparse.Namespace) -> None:
+    """``--mass`` [kg], ``--k`` [N/mm], ``--x-ref`` [mm] of ``identify``: finite, mass >= 0, k > 0."""
+    for name, v, ok, rng in (("--mass", args.mass, args.mass is None or args.mass >= 0, ">= 0 kg"),
+                             ("--k", args.k, args.k is None or args.k > 0, "> 0 N/mm"),
+                             ("--x-ref", args.x_ref, True, "finite mm")):
+        if v is not None and not (math.isfinite(v) and ok):
+            raise ValueError(f"{name} = {v!r} is invalid: valid range {rng} (finite)")
 
 
 def _check_simulate_options(args: argparse.Namespace) -> None:

@@ -368,8 +368,6 @@ def run_report(out: Path, chain_path: str | None = None, data: str | None = None
         raise OutputError(f"report folder {str(out)!r} exists and is not empty; pass --force to overwrite "
                           "the files of the previous report (other files are kept)")
     check_output_dir(out, "--out")
-    if out.is_dir():  # a folder without our manifest: its report.md is the user's (the rest is checked at the end)
-        _check_not_ours(out, ["report.md"], set(_read_manifest(out)))
     chain = load_chain(chain_path)
     model = ChainModel(chain)
     datap = Path(data) if data else None
@@ -380,6 +378,8 @@ def run_report(out: Path, chain_path: str | None = None, data: str | None = None
         if not datap.is_file():
             raise ValueError(f"--data {str(datap)!r} does not exist")
         recs = read_records(datap, allow_compression=True)  # every cell checked before the first step
+    if out.is_dir():  # a folder without our manifest: its report.md is the user's (the rest is checked at the end)
+        _check_not_ours(out, ["report.md"], set(_read_manifest(out)))
     base = out.resolve()
     try:  # beside the target (same file system: the final moves are renames)
         base.parent.mkdir(parents=True, exist_ok=True)
