@@ -33,6 +33,9 @@ _LAZY = {
     "run_cases": "parallel",
     "dask_available": "parallel",
     "SCHEDULERS": "parallel",
+    "MAX_WORKERS": "parallel",
+    "worker_count": "parallel",
+    "probe_scheduler": "parallel",
 }
 
 __all__ = sorted(_LAZY)
