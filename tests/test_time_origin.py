@@ -62,3 +62,14 @@ def test_diagnose_same_tests_at_any_origin(series, t0):
     assert ref["baseline"]["nrmse_train"] < 1e-6
     assert got["baseline"]["nrmse_train"] < 1e-6
     assert got["verdict"] == ref["verdict"]
+
+
+def test_diagnose_time_route_same_at_unix_time(series):
+    """A guard (this route was already origin-independent): every record in the time domain (--holdout-blocks)."""
+    from chainid.gap.diagnose import diagnose
+
+    recs, model = series
+    ref = diagnose(recs, [], model, max_combo=1, holdout_blocks=3)
+    got = diagnose(_shift(recs, 1.7e9), [], model, max_combo=1, holdout_blocks=3)
+    assert got["baseline"]["nrmse_train"] == pytest.approx(ref["baseline"]["nrmse_train"], rel=1e-3)
+    assert got["verdict"] == ref["verdict"]

@@ -243,7 +243,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
         print(f"\nwrote {len(paths)} plot(s) to {args.plots}")
     if args.json:
         _write_json(args.json, out, args.force)
-        print(f"wrote {args.json}")
+        if args.json != "-":
+            print(f"wrote {args.json}")
     return rc
 
 
@@ -370,7 +371,8 @@ def cmd_audit(args: argparse.Namespace) -> int:
     print(format_audit(rep))
     if args.json:
         _write_json(args.json, rep, args.force)
-        print(f"wrote {args.json}")
+        if args.json != "-":
+            print(f"wrote {args.json}")
     return 0
 
 
