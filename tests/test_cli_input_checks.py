@@ -92,3 +92,12 @@ def test_diagnose_zero_force_is_a_clear_error(data, tmp_path, capsys):
     rc, err = _err(capsys, ["diagnose", str(p), "--holdout", "3", "--max-combo", "1"])
     assert rc == 2 and len(err) == 1, err
     assert "the force F is constant (0 N in all" in err[0] and "nothing to diagnose" in err[0]
+
+
+@pytest.mark.parametrize("mass", [-100.0, float("nan"), True])
+def test_identify_records_api_refuses_a_bad_mass(data, mass):
+    from chainid.damping.identify import identify_records
+    from chainid.model.base import ChainModel
+
+    with pytest.raises(ValueError, match="mass_kg = .* is invalid: valid range >= 0 kg"):
+        identify_records(read_records(data, validate=False)[:1], ChainModel(), mass_kg=mass)

@@ -388,8 +388,10 @@ def identify_records(
     ValueError
         Data errors (NaN, t not increasing, compression without
         ``allow_compression``: :func:`chainid.records.check_data`), and with
-        ``strict`` any test that cannot be identified.
+        ``strict`` any test that cannot be identified; ``mass_kg`` not a finite number >= 0.
     """
+    if mass_kg is not None and (isinstance(mass_kg, bool) or not (math.isfinite(mass_kg) and mass_kg >= 0)):
+        raise ValueError(f"mass_kg = {mass_kg!r} is invalid: valid range >= 0 kg (finite)")
     out = Identification()
     n = len(records)
     for i, rec in enumerate(records):
