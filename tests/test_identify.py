@@ -244,7 +244,7 @@ def test_to_dict_has_contract_keys():
     d = identify_test(rec, model).to_dict()
     assert set(d) == {"test", "omega", "x0", "A", "theta", "F0", "FA", "phi", "r2", "F_ac", "F_as", "Fc0", "c_e",
                       "W", "W_ratio", "r2_c", "mass_kg", "n_cycles", "cycles_kept", "t_start", "t_end",
-                      "noise_x", "source", "steady", "steady_tol", "t_origin"}
+                      "noise_x", "source", "steady", "steady_tol"}
     # values of a noise-free viscous test: F_ac = c w A = 500 N, W = pi c w A^2 = 392.7 N mm
     assert d["test"] == "k" and d["mass_kg"] == 3.2
     assert d["omega"] == pytest.approx(2.0, rel=1e-6)

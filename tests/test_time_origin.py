@@ -73,3 +73,15 @@ def test_diagnose_time_route_same_at_unix_time(series):
     got = diagnose(_shift(recs, 1.7e9), [], model, max_combo=1, holdout_blocks=3)
     assert got["baseline"]["nrmse_train"] == pytest.approx(ref["baseline"]["nrmse_train"], rel=1e-3)
     assert got["verdict"] == ref["verdict"]
+
+
+def test_json_theta_is_in_the_records_own_time(series):
+    """The JSON contract is unchanged: theta of x = x0 + A sin(omega t + theta) with t as written in the file."""
+    recs, model = series
+    r = recs[4]  # test 5
+    a = identify_records([r], model)[0].to_dict()
+    b = identify_records(_shift([r], 86_400.0), model)[0].to_dict()
+    assert "t_origin" not in a and "t_origin" not in b
+    # the same sine: shifting t by t0 shifts the phase by -omega t0 (mod 2 pi); omega t0 = 2.7e5 rad here
+    d = (b["theta"] - (a["theta"] - a["omega"] * 86_400.0) + np.pi) % (2 * np.pi) - np.pi
+    assert abs(d) < 1e-6

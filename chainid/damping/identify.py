@@ -172,9 +172,10 @@ class TestResult:
     Fc0 : float
         Mean of F_c [N]; ≈ 0 if the stiffness model is right.
     theta : float
-        Phase of x = x0 + A sin(omega (t - t_origin) + theta) [rad].
+        Phase of x = x0 + A sin(omega (t - t_origin) + theta) [rad] (:meth:`to_dict` gives it for t itself).
     t_origin : float
-        Time origin of ``theta`` [s]: the record's first sample (any time stamp, e.g. Unix time).
+        Time origin of ``theta`` [s]: the record's first sample (any time stamp, e.g. Unix time); not in
+        the JSON.
     noise_x : float
         RMS residual of x about the harmonic [mm].
     mass_kg : float
@@ -224,8 +225,16 @@ class TestResult:
     t_origin: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict (contract keys test, omega, x0, A, F0, FA, phi, r2, F_ac, c_e, W, + extras)."""
+        """JSON-ready dict (contract keys test, omega, x0, A, F0, FA, phi, r2, F_ac, c_e, W, + extras).
+
+        ``theta`` is given in the record's own time, x = x0 + A sin(omega t + theta) (the computations use it
+        from ``t_origin``; the shift by omega·t_origin is made here only, so the contract is unchanged).
+        """
         d = asdict(self)
+        t0 = d.pop("t_origin")
+        if t0:
+            th = self.theta - self.omega * t0
+            d["theta"] = math.atan2(math.sin(th), math.cos(th))
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
 
 
