@@ -106,7 +106,7 @@ class SteadyWindow:
 def _t_text(v: float, win: SteadyWindow) -> str:
     """A window time [s] with 4 significant digits of the window's span (Unix times too: 1700000002..)."""
     span = abs(win.t_end - win.t_start)
-    extra = max(0, math.ceil(math.log10(max(abs(win.t_start), abs(win.t_end)) / span))) if span > 0 else 0
+    extra = max(0, math.floor(math.log10(max(abs(win.t_start), abs(win.t_end)) / span))) if span > 0 else 0
     return f"{v:.{4 + min(extra, 12)}g}"
 
 
