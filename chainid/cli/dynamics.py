@@ -137,6 +137,9 @@ def _check_args(args: argparse.Namespace, sweeping: bool) -> None:
     from chainid.cli.common import check_json_target
     from chainid.infra.fileio import check_output_dir
 
+    from chainid.cli.gap import check_workers
+
+    check_workers(args.workers)
     if args.modes < 1:
         raise ValueError(f"--modes = {args.modes} is invalid: valid range an int >= 1")
     if not 0 <= args.refine <= 10:

@@ -67,10 +67,19 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     return 0
 
 
+def check_workers(n: int | None) -> None:
+    """``--workers``: None (the cores) or an int >= 1 (capped at the cases and at chainid.infra.parallel.MAX_WORKERS)."""
+    if n is not None and n < 1:
+        from chainid.infra.parallel import MAX_WORKERS
+
+        raise ValueError(f"--workers = {n} is invalid: valid range >= 1 (more than {MAX_WORKERS} are capped)")
+
+
 def cmd_benchmark(args: argparse.Namespace) -> int:
     from chainid.gap.benchmark import run_benchmark
 
     try:
+        check_workers(args.workers)
         if args.json:  # before the grid runs (minutes)
             from chainid.infra.fileio import check_output_file
 
@@ -124,7 +133,8 @@ def add_subparsers(subparsers: Any) -> None:
     b.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="dask scheduler address of an existing cluster, or local (default: a dask LocalCluster "
                         "when dask is installed, else a process pool), processes, serial")
-    b.add_argument("--workers", type=int, default=None, help="worker processes (default: the machine's cores)")
+    b.add_argument("--workers", type=int, default=None,
+                   help="worker processes (default: the machine's cores; at most the cases and 4 x cores, <= 64)")
     b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
     b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     b.set_defaults(func=cmd_benchmark)

@@ -120,6 +120,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
     from chainid.damping.identify import identify_records
     from chainid.records.files import analyse_record, read_records, read_side_file, write_side_file
 
+    _check_model_numbers(args)
     _check_out(args.json, args.force)
     if args.write_side:
         _check_out(args.write_side, args.force, "--write-side")
@@ -242,7 +243,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
         print(f"\nwrote {len(paths)} plot(s) to {args.plots}")
     if args.json:
         _write_json(args.json, out, args.force)
-        print(f"wrote {args.json}")
+        if args.json != "-":
+            print(f"wrote {args.json}")
     return rc
 
 
@@ -323,6 +325,15 @@ def _simulate_model_file(args: argparse.Namespace, plan: Sequence[Any]) -> int:
     return 0
 
 
+def _check_model_numbers(args: argparse.Namespace) -> None:
+    """``--mass`` [kg], ``--k`` [N/mm], ``--x-ref`` [mm] of ``identify``: finite, mass >= 0, k > 0."""
+    for name, v, ok, rng in (("--mass", args.mass, args.mass is None or args.mass >= 0, ">= 0 kg"),
+                             ("--k", args.k, args.k is None or args.k > 0, "> 0 N/mm"),
+                             ("--x-ref", args.x_ref, True, "finite mm")):
+        if v is not None and not (math.isfinite(v) and ok):
+            raise ValueError(f"{name} = {v!r} is invalid: valid range {rng} (finite)")
+
+
 def _check_simulate_options(args: argparse.Namespace) -> None:
     """Range checks of ``simulate``'s numeric options, before anything is computed."""
     checks = (
@@ -360,7 +371,8 @@ def cmd_audit(args: argparse.Namespace) -> int:
     print(format_audit(rep))
     if args.json:
         _write_json(args.json, rep, args.force)
-        print(f"wrote {args.json}")
+        if args.json != "-":
+            print(f"wrote {args.json}")
     return 0
 
 

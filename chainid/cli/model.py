@@ -75,7 +75,8 @@ def cmd_predict(args: argparse.Namespace) -> int:
         print(_table(res))
         if args.json:
             write_json({k: v for k, v in res.items() if not k.startswith("_")}, args.json, force=args.force)
-            print(f"wrote {args.json}")
+            if args.json != "-":
+                print(f"wrote {args.json}")
         if args.plots:
             for p in plot_predictions(res["_series"], args.plots, force=args.force):
                 print(f"wrote {p}")

@@ -171,15 +171,59 @@ def build_parser() -> argparse.ArgumentParser:
                 raise
             continue
         mod.add_subparsers(sub)
+    _refuse_repeats(p)
     return p
+
+
+#: Actions that may be given more than once (``--load``, ``--hysteresis``, ``-h``); any other option twice is
+#: an error (argparse would silently keep the last value).
+_REPEATABLE = tuple(getattr(argparse, n) for n in ("_AppendAction", "_AppendConstAction", "_CountAction",
+                                                    "_HelpAction", "_VersionAction", "_SubParsersAction"))
+_ONCE_CLASSES: dict[type, type] = {}
+
+
+def _once(cls: type) -> type:
+    """``cls`` that refuses a second occurrence of its option on one command line."""
+    if cls not in _ONCE_CLASSES:
+        def __call__(self: Any, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: Any,
+                     option_string: str | None = None) -> None:
+            seen = namespace.__dict__.setdefault("_given_once", {})
+            if self.dest in seen:
+                first = seen[self.dest]
+                also = f" (also as {first})" if first != option_string else ""
+                parser.error(f"{option_string} given twice{also}; give it once")
+            seen[self.dest] = option_string
+            cls.__call__(self, parser, namespace, values, option_string)
+
+        _ONCE_CLASSES[cls] = type(f"Once{cls.__name__}", (cls,), {"__call__": __call__})
+    return _ONCE_CLASSES[cls]
+
+
+def _refuse_repeats(parser: argparse.ArgumentParser) -> None:
+    """Make every single-valued option of ``parser`` and its subcommands refuse a repetition."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in set(action.choices.values()):
+                _refuse_repeats(sub)
+        elif action.option_strings and not isinstance(action, _REPEATABLE):
+            action.__class__ = _once(type(action))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``chainid`` command."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    vars(args).pop("_given_once", None)  # (the bookkeeping of _refuse_repeats)
     args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:
+        from chainid.cli.common import check_io
+
+        check_io(args)  # an output that is an input of the same run: refused before any work
+        if getattr(args, "json", None) == "-":  # the JSON alone on stdout, every other line on stderr
+            from chainid.infra.fileio import json_to_stdout
+
+            with json_to_stdout():
+                return int(args.func(args) or 0)
         return int(args.func(args) or 0)
     except ValueError as exc:
         print(f"chainid {args.command}: error: {exc}", file=sys.stderr)

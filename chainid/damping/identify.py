@@ -172,7 +172,10 @@ class TestResult:
     Fc0 : float
         Mean of F_c [N]; ≈ 0 if the stiffness model is right.
     theta : float
-        Phase of x = x0 + A sin(omega t + theta) [rad].
+        Phase of x = x0 + A sin(omega (t - t_origin) + theta) [rad] (:meth:`to_dict` gives it for t itself).
+    t_origin : float
+        Time origin of ``theta`` [s]: the record's first sample (any time stamp, e.g. Unix time); not in
+        the JSON.
     noise_x : float
         RMS residual of x about the harmonic [mm].
     mass_kg : float
@@ -219,10 +222,19 @@ class TestResult:
     source: str = "estimated"
     steady: str = ""
     steady_tol: float = float("nan")
+    t_origin: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict (contract keys test, omega, x0, A, F0, FA, phi, r2, F_ac, c_e, W, + extras)."""
+        """JSON-ready dict (contract keys test, omega, x0, A, F0, FA, phi, r2, F_ac, c_e, W, + extras).
+
+        ``theta`` is given in the record's own time, x = x0 + A sin(omega t + theta) (the computations use it
+        from ``t_origin``; the shift by omega·t_origin is made here only, so the contract is unchanged).
+        """
         d = asdict(self)
+        t0 = d.pop("t_origin")
+        if t0:
+            th = self.theta - self.omega * t0
+            d["theta"] = math.atan2(math.sin(th), math.cos(th))
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
 
 
@@ -317,6 +329,7 @@ def identify_test(
         F_as=hc.a,
         Fc0=hc.F0,
         theta=est.theta,
+        t_origin=float(getattr(est, "t_origin", 0.0)),
         noise_x=est.noise,
         mass_kg=mass,
         t_start=win.t_start,
@@ -384,8 +397,10 @@ def identify_records(
     ValueError
         Data errors (NaN, t not increasing, compression without
         ``allow_compression``: :func:`chainid.records.check_data`), and with
-        ``strict`` any test that cannot be identified.
+        ``strict`` any test that cannot be identified; ``mass_kg`` not a finite number >= 0.
     """
+    if mass_kg is not None and (isinstance(mass_kg, bool) or not (math.isfinite(mass_kg) and mass_kg >= 0)):
+        raise ValueError(f"mass_kg = {mass_kg!r} is invalid: valid range >= 0 kg (finite)")
     out = Identification()
     n = len(records)
     for i, rec in enumerate(records):

@@ -78,7 +78,7 @@ def plot_loop(
     ax.plot(x, F * 1e-3, ".", ms=2, color="0.45", label="measured (steady cycles)")
     # one cycle of the model on a smooth harmonic x for clarity
     tt = np.linspace(res.t_start, res.t_start + 2 * math.pi / res.omega, 400)
-    ps = res.omega * tt + res.theta
+    ps = res.omega * (tt - res.t_origin) + res.theta
     xh = res.x0 + res.A * np.sin(ps)
     xdh = res.omega * res.A * np.cos(ps)
     xddh = -res.omega**2 * res.A * np.sin(ps)

@@ -133,7 +133,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
             (sm, var), (sb, _) = _sse_var(d.Fbar, Fm, d.counts), _sse_var(d.Fbar, Fb, d.counts)
             mode = "steady-cycle"
             if keep:
-                series[r.test] = (d.t, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
+                series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
         else:
             Fm, Fb = model.force(r.t, r.x), base.force(r.t, r.x)
             w = np.ones_like(r.F)

@@ -28,7 +28,7 @@ from chainid.signal.cycles import segment_lstsq
 
 @dataclass
 class TestData:
-    """Steady window of one test prepared for the diagnosis (units mm, N, s)."""
+    """Steady window of one test prepared for the diagnosis (units mm, N, s; ``t`` from the record's first sample)."""
 
     __test__ = False
     test: str
@@ -53,6 +53,8 @@ class TestData:
     #: one model cycle at the distinct sample phases (see :func:`phase_grid`): t [s], x [mm], ẋ, ẍ per point;
     #: map (cell → point), bin and weight per cell
     grid: dict[str, np.ndarray] = field(default_factory=dict)
+    #: time origin [s] of ``t`` (the record's first sample): the record's own time is ``t + t_origin``
+    t_origin: float = 0.0
 
     def binmean(self, y: np.ndarray) -> np.ndarray:
         """Bin means of a per-sample quantity ``y`` over the phase bins."""
@@ -202,7 +204,9 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     if win is None or win.n_cycles < 1:
         raise Unusable("no steady cycles found")
     m = (rec.t >= win.t_start) & (rec.t < win.t_end)
-    t, x, F = rec.t[m], rec.x[m], rec.F[m]
+    # time from the record's first sample (est.t_origin): the phase omega t + theta of a Unix time stamp
+    # (~1.7e9 s) would be rounded; TestData.t is this relative time, TestData.t_origin the shift [s]
+    t, x, F = rec.t[m] - getattr(est, "t_origin", 0.0), rec.x[m], rec.F[m]
     if t.size < 16:
         raise Unusable(f"only {t.size} samples in the steady window (need >= 16)")
     spc = t.size / max(win.n_cycles, 1)
@@ -218,7 +222,7 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     describe = getattr(win, "describe", None)
     return TestData(rec.test, est.omega, est.A, est.x0, est.theta, t, F, xs, xd, xdd, xfun, bins, counts, Fbar,
                     sigma, x, describe() if callable(describe) else "", cycle_stats(t, F, est.omega, est.theta, x),
-                    phase_grid(psi, B, est.theta, est.omega, xfun, bins))
+                    phase_grid(psi, B, est.theta, est.omega, xfun, bins), float(getattr(est, "t_origin", 0.0)))
 
 
 def _bin_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray, B: int) -> float:

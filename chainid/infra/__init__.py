@@ -15,9 +15,12 @@ _LAZY = {
     "check_output_dir": "fileio",
     "atomic_open": "fileio",
     "atomic_write_text": "fileio",
-    "to_jsonable": "fileio",
-    "dumps_json": "fileio",
+    "to_jsonable": "jsonio",
+    "dumps_json": "jsonio",
     "write_json": "fileio",
+    "json_to_stdout": "fileio",
+    "check_inputs_not_outputs": "fileio",
+    "replace_file": "fileio",
     "save_figure": "fileio",
     "safe_filename": "fileio",
     "deferred_sigint": "fileio",
@@ -30,6 +33,9 @@ _LAZY = {
     "run_cases": "parallel",
     "dask_available": "parallel",
     "SCHEDULERS": "parallel",
+    "MAX_WORKERS": "parallel",
+    "worker_count": "parallel",
+    "probe_scheduler": "parallel",
 }
 
 __all__ = sorted(_LAZY)

@@ -11,6 +11,12 @@ Every command writes through this module so that the guarantees hold everywhere:
   (``os.replace``; without ``force`` a no-clobber ``os.link``).  A reader sees
   the old file or the new one, never a part; an exception or SIGINT removes the
   temporary file; two concurrent writers leave one whole file;
+* **only ever touch what is ours**: a target that exists and is not a regular file is never renamed
+  over.  With ``force``, a character device (``/dev/null``, a terminal) is written through, as
+  ``cat > /dev/null`` does; a FIFO is written through only when a reader is already there (it is opened
+  non-blocking: a FIFO without a reader would hang the run, so it is refused); a block device, socket
+  or other special file is refused.  :func:`check_inputs_not_outputs` refuses an output that is an
+  input of the same run (same file, ``os.path.samefile``);
 * **strict JSON**: :func:`dumps_json` turns NaN/±inf into ``null`` and numpy
   scalars/arrays into Python values, then ``json.dumps(..., allow_nan=False)``;
 * **injective file names**: :func:`safe_filename` ("T 1", "T_1", "T/1" → three names);
@@ -22,20 +28,24 @@ No unit is involved here except sizes in bytes.
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
-import json
-import math
 import os
 import re
 import signal
+import stat
 import sys
 import tempfile
 import threading
 from pathlib import Path
 from typing import IO, Any, Iterator
 
+from chainid.infra.jsonio import dumps_json, json_default, to_jsonable
+
 __all__ = [
     "OutputError",
+    "check_inputs_not_outputs",
+    "replace_file",
     "EXIT_INTERRUPTED",
     "check_output_file",
     "check_output_dir",
@@ -43,7 +53,9 @@ __all__ = [
     "atomic_write_text",
     "to_jsonable",
     "dumps_json",
+    "json_default",
     "write_json",
+    "json_to_stdout",
     "save_figure",
     "safe_filename",
     "deferred_sigint",
@@ -82,6 +94,63 @@ def _check_parent_writable(p: Path, what: str) -> None:
     os.unlink(probe)
 
 
+def _special_kind(p: Path) -> str | None:
+    """None for a missing path or a regular file (symlinks followed); else what it is ("FIFO", ...)."""
+    try:
+        mode = os.stat(p).st_mode
+    except OSError:
+        return None
+    if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
+        return None
+    if stat.S_ISCHR(mode):
+        return "character device"
+    if stat.S_ISFIFO(mode):
+        return "FIFO"
+    if stat.S_ISBLK(mode):
+        return "block device"
+    if stat.S_ISSOCK(mode):
+        return "socket"
+    return "special file"
+
+
+#: Special files written through (never replaced) with ``force``; any other special file is refused.
+WRITE_THROUGH = ("character device", "FIFO")
+
+
+def check_inputs_not_outputs(outputs: Any, inputs: Any) -> None:
+    """Refuse an output that is an input of the same run (the same file: ``os.path.samefile``).
+
+    Parameters
+    ----------
+    outputs, inputs : iterable of (what, path)
+        Option name and path; None paths, ``"-"`` and paths that do not exist are skipped.
+
+    Raises
+    ------
+    OutputError
+        Naming both options and the path.
+    """
+    def existing(pairs: Any) -> list[tuple[str, str]]:
+        out = []
+        for what, path in pairs:
+            if path is None or str(path) == "-":
+                continue
+            if os.path.exists(path):
+                out.append((what, os.fspath(path)))
+        return out
+
+    ins = existing(inputs)
+    for what_o, out in existing(outputs):
+        for what_i, inp in ins:
+            try:
+                same = os.path.samefile(out, inp)
+            except OSError:
+                continue
+            if same:
+                raise OutputError(f"{what_o} {out!r} is the input {what_i} {inp!r} of this run; refusing to "
+                                  "overwrite an input (give another output file)")
+
+
 def check_output_file(path: str | os.PathLike[str], force: bool = False, what: str = "output") -> Path:
     """Check, before any work, that ``path`` may be written as a file.
 
@@ -105,10 +174,19 @@ def check_output_file(path: str | os.PathLike[str], force: bool = False, what: s
         is not a writable directory.
     """
     p = Path(path)
+    if str(path) == "-":  # stdout (write_json); nothing to check
+        return p
     if p.is_dir():
         raise OutputError(f"{what} {str(p)!r} is a directory; give a file name")
     if p.exists() and not force:
         raise OutputError(f"{what} file {str(p)!r} already exists; refusing to overwrite it (use --force)")
+    kind = _special_kind(p)
+    if kind is not None:  # written through with force, never renamed over (see the module notes)
+        if kind not in WRITE_THROUGH:
+            raise OutputError(f"{what} {str(p)!r} is a {kind}, not a regular file; refusing to write to it")
+        if not os.access(p, os.W_OK):
+            raise OutputError(f"{what} {str(p)!r} is a {kind} that cannot be written")
+        return p
     _check_parent_writable(p, what)
     return p
 
@@ -256,6 +334,10 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", *, force: bool = 
         raise ValueError(f"mode = {mode!r} is invalid: valid values 'w', 'wb'")
     p = Path(path)
     check_output_file(p, force=force, what=what)
+    if _special_kind(p) is not None:  # a device or FIFO: written through, never replaced
+        with _open_through(p, mode, what, encoding, newline) as fh:
+            yield fh
+        return
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
@@ -277,6 +359,41 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", *, force: bool = 
         raise
 
 
+@contextlib.contextmanager
+def _open_through(p: Path, mode: str, what: str, encoding: str | None,
+                  newline: str | None) -> Iterator[IO[Any]]:
+    """Write into an existing character device or FIFO (``cat > /dev/null``); a FIFO needs a reader now."""
+    kind = _special_kind(p)
+    flags = os.O_WRONLY | (os.O_NONBLOCK if kind == "FIFO" else 0)
+    try:
+        fd = os.open(p, flags)
+    except OSError as exc:
+        if exc.errno == errno.ENXIO:
+            raise OutputError(f"{what} {str(p)!r} is a FIFO with no reader; refusing to wait for one "
+                              "(start the reader first)") from None
+        raise OutputError(f"{what} {str(p)!r} cannot be written: {exc.strerror or exc}") from None
+    if kind == "FIFO":  # the reader is there: ordinary blocking writes from now on
+        os.set_blocking(fd, True)
+    kw = {} if "b" in mode else {"encoding": encoding, "newline": newline}
+    try:
+        with os.fdopen(fd, mode, **kw) as fh:
+            yield fh
+    except OSError as exc:
+        raise OutputError(f"{what} {str(p)!r} cannot be written: {exc.strerror or exc}") from None
+
+
+def replace_file(src: str | os.PathLike[str], dst: str | os.PathLike[str], what: str = "output") -> None:
+    """Rename the finished file ``src`` onto ``dst`` (same file system); a special ``dst`` is refused.
+
+    For builders that write a whole folder first (``chainid report``): the one place where a finished
+    file is renamed over an existing one.
+    """
+    kind = _special_kind(Path(dst))
+    if kind is not None:
+        raise OutputError(f"{what} {os.fspath(dst)!r} is a {kind}, not a regular file; refusing to replace it")
+    os.replace(src, dst)
+
+
 def _umask() -> int:
     m = os.umask(0)
     os.umask(m)
@@ -288,36 +405,6 @@ def atomic_write_text(path: str | os.PathLike[str], text: str, force: bool = Fal
     with atomic_open(path, "w", force=force, what=what) as fh:
         fh.write(text)
     return Path(path)
-
-
-def to_jsonable(o: Any) -> Any:
-    """Plain-Python copy of ``o`` for strict JSON: NaN/±inf → None, numpy → Python, tuples → lists.
-
-    Dict keys become strings; keys starting with ``_`` are kept (callers drop private keys themselves).
-    """
-    if isinstance(o, dict):
-        return {str(k): to_jsonable(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [to_jsonable(v) for v in o]
-    if o is None or isinstance(o, (bool, str)):
-        return o
-    if isinstance(o, int):
-        return int(o)
-    if isinstance(o, float):
-        v = float(o)
-        return v if math.isfinite(v) else None
-    if isinstance(o, os.PathLike):
-        return os.fspath(o)
-    if hasattr(o, "tolist"):  # numpy scalar or array
-        return to_jsonable(o.tolist())
-    if hasattr(o, "item"):
-        return to_jsonable(o.item())
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
-
-
-def dumps_json(doc: Any, indent: int | None = 2) -> str:
-    """Strict JSON text of ``doc`` (no NaN/Infinity tokens; non-finite numbers are ``null``)."""
-    return json.dumps(to_jsonable(doc), indent=indent, ensure_ascii=False, allow_nan=False)
 
 
 def write_json(doc: Any, target: str | os.PathLike[str] | None, force: bool = False,
@@ -333,9 +420,30 @@ def write_json(doc: Any, target: str | os.PathLike[str] | None, force: bool = Fa
         return None
     text = dumps_json(doc)
     if str(target) == "-":
-        print(text)
+        out = _JSON_STDOUT[-1] if _JSON_STDOUT else sys.stdout
+        out.write(text + "\n")
+        out.flush()
         return None
     return atomic_write_text(target, text + "\n", force=force, what=what)
+
+
+#: The real stdout while :func:`json_to_stdout` is active (the JSON's only channel).
+_JSON_STDOUT: list[IO[str]] = []
+
+
+@contextlib.contextmanager
+def json_to_stdout() -> Iterator[None]:
+    """``--json -``: inside the block, the JSON (:func:`write_json` to ``"-"``) alone goes to stdout.
+
+    Every other ``print`` (tables, notes, "wrote ...") goes to stderr, so ``chainid X --json - | jq``
+    parses.
+    """
+    _JSON_STDOUT.append(sys.stdout)
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            yield
+    finally:
+        _JSON_STDOUT.pop()
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str], force: bool = True, what: str = "figure",
@@ -370,13 +478,3 @@ def interrupted(command: str) -> int:
     """Print the one-line SIGINT message of ``chainid <command>`` and return 130."""
     print(f"chainid {command}: interrupted; no partial output was written", file=sys.stderr, flush=True)
     return EXIT_INTERRUPTED
-
-def json_default(o: Any) -> Any:
-    """``default=`` hook of :func:`json.dumps` for numpy scalars and arrays."""
-    import numpy as np
-
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON serialisable: {type(o)}")

@@ -16,19 +16,158 @@ A text progress bar goes to stderr unless ``progress=False``.  On an exception
 in a case, or on SIGINT (KeyboardInterrupt), pending cases are cancelled, the
 workers this function started are shut down (no orphan processes) and the
 exception is re-raised; a case's own exception is re-raised as it was.
+
+Workers and signals: the worker processes are started with SIGINT ignored (they
+inherit SIG_IGN; a pool initializer and a dask preload set it again), so a Ctrl-C
+at the terminal, which reaches the whole process group, interrupts only this
+process; it cancels the cases and stops the workers (no traceback from any
+worker).  A Ctrl-C while the workers start (a dask LocalCluster: a few seconds)
+is ignored.  SIGTERM to this process does the same clean-up
+and exits with 143 (``SystemExit``): no pool process outlives it.
+
+Worker count: ``min(n_workers or cores, cases, MAX_WORKERS)``, with
+:data:`MAX_WORKERS` = 4 × the machine's cores, at most 64.  The cases are
+CPU-bound, so more workers than cores only add start-up time (~1 s each) and
+memory (~150 MB of numpy/numba/scipy per process); 4× leaves room for cases
+that wait on I/O, and 64 bounds the memory of a large machine (~10 GB).  A
+larger request is capped with a ``RuntimeWarning``.
+
+A scheduler address is probed first (5 s): a dask scheduler greets a new TCP
+connection with its handshake; a server that sends nothing (an HTTP server) or
+something else (a proxy's "HTTP/1.1 400") is refused with a one-line
+``ValueError`` within ~5 s instead of a hang or a ``MemoryError``.
 """
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
+import socket
 import sys
+import threading
 import time
-from collections.abc import Callable, Iterable
+import warnings
+from collections.abc import Callable, Iterable, Iterator
 from typing import Any, TextIO
 
-__all__ = ["run_cases", "dask_available", "SCHEDULERS"]
+__all__ = ["run_cases", "dask_available", "SCHEDULERS", "MAX_WORKERS", "worker_count", "probe_scheduler"]
 
 #: The named schedulers; any other string is a dask scheduler address.
 SCHEDULERS: tuple[str, ...] = ("local", "processes", "serial")
+
+#: Most worker processes one call starts: 4 × the machine's cores, at most 64 (see the module notes).
+MAX_WORKERS: int = min(64, 4 * (os.cpu_count() or 1))
+
+#: Seconds a scheduler address has to greet a new connection with the dask handshake.
+PROBE_TIMEOUT_S = 5.0
+
+
+def worker_count(n_workers: int | None, n_cases: int) -> int:
+    """Worker processes for ``n_cases`` cases: ``min(n_workers or cores, n_cases, MAX_WORKERS)`` (>= 1).
+
+    A request above :data:`MAX_WORKERS` is capped with a ``RuntimeWarning``.
+    """
+    if n_workers is not None and n_workers > MAX_WORKERS:
+        warnings.warn(f"n_workers = {n_workers} is more than this machine runs usefully; capped at {MAX_WORKERS} "
+                      f"(4 x {os.cpu_count()} cores, at most 64)", RuntimeWarning, stacklevel=3)
+    want = n_workers if n_workers is not None else (os.cpu_count() or 1)
+    return max(1, min(want, n_cases, MAX_WORKERS))
+
+
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """Ignore SIGINT (SIG_IGN) while worker processes are started: an ignored signal stays ignored across
+    exec, and Python then installs no KeyboardInterrupt handler, so the workers never see a Ctrl-C (no
+    traceback each, no race with their start-up).  A Ctrl-C in this window is lost (a blocked mask would
+    keep it, but spawned children get a fresh mask); press it again once the workers run."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+def _terminated(signum: int, frame: Any) -> None:
+    raise SystemExit(128 + signum)
+
+
+@contextlib.contextmanager
+def _sigterm_cleans_up() -> Iterator[None]:
+    """SIGTERM raises SystemExit(143) here, so the ``finally`` clean-up stops the workers before the exit."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGTERM, _terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def _worker_init() -> None:  # pragma: no cover - runs in the workers
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def dask_setup(worker: Any) -> None:  # pragma: no cover - runs in the dask workers
+    """dask preload hook (``preload=["chainid.infra.parallel"]``): a LocalCluster worker ignores SIGINT.
+
+    A Ctrl-C reaches the whole process group; this process (the client) cancels the cases and closes the
+    cluster, so the workers need not, and must not print a traceback each.
+    """
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _refused(address: str, why: str) -> ValueError:
+    return ValueError(f"scheduler = {address!r} is invalid: {why}; valid values are None, {list(SCHEDULERS)} or "
+                      "the address of a running dask scheduler (e.g. 'tcp://host:8786')")
+
+
+def probe_scheduler(address: str, timeout: float = PROBE_TIMEOUT_S) -> None:
+    """Check that a dask scheduler answers at a ``tcp://host:port`` (or ``host:port``) address.
+
+    A dask scheduler sends its handshake as soon as a connection is accepted: an 8-byte little-endian
+    length (a few hundred bytes), then msgpack.  Other schemes (tls://, ucx://, inproc://) are not probed.
+
+    Raises
+    ------
+    ValueError
+        No connection, nothing within ``timeout`` seconds, the connection closed, or a greeting that is
+        not a dask handshake (one line naming the address).
+    """
+    scheme, _, rest = address.rpartition("://")
+    if scheme not in ("", "tcp"):
+        return
+    host, _, port = rest.rpartition(":")
+    host = host.strip("[]")
+    if not host or not port.isdigit():
+        raise _refused(address, "expected host:port")
+    deadline = time.monotonic() + timeout
+    try:
+        with socket.create_connection((host, int(port)), timeout=timeout) as sock:
+            head = b""
+            while len(head) < 8:
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise _refused(address, f"the server there sent no dask handshake within {timeout:g} s "
+                                            "(not a dask scheduler; an HTTP server?)")
+                sock.settimeout(left)
+                try:
+                    chunk = sock.recv(8 - len(head))
+                except socket.timeout:
+                    continue
+                if not chunk:
+                    raise _refused(address, "the server there closed the connection without a dask handshake")
+                head += chunk
+    except OSError as exc:
+        raise _refused(address, f"no dask scheduler answers at that address ({exc.strerror or exc})") from None
+    size = int.from_bytes(head, "little")
+    if not 0 < size <= 1 << 20:
+        shown = head.decode("latin-1").encode("unicode_escape").decode()
+        raise _refused(address, f"the server there answered {shown!r}..., not a dask handshake")
 
 
 def dask_available() -> bool:
@@ -82,7 +221,8 @@ def _check_args(fn: Callable[[Any], Any], scheduler: str | None, n_workers: int 
         raise ValueError(f"scheduler = {scheduler!r} is invalid: valid values are None, {list(SCHEDULERS)} "
                          "or the address of a dask scheduler (e.g. 'tcp://host:8786')")
     if n_workers is not None and (isinstance(n_workers, bool) or not isinstance(n_workers, int) or n_workers < 1):
-        raise ValueError(f"n_workers = {n_workers!r} is invalid: valid values are None or an int >= 1")
+        raise ValueError(f"n_workers = {n_workers!r} is invalid: valid values are None or an int >= 1 "
+                         f"(capped at {MAX_WORKERS})")
 
 
 def run_cases(
@@ -110,9 +250,9 @@ def run_cases(
         ``"serial"``: a loop in this process; any other string: the address of
         an existing dask scheduler.
     n_workers : int, optional
-        Worker processes for ``"local"``/``"processes"``; default
-        ``min(os.cpu_count(), len(cases))``.  Ignored for ``"serial"`` and for
-        an existing cluster.
+        Worker processes for ``"local"``/``"processes"``; default the cores.
+        Capped at the number of cases and at :data:`MAX_WORKERS` (see
+        :func:`worker_count`).  Ignored for ``"serial"`` and for an existing cluster.
     progress : bool
         Text progress bar on stderr (default on).
     desc : str
@@ -137,16 +277,19 @@ def run_cases(
     if not cases:
         return []
     name = "local" if scheduler is None else scheduler.strip()
-    workers = n_workers or max(1, min(os.cpu_count() or 1, len(cases)))
+    workers = worker_count(n_workers, len(cases))
+    if name not in SCHEDULERS:
+        probe_scheduler(name)  # before the progress bar: a bad address is one line
     bar = _Bar(len(cases), desc, progress)
     try:
-        if name == "serial":
-            return _run_serial(fn, cases, bar)
-        if name == "processes" or (name == "local" and not dask_available()):
-            return _run_processes(fn, cases, workers, bar)
-        if name == "local":
-            return _run_dask(fn, cases, bar, n_workers=workers, address=None)
-        return _run_dask(fn, cases, bar, n_workers=None, address=name)
+        with _sigterm_cleans_up():
+            if name == "serial":
+                return _run_serial(fn, cases, bar)
+            if name == "processes" or (name == "local" and not dask_available()):
+                return _run_processes(fn, cases, workers, bar)
+            if name == "local":
+                return _run_dask(fn, cases, bar, n_workers=workers, address=None)
+            return _run_dask(fn, cases, bar, n_workers=None, address=name)
     finally:
         bar.close()
 
@@ -164,10 +307,12 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
     from concurrent.futures import FIRST_EXCEPTION, ProcessPoolExecutor, wait
 
     before = set(multiprocessing.active_children())
-    ex = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    ex = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                             initializer=_worker_init)
     ok = False
     try:
-        futures = [ex.submit(fn, c) for c in cases]
+        with _sigint_ignored():  # the workers start on submit
+            futures = [ex.submit(fn, c) for c in cases]
         pending = set(futures)
         while pending:
             done, pending = wait(pending, timeout=0.5, return_when=FIRST_EXCEPTION)
@@ -182,25 +327,32 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
         if ok:
             ex.shutdown(wait=True)
         else:
-            # Cancel what has not started; stop what is running (no orphan workers).
-            procs = list((getattr(ex, "_processes", None) or {}).values())
-            ex.shutdown(wait=False, cancel_futures=True)
-            # every worker this pool started, including one spawned after the snapshot
-            procs += [p for p in multiprocessing.active_children() if p not in before and p not in procs]
-            for p in procs:
-                if p.is_alive():
-                    p.terminate()
-            for p in procs:
-                p.join(timeout=5)
-            ex.shutdown(wait=True)  # the pool's manager thread ends too (it may still start a worker)
-            deadline = time.monotonic() + 10.0
-            while time.monotonic() < deadline:  # and no worker of this pool outlives the call
-                late = [p for p in multiprocessing.active_children() if p not in before]
-                if not late:
-                    break
-                for p in late:
-                    p.terminate()
-                    p.join(timeout=1)
+            with _sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
+                _stop_pool(ex, before)
+
+
+def _stop_pool(ex: Any, before: set) -> None:
+    """Cancel what has not started; stop what is running (no orphan workers)."""
+    import multiprocessing
+
+    procs = list((getattr(ex, "_processes", None) or {}).values())
+    ex.shutdown(wait=False, cancel_futures=True)
+    # every worker this pool started, including one spawned after the snapshot
+    procs += [p for p in multiprocessing.active_children() if p not in before and p not in procs]
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    for p in procs:
+        p.join(timeout=5)
+    ex.shutdown(wait=True)  # the pool's manager thread ends too (it may still start a worker)
+    deadline = time.monotonic() + 10.0
+    while time.monotonic() < deadline:  # and no worker of this pool outlives the call
+        late = [p for p in multiprocessing.active_children() if p not in before]
+        if not late:
+            break
+        for p in late:
+            p.terminate()
+            p.join(timeout=1)
 
 
 def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: int | None,
@@ -214,16 +366,19 @@ def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: in
     futures: list = []
     try:
         if address is None:
-            cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.ERROR)
-            client = Client(cluster)
+            with _sigint_ignored():
+                cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                       # (a worker's case error comes back as an exception; shutdown
+                                       # chatter such as a heartbeat to a closed scheduler is not shown)
+                                       dashboard_address=None, silence_logs=logging.CRITICAL,
+                                       preload=["chainid.infra.parallel"])
+                client = Client(cluster)
         else:
             try:
                 client = Client(address, timeout="10s")
-            except OSError as exc:
-                raise ValueError(f"scheduler = {address!r} is invalid: no dask scheduler answers at that address "
-                                 f"({exc}); valid values are None, {list(SCHEDULERS)} or a running scheduler's "
-                                 "address") from exc
+            except (OSError, MemoryError, ValueError, TypeError) as exc:  # what a non-scheduler can provoke
+                raise _refused(address, f"no dask scheduler answers at that address ({type(exc).__name__}: "
+                                        f"{str(exc)[:200]})") from None
         futures = client.map(fn, cases, pure=False)
         for fut in as_completed(futures):
             if fut.status == "error":
@@ -231,11 +386,12 @@ def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: in
             bar.update()
         return client.gather(futures)
     finally:
-        if client is not None:
-            try:
-                if futures:
-                    client.cancel(futures)
-            finally:
-                client.close()
-        if cluster is not None:
-            cluster.close()
+        with _sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
+            if client is not None:
+                try:
+                    if futures:
+                        client.cancel(futures)
+                finally:
+                    client.close()
+            if cluster is not None:
+                cluster.close()

@@ -276,11 +276,17 @@ def read_side_file(path: str | Path) -> dict[str, tuple[float, float, float]]:
     -------
     dict
         test id -> (omega, x0, A).
+
+    Raises
+    ------
+    ValueError
+        Missing file or column, a bad cell, omega or A not > 0, or two rows for one test (line numbers named).
     """
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"side file {str(p)!r} does not exist")
     out: dict[str, tuple[float, float, float]] = {}
+    first: dict[str, int] = {}
     with p.open(newline="") as fh:
         reader = csv.DictReader(fh)
         cols = [c.strip() for c in (reader.fieldnames or [])]
@@ -297,6 +303,10 @@ def read_side_file(path: str | Path) -> dict[str, tuple[float, float, float]]:
                 raise ValueError(f"{str(p)}, line {line_no}: test {test!r}: omega = {vals[0]} rad/s must be > 0")
             if vals[2] <= 0:
                 raise ValueError(f"{str(p)}, line {line_no}: test {test!r}: A = {vals[2]} mm must be > 0")
+            if test in out:  # two rows for one test: which one is meant? never pick one silently
+                raise ValueError(f"{str(p)}, line {line_no}: test {test!r} appears twice (line {first[test]} "
+                                 "too); give one row per test")
+            first[test] = line_no
             out[test] = vals  # type: ignore[assignment]
     return out
 

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from chainid.signal.harmonic import HarmonicEstimate, linear_harmonic, estimate_harmonic
+from chainid.signal.harmonic import HarmonicEstimate, estimate_harmonic, linear_harmonic, shift_window
 from chainid.signal.steady import TOL_MAX, select_steady
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -237,18 +237,20 @@ def analyse_record(
             est = _check_estimate(rec, None, min_cycles=min_cycles, min_snr=min_snr, steady_tol=tol)
     else:
         w, x0, A = side
-        _, a, b = linear_harmonic(rec.t, rec.x, w)
+        t0 = float(rec.t[0])  # phases from the record's first sample (see HarmonicEstimate.t_origin)
+        tr = rec.t - t0
+        _, a, b = linear_harmonic(tr, rec.x, w)
         theta = math.atan2(b, a)
-        win = select_steady(rec.t, rec.x, w, theta, rel_tol=tol)
+        win = select_steady(tr, rec.x, w, theta, rel_tol=tol)
         if win.n_cycles >= 1:
-            m = (rec.t >= win.t_start) & (rec.t < win.t_end)
-            _, a, b = linear_harmonic(rec.t[m], rec.x[m], w)
+            m = (tr >= win.t_start) & (tr < win.t_end)
+            _, a, b = linear_harmonic(tr[m], rec.x[m], w)
             theta = math.atan2(b, a)
-            resid = rec.x[m] - (x0 + A * np.sin(w * rec.t[m] + theta))
+            resid = rec.x[m] - (x0 + A * np.sin(w * tr[m] + theta))
             noise = float(np.sqrt(np.mean(resid**2)))
         else:
             noise = float("inf")
-        est = HarmonicEstimate(w, x0, A, theta, noise, win, source="side file")
+        est = HarmonicEstimate(w, x0, A, theta, noise, shift_window(win, t0), source="side file", t_origin=t0)
     return validate_record(rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr,
                            estimate=est)
 

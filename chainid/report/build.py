@@ -121,7 +121,9 @@ def _plot_table1_surface(path: Path, alpha: list[float], tb: dict) -> None:
     ax.set_title("Damping surface of Eq. 28 with the Table 1 tests (paper Fig. 11)")
     ax.legend(loc="upper right")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    from chainid.infra.fileio import save_figure
+
+    save_figure(fig, path, force=True, what="report figure", dpi=120)
     plt.close(fig)
 
 
@@ -155,7 +157,9 @@ def _plot_validation(path: Path, model: Any, alpha: list[float]) -> dict:
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    from chainid.infra.fileio import save_figure
+
+    save_figure(fig, path, force=True, what="report figure", dpi=120)
     plt.close(fig)
     return out
 
@@ -263,10 +267,24 @@ def _read_manifest(out: Path) -> list[str]:
     return ok
 
 
+def _check_not_ours(out: Path, new: list[str], ours: set[str]) -> None:
+    """Refuse to replace a file in ``out`` that the previous report did not write (not in its manifest)."""
+    from chainid.infra.fileio import OutputError
+
+    for rel in new:
+        dst = out / rel
+        if (dst.exists() or dst.is_symlink()) and rel not in ours:
+            why = "is not listed in its" if (out / MANIFEST).is_file() else "has no"
+            raise OutputError(f"--out {str(out)!r}: {str(dst)!r} was not written by chainid report (the folder "
+                              f"{why} manifest {MANIFEST}); refusing to replace it: move it away or choose "
+                              "another folder")
+
+
 def _check_swap(tmp: Path, out: Path, new: list[str]) -> None:
     """Every new file must be able to take its place in ``out`` (checked before anything is touched)."""
     from chainid.infra.fileio import OutputError
 
+    _check_not_ours(out, new, set(_read_manifest(out)))
     for rel in new:
         dst = out / rel
         for anc in list(reversed(dst.relative_to(out).parents))[1:]:
@@ -277,27 +295,32 @@ def _check_swap(tmp: Path, out: Path, new: list[str]) -> None:
             raise OutputError(f"--out {str(out)!r}: {str(dst)!r} is a folder where the report writes a file")
 
 
-def _swap_in(tmp: Path, out: Path) -> None:
-    """Move the finished report from ``tmp`` into ``out``; SIGINT is held back while files move."""
+def _swap_in(tmp: Path, out: Path, inputs: Any = ()) -> None:
+    """Move the finished report from ``tmp`` into ``out``; SIGINT is held back while files move.
+
+    ``inputs`` ((option, path) pairs): none of the files replaced or removed may be one of them.
+    """
     import os
 
-    from chainid.infra.fileio import atomic_write_text, deferred_sigint, dumps_json
+    from chainid.infra.fileio import (atomic_write_text, check_inputs_not_outputs, deferred_sigint, dumps_json,
+                                      replace_file)
 
     new = _files_under(tmp)
     manifest = dumps_json({"written_by": "chainid report", "files": new}) + "\n"
     if not out.exists():  # a new folder: one rename
-        (tmp / MANIFEST).write_text(manifest, encoding="utf-8")
+        atomic_write_text(tmp / MANIFEST, manifest, force=True, what="report manifest")
         os.chmod(tmp, 0o777 & ~_umask())
         with deferred_sigint():
             os.rename(tmp, out)
         return
     _check_swap(tmp, out, new)
     stale = [rel for rel in _read_manifest(out) if rel not in set(new)]
+    check_inputs_not_outputs([("--out", out / rel) for rel in new + stale], inputs)
     with deferred_sigint():
         for rel in new:
             dst = out / rel
             dst.parent.mkdir(parents=True, exist_ok=True)
-            os.replace(tmp / rel, dst)
+            replace_file(tmp / rel, dst, what="--out")
         for rel in stale:  # written by the previous report, not by this one
             f = out / rel
             if f.is_file() or f.is_symlink():
@@ -325,7 +348,10 @@ def run_report(out: Path, chain_path: str | None = None, data: str | None = None
     folder beside ``out`` and moved in at the end, so a failure or SIGINT on the
     way leaves an existing report untouched.  With ``force`` the files of the
     previous report (listed in :data:`MANIFEST`) are replaced or removed; files
-    the report did not write stay.
+    the report did not write stay, and one that has the name of a report file
+    (e.g. the user's own ``report.md`` in a folder without a manifest) is an
+    error: it is never replaced.  No file replaced or removed may be ``data``
+    or the chain file.
 
     Raises
     ------
@@ -335,7 +361,7 @@ def run_report(out: Path, chain_path: str | None = None, data: str | None = None
     """
     import tempfile
 
-    from chainid.infra.fileio import OutputError, check_output_dir
+    from chainid.infra.fileio import OutputError, atomic_write_text, check_output_dir
     from chainid.model.base import ChainModel
     from chainid.chain.spec import load_chain
 
@@ -356,6 +382,8 @@ def run_report(out: Path, chain_path: str | None = None, data: str | None = None
         if not datap.is_file():
             raise ValueError(f"--data {str(datap)!r} does not exist")
         recs = read_records(datap, allow_compression=True)  # every cell checked before the first step
+    if out.is_dir():  # a folder without our manifest: its report.md is the user's (the rest is checked at the end)
+        _check_not_ours(out, ["report.md"], set(_read_manifest(out)))
     base = out.resolve()
     try:  # beside the target (same file system: the final moves are renames)
         base.parent.mkdir(parents=True, exist_ok=True)
@@ -376,8 +404,8 @@ def run_report(out: Path, chain_path: str | None = None, data: str | None = None
         parts.append(step_identify_data(tmp, datap, model, say, recs) if datap else step_damping(tmp, model, say))
         parts.append(step_gap(tmp, model, datap, say))
         parts.append(f"\n_Generated by `chainid report` in {time.time() - t0:.0f} s._\n")
-        (tmp / "report.md").write_text("\n".join(parts), encoding="utf-8")
-        _swap_in(tmp, out)
+        atomic_write_text(tmp / "report.md", "\n".join(parts), force=True, what="report")
+        _swap_in(tmp, out, [("--data", data), ("--chain", chain_path)])
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return out / "report.md"

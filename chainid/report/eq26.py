@@ -163,5 +163,7 @@ def plot_eq26(path: Path, model: Any, d: dict[str, Any]) -> None:
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7.5, loc="lower left")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    from chainid.infra.fileio import save_figure
+
+    save_figure(fig, path, force=True, what="report figure", dpi=110)
     plt.close(fig)

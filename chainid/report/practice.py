@@ -66,7 +66,9 @@ def plot_ea(path: Path, rows: list[dict[str, Any]]) -> None:
     ax2.grid(True, alpha=0.3)
     ax2.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    from chainid.infra.fileio import save_figure
+
+    save_figure(fig, path, force=True, what="report figure", dpi=120)
     plt.close(fig)
 
 
@@ -92,7 +94,9 @@ def plot_limits(path: Path, rows: list[dict[str, Any]]) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=6.5, ncol=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    from chainid.infra.fileio import save_figure
+
+    save_figure(fig, path, force=True, what="report figure", dpi=120)
     plt.close(fig)
 
 
@@ -115,7 +119,7 @@ def _explain(e: dict[str, float]) -> str:
 
 def report_section(folder: Path, chain: Any, say: Callable[[str], None]) -> str:
     """Write ``figures/practice_*.png`` and ``json/practice.json``; return the report's markdown section."""
-    from chainid.infra.fileio import json_default
+    from chainid.infra.fileio import atomic_write_text, json_default
 
     say("practice: presets, catalogue EA, contact limit")
     sec = practice.practice_section(chain)
@@ -124,8 +128,9 @@ def report_section(folder: Path, chain: Any, say: Callable[[str], None]) -> str:
     plot_ea(folder / "figures" / "practice_ea.png", rows)
     plot_limits(folder / "figures" / "practice_limits.png", rows)
     (folder / "json").mkdir(parents=True, exist_ok=True)
-    (folder / "json" / "practice.json").write_text(
-        json.dumps(sec, indent=2, ensure_ascii=False, default=json_default) + "\n", encoding="utf-8")
+    atomic_write_text(folder / "json" / "practice.json",
+                      json.dumps(sec, indent=2, ensure_ascii=False, default=json_default) + "\n", force=True,
+                      what="report")
     c, s = sec["chain"], sec["summary"]
     table = md_table(
         ["preset", "d [mm]", "EA model [N]", "EA catalogue [N]", "model/cat.", "tangent at proof / cat.",

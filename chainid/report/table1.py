@@ -138,5 +138,7 @@ def plot_table1_energy(path: Path, t1: dict[str, Any]) -> None:
     axs[0].set_title(f"W against amplitude (tests {', '.join(str(t['test']) for t in tA)})", fontsize=10)
     axs[1].set_title(f"W against frequency (tests {', '.join(str(t['test']) for t in tw)})", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    from chainid.infra.fileio import save_figure
+
+    save_figure(fig, path, force=True, what="report figure", dpi=110)
     plt.close(fig)

@@ -9,6 +9,7 @@ Units: t [s], x [mm], omega [rad/s], theta [rad].
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -17,7 +18,7 @@ from scipy.optimize import least_squares
 
 from chainid.signal.steady import SteadyWindow, select_steady
 
-__all__ = ["HarmonicEstimate", "estimate_harmonic"]
+__all__ = ["HarmonicEstimate", "estimate_harmonic", "shift_window"]
 
 
 @dataclass
@@ -33,13 +34,21 @@ class HarmonicEstimate:
     A : float
         Amplitude [mm], > 0.
     theta : float
-        Phase [rad] in (-pi, pi]; the paper's Eq. 18 has theta = 0.
+        Phase [rad] in (-pi, pi] at ``t = t_origin``; the paper's Eq. 18 has theta = 0.
     noise : float
         RMS residual of x about the harmonic over the kept window [mm].
     window : SteadyWindow or None
         The steady window used (None if estimated over the whole record).
     source : str
         "estimated" or "side file".
+    t_origin : float
+        Time origin of the phase [s]: the record's first sample.  Every phase is computed from
+        ``t - t_origin``, so a record stamped in Unix time (~1.7e9 s) gives the same phases, cycles and
+        windows as the same record from t = 0.
+
+    Notes
+    -----
+    The window's ``t_start`` and ``t_end`` are in the record's own time [s] (not shifted).
     """
 
     omega: float
@@ -49,10 +58,11 @@ class HarmonicEstimate:
     noise: float
     window: SteadyWindow | None = None
     source: str = "estimated"
+    t_origin: float = 0.0
 
     def phase(self, t: np.ndarray) -> np.ndarray:
-        """psi = omega t + theta [rad]."""
-        return self.omega * np.asarray(t, dtype=float) + self.theta
+        """psi = omega (t - t_origin) + theta [rad] (t in the record's time [s])."""
+        return self.omega * (np.asarray(t, dtype=float) - self.t_origin) + self.theta
 
     def x(self, t: np.ndarray) -> np.ndarray:
         """Harmonic displacement [mm]."""
@@ -212,6 +222,9 @@ def estimate_harmonic(
     x = np.asarray(x, dtype=float)
     if t.size < 16:
         raise ValueError(f"test {test!r}: only {t.size} samples; need at least 16")
+    # every phase from the record's first sample: omega * 1.7e9 s would round the cycle boundaries
+    t_origin = float(t[0])
+    t = t - t_origin
     # 1. FFT peak of the velocity: a ramp becomes a (near) constant, the oscillation
     #    dominates -- over the whole record and over its last half and third (where a
     #    slow ramp that outweighs a small oscillation has ended)
@@ -277,5 +290,13 @@ def estimate_harmonic(
         A = math.hypot(a, b)
         theta = math.atan2(b, a)
         rms = float(np.sqrt(np.mean((x[m] - x0 - a * np.sin(w * t[m]) - b * np.cos(w * t[m])) ** 2)))
-    return HarmonicEstimate(omega=w, x0=x0, A=A, theta=theta, noise=rms, window=win)
+    return HarmonicEstimate(omega=w, x0=x0, A=A, theta=theta, noise=rms, window=shift_window(win, t_origin),
+                            t_origin=t_origin)
+
+
+def shift_window(win: SteadyWindow, t_origin: float) -> SteadyWindow:
+    """``win`` (found on ``t - t_origin``) in the record's own time: ``t_start``, ``t_end`` + ``t_origin`` [s]."""
+    if t_origin == 0.0:
+        return win
+    return dataclasses.replace(win, t_start=win.t_start + t_origin, t_end=win.t_end + t_origin)
 

@@ -76,7 +76,7 @@ class SteadyWindow:
             return "no steady cycles"
         return (
             f"cycles {self.cycles_kept[0]}-{self.cycles_kept[-1]} of {self.n_cycles_total} "
-            f"(t = {self.t_start:.4g}..{self.t_end:.4g} s)"
+            f"(t = {_t_text(self.t_start, self)}..{_t_text(self.t_end, self)} s)"
         )
 
     def statement(self) -> str:
@@ -103,6 +103,13 @@ class SteadyWindow:
         }
 
 
+def _t_text(v: float, win: SteadyWindow) -> str:
+    """A window time [s] with 4 significant digits of the window's span (Unix times too: 1700000002..)."""
+    span = abs(win.t_end - win.t_start)
+    extra = max(0, math.floor(math.log10(max(abs(win.t_start), abs(win.t_end)) / span))) if span > 0 else 0
+    return f"{v:.{4 + min(extra, 12)}g}"
+
+
 def _cycle_stats(
     t: np.ndarray, x: np.ndarray, omega: float, theta: float
 ) -> tuple[list[float], np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -124,10 +131,14 @@ def _cycle_stats(
     T = 2 * math.pi / omega
     psi0 = omega * t[0] + theta
     psi1 = omega * t[-1] + theta
-    k0 = math.ceil(psi0 / (2 * math.pi) - 1e-9)
     dt_med = float(np.median(np.diff(t))) if t.size > 1 else T
+    # a sample within 1e-3 of a sampling step of a boundary is on it: the time stamps' own resolution
+    # (2.4e-7 s for Unix time ~1.7e9 s) must not move the first or last whole cycle out of the record
+    eps_t = max(1e-3 * dt_med, 1e-9 * T)
+    eps_k = eps_t / T
+    k0 = math.ceil(psi0 / (2 * math.pi) - eps_k)
     # last boundary: a cycle is whole if its last sample (one step before the boundary) is present
-    k1 = math.floor((psi1 + 1.5 * omega * dt_med) / (2 * math.pi) + 1e-9)
+    k1 = math.floor((psi1 + 1.5 * omega * dt_med) / (2 * math.pi) + eps_k)
     ks = np.arange(k0, k1 + 1, dtype=float)
     b_arr = (2 * math.pi * ks - theta) / omega
     bounds = [float(v) for v in b_arr]
@@ -135,7 +146,7 @@ def _cycle_stats(
     if n == 0:
         e = np.zeros(0)
         return bounds, e, e, e, e, np.zeros(0, dtype=int)
-    idx = np.searchsorted(t, b_arr - 1e-9 * T, side="left")
+    idx = np.searchsorted(t, b_arr - eps_t, side="left")
     lo, hi = idx[:-1], idx[1:]
     n_in = (hi - lo).astype(int)
     span = np.where(n_in > 0, t[np.maximum(hi - 1, 0)] - t[np.minimum(lo, t.size - 1)], -np.inf)
@@ -228,10 +239,10 @@ def select_steady(
         win = _select_with_tol(t, stats, rel_tol, drop_first, drift_tol)
         win.n_cycles_start = win.n_cycles
         win.requested_tol = rel_tol
-        win.scatter = _scatter(stats[1], stats[2])
+        win.scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
         win.reason = "tolerance given"
         return win
-    scatter = _scatter(stats[1], stats[2])
+    scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
     tol0 = steady_tolerance(scatter)
     why = (f"4 x cycle-to-cycle scatter {100 * scatter:.3g} %" if math.isfinite(scatter)
            else f"too few cycles to measure the scatter (< {MIN_TRIPLES + 2} on the plateau)")
@@ -281,8 +292,23 @@ def steady_tolerance(scatter: float) -> float:
     return float(min(max(TOL_K * scatter, TOL_FLOOR), TOL_MAX))
 
 
-def _plateau(amps: np.ndarray, rel_tol: float) -> float:
-    """The amplitude most cycles agree with within ``rel_tol`` (ties -> the larger one) [mm]; 0 if none."""
+def _amp_floor(sds: np.ndarray, n_in: np.ndarray) -> np.ndarray:
+    """Per cycle: the amplitude [mm] not distinguishable from zero (4 standard errors of the per-cycle fit).
+
+    A cycle below it (the ramp of a record whose time stamps are quantised, e.g. Unix time ~1.7e9 s with a
+    resolution of 2.4e-7 s) shows no oscillation, however well such cycles agree with each other.
+    """
+    s_med = float(np.nanmedian(sds)) if np.any(np.isfinite(sds)) else 0.0
+    return 4.0 * s_med * np.sqrt(2.0 / np.maximum(n_in.astype(float), 1.0))
+
+
+def _plateau(amps: np.ndarray, rel_tol: float, floor: np.ndarray | float = 0.0) -> float:
+    """The amplitude most cycles agree with within ``rel_tol`` (ties -> the larger one) [mm]; 0 if none.
+
+    Cycles with an amplitude at or below ``floor`` [mm] (no oscillation, see :func:`_amp_floor`) are no
+    candidates.
+    """
+    amps = np.where(amps > floor, amps, 0.0)
     counts = _count_within(amps, rel_tol)
     if amps.size == 0 or counts.max() <= 0:
         return 0.0
@@ -291,7 +317,7 @@ def _plateau(amps: np.ndarray, rel_tol: float) -> float:
     return float(np.median(amps[near]))
 
 
-def _scatter(amps: np.ndarray, means: np.ndarray) -> float:
+def _scatter(amps: np.ndarray, means: np.ndarray, floor: np.ndarray | float = 0.0) -> float:
     """Robust cycle-to-cycle scatter of amplitude and mean, relative to the plateau amplitude.
 
     Only cycles near the plateau count (amplitude within ``2 * TOL_MAX`` of the
@@ -305,10 +331,10 @@ def _scatter(amps: np.ndarray, means: np.ndarray) -> float:
     divided by the plateau; NaN (-> the 3 % floor) if fewer than :data:`MIN_TRIPLES`
     such triples: a MAD of 3 or 4 values measures the envelope's corners, not the jitter.
     """
-    ref = _plateau(amps, TOL_MAX)
+    ref = _plateau(amps, TOL_MAX, floor)
     if not ref > 0:
         return float("nan")
-    ok = (amps > 0) & (np.abs(amps - ref) <= 2 * TOL_MAX * ref)
+    ok = (amps > floor) & (np.abs(amps - ref) <= 2 * TOL_MAX * ref)
     trip = ok[2:] & ok[1:-1] & ok[:-2]
     if trip.sum() < MIN_TRIPLES:
         return float("nan")
@@ -342,7 +368,7 @@ def _select_with_tol(
     se_mean = 4.0 * s_med / np.sqrt(nn)
     se_drift = 4.0 * s_med * np.sqrt(12.0 / nn)
     # plateau: the amplitude most cycles agree with (ties -> the larger one)
-    plateau = _plateau(amps_a, rel_tol)
+    plateau = _plateau(amps_a, rel_tol, _amp_floor(sds, nn_i))
     ok_amp = (np.abs(amps_a - plateau) <= rel_tol * plateau + se_amp) & (amps_a > 0)
     if ok_amp.any():
         mean_ref = float(np.nanmedian(means_a[ok_amp]))
