@@ -44,14 +44,15 @@ class RawTable:
     roles: dict[str, str] | None = None
 
 
-def resolve_roles(names: list[str], spec: ReaderSpec, source: str, positional: bool = False) -> dict[str, str]:
+def resolve_roles(names: list[str], spec: ReaderSpec, source: str, positional: bool = False,
+                  skip_test: bool = False) -> dict[str, str]:
     """Role -> column name for the roles present: the spec's mapping, else a column named like the role.
 
     Positions (ints) in ``spec.columns`` are 1-based.  Raises ValueError naming the file, the role, the
-    missing name and the columns there are.
+    missing name and the columns there are.  ``skip_test``: the container gave the test id.
     """
     out: dict[str, str] = {}
-    for role in ("test", "t", "x", "F"):
+    for role in ("t", "x", "F") if skip_test else ("test", "t", "x", "F"):
         want = spec.columns.get(role)
         if want is None:
             if role in names and not positional:
@@ -120,7 +121,8 @@ def records_from_table(tab: RawTable, spec: ReaderSpec, file_id: str) -> list[Re
         Unvalidated; t [s] from 0 per test when built from ``fs``.
     """
     names = list(tab.columns)
-    roles = tab.roles if tab.roles is not None else resolve_roles(names, spec, tab.source, tab.positional)
+    roles = tab.roles if tab.roles is not None else resolve_roles(names, spec, tab.source, tab.positional,
+                                                                         tab.test is not None)
     data = {}
     for role in ("t", "x", "F"):
         if role in roles:
