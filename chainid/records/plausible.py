@@ -36,7 +36,8 @@ _SLIPS = ((1000.0, "x in m read as mm (--units x=m) or F declared kN while in N"
 
 
 def _main_frequency(rec: Record) -> float:
-    """Main frequency of x(t) [Hz] from the FFT of the mean-removed x at its median time step."""
+    """Main frequency of x(t) [Hz] from the FFT of the mean-removed x at its median time step; NaN when no
+    frequency dominates (the peak and its 2 neighbours on each side hold under half the power: noise)."""
     n = rec.t.size
     dt = float(np.median(np.diff(rec.t)))
     step = max(1, n // 65536)
@@ -46,6 +47,9 @@ def _main_frequency(rec: Record) -> float:
     spec = np.abs(np.fft.rfft(x * np.hanning(x.size)))
     spec[0] = 0.0
     k = int(np.argmax(spec))
+    power = spec ** 2
+    if power[max(k - 2, 0):k + 3].sum() < 0.5 * power.sum():
+        return float("nan")
     return k / (x.size * dt * step)
 
 
