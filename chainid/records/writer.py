@@ -17,6 +17,7 @@ __all__ = ["OUTPUT_FORMATS", "write_canonical"]
 #: Output suffix -> format.
 OUTPUT_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet"}
 _BLOCK = 1 << 16
+_ROWS_PER_WRITE = 1 << 20
 
 
 def _check_ids(records: list[Record]) -> None:
@@ -96,7 +97,15 @@ def write_canonical(path: str | Path, records: Iterable[Record], overwrite: bool
         fh.write(b"test,t,x,F\n")
         if pacsv is None:
             _write_csv_plain(fh, recs)
-        elif recs:
-            pacsv.write_csv(_arrow_table(recs), fh,
-                            write_options=pacsv.WriteOptions(include_header=False, quoting_style="none"))
+        else:
+            import pyarrow as pa
+
+            opts = pacsv.WriteOptions(include_header=False, quoting_style="none")
+            for k, r in enumerate(recs):  # test by test, in blocks: bounded memory, any file-like target
+                for i in range(0, r.t.size, _ROWS_PER_WRITE):
+                    sub = Record(r.test, r.t[i:i + _ROWS_PER_WRITE], r.x[i:i + _ROWS_PER_WRITE],
+                                 r.F[i:i + _ROWS_PER_WRITE])
+                    sink = pa.BufferOutputStream()
+                    pacsv.write_csv(_arrow_table([sub]), sink, write_options=opts)
+                    fh.write(memoryview(sink.getvalue()))
     return p
