@@ -207,7 +207,7 @@ def read_canonical_csv(path: str | Path) -> list[Record]:
              pos["x"]: pa.float64(), pos["F"]: pa.float64()}
     try:
         table = pacsv.read_csv(
-            p, read_options=pacsv.ReadOptions(skip_rows=1, column_names=names, block_size=1 << 24),
+            p, read_options=pacsv.ReadOptions(skip_rows=1, column_names=names, block_size=1 << 22),
             parse_options=pacsv.ParseOptions(delimiter=","),
             convert_options=pacsv.ConvertOptions(include_columns=list(pos.values()), column_types=types,
                                                  null_values=[], strings_can_be_null=False,
@@ -225,12 +225,16 @@ def read_canonical_csv(path: str | Path) -> list[Record]:
         return read_csv_strict(p)
     idx = tests.indices.to_numpy(zero_copy_only=False)
     del tests
+    table = table.drop_columns([pos["test"]])
     cols = []
-    for role in ("t", "x", "F"):
+    for role in ("t", "x", "F"):  # one column at a time, each dropped once copied: peak ~ table + one column
         col = table.column(pos[role])
         if col.null_count:
             return read_csv_strict(p)
         a = col.to_numpy()
+        del col
+        table = table.drop_columns([pos[role]])
+        pa.default_memory_pool().release_unused()
         if not np.isfinite(a).all():
             return read_csv_strict(p)
         cols.append(a)
