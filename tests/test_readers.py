@@ -280,3 +280,36 @@ def test_time_unit_slips_warned():
     assert sampling_warnings([r]) == []
     assert any("--units t=ms" in m for m in sampling_warnings([Record("ms", r.t * 1000, r.x, r.F)]))
     assert any("above 1e+06 Hz" in m for m in sampling_warnings([Record("us", r.t * 1e-3, r.x, r.F)]))
+
+
+def test_progress_only_on_a_terminal(monkeypatch, capsys):
+    from chainid.infra.progress import progress_enabled, progress_iter
+
+    assert list(progress_iter(range(3), "reading")) == [0, 1, 2]
+    assert capsys.readouterr().err == ""  # captured stderr is not a TTY: quiet
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    assert progress_enabled() and not progress_enabled(quiet=True)
+    assert list(progress_iter(range(3), "reading", total=3)) == [0, 1, 2]
+    assert "reading" in capsys.readouterr().err
+
+
+def test_mapping_errors_name_the_column(tmp_path):
+    p = tmp_path / "h.tsv"
+    p.write_text("1.0\t2.0\n1.1\t2.1\n")
+    with pytest.raises(ValueError, match=r"no header: give positions, e.g. --columns F=1,x=2"):
+        read_any(p, spec_from_options(fs=100.0))
+    with pytest.raises(ValueError, match=r"no time column 't'.*--fs HZ"):
+        read_any(p, spec_from_options(columns="x=1,F=2"))
+    with pytest.raises(ValueError, match=r"--columns F=3: the file has 2 column\(s\)"):
+        read_any(p, spec_from_options(columns="x=1,F=3", fs=100.0))
+    q = write_records(tmp_path / "r.csv", REF)
+    with pytest.raises(ValueError, match=r"--columns x=Disp: no displacement column named 'Disp'.*\['test', 't', 'x', 'F'\]"):
+        read_any(q, spec_from_options(columns="x=Disp"))
+    with pytest.raises(ValueError, match=r"both a time column .* and --fs"):
+        read_any(q, spec_from_options(fs=100.0))
+    with pytest.raises(ValueError, match=r"appears in"):
+        read_any([q, tmp_path / "r.csv"], spec_from_options(units="t=s"))
+    with pytest.raises(ValueError, match=r"--scale 'x=minus': x = 'minus' is not a number"):
+        spec_from_options(scale="x=minus")
+    with pytest.raises(ValueError, match=r"reader decimal = ',' needs another delimiter"):
+        spec_from_options(decimal=",", delimiter=",")

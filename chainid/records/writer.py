@@ -17,7 +17,7 @@ __all__ = ["OUTPUT_FORMATS", "write_canonical"]
 #: Output suffix -> format.
 OUTPUT_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet"}
 _BLOCK = 1 << 16
-_ROWS_PER_WRITE = 1 << 20
+_ROWS_PER_WRITE = 1 << 19
 
 
 def _check_ids(records: list[Record]) -> None:
@@ -49,6 +49,37 @@ def _write_csv_plain(fh, records: list[Record]) -> None:
         for i in range(0, m.shape[0], _BLOCK):
             blk = m[i:i + _BLOCK]
             fh.write(((fmt * blk.shape[0]) % tuple(blk.ravel().tolist())).encode())
+
+
+def _blocks(records: list[Record]):
+    for r in records:
+        for i in range(0, r.t.size, _ROWS_PER_WRITE):
+            j = i + _ROWS_PER_WRITE
+            yield Record(r.test, r.t[i:j], r.x[i:j], r.F[i:j])
+
+
+def _format_block(rec: Record) -> bytes:
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
+    sink = pa.BufferOutputStream()
+    pacsv.write_csv(_arrow_table([rec]), sink,
+                    write_options=pacsv.WriteOptions(include_header=False, quoting_style="none"))
+    return sink.getvalue()
+
+
+def _write_csv_arrow(fh, records: list[Record]) -> None:
+    """Blocks of rows formatted by pyarrow on two threads (it releases the GIL), written in order."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        pending = []
+        for blk in _blocks(records):
+            pending.append(pool.submit(_format_block, blk))
+            if len(pending) > 2:  # bounded memory: at most 3 blocks formatted ahead
+                fh.write(memoryview(pending.pop(0).result()))
+        for fut in pending:
+            fh.write(memoryview(fut.result()))
 
 
 def write_canonical(path: str | Path, records: Iterable[Record], overwrite: bool = False,
@@ -98,14 +129,5 @@ def write_canonical(path: str | Path, records: Iterable[Record], overwrite: bool
         if pacsv is None:
             _write_csv_plain(fh, recs)
         else:
-            import pyarrow as pa
-
-            opts = pacsv.WriteOptions(include_header=False, quoting_style="none")
-            for k, r in enumerate(recs):  # test by test, in blocks: bounded memory, any file-like target
-                for i in range(0, r.t.size, _ROWS_PER_WRITE):
-                    sub = Record(r.test, r.t[i:i + _ROWS_PER_WRITE], r.x[i:i + _ROWS_PER_WRITE],
-                                 r.F[i:i + _ROWS_PER_WRITE])
-                    sink = pa.BufferOutputStream()
-                    pacsv.write_csv(_arrow_table([sub]), sink, write_options=opts)
-                    fh.write(memoryview(sink.getvalue()))
+            _write_csv_arrow(fh, recs)
     return p
