@@ -313,3 +313,17 @@ def test_mapping_errors_name_the_column(tmp_path):
         spec_from_options(scale="x=minus")
     with pytest.raises(ValueError, match=r"reader decimal = ',' needs another delimiter"):
         spec_from_options(decimal=",", delimiter=",")
+
+
+def test_mat_v73_through_h5py(tmp_path):
+    """A MATLAB v7.3 file is HDF5 with (1, N) vectors; scipy refuses it, h5py reads it."""
+    import h5py
+
+    p = tmp_path / "A.mat"
+    with h5py.File(p, "w", userblock_size=512) as f:
+        f["time"], f["disp"], f["force"] = REF[0].t[None, :], REF[0].x[None, :], REF[0].F[None, :]
+    with open(p, "r+b") as fh:  # the MATLAB 7.3 header in the user block
+        fh.write(b"MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: Mon Jan  1 00:00:00 2024 HDF5 schema 1.00 .")
+        fh.seek(124)
+        fh.write(b"\x00\x02IM")
+    _same(read_any(p, spec_from_options(columns="t=time,x=disp,F=force")), REF[:1])

@@ -115,9 +115,10 @@ def _mat(path: Path) -> Any:
         doc = scipy.io.loadmat(str(path), squeeze_me=True, simplify_cells=True)
     except NotImplementedError:  # MATLAB v7.3 files are HDF5
         h5py = optional_module("h5py", f"{path} (a MATLAB v7.3 file)")
-        f = h5py.File(path, "r")
-        return {k: (np.asarray(f[k]).ravel() if not _is_group(f[k]) else f[k]) for k in f.keys()
-                if not k.startswith("#")}
+        try:
+            return h5py.File(path, "r")  # vectors are (1, N) datasets: squeezed when read
+        except OSError as exc:
+            raise ValueError(f"{path}: not a readable MATLAB v7.3 file ({exc})") from None
     except (ValueError, TypeError, OSError) as exc:
         raise ValueError(f"{path}: not a readable MATLAB .mat file ({exc})") from None
     return {k: v for k, v in doc.items() if not k.startswith("__")}
@@ -153,6 +154,11 @@ _OPENERS: dict[str, Callable[[Path], Any]] = {"json": _json, "mat": _mat, "hdf5"
                                                "parquet": _parquet}
 
 
+def _squeeze(a: np.ndarray) -> np.ndarray:
+    """A (1, N) or (N, 1) array (MATLAB vectors) as (N,); anything else unchanged."""
+    return a.ravel() if a.ndim == 2 and 1 in a.shape else a
+
+
 def read_container(path: Path, fmt: str, spec: ReaderSpec, file_id: str) -> list[RawTable]:
     """The tables of one non-text file.
 
@@ -172,7 +178,8 @@ def read_container(path: Path, fmt: str, spec: ReaderSpec, file_id: str) -> list
         keyed = fmt == "json" and isinstance(obj, dict) and all(_is_group(v) for v in obj.values())
         tabs = _tables(obj, str(path), spec, file_id, keyed)
         for tab in tabs:  # read lazily opened datasets now (before the file closes)
-            tab.columns = {k: (np.asarray(v) if not isinstance(v, list) else v) for k, v in tab.columns.items()}
+            tab.columns = {k: (_squeeze(np.asarray(v)) if not isinstance(v, list) else v)
+                           for k, v in tab.columns.items()}
         return tabs
     finally:
         if hasattr(obj, "close"):
