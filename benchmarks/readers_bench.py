@@ -13,7 +13,8 @@ Usage (from the repository root)::
   each in a fresh process: wall time, ratio, and peak RSS (``VmHWM`` reset after the imports through
   ``/proc/self/clear_refs``) over the file size.  Targets: >= 10x faster, peak RSS <= 2x the file.
 
-Every ratio is computed from numbers measured in the same run.
+Each number is the median of ``--repeat`` runs (default 3; reads in fresh processes).  Every ratio is computed
+from numbers measured in the same run.
 """
 from __future__ import annotations
 
@@ -95,6 +96,7 @@ def read_in_child(path: Path, which: str) -> dict:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rows", type=int, default=10_000_000, help="total rows (10 tests)")
+    ap.add_argument("--repeat", type=int, default=3, help="runs of each measurement (median; default 3)")
     ap.add_argument("--json", metavar="FILE", help="write the numbers as JSON (refuses to overwrite)")
     args = ap.parse_args(argv)
     if args.json and Path(args.json).exists():
@@ -105,12 +107,16 @@ def main(argv: list[str] | None = None) -> int:
     res: dict = {"rows": rows}
     with tempfile.TemporaryDirectory(dir=os.environ.get("TMPDIR")) as d:
         old, new = Path(d) / "legacy.csv", Path(d) / "new.csv"
-        t0, c0 = time.perf_counter(), time.process_time()
-        legacy_write(old, recs)
-        t_old, c_old = time.perf_counter() - t0, time.process_time() - c0
-        t0, c0 = time.perf_counter(), time.process_time()
-        write_canonical(new, recs)
-        t_new, c_new = time.perf_counter() - t0, time.process_time() - c0
+        def timed(fn) -> tuple[float, float]:
+            runs = []
+            for _ in range(args.repeat):
+                t0, c0 = time.perf_counter(), time.process_time()
+                fn()
+                runs.append((time.perf_counter() - t0, time.process_time() - c0))
+            return float(np.median([r[0] for r in runs])), float(np.median([r[1] for r in runs]))
+
+        t_old, c_old = timed(lambda: legacy_write(old, recs))
+        t_new, c_new = timed(lambda: write_canonical(new, recs, overwrite=True))
         size_old, size_new = old.stat().st_size, new.stat().st_size
         res["write"] = {"legacy_s": t_old, "new_s": t_new, "speedup": t_old / t_new, "legacy_cpu_s": c_old,
                         "new_cpu_s": c_new, "legacy_bytes": size_old, "new_bytes": size_new}
@@ -120,7 +126,8 @@ def main(argv: list[str] | None = None) -> int:
               flush=True)
         del recs
         for which, path in (("legacy", old), ("new", old), ("new", new)):
-            m = read_in_child(path, which)
+            ms = [read_in_child(path, which) for _ in range(args.repeat)]
+            m = {k: float(np.median([x[k] for x in ms])) for k in ms[0]}  # median of fresh processes
             size = path.stat().st_size
             key = f"read_{which}_{path.stem}"
             res[key] = {**m, "file_bytes": size, "peak_over_file": m["peak"] / size,
