@@ -73,7 +73,8 @@ def _check_header(header: list[str], spath: str) -> None:
     if missing:
         raise ValueError(
             f"{spath}: missing column(s) {missing}; header is {header}, "
-            f"required columns are {list(REQUIRED_COLUMNS)}"
+            f"required columns are {list(REQUIRED_COLUMNS)} (another layout: map its columns with --columns, "
+            "e.g. t=Time,x=Disp,F=Load, and see --units, --fs)"
         )
     dup = [c for c in REQUIRED_COLUMNS if header.count(c) > 1]
     if dup:
