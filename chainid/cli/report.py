@@ -10,9 +10,11 @@ from chainid.report import run_report
 __all__ = ["cmd_report", "add_subparsers"]
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from chainid.cli.readopts import reader_spec
+    from chainid.cli.readopts import load_records, reader_spec
 
     spec = reader_spec(args)
+    if args.data:  # sampling warnings (--strict: errors) first; the report checks the chain itself (step 4)
+        load_records(args, args.data)
     path = run_report(Path(args.out), args.chain, args.data, args.force, reader=None if spec.is_default else spec)
     print(f"report written: {path.resolve()}")
     return 0
@@ -29,5 +31,5 @@ def add_subparsers(subparsers: Any) -> None:
                    help="re-run into an existing folder (replaces only the previous report's files)")
     from chainid.cli.readopts import add_reader_options
 
-    add_reader_options(p)
+    add_reader_options(p, strict=True, quiet=True)
     p.set_defaults(func=cmd_report)
