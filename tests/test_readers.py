@@ -327,3 +327,10 @@ def test_mat_v73_through_h5py(tmp_path):
         fh.seek(124)
         fh.write(b"\x00\x02IM")
     _same(read_any(p, spec_from_options(columns="t=time,x=disp,F=force")), REF[:1])
+
+
+def test_ragged_whitespace_row_is_an_error(tmp_path):
+    p = tmp_path / "w.dat"
+    p.write_text("1.0  2.0  3.0\n1.1  2.1  3.1  9.9\n1.2  2.2  3.2\n")
+    with pytest.raises(ValueError, match=r"w\.dat, line 2: 4 fields but the first data row has 3"):
+        read_any(p, spec_from_options(columns="x=1,F=2", fs=100.0))

@@ -95,7 +95,8 @@ def add_subparsers(subparsers: Any) -> None:
                    help="cut every record into K contiguous time blocks and hold out the last one of each "
                         "(time-domain route; K >= 2)")
     p.add_argument("--validate", metavar="OTHER.csv",
-                   help="score the fitted chain on another set (another excitation): does the chain transfer?")
+                   help="score the fitted chain on another set (another excitation): does the chain transfer? "
+                        "(read with the same reading options as DATA)")
     p.add_argument("--chain", metavar="FILE.toml|PRESET", help="chain TOML file or preset, e.g. din22252:26x92 (default: the paper's chain)")
     p.add_argument("--variant", default="paper", help="chain kernel variant (default paper)")
     p.add_argument("--model", choices=("chain", "linear"), default="chain",

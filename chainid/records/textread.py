@@ -134,14 +134,13 @@ def _fast(path: Path, lay: TextLayout, use: dict[str, str], decimal: str) -> dic
         if "test" in use or decimal == ",":
             return None
         cols = [lay.names.index(n) for n in names]
-        try:
-            a = np.loadtxt(path, skiprows=lay.data_line - 1, usecols=cols, ndmin=2, comments=None,
-                           encoding="utf-8-sig")
+        try:  # every column (loadtxt refuses ragged rows only then); a text column sends the file to the scan
+            a = np.loadtxt(path, skiprows=lay.data_line - 1, ndmin=2, comments=None, encoding="utf-8-sig")
         except (ValueError, UnicodeDecodeError):
             return None
-        if a.shape[0] == 0 or not np.isfinite(a).all():
+        if a.shape[0] == 0 or a.shape[1] != lay.n_fields or not np.isfinite(a[:, cols]).all():
             return None
-        return {n: np.ascontiguousarray(a[:, k]) for k, n in enumerate(names)}
+        return {n: np.ascontiguousarray(a[:, k]) for k, n in zip(cols, names)}
     try:
         import pyarrow as pa
         import pyarrow.csv as pacsv
