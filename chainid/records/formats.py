@@ -119,7 +119,7 @@ def _mat(path: Path) -> Any:
             return h5py.File(path, "r")  # vectors are (1, N) datasets: squeezed when read
         except OSError as exc:
             raise ValueError(f"{path}: not a readable MATLAB v7.3 file ({exc})") from None
-    except (ValueError, TypeError, OSError) as exc:
+    except Exception as exc:  # scipy's readers raise many types on a corrupt file: one line, no traceback
         raise ValueError(f"{path}: not a readable MATLAB .mat file ({exc})") from None
     return {k: v for k, v in doc.items() if not k.startswith("__")}
 
@@ -136,7 +136,7 @@ def _tdms(path: Path) -> Any:
     nptdms = optional_module("nptdms", f"{path} (LabVIEW TDMS)")
     try:
         f = nptdms.TdmsFile.read(str(path))
-    except (ValueError, OSError, KeyError) as exc:
+    except Exception as exc:  # npTDMS raises many types on a corrupt file: one line, no traceback
         raise ValueError(f"{path}: not a readable TDMS file ({exc})") from None
     return {g.name: {c.name: c[:] for c in g.channels()} for g in f.groups()}
 
