@@ -334,3 +334,11 @@ def test_ragged_whitespace_row_is_an_error(tmp_path):
     p.write_text("1.0  2.0  3.0\n1.1  2.1  3.1  9.9\n1.2  2.2  3.2\n")
     with pytest.raises(ValueError, match=r"w\.dat, line 2: 4 fields but the first data row has 3"):
         read_any(p, spec_from_options(columns="x=1,F=2", fs=100.0))
+
+
+def test_records_are_writable_arrays(tmp_path):
+    p = write_records(tmp_path / "r.csv", REF)
+    q = write_records(tmp_path / "r.parquet", REF)
+    for recs in (read_records(p, validate=False), read_any(q, ReaderSpec())):
+        for r in recs:
+            assert r.t.flags.writeable and r.x.flags.writeable and r.F.flags.writeable

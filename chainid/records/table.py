@@ -99,7 +99,7 @@ def _numeric(a: np.ndarray, source: str, name: str, role: str) -> np.ndarray:
         i = int(bad[0])
         raise ValueError(f"{source}: column {name!r} ({role}) value {v[i]!r} at row {i + 1} (of {v.size}) is not "
                          f"finite ({bad.size} such value(s))")
-    return v
+    return v if v.flags.writeable else v.copy()  # zero-copy Arrow/HDF5 views are read-only
 
 
 def records_from_table(tab: RawTable, spec: ReaderSpec, file_id: str) -> list[Record]:

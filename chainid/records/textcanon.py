@@ -233,6 +233,8 @@ def read_canonical_csv(path: str | Path) -> list[Record]:
         if col.null_count:
             return read_csv_strict(p)
         a = col.to_numpy()
+        if not a.flags.writeable:  # zero-copy view of a one-chunk column: records are writable, as before
+            a = a.copy()
         del col
         table = table.drop_columns([pos[role]])
         pa.default_memory_pool().release_unused()
