@@ -7,7 +7,7 @@ struct, JSON object or list item) that holds them is one test, named by the grou
 file's test id).  A name may be a path, ``run1/force``.
 
 h5py and npTDMS are optional (``pip install "chainid[formats]"``); a missing one is a one-line error naming the
-extra.
+extra.  Parquet uses pyarrow, a dependency of chainid.
 """
 from __future__ import annotations
 
@@ -34,13 +34,13 @@ def format_of(path: Path, spec: ReaderSpec) -> str:
     return spec.format or SUFFIXES.get(path.suffix.lower(), "text")
 
 
-def optional_module(name: str, what: str) -> Any:
-    """Import an optional reader, or a one-line ValueError naming the extra to install."""
+def optional_module(name: str, what: str, install: str = _EXTRA) -> Any:
+    """Import an optional reader, or a one-line ValueError naming what to install (default the extra)."""
     try:
         return importlib.import_module(name)
     except ImportError:
         raise ValueError(f"reading {what} needs the Python package {name.split('.')[0]!r}, which is not installed: "
-                         f"{_EXTRA}") from None
+                         f"{install}") from None
 
 
 def _is_group(v: Any) -> bool:
@@ -142,7 +142,7 @@ def _tdms(path: Path) -> Any:
 
 
 def _parquet(path: Path) -> Any:
-    pq = optional_module("pyarrow.parquet", f"{path} (Parquet)")
+    pq = optional_module("pyarrow.parquet", f"{path} (Parquet)", "pip install pyarrow (a dependency of chainid)")
     try:
         table = pq.read_table(path)
     except Exception as exc:  # pyarrow raises its own error types

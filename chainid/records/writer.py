@@ -112,7 +112,8 @@ def write_canonical(path: str | Path, records: Iterable[Record], overwrite: bool
         try:
             import pyarrow.parquet as pq
         except ImportError:
-            raise ValueError('writing Parquet needs pyarrow, which is not installed: pip install "chainid[formats]"') \
+            raise ValueError("writing Parquet needs pyarrow, which is not installed: pip install pyarrow (a dependency "
+                             "of chainid)") \
                 from None
         table = _arrow_table(recs)
         with atomic_open(p, "wb", force=overwrite, what="records") as fh:
