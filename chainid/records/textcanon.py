@@ -191,7 +191,7 @@ def read_canonical_csv(path: str | Path) -> list[Record]:
     -------
     list of Record
         Not validated, in file order; t [s], x [mm], F [N].  The arrays of all tests are views into three
-        arrays of the whole file (no copy per test).
+        arrays of the whole file (no copy per test), filled batch by batch (peak memory ~ the data).
     """
     p = Path(path)
     header = _first_line_header(p)
@@ -202,51 +202,67 @@ def read_canonical_csv(path: str | Path) -> list[Record]:
         import pyarrow.csv as pacsv
     except ImportError:
         return read_csv_strict(p)
+    try:
+        runs, cols = _stream(p, header, pa, pacsv)
+    except (pa.ArrowException, ValueError):
+        return read_csv_strict(p)  # anything irregular: the strict reader reads it again and names the line
+    t, x, F = cols
+    return [Record(test, t[s:e], x[s:e], F[s:e]) for test, s, e in runs]
+
+
+class _Irregular(ValueError):
+    """Something the strict reader must look at (it raises the precise error, or reads what is fine)."""
+
+
+def _stream(p: Path, header: list[str], pa, pacsv) -> tuple[list[tuple[str, int, int]], list[np.ndarray]]:
+    """Parse batch by batch into three float arrays sized for the file's largest possible row count.
+
+    The arrays are allocated once for ``file size / 8`` rows (no row of ``test,t,x,F`` is shorter than 8 bytes)
+    and filled in order; pages never written are never touched, so the resident memory is the data itself
+    (24 bytes per row) plus a few batches, never an Arrow table and its numpy copy at once.
+    """
+    import pyarrow.compute as pc
+
     names = [f"c{i}" for i in range(len(header))]
     pos = {c: f"c{header.index(c)}" for c in REQUIRED_COLUMNS}
-    types = {pos["test"]: pa.dictionary(pa.int32(), pa.string()), pos["t"]: pa.float64(),
-             pos["x"]: pa.float64(), pos["F"]: pa.float64()}
-    try:
-        table = pacsv.read_csv(
-            p, read_options=pacsv.ReadOptions(skip_rows=1, column_names=names, block_size=1 << 22),
-            parse_options=pacsv.ParseOptions(delimiter=","),
-            convert_options=pacsv.ConvertOptions(include_columns=list(pos.values()), column_types=types,
-                                                 null_values=[], strings_can_be_null=False,
-                                                 quoted_strings_can_be_null=False))
-    except (pa.ArrowException, ValueError):
-        return read_csv_strict(p)
-    if table.num_rows == 0:
-        return read_csv_strict(p)
-    tests = table.column(pos["test"]).unify_dictionaries().combine_chunks() if table.column(pos["test"]).num_chunks \
-        else None
-    if tests is None or tests.null_count:
-        return read_csv_strict(p)
-    ids = [str(s) for s in tests.dictionary.to_pylist()]
-    if any(s != s.strip() or not s for s in ids):
-        return read_csv_strict(p)
-    idx = tests.indices.to_numpy(zero_copy_only=False)
-    del tests
-    table = table.drop_columns([pos["test"]])
-    cols = []
-    for role in ("t", "x", "F"):  # one column at a time, each dropped once copied: peak ~ table + one column
-        col = table.column(pos[role])
-        if col.null_count:
-            return read_csv_strict(p)
-        a = col.to_numpy()
-        if not a.flags.writeable:  # zero-copy view of a one-chunk column: records are writable, as before
-            a = a.copy()
-        del col
-        table = table.drop_columns([pos[role]])
-        pa.default_memory_pool().release_unused()
-        if not np.isfinite(a).all():
-            return read_csv_strict(p)
-        cols.append(a)
-    del table
-    starts = np.flatnonzero(np.diff(idx)) + 1
-    starts = np.concatenate(([0], starts))
-    run_ids = idx[starts]
-    if len(np.unique(run_ids)) != len(run_ids):
-        return read_csv_strict(p)  # a test's rows are not contiguous: the strict reader names the line
-    ends = np.concatenate((starts[1:], [idx.size]))
-    t, x, F = cols
-    return [Record(ids[int(k)], t[s:e], x[s:e], F[s:e]) for k, s, e in zip(run_ids, starts, ends)]
+    types = {pos["test"]: pa.string(), pos["t"]: pa.float64(), pos["x"]: pa.float64(), pos["F"]: pa.float64()}
+    reader = pacsv.open_csv(
+        p, read_options=pacsv.ReadOptions(skip_rows=1, column_names=names, block_size=1 << 22),
+        parse_options=pacsv.ParseOptions(delimiter=","),
+        convert_options=pacsv.ConvertOptions(include_columns=list(pos.values()), column_types=types,
+                                             null_values=[], strings_can_be_null=False,
+                                             quoted_strings_can_be_null=False))
+    cap = p.stat().st_size // 8 + 1
+    cols = [np.empty(cap) for _ in range(3)]
+    runs: list[list] = []  # [test, start, end]
+    seen: set[str] = set()
+    n = 0
+    for batch in reader:
+        m = batch.num_rows
+        if m == 0:
+            continue
+        if n + m > cap:  # cannot happen for a valid file (rows >= 8 bytes); be safe
+            raise _Irregular("more rows than the file size allows")
+        for k, role in enumerate(("t", "x", "F")):
+            a = batch.column(batch.schema.get_field_index(pos[role]))
+            if a.null_count:
+                raise _Irregular("null")
+            v = a.to_numpy()
+            if not np.isfinite(v).all():
+                raise _Irregular("not finite")
+            cols[k][n:n + m] = v
+        ree = pc.run_end_encode(batch.column(batch.schema.get_field_index(pos["test"])))
+        start = n
+        for end, test in zip(ree.run_ends.to_numpy(), ree.values.to_pylist()):
+            if runs and runs[-1][0] == test:
+                runs[-1][2] = n + int(end)
+            else:
+                if not test or test != test.strip() or test in seen:
+                    raise _Irregular("test id")  # empty, padded, or rows not contiguous
+                seen.add(test)
+                runs.append([test, start, n + int(end)])
+            start = n + int(end)
+        n += m
+    if n == 0:
+        raise _Irregular("no rows")
+    return [(r[0], r[1], r[2]) for r in runs], [c[:n] for c in cols]
