@@ -1,6 +1,6 @@
 """The canonical long CSV ``test,t,x,F`` (s, mm, N): a fast reader (pyarrow) and the strict row-by-row reader.
 
-:func:`read_canonical_csv` parses the file with pyarrow's multithreaded CSV reader.  Whenever the fast parse
+:func:`read_canonical_csv` parses the file with pyarrow's streaming CSV reader.  Whenever the fast parse
 fails or finds anything irregular (a bad cell, NaN, a row with another field count, test rows that are not
 contiguous, a header not on line 1...), the file is read again by :func:`read_csv_strict`, the row-by-row
 reader, which raises the precise error (file, line, test, column, value).  So both paths give the same records
@@ -227,7 +227,7 @@ def _stream(p: Path, header: list[str], pa, pacsv) -> tuple[list[tuple[str, int,
     pos = {c: f"c{header.index(c)}" for c in REQUIRED_COLUMNS}
     types = {pos["test"]: pa.string(), pos["t"]: pa.float64(), pos["x"]: pa.float64(), pos["F"]: pa.float64()}
     reader = pacsv.open_csv(
-        p, read_options=pacsv.ReadOptions(skip_rows=1, column_names=names, block_size=1 << 22),
+        p, read_options=pacsv.ReadOptions(skip_rows=1, column_names=names, block_size=1 << 20),
         parse_options=pacsv.ParseOptions(delimiter=","),
         convert_options=pacsv.ConvertOptions(include_columns=list(pos.values()), column_types=types,
                                              null_values=[], strings_can_be_null=False,

@@ -153,7 +153,7 @@ def _fast(path: Path, lay: TextLayout, use: dict[str, str], decimal: str) -> dic
         types[key[use["test"]]] = pa.string()
     try:
         table = pacsv.read_csv(
-            path, read_options=pacsv.ReadOptions(skip_rows=lay.data_line - 1, column_names=cn, block_size=1 << 22),
+            path, read_options=pacsv.ReadOptions(skip_rows=lay.data_line - 1, column_names=cn, block_size=1 << 20),
             parse_options=pacsv.ParseOptions(delimiter=lay.delimiter),
             convert_options=pacsv.ConvertOptions(include_columns=list(key.values()), column_types=types,
                                                  null_values=[], strings_can_be_null=False, decimal_point=decimal))
