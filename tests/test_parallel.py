@@ -1,5 +1,6 @@
 """chainid.infra.parallel.run_cases: same results, in case order, on every back end; errors propagate cleanly."""
 import multiprocessing
+import sys
 
 import pytest
 
@@ -54,7 +55,10 @@ def test_empty_cases():
     assert run_cases(_square_plus, [], scheduler="processes") == []
 
 
-def test_progress_bar_on_stderr(capsys):
+def test_progress_bar_on_stderr(capsys, monkeypatch):
+    run_cases(_square_plus, CASES, scheduler="serial", progress=True, desc="sweep")
+    assert capsys.readouterr().err == ""  # stderr is not a terminal (issue 19): no bar in pipes and logs
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
     run_cases(_square_plus, CASES, scheduler="serial", progress=True, desc="sweep")
     err = capsys.readouterr().err
     assert "sweep" in err and "7/7" in err

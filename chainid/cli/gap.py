@@ -10,7 +10,6 @@ from typing import Any
 def cmd_diagnose(args: argparse.Namespace) -> int:
     from chainid.gap.diagnose import diagnose
     from chainid.gap.summary import summary, write_json
-    from chainid.records.files import read_records
 
     try:
         if args.steady_tol is not None and not (0.0 < args.steady_tol < 1.0):
@@ -28,7 +27,10 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
 
         check_model_targets(args.save_model, args.save_steps, args.force, max_steps=int(args.max_combo) + 1)
         # per-test problems are reported (and the test left out) by the diagnosis; data errors stop it
-        recs = read_records(args.data, validate=False)
+        from chainid.cli.readopts import chain_for_checks, load_records
+
+        chain = chain_for_checks(args)
+        recs = load_records(args, args.data, chain)
         if args.model == "linear":
             model = None
         else:
@@ -39,7 +41,7 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         holdout = [h for h in (args.holdout or "").split(",") if h.strip()]
         if args.holdout is None and not args.holdout_blocks:
             raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
-        other = read_records(args.validate, validate=False) if args.validate else None
+        other = load_records(args, args.validate, chain) if args.validate else None
         res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
                        allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
                        holdout_blocks=args.holdout_blocks, validate=other)
@@ -95,13 +97,15 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
 def add_subparsers(subparsers: Any) -> None:
     """Add ``diagnose`` and ``benchmark-gap`` to the chainid CLI."""
     p = subparsers.add_parser("diagnose", help="sim-to-real gap: where the model misses, which effect, how much")
-    p.add_argument("data", help="records CSV test,t,x,F (s, mm, N)")
+    p.add_argument("data", help="records: CSV test,t,x,F (s, mm, N), or a file/directory/glob in the rig's layout "
+                                "(see the reading options)")
     p.add_argument("--holdout", help="held-out test id(s), comma separated (whole tests)")
     p.add_argument("--holdout-blocks", dest="holdout_blocks", type=int, default=0, metavar="K",
                    help="cut every record into K contiguous time blocks and hold out the last one of each "
                         "(time-domain route; K >= 2)")
     p.add_argument("--validate", metavar="OTHER.csv",
-                   help="score the fitted chain on another set (another excitation): does the chain transfer?")
+                   help="score the fitted chain on another set (another excitation): does the chain transfer? "
+                        "(read with the same reading options as DATA)")
     p.add_argument("--chain", metavar="FILE.toml|PRESET", help="chain TOML file or preset, e.g. din22252:26x92 (default: the paper's chain)")
     p.add_argument("--variant", default="paper", help="chain kernel variant (default paper)")
     p.add_argument("--model", choices=("chain", "linear"), default="chain",
@@ -116,7 +120,8 @@ def add_subparsers(subparsers: Any) -> None:
                    help="accept compressive forces with the chain model (which carries none)")
     p.add_argument("--steady-tol", dest="steady_tol", type=float, default=None, metavar="TOL",
                    help="steady-cycle tolerance as a fraction of the plateau (default: adaptive per record)")
-    p.add_argument("--strict", action="store_true", help="a test that cannot be analysed is an error (rc 2)")
+    p.add_argument("--strict", action="store_true",
+                   help="a test that cannot be analysed, or a plausibility warning (unit slip), is an error (rc 2)")
     p.add_argument("--json", metavar="FILE", help="write the JSON result")
     p.add_argument("--plots", metavar="DIR", help="write figures to DIR")
     p.add_argument("--save-model", dest="save_model", metavar="M.toml",
@@ -125,6 +130,9 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("--save-steps", dest="save_steps", action="store_true",
                    help="also write the model after each step: M.step0.toml (baseline), M.step1.toml, ...")
     p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots / model files")
+    from chainid.cli.readopts import add_reader_options
+
+    add_reader_options(p, quiet=True)
     p.set_defaults(func=cmd_diagnose)
     b = subparsers.add_parser("benchmark-gap", help="blind benchmark of the diagnosis on simulated effects")
     b.add_argument("--small", action="store_true", help="a small, fast grid")

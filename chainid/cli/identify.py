@@ -118,7 +118,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
     from chainid.model.laws import MIN_TESTS, rank_laws
     from chainid.model.predict import inertia_force_N
     from chainid.damping.identify import identify_records
-    from chainid.records.files import analyse_record, read_records, read_side_file, write_side_file
+    from chainid.records.files import analyse_record, read_side_file, write_side_file
 
     _check_model_numbers(args)
     _check_out(args.json, args.force)
@@ -132,7 +132,9 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
         check_output_dir(args.plots, "--plots")
     # per-test analysis problems are reported (and the test left out) by identify_records
-    records = read_records(args.data, validate=False)
+    from chainid.cli.readopts import chain_for_checks, load_records
+
+    records = load_records(args, args.data, chain_for_checks(args))
     if args.plots:
         from chainid.damping.plots import plot_names
 
@@ -410,7 +412,8 @@ def add_subparsers(subparsers: Any) -> None:
     """Register ``identify``, ``simulate`` and ``audit`` on an argparse subparsers object."""
     p = subparsers.add_parser("identify", help="identify damping from force-displacement records (Eq. 17-28)",
                               description=cmd_identify.__doc__)
-    p.add_argument("data", help="records CSV: test,t,x,F (s, mm, N)")
+    p.add_argument("data", help="records: CSV test,t,x,F (s, mm, N), or a file/directory/glob in the rig's layout "
+                                "(see the reading options)")
     _model_options(p)
     p.add_argument("--law", choices=LAW_NAMES, default="polynomial", help="damping law to report (default Eq. 21)")
     p.add_argument("--side", metavar="FILE.csv", help="side file test,omega,x0,A (rad/s, mm, mm) to use instead of estimates")
@@ -420,11 +423,15 @@ def add_subparsers(subparsers: Any) -> None:
                    help="steady-cycle tolerance on amplitude/mean/drift, a fraction (0.05) or per cent (5%%); "
                         "default: adaptive, from each record's cycle-to-cycle scatter (3-15 %%)")
     p.add_argument("--strict", action="store_true",
-                   help="fail (rc 2) if any test cannot be identified instead of leaving it out")
+                   help="fail (rc 2) if any test cannot be identified instead of leaving it out, or on a "
+                        "plausibility warning (unit slip)")
     p.add_argument("--json", metavar="FILE", help="write results as JSON")
     p.add_argument("--plots", metavar="DIR", help="write loop and damping-surface PNGs")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.add_argument("--quiet", action="store_true", help="no progress messages")
+    from chainid.cli.readopts import add_reader_options
+
+    add_reader_options(p)
     p.set_defaults(func=_wrap(cmd_identify))
 
     s = subparsers.add_parser("simulate", help="simulate a test series into a records CSV",

@@ -61,7 +61,6 @@ def cmd_predict(args: argparse.Namespace) -> int:
     from chainid.infra.fileio import check_output_dir, check_output_file, write_json
     from chainid.gap.modelio import predict
     from chainid.model.modelfile import load_model
-    from chainid.records import read_records
 
     try:
         if args.json:
@@ -69,7 +68,9 @@ def cmd_predict(args: argparse.Namespace) -> int:
         if args.plots:
             check_output_dir(args.plots, "--plots", (), force=args.force)
         model = load_model(args.model)
-        recs = read_records(args.data, validate=False)
+        from chainid.cli.readopts import load_records
+
+        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None))
         tests = [s.strip() for s in args.tests.split(",") if s.strip()] if args.tests else None
         res = predict(model, recs, tests, fitted=args.fitted_damping, keep=bool(args.plots))
         print(_table(res))
@@ -143,11 +144,15 @@ def add_subparsers(subparsers: Any) -> None:
     p = subparsers.add_parser("predict", help="a saved model (diagnose --save-model) on records: NRMSE and shrinkage",
                               description=cmd_predict.__doc__)
     p.add_argument("model", help="model file (TOML or JSON) written by diagnose --save-model")
-    p.add_argument("data", help="records CSV test,t,x,F (s, mm, N)")
+    p.add_argument("data", help="records: CSV test,t,x,F (s, mm, N), or a file/directory/glob in the rig's layout "
+                                "(see the reading options)")
     p.add_argument("--tests", metavar="IDS", help="only these test ids, comma separated (e.g. the held-out ones)")
     p.add_argument("--fitted-damping", dest="fitted_damping", action="store_true",
                    help="use the per-test c_e the law was fitted on for those tests (default: the law for every test)")
     p.add_argument("--json", metavar="FILE", help="write the JSON result")
     p.add_argument("--plots", metavar="DIR", help="write overlay/residual figures (over t and over x) per test")
     p.add_argument("--force", action="store_true", help="overwrite existing --json / --plots files")
+    from chainid.cli.readopts import add_reader_options
+
+    add_reader_options(p, strict=True, quiet=True)
     p.set_defaults(func=cmd_predict)

@@ -19,7 +19,7 @@ __all__ = ["main", "build_parser"]
 
 #: Modules that add their own subcommands via ``add_subparsers(subparsers)``.
 SUBCOMMAND_MODULES = ("chainid.cli.identify", "chainid.cli.gap", "chainid.cli.report", "chainid.cli.chains",
-                      "chainid.cli.dynamics", "chainid.cli.model")
+                      "chainid.cli.dynamics", "chainid.cli.model", "chainid.cli.convert")
 
 
 

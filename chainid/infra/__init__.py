@@ -1,5 +1,6 @@
 """Plumbing every floor may use: atomic files and strict JSON (:mod:`.fileio`), parallel execution on
-dask.distributed or a process pool (:mod:`.parallel`), and a numba cache that never crashes (:mod:`.numba_cache`).
+dask.distributed or a process pool (:mod:`.parallel`), a numba cache that never crashes (:mod:`.numba_cache`)
+and progress bars on a terminal (:mod:`.progress`).
 Nothing here knows about chains.
 """
 from __future__ import annotations
@@ -36,6 +37,8 @@ _LAZY = {
     "MAX_WORKERS": "parallel",
     "worker_count": "parallel",
     "probe_scheduler": "parallel",
+    "progress_enabled": "progress",
+    "progress_iter": "progress",
 }
 
 __all__ = sorted(_LAZY)

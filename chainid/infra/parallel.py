@@ -12,7 +12,7 @@ returns the results in the order of the cases, on one of four back ends:
 * any other string - the address of a running dask scheduler, e.g.
   ``"tcp://10.0.0.5:8786"`` (``Client(address)``; the cluster is left running).
 
-A text progress bar goes to stderr unless ``progress=False``.  On an exception
+A progress bar (tqdm) goes to stderr on a terminal unless ``progress=False`` (none in pipes and logs).  On an exception
 in a case, or on SIGINT (KeyboardInterrupt), pending cases are cancelled, the
 workers this function started are shut down (no orphan processes) and the
 exception is re-raised; a case's own exception is re-raised as it was.
@@ -48,7 +48,7 @@ import threading
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator
-from typing import Any, TextIO
+from typing import Any
 
 __all__ = ["run_cases", "dask_available", "SCHEDULERS", "MAX_WORKERS", "worker_count", "probe_scheduler"]
 
@@ -180,38 +180,27 @@ def dask_available() -> bool:
 
 
 class _Bar:
-    """A minimal text progress bar on a stream (stderr): ``desc [#####.....] 5/10 1.2s``."""
+    """A progress bar (tqdm) on stderr, shown only on a terminal (:func:`chainid.infra.progress.progress_enabled`):
+    quiet when stderr is a pipe or a log, when ``enabled`` is False, or without tqdm."""
 
-    def __init__(self, total: int, desc: str, enabled: bool, stream: TextIO | None = None, width: int = 30):
-        self.total, self.desc, self.enabled, self.width = total, desc, enabled and total > 0, width
-        self.stream = stream if stream is not None else sys.stderr
-        self.done = 0
-        self.t0 = time.monotonic()
-        self._last = -1.0
-        self._draw(force=True)
+    def __init__(self, total: int, desc: str, enabled: bool):
+        from chainid.infra.progress import progress_enabled
 
-    def _draw(self, force: bool = False) -> None:
-        if not self.enabled:
-            return
-        now = time.monotonic()
-        if not force and now - self._last < 0.1 and self.done < self.total:
-            return
-        self._last = now
-        filled = int(self.width * self.done / self.total)
-        label = f"{self.desc} " if self.desc else ""
-        self.stream.write(f"\r{label}[{'#' * filled}{'.' * (self.width - filled)}] "
-                          f"{self.done}/{self.total} {now - self.t0:.1f}s")
-        self.stream.flush()
+        self.enabled = bool(enabled and total > 0 and progress_enabled())
+        self._bar = None
+        if self.enabled:
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=total, desc=desc or None, file=sys.stderr, leave=True, dynamic_ncols=True)
 
     def update(self, n: int = 1) -> None:
-        self.done += n
-        self._draw(force=self.done >= self.total)
+        if self._bar is not None:
+            self._bar.update(n)
 
     def close(self) -> None:
-        if self.enabled:
-            self.stream.write("\n")
-            self.stream.flush()
-            self.enabled = False
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
 
 
 def _check_args(fn: Callable[[Any], Any], scheduler: str | None, n_workers: int | None) -> None:
@@ -254,7 +243,7 @@ def run_cases(
         Capped at the number of cases and at :data:`MAX_WORKERS` (see
         :func:`worker_count`).  Ignored for ``"serial"`` and for an existing cluster.
     progress : bool
-        Text progress bar on stderr (default on).
+        Progress bar on stderr when it is a terminal (default on).
     desc : str
         Label in front of the progress bar.
 

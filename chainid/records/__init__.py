@@ -1,6 +1,9 @@
 """Test records: the :class:`Record` (t s, x mm, F N), reading and writing them (:mod:`.files`), their
 validation and per-test harmonic analysis (:mod:`.validate`), the paper's Table 1 (:mod:`.table1`) and synthetic
-records from a model (:mod:`.simulate`).
+records from a model (:mod:`.simulate`); records as rigs write them: a :class:`ReaderSpec` (:mod:`.spec`,
+columns, units by pint in :mod:`.units`, layout), :func:`read_any` (:mod:`.reader`; text in :mod:`.textcanon`
+and :mod:`.textread`, other formats in :mod:`.formats`, the mapping in :mod:`.table`), the fast writer
+(:mod:`.writer`) and the unit-slip warnings (:mod:`.plausible`).
 """
 from __future__ import annotations
 
@@ -36,6 +39,15 @@ _LAZY = {
     "n_samples": "simulate",
     "estimate_memory": "simulate",
     "load_table1": "table1",
+    "ReaderSpec": "spec",
+    "load_profile": "spec",
+    "spec_from_options": "spec",
+    "read_any": "reader",
+    "expand_paths": "reader",
+    "write_canonical": "writer",
+    "read_canonical_csv": "textcanon",
+    "read_csv_strict": "textcanon",
+    "plausibility_warnings": "plausible",
 }
 
 __all__ = sorted(_LAZY)

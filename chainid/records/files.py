@@ -1,6 +1,7 @@
 """Force–displacement records: CSV in/out, validation, harmonic estimation, steady cycles.
 
-File format (long CSV, architecture contract)::
+File format (long CSV, architecture contract; other layouts and formats through
+:class:`~chainid.records.spec.ReaderSpec` and :func:`~chainid.records.reader.read_any`)::
 
     test,t,x,F
     T1,0.000,0.0000,12.3
@@ -27,14 +28,14 @@ existing file unless ``overwrite=True``.
 from __future__ import annotations
 
 import csv
-import math
-from array import array
 from pathlib import Path
-from typing import Iterable, Iterator
+from typing import Iterable, Sequence
 
-import numpy as np
-
+from chainid.records.reader import read_any
 from chainid.records.record import Record
+from chainid.records.spec import ReaderSpec
+from chainid.records.textcanon import REQUIRED_COLUMNS, parse_float
+from chainid.records.writer import write_canonical
 from chainid.records.validate import analyse_record, check_data, try_analyse, validate_record
 from chainid.signal.harmonic import HarmonicEstimate, estimate_harmonic
 from chainid.signal.steady import SteadyWindow, select_steady
@@ -56,73 +57,34 @@ __all__ = [
     "REQUIRED_COLUMNS",
 ]
 
-REQUIRED_COLUMNS = ("test", "t", "x", "F")
-
-
 # ----------------------------------------------------------------------------
-# CSV in / out
+# Records in / out
 # ----------------------------------------------------------------------------
-def _parse_float(text: str, *, path: str, line: int, test: str, column: str) -> float:
-    try:
-        v = float(text)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"{path}, line {line}: test {test!r}: column {column!r} value {text!r} is not a number"
-        ) from None
-    if math.isnan(v):
-        raise ValueError(f"{path}, line {line}: test {test!r}: column {column!r} is NaN")
-    if math.isinf(v):
-        raise ValueError(f"{path}, line {line}: test {test!r}: column {column!r} is infinite ({text!r})")
-    return v
-
-def _iter_rows(p: Path, spath: str) -> Iterator[tuple[int, list[str]]]:
-    """Yield ``(line number, fields)`` of a CSV file; UTF-8 (a BOM is accepted).
-
-    Undecodable bytes or NUL characters (a binary or garbage file) raise a
-    ValueError naming the file and the line.
-    """
-    line_no = 0
-    try:
-        with p.open(newline="", encoding="utf-8-sig") as fh:
-            reader = csv.reader(fh)
-            for row in reader:
-                line_no = reader.line_num
-                yield line_no, row
-    except UnicodeDecodeError as exc:
-        raise ValueError(
-            f"{spath}: not a UTF-8 text CSV file (undecodable byte at file offset {exc.start} near line "
-            f"{line_no + 1}); expected a CSV with header {','.join(REQUIRED_COLUMNS)}"
-        ) from None
-    except csv.Error as exc:
-        raise ValueError(
-            f"{spath}, line {line_no + 1}: not a readable CSV file ({exc}); expected a CSV with header "
-            f"{','.join(REQUIRED_COLUMNS)}"
-        ) from None
-
-
 def read_records(
-    path: str | Path,
+    path: str | Path | Sequence[str | Path],
     *,
     validate: bool = True,
     allow_compression: bool = False,
     min_cycles: float = 2.0,
     min_snr: float = 3.0,
     steady_tol: float | None = None,
+    spec: ReaderSpec | None = None,
 ) -> list[Record]:
-    """Read a long-format CSV ``test,t,x,F`` into a list of :class:`Record`.
+    """Read records into a list of :class:`Record` (t [s], x [mm], F [N]).
 
-    The file is read row by row into preallocated float arrays (8 bytes per
-    value, 24 bytes per row), so the peak memory stays below the file size
-    plus the arrays themselves (measured in ``benchmarks/records_bench.py``).
+    Without ``spec`` and given one file, the file is the canonical long CSV ``test,t,x,F`` (read by
+    :func:`chainid.records.textcanon.read_canonical_csv`: pyarrow's parser with the strict row reader's
+    errors).  Otherwise :func:`chainid.records.reader.read_any` reads any layout and format.
 
     Parameters
     ----------
-    path : str or Path
+    path : str, Path or sequence
         CSV file (UTF-8, a byte-order mark is accepted); header must contain the
         columns ``test``, ``t`` [s], ``x`` [mm], ``F`` [N].  Every row must have
         as many fields as the header (a decimal comma ``261,004688`` in an
-        unquoted cell is an error, never read as 261).  The file is only read,
-        never modified.
+        unquoted cell is an error, never read as 261).  With a ``spec``: also a
+        directory or glob of one file per test, in any format of :mod:`chainid.records.formats`.
+        Files are only read, never modified.
     validate : bool
         Run :func:`validate_record` on every test (default True).
     allow_compression : bool
@@ -135,6 +97,8 @@ def read_records(
         Minimum ratio amplitude / RMS noise of x (default 3).
     steady_tol : float or None
         Steady-cycle tolerance for validation (fraction); None = adaptive.
+    spec : ReaderSpec or None
+        Columns, units, sampling rate, signs and text layout of the rig's files (None: canonical).
 
     Returns
     -------
@@ -144,79 +108,15 @@ def read_records(
     Raises
     ------
     ValueError
-        Naming the file, line and test: missing columns, a row whose field
-        count differs from the header's, non-numeric value, NaN, non-contiguous
-        test rows, a binary/non-UTF-8 file, and every :func:`validate_record`
-        problem.
+        Naming the file, line and test: missing or duplicate columns, a row whose field
+        count differs from the header's, non-numeric value (also ``1_3000``), NaN,
+        non-contiguous test rows, a binary/non-UTF-8 file, a directory with no records,
+        a FIFO or device, and every :func:`validate_record` problem.
     """
-    p = Path(path)
-    if not p.is_file():
-        raise ValueError(f"records file {str(p)!r} does not exist")
-    spath = str(p)
-    rows = _iter_rows(p, spath)
-    header: list[str] | None = None
-    for _, row in rows:
-        if row and any(c.strip() for c in row):
-            header = [h.strip() for h in row]
-            break
-    if header is None:
-        raise ValueError(f"{spath}: file is empty; expected header {','.join(REQUIRED_COLUMNS)}")
-    missing = [c for c in REQUIRED_COLUMNS if c not in header]
-    if missing:
-        raise ValueError(
-            f"{spath}: missing column(s) {missing}; header is {header}, "
-            f"required columns are {list(REQUIRED_COLUMNS)}"
-        )
-    nf = len(header)
-    it_, ix_, iF_ = (header.index(c) for c in ("t", "x", "F"))
-    itest = header.index("test")
-    # per test: growable float64 buffers (array.array: amortised O(1) append, ~8 bytes/value)
-    cols: dict[str, tuple[array, array, array]] = {}
-    order: list[str] = []
-    last: str | None = None
-    cur: tuple[array, array, array] | None = None
-    for line_no, row in rows:
-        if len(row) != nf:
-            if not row or all(not c.strip() for c in row):
-                continue
-            raise ValueError(
-                f"{spath}, line {line_no}: {len(row)} fields but the header has {nf} "
-                f"({','.join(header)}); a decimal comma or a stray separator? "
-                f"(row starts {','.join(row[:nf + 1])[:80]!r})"
-            )
-        test = row[itest].strip()
-        if test != last:
-            if test == "":
-                if all(not c.strip() for c in row):
-                    continue
-                raise ValueError(f"{spath}, line {line_no}: empty test id")
-            if test in cols:
-                raise ValueError(
-                    f"{spath}, line {line_no}: test {test!r}: rows are not contiguous "
-                    f"(the test appears again after other tests)"
-                )
-            cur = (array("d"), array("d"), array("d"))
-            cols[test] = cur
-            order.append(test)
-            last = test
-        assert cur is not None
-        for buf, j, c in ((cur[0], it_, "t"), (cur[1], ix_, "x"), (cur[2], iF_, "F")):
-            cell = row[j]
-            try:
-                v = float(cell)
-            except ValueError:
-                v = _parse_float(cell.strip(), path=spath, line=line_no, test=test, column=c)
-            if not math.isfinite(v):
-                _parse_float(cell.strip(), path=spath, line=line_no, test=test, column=c)
-            buf.append(v)
-    if not order:
-        raise ValueError(f"{spath}: no data rows")
-    records = []
-    for test in order:
-        bt, bx, bF = cols.pop(test)
-        rec = Record(test, np.frombuffer(bt, dtype=float), np.frombuffer(bx, dtype=float),
-                     np.frombuffer(bF, dtype=float))
-        if validate:
+    records = read_any(path, spec)
+    spath = str(path) if isinstance(path, (str, Path)) else ", ".join(str(q) for q in path)
+    if validate:
+        for rec in records:
             try:
                 rec.estimate = validate_record(
                     rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr,
@@ -224,12 +124,14 @@ def read_records(
                 )
             except ValueError as exc:
                 raise ValueError(f"{spath}: {exc}") from None
-        records.append(rec)
     return records
 
 
 def write_records(path: str | Path, records: Iterable[Record], overwrite: bool = False) -> Path:
-    """Write records as long-format CSV ``test,t,x,F``.
+    """Write records as long-format CSV ``test,t,x,F`` (or Parquet by the suffix ``.parquet``).
+
+    Numbers are written as the shortest text that reads back to the same float64
+    (see :func:`chainid.records.writer.write_canonical`); the file appears atomically.
 
     Parameters
     ----------
@@ -249,21 +151,9 @@ def write_records(path: str | Path, records: Iterable[Record], overwrite: bool =
     ------
     ValueError
         If ``path`` exists and ``overwrite`` is False (naming the path), or if a
-        test id contains a comma or newline.
+        test id contains a comma, quote or newline, or appears twice.
     """
-    from chainid.infra.fileio import atomic_open  # temp file in the target folder + rename: never a partial CSV
-
-    p = Path(path)
-    records = list(records)
-    for r in records:
-        if any(ch in r.test for ch in ",\n\r\""):
-            raise ValueError(f"test id {r.test!r} must not contain commas, quotes or newlines")
-    with atomic_open(p, "w", force=overwrite, what="records", newline="") as fh:
-        fh.write("test,t,x,F\n")
-        for r in records:
-            for ti, xi, Fi in zip(r.t, r.x, r.F):
-                fh.write(f"{r.test},{ti:.9g},{xi:.9g},{Fi:.9g}\n")
-    return p
+    return write_canonical(path, records, overwrite=overwrite)
 
 
 # ----------------------------------------------------------------------------
@@ -297,7 +187,7 @@ def read_side_file(path: str | Path) -> dict[str, tuple[float, float, float]]:
             row = {k.strip(): (v or "").strip() for k, v in row.items() if k is not None}
             test = row["test"]
             vals = tuple(
-                _parse_float(row[c], path=str(p), line=line_no, test=test, column=c) for c in ("omega", "x0", "A")
+                parse_float(row[c], path=str(p), line=line_no, test=test, column=c) for c in ("omega", "x0", "A")
             )
             if vals[0] <= 0:
                 raise ValueError(f"{str(p)}, line {line_no}: test {test!r}: omega = {vals[0]} rad/s must be > 0")

@@ -60,13 +60,14 @@ def chain_check(records: Sequence[Any], model: Any) -> dict[str, Any]:
             "min_F_N": float(F.min())}
 
 
-def data_section(folder: Path, model: Any, data: Path, say: Progress) -> str:
-    """Diagnosis of the user's records (``--data``): last ~25 % of the tests held out."""
+def data_section(folder: Path, model: Any, data: Path, say: Progress, spec: Any = None) -> str:
+    """Diagnosis of the user's records (``--data``, read with the reader ``spec``): last ~25 % of the tests held
+    out."""
     from chainid.records.files import read_records
 
     head = f"## 4. Gap diagnosis of `{data.name}`\n"
     try:
-        recs = read_records(data, allow_compression=True)
+        recs = read_records(data, allow_compression=True, spec=spec)
     except ValueError as exc:
         return head + f"\nThe records could not be read, no diagnosis: {exc}\n"
     ids = [r.test for r in recs]

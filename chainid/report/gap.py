@@ -166,7 +166,8 @@ def eq26_section(folder: Path, model: Any, say: Progress) -> str:
 
 # -- entry point -------------------------------------------------------------------
 
-def report_section(folder: Path, model: Any, data: Path | None, say: Callable[[str], None]) -> str:
+def report_section(folder: Path, model: Any, data: Path | None, say: Callable[[str], None],
+                   spec: Any = None) -> str:
     """Step 4 of ``chainid report`` as Markdown.
 
     Parameters
@@ -188,7 +189,7 @@ def report_section(folder: Path, model: Any, data: Path | None, say: Callable[[s
     folder = Path(folder)
     (folder / "figures").mkdir(parents=True, exist_ok=True)
     if data is not None:
-        return data_section(folder, model, Path(data), say)
+        return data_section(folder, model, Path(data), say, spec)
     return "\n".join([
         "## 4. Gap diagnosis: where the model misses, which effect, how much it shrinks\n",
         simulated_section(folder, model, say),

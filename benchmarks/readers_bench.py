@@ -1,0 +1,154 @@
+"""Reading and writing the canonical records CSV: the new reader/writer against today's (issue 19).
+
+Usage (from the repository root)::
+
+    python benchmarks/readers_bench.py                # 1e7 rows (10 tests x 1e6), ~330 MB CSV
+    python benchmarks/readers_bench.py --rows 1000000 # quicker
+
+* **Write.**  The same records (10 tests, an 18 Hz shaker at 10 kHz) written by the row-by-row writer that
+  ``write_records`` used before issue 19 (kept below as ``legacy_write``: one f-string per row, ``%.9g``) and
+  by :func:`chainid.records.writer.write_canonical` (pyarrow, shortest round-trip text).  Wall time, ratio.
+* **Read.**  The legacy-written file read by today's row-by-row reader (``read_csv_strict``, which is the old
+  ``read_records(validate=False)`` loop, kept as the fallback) and by the new ``read_records(validate=False)``,
+  each in a fresh process: wall time, ratio, and peak RSS (``VmHWM`` reset after the imports through
+  ``/proc/self/clear_refs``) over the file size.  Targets: >= 10x faster, peak RSS <= 2x the file.
+
+Each number is the median of ``--repeat`` runs (default 3; reads in fresh processes).  Every ratio is computed
+from numbers measured in the same run.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from chainid.records.record import Record  # noqa: E402
+from chainid.records.writer import write_canonical  # noqa: E402
+
+
+def shaker(test: str, n: int, seed: int) -> Record:
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / 10_000.0
+    x = 5.0 + np.sin(2 * np.pi * 18.0 * t) + rng.normal(0, 2e-3, n)
+    return Record(test, t, x, 20000.0 + 1000.0 * (x - 5.0))
+
+
+def legacy_write(path: Path, records: list[Record]) -> None:
+    """The pre-issue-19 ``write_records`` loop (one f-string per row)."""
+    with path.open("w", newline="") as fh:
+        fh.write("test,t,x,F\n")
+        for r in records:
+            for ti, xi, Fi in zip(r.t, r.x, r.F):
+                fh.write(f"{r.test},{ti:.9g},{xi:.9g},{Fi:.9g}\n")
+
+
+_CHILD = r"""
+import gc, json, resource, sys, time
+sys.path.insert(0, sys.argv[1])
+from chainid.records import files, textcanon
+import pyarrow.csv  # imported before the peak reset in both runs (its import is not reading)
+
+def status(key):
+    with open("/proc/self/status") as fh:
+        for line in fh:
+            if line.startswith(key + ":"):
+                return int(line.split()[1]) * 1024
+    return 0
+
+gc.collect()
+base = status("VmRSS")
+try:
+    with open("/proc/self/clear_refs", "w") as fh:
+        fh.write("5")
+    reset = True
+except OSError:
+    reset = False
+t0, c0 = time.perf_counter(), time.process_time()
+if sys.argv[3] == "legacy":
+    recs = textcanon.read_csv_strict(sys.argv[2])
+else:
+    recs = files.read_records(sys.argv[2], validate=False)
+dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+peak = status("VmHWM") if reset else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+print(json.dumps({"base": base, "peak": peak, "seconds": dt, "cpu_seconds": cpu, "rows": sum(r.t.size for r in recs),
+                  "checksum": float(sum(float(r.F.sum()) for r in recs))}))
+"""
+
+
+def read_in_child(path: Path, which: str) -> dict:
+    out = subprocess.run([sys.executable, "-c", _CHILD, str(ROOT), str(path), which], capture_output=True,
+                         text=True, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    if out.returncode != 0:
+        raise SystemExit(f"child failed: {out.stderr.strip()}")
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rows", type=int, default=10_000_000, help="total rows (10 tests)")
+    ap.add_argument("--repeat", type=int, default=3, help="runs of each measurement (median; default 3)")
+    ap.add_argument("--json", metavar="FILE", help="write the numbers as JSON (refuses to overwrite)")
+    args = ap.parse_args(argv)
+    if args.json and Path(args.json).exists():
+        print(f"error: {args.json!r} exists; refusing to overwrite it", file=sys.stderr)
+        return 2
+    recs = [shaker(f"T{k}", args.rows // 10, k) for k in range(10)]
+    rows = sum(r.t.size for r in recs)
+    res: dict = {"rows": rows}
+    with tempfile.TemporaryDirectory(dir=os.environ.get("TMPDIR")) as d:
+        old, new = Path(d) / "legacy.csv", Path(d) / "new.csv"
+        def timed(fn) -> tuple[float, float]:
+            runs = []
+            for _ in range(args.repeat):
+                t0, c0 = time.perf_counter(), time.process_time()
+                fn()
+                runs.append((time.perf_counter() - t0, time.process_time() - c0))
+            return float(np.median([r[0] for r in runs])), float(np.median([r[1] for r in runs]))
+
+        t_old, c_old = timed(lambda: legacy_write(old, recs))
+        t_new, c_new = timed(lambda: write_canonical(new, recs, overwrite=True))
+        size_old, size_new = old.stat().st_size, new.stat().st_size
+        res["write"] = {"legacy_s": t_old, "new_s": t_new, "speedup": t_old / t_new, "legacy_cpu_s": c_old,
+                        "new_cpu_s": c_new, "legacy_bytes": size_old, "new_bytes": size_new}
+        print(f"write {rows:,d} rows: legacy {t_old:.1f} s wall / {c_old:.1f} s CPU ({size_old / 1e6:.0f} MB), new "
+              f"{t_new:.1f} s wall / {c_new:.1f} s CPU ({size_new / 1e6:.0f} MB): {t_old / t_new:.1f}x faster wall, "
+              f"{c_old / c_new:.1f}x less CPU (target >= 10x: {'PASS' if t_old / t_new >= 10 else 'MISS'})",
+              flush=True)
+        del recs
+        for which, path in (("legacy", old), ("new", old), ("new", new)):
+            ms = [read_in_child(path, which) for _ in range(args.repeat)]
+            m = {k: float(np.median([x[k] for x in ms])) for k in ms[0]}  # median of fresh processes
+            size = path.stat().st_size
+            key = f"read_{which}_{path.stem}"
+            res[key] = {**m, "file_bytes": size, "peak_over_file": m["peak"] / size,
+                        "increment_over_file": (m["peak"] - m["base"]) / size}
+            print(f"read {path.name} ({size / 1e6:.0f} MB) with the {which} reader: {m['seconds']:.1f} s wall / "
+                  f"{m['cpu_seconds']:.1f} s CPU, peak RSS "
+                  f"{m['peak'] / 1e6:.0f} MB = {m['peak'] / size:.2f}x the file (increment "
+                  f"{(m['peak'] - m['base']) / 1e6:.0f} MB = {(m['peak'] - m['base']) / size:.2f}x); "
+                  f"checksum {m['checksum']:.6e}", flush=True)
+        sp = res["read_legacy_legacy"]["seconds"] / res["read_new_legacy"]["seconds"]
+        res["read_speedup"] = sp
+        res["read_cpu_ratio"] = res["read_legacy_legacy"]["cpu_seconds"] / res["read_new_legacy"]["cpu_seconds"]
+        pk = res["read_new_legacy"]["peak_over_file"]
+        print(f"read speed-up on the same file: {sp:.1f}x wall, {res['read_cpu_ratio']:.1f}x less CPU (target >= 10x: {'PASS' if sp >= 10 else 'MISS'}); "
+              f"new reader peak RSS {pk:.2f}x the file (target <= 2x: {'PASS' if pk <= 2 else 'MISS'})")
+    if args.json:
+        tmp = Path(args.json).with_name(Path(args.json).name + ".tmp")
+        tmp.write_text(json.dumps(res, indent=2) + "\n")
+        os.replace(tmp, args.json)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

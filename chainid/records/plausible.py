@@ -1,0 +1,150 @@
+"""Plausibility of records read from a rig: warnings that catch unit slips (a file in metres read as mm is
+1000x too small and passes every data check).
+
+Each warning names the likely slip and the option that fixes it; nothing is ever rescaled.  Checks:
+
+* sampling: a time step implying a rate above 1 MHz (time in s declared ms/us), fewer than 4 samples per cycle
+  of the test's main frequency (the rate is below about twice the test frequency), a main frequency below
+  0.01 Hz (time in ms read as s) or above 1 kHz;
+* with a chain (its elastic range from :mod:`chainid.model`): a displacement span over 10x the chain's
+  elongation at the breaking load (x in um read as mm) or under 1/1000 of its elongation at the working load
+  (x in m read as mm); a secant stiffness span(F)/span(x) more than 30x off the chain's k_e over the record's
+  force range (x or F 1000x or 25.4x off); a force above 3x the breaking load (F in N declared kN) or a largest
+  force below 1/10000 of the working load (F in kN read as N).
+
+Units: t [s], x [mm], F [N], k [N/mm].
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from chainid.records.record import Record
+
+__all__ = ["FS_MAX_HZ", "sampling_warnings", "chain_warnings", "plausibility_warnings"]
+
+#: A sampling rate above this [Hz] is implausible for a chain test rig.
+FS_MAX_HZ = 1.0e6
+_SLIPS = ((1000.0, "x in m read as mm (--units x=m) or F declared kN while in N"),
+          (1e-3, "F in kN read as N (--units F=kN) or x in um read as mm (--units x=um)"),
+          (25.4, "x in inches declared mm? (--units x=in)"),
+          (1 / 25.4, "x declared inches while in mm"),
+          (1 / 4448.2, "F in kip read as N (--units F=kip)"),
+          (1 / 4.448, "F in lbf read as N (--units F=lbf)"))
+
+
+def _main_frequency(rec: Record) -> float:
+    """Main frequency of x(t) [Hz] from the FFT of the mean-removed x at its median time step; NaN when no
+    frequency dominates (the peak and its 2 neighbours on each side hold under half the power: noise)."""
+    n = rec.t.size
+    dt = float(np.median(np.diff(rec.t)))
+    step = max(1, n // 65536)
+    x = rec.x[::step] - float(np.mean(rec.x[::step]))
+    if x.size < 8 or not np.any(x):
+        return float("nan")
+    spec = np.abs(np.fft.rfft(x * np.hanning(x.size)))
+    spec[0] = 0.0
+    k = int(np.argmax(spec))
+    power = spec ** 2
+    if power[max(k - 2, 0):k + 3].sum() < 0.5 * power.sum():
+        return float("nan")
+    return k / (x.size * dt * step)
+
+
+def sampling_warnings(records: Sequence[Record]) -> list[str]:
+    """Time-step warnings of each record (see the module docstring)."""
+    out = []
+    for r in records:
+        if r.t.size < 8:
+            continue
+        dt = float(np.median(np.diff(r.t)))
+        if not (math.isfinite(dt) and dt > 0):
+            continue
+        fs = 1.0 / dt
+        if fs > FS_MAX_HZ:
+            out.append(f"test {r.test!r}: time step {dt:.3g} s implies sampling at {fs:.4g} Hz, above "
+                       f"{FS_MAX_HZ:.0e} Hz: is t in s while declared ms or us (--units t=...)?")
+            continue
+        f = _main_frequency(r)
+        if not math.isfinite(f) or f <= 0:
+            continue
+        if fs / f < 4.0:
+            out.append(f"test {r.test!r}: {fs:.4g} Hz sampling gives {fs / f:.2g} samples per cycle of the main "
+                       f"frequency {f:.4g} Hz (below about twice the test frequency the motion is aliased): "
+                       "wrong time unit (--units t=...) or --fs?")
+        elif f < 0.01:
+            out.append(f"test {r.test!r}: the main frequency {f:.3g} Hz (a cycle of {1 / f:.3g} s) is implausibly "
+                       "slow: is t in ms read as s (--units t=ms) or --fs too small?")
+        elif f > 1000.0:
+            out.append(f"test {r.test!r}: the main frequency {f:.4g} Hz is implausibly fast for a chain test: is t "
+                       "in s declared ms (--units t=...) or --fs too large?")
+    return out
+
+
+def _slip(ratio: float) -> str:
+    best = min(_SLIPS, key=lambda s: abs(math.log(ratio / s[0])))
+    return best[1] if abs(math.log(ratio / best[0])) < math.log(3.0) else "a unit slip of x or F?"
+
+
+def chain_warnings(records: Sequence[Record], chain: Any, variant: str = "paper") -> list[str]:
+    """Warnings against the chain's elastic range and stiffness (see the module docstring)."""
+    from chainid.model import kernels
+    from chainid.model.practice import chain_practice
+
+    p = chain_practice(chain)
+    x_of = (lambda F: float(np.atleast_1d(kernels.displacement(np.array([F], dtype=float), chain, variant))[0]))
+    k_of = (lambda x: float(np.atleast_1d(kernels.stiffness(np.array([x], dtype=float), chain, variant))[0]))
+    wl, bl = p["working_load_N"], p["breaking_load_N"]
+    x_wl, x_bl = x_of(wl), x_of(bl)
+    out = []
+    for r in records:
+        span_x, span_F = float(np.ptp(r.x)), float(np.ptp(r.F))
+        F_max = float(np.max(r.F))
+        tag = f"test {r.test!r}"
+        if span_x > 10.0 * x_bl:
+            out.append(f"{tag}: x spans {span_x:.4g} mm, {span_x / x_bl:.3g}x the chain's elongation at the breaking "
+                       f"load ({x_bl:.3g} mm): is x in um read as mm (--units x=um)?")
+        elif 0 < span_x < x_wl / 1000.0:
+            out.append(f"{tag}: x spans {span_x:.3g} mm, under 1/1000 of the chain's elongation at the working "
+                       f"load ({x_wl:.3g} mm): is x in m read as mm (--units x=m)?")
+        if F_max > 3.0 * bl:
+            out.append(f"{tag}: F reaches {F_max:.4g} N, {F_max / bl:.3g}x the chain's breaking load "
+                       f"({bl:.4g} N): is F in N declared kN, or in mN?")
+        elif 0 < F_max < wl * 1e-4:
+            out.append(f"{tag}: the largest force {F_max:.3g} N is under 1/10000 of the chain's working load "
+                       f"({wl:.4g} N): is F in kN read as N (--units F=kN)?")
+        if span_x > 0 and span_F > 0:
+            F_lo = max(float(np.min(r.F)), 1.0)
+            k_lo, k_hi = k_of(x_of(F_lo)), k_of(x_of(max(F_max, F_lo)))
+            k_rec = span_F / span_x
+            if k_rec > 30.0 * k_hi or k_rec < k_lo / 30.0:
+                ref = k_hi if k_rec > k_hi else k_lo
+                out.append(f"{tag}: the record's stiffness span(F)/span(x) = {k_rec:.4g} N/mm is {k_rec / ref:.3g}x "
+                           f"the chain's k_e ({k_lo:.4g}..{k_hi:.4g} N/mm over the record's forces): "
+                           f"{_slip(k_rec / ref)}")
+    return out
+
+
+def plausibility_warnings(records: Sequence[Record], chain: Any = None, variant: str = "paper") -> list[str]:
+    """All plausibility warnings of the records: sampling always, the chain's when ``chain`` is given.
+
+    Parameters
+    ----------
+    records : sequence of Record
+        t [s], x [mm], F [N].
+    chain : ChainSpec or None
+        The chain the records are read for (None: no chain check, e.g. a linear model or another part).
+    variant : str
+        Stiffness kernel variant for k_e.
+
+    Returns
+    -------
+    list of str
+        One line per warning, each naming the test and the likely unit slip.  Nothing is rescaled.
+    """
+    out = sampling_warnings(records)
+    if chain is not None:
+        out += chain_warnings(records, chain, variant)
+    return out
