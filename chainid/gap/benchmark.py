@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark_report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
+from chainid.gap.benchmark_time import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
@@ -57,31 +58,6 @@ def _chains() -> dict[str, Any]:
 
     c = default_chain()
     return {"14x50": c, "small": replace(c, d=10.0, pitch=35.0, width=12.0)}
-
-
-def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float) -> str:
-    """``--effect`` text of a library effect at a relative strength ``level`` (1 = typical).
-
-    S [N] is the median dynamic force k_e·A of the plan, k [N/mm] the median stiffness, Amin [mm] the
-    smallest amplitude, wmax [rad/s] the highest frequency.
-    """
-    if effect == "friction":
-        return f"friction:F_c={0.1 * level * S:.6g}"
-    if effect == "hysteresis":
-        return f"hysteresis:F_h={0.1 * level * S:.6g},x_h={0.3 * Amin:.6g}"
-    if effect == "backlash":
-        return f"backlash:b={0.1 * level * Amin:.6g}"
-    if effect == "slack":
-        return f"slack:s={0.1 * level * Amin:.6g}"
-    if effect == "machine_compliance":
-        return f"machine_compliance:c={0.1 * level / k:.6g}"
-    if effect == "stiffness_level":
-        return f"stiffness_level:scale={1 - 0.1 * level if level < 3 else 1.3:.6g}"
-    if effect == "contact_law":
-        return f"contact_law:scale={1 + 0.3 * level:.6g}"
-    if effect == "sensor_delay":
-        return f"sensor_delay:tau={0.15 * level / wmax:.6g}"
-    return f"damping_law:eta={0.1 * level:.6g}"
 
 
 def _outside_hook(kind: str, level: float, S: float) -> Any:

@@ -50,6 +50,31 @@ TIME_PAIRS = (("friction", "sensor_delay"), ("hysteresis", "slack"), ("friction"
 N_RECORDS = 4
 
 
+def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float) -> str:
+    """``--effect`` text of a library effect at a relative strength ``level`` (1 = typical).
+
+    S [N] is the median dynamic force k_e·A of the plan, k [N/mm] the median stiffness, Amin [mm] the
+    smallest amplitude, wmax [rad/s] the highest frequency.
+    """
+    if effect == "friction":
+        return f"friction:F_c={0.1 * level * S:.6g}"
+    if effect == "hysteresis":
+        return f"hysteresis:F_h={0.1 * level * S:.6g},x_h={0.3 * Amin:.6g}"
+    if effect == "backlash":
+        return f"backlash:b={0.1 * level * Amin:.6g}"
+    if effect == "slack":
+        return f"slack:s={0.1 * level * Amin:.6g}"
+    if effect == "machine_compliance":
+        return f"machine_compliance:c={0.1 * level / k:.6g}"
+    if effect == "stiffness_level":
+        return f"stiffness_level:scale={1 - 0.1 * level if level < 3 else 1.3:.6g}"
+    if effect == "contact_law":
+        return f"contact_law:scale={1 + 0.3 * level:.6g}"
+    if effect == "sensor_delay":
+        return f"sensor_delay:tau={0.15 * level / wmax:.6g}"
+    return f"damping_law:eta={0.1 * level:.6g}"
+
+
 def _chain(name: str) -> Any:
     from chainid.chain.spec import default_chain
 
@@ -135,7 +160,6 @@ def _outside(kind: str, level: float, S: float, F_c: float, rng: np.random.Gener
 
 def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, float, float]:
     """Nominal and true chain models, the effect hook, the dynamic force scale S [N] and the damping c."""
-    from chainid.gap.benchmark import effect_spec
     from chainid.model.base import ChainModel
 
     chain = _chain(case["chain"])
