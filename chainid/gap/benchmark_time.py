@@ -169,7 +169,7 @@ def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, fl
     As = np.array([m.A for m in motions])
     k = float(np.median(nominal.stiffness(x0s)))
     S = float(k * np.median(As))
-    wmax = 2 * np.pi * max(m.f_max for m in motions)
+    wmax = 2 * np.pi * max(m.f_dom for m in motions)  # the effects' scale: where the motion is
     rng = np.random.default_rng(case["seed"] + 7)
     hooks = []
     for eff, lv in zip(case["effects"], case["levels"]):
@@ -272,18 +272,23 @@ def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
 def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] = EXCITATIONS + ("transfer",)
               ) -> list[dict[str, Any]]:
     """The non-harmonic and transfer cases (``small``: one single-effect case per family, one control, one
-    transfer).  Case seeds are ``seed + 100000 + i``; everything else is drawn from them."""
+    transfer).  Case seeds are ``seed + 100000 + 1000·k + i`` (k the excitation's place in
+    :data:`EXCITATIONS` + transfer, i the case's place in it); everything else is drawn from them."""
     cases: list[dict[str, Any]] = []
-    rng = np.random.default_rng(seed + 99)
+    order = EXCITATIONS + ("transfer",)
+    count = {e: 0 for e in order}
 
     def add(exc: str, family: str, truth: list[str], effects: list[str], levels: list[float], **kw: Any) -> None:
-        s = seed + 100000 + len(cases)
+        # seeds in a block per excitation: a case is the same whichever excitations run
+        s = seed + 100000 + 1000 * order.index(exc) + count[exc]
+        count[exc] += 1
         r = np.random.default_rng(s)
         cases.append({"excitation": exc, "family": family, "truth": truth, "effects": effects, "levels": levels,
                       "noise": float(r.uniform(0.005, 0.03)), "c_rel": float(r.uniform(0.01, 0.05)),
                       "chain": str(r.choice(["14x50", "small"])), "plan": exc, "seed": s,
                       "hold": f"r{int(r.integers(1, N_RECORDS + 1))}", **kw})
 
+    rng = np.random.default_rng(seed + 99)
     lv = lambda: float(np.exp(rng.uniform(math.log(0.5), math.log(3.0))))  # noqa: E731
     fams = [e for e in EXCITATIONS if e in excitations]
     if small:
@@ -295,6 +300,7 @@ def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] =
             add("transfer", "transfer", ["hysteresis"], ["hysteresis"], [1.5], direction="harmonic>random")
         return cases
     for e in fams:
+        rng = np.random.default_rng(seed + 99 + order.index(e))
         for eff in TIME_EFFECTS:
             for _ in range(2):
                 add(e, "single", [eff], [eff], [lv()])
@@ -313,6 +319,7 @@ def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] =
         for kind in ("drift", "relaxation", "chatter"):
             add(e, "outside", [kind], [kind], [lv()], truth_named=["friction"] if kind == "chatter" else [])
     if "transfer" in excitations:
+        rng = np.random.default_rng(seed + 99 + order.index("transfer"))
         for eff in ("friction", "hysteresis", "backlash", "stiffness_level", "slack", "sensor_delay"):
             for d in ("harmonic>random", "random>harmonic"):
                 add("transfer", "transfer", [eff], [eff], [lv()], direction=d)

@@ -45,6 +45,7 @@ class Motion:
     f_max : float  highest frequency of the program [Hz] (band edge)
     A : float  dynamic amplitude scale [mm]: √2 × RMS of the oscillating part
     kind : str  family name
+    f_dom : float  dominant frequency [Hz] (where most of the motion is; default f_max)
     """
 
     t: np.ndarray
@@ -54,10 +55,15 @@ class Motion:
     f_max: float
     A: float
     kind: str
+    f_dom: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not self.f_dom > 0:
+            object.__setattr__(self, "f_dom", self.f_max)
 
     def __add__(self, other: "Motion") -> "Motion":
         return Motion(self.t, self.x + other.x, self.xd + other.xd, self.xdd + other.xdd,
-                      max(self.f_max, other.f_max), self.A, self.kind)
+                      max(self.f_max, other.f_max), self.A, self.kind, max(self.f_dom, other.f_dom))
 
 
 def smoothstep(u: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -178,8 +184,8 @@ def earthquake(n: int, fs: float, peak: float, x0: float, rng: np.random.Generat
 
     Ground acceleration: Kanai–Tajimi spectrum (ground frequency f_g [Hz], damping zeta_g) with a
     Clough–Penzien high-pass at f_c [Hz], cut at f_hi (default 5·f_g); displacement = acceleration/ω²
-    (random phases), modulated by e(t) = (t/t_rise)²·exp(2(1 − t/t_rise)) after its peak decaying with rate
-    ``decay`` [1/s] (default: a third of the record to fall by e²).  ``pulse`` [× peak]: a near-fault
+    (random phases), modulated by e(t) = u^b·exp(b(1 − u)), u = t/t_rise, b = max(2, decay·t_rise): a rise to
+    the strong phase at t_rise [s] and a decay at about ``decay`` [1/s] after it (default 6/record length).  ``pulse`` [× peak]: a near-fault
     displacement pulse (a Gabor wavelet at f_g/2 at the envelope's peak); ``offset`` [× peak]: a permanent
     displacement after the pulse (a quintic step over a period of f_g)."""
     t = _check(n, fs)
@@ -197,16 +203,14 @@ def earthquake(n: int, fs: float, peak: float, x0: float, rng: np.random.Generat
     g, gd, gdd = _fourier(t, f, amp, rng.uniform(0, 2 * np.pi, f.size))
     t_rise = 0.15 * T if t_rise is None else t_rise
     decay = 6.0 / T if decay is None else decay
-    u = t / t_rise
-    e0 = u * u * np.exp(2 * (1 - u))
-    e0d = (2 * u / t_rise - 2 * u * u / t_rise) * np.exp(2 * (1 - u))
-    e0dd = (2 / t_rise**2 - 8 * u / t_rise**2 + 4 * u * u / t_rise**2) * np.exp(2 * (1 - u))
-    # after the peak: e = exp(−decay·(t − t_rise))·(smooth joint: keep e0 until it falls below the decay law)
-    late = np.exp(-decay * (t - t_rise))
-    use_late = (t > t_rise) & (late > e0)
-    e = np.where(use_late, late, e0)
-    ed = np.where(use_late, -decay * late, e0d)
-    edd = np.where(use_late, decay**2 * late, e0dd)
+    # e = u^b·exp(b(1 − u)), u = t/t_rise: rises to 1 at t_rise, then falls at the rate ≈ b/t_rise = decay
+    b = max(2.0, decay * t_rise)
+    u = np.maximum(t / t_rise, 1e-12)
+    e = np.exp(b * np.log(u) + b * (1 - u))
+    q = b * (1 / u - 1)
+    ed = e * q / t_rise
+    edd = e * (q * q - b / (u * u)) / t_rise**2
+    e, ed, edd = (np.where(t > 0, v, 0.0) for v in (e, ed, edd))
     x, xd, xdd = e * g, ed * g + e * gd, edd * g + 2 * ed * gd + e * gdd
     if pulse:
         fp = 0.5 * f_g
@@ -228,7 +232,8 @@ def earthquake(n: int, fs: float, peak: float, x0: float, rng: np.random.Generat
         s, ds, dds = smoothstep((t - t_rise) * f_g, 1.0 / f_g)
         x, xd, xdd = x + offset * pk * s, xd + offset * pk * ds, xdd + offset * pk * dds
     sc = peak / max(float(np.max(np.abs(x))), 1e-300)
-    return Motion(t, x0 + sc * x, sc * xd, sc * xdd, float(f_hi), math.sqrt(2) * float(np.std(sc * xo)), "quake")
+    return Motion(t, x0 + sc * x, sc * xd, sc * xdd, float(f_hi), math.sqrt(2) * float(np.std(sc * xo)), "quake",
+                  float(f_g))
 
 
 def with_envelope(m: Motion, lead: float = 0.0, taper: float = 0.0) -> Motion:
@@ -246,7 +251,7 @@ def with_envelope(m: Motion, lead: float = 0.0, taper: float = 0.0) -> Motion:
         x = x0 + ramp[0] * y
         xd = ramp[1] * y + ramp[0] * yd
         xdd = ramp[2] * y + 2 * ramp[1] * yd + ramp[0] * ydd
-        m = Motion(t, x, xd, xdd, m.f_max, m.A, m.kind)
+        m = Motion(t, x, xd, xdd, m.f_max, m.A, m.kind, m.f_dom)
     if taper > 0:
         T = t[-1]
         a = smoothstep(t / taper, taper)
@@ -254,7 +259,8 @@ def with_envelope(m: Motion, lead: float = 0.0, taper: float = 0.0) -> Motion:
         e, ed, edd = a[0] * b[0], a[1] * b[0] - a[0] * b[1], a[2] * b[0] - 2 * a[1] * b[1] + a[0] * b[2]
         xm = float(np.mean(m.x))
         y = m.x - xm
-        m = Motion(t, xm + e * y, ed * y + e * m.xd, edd * y + 2 * ed * m.xd + e * m.xdd, m.f_max, m.A, m.kind)
+        m = Motion(t, xm + e * y, ed * y + e * m.xd, edd * y + 2 * ed * m.xd + e * m.xdd, m.f_max, m.A, m.kind,
+                   m.f_dom)
     return m
 
 
