@@ -92,7 +92,7 @@ def motion(kind: str, rng: np.random.Generator) -> Any:
     """One record's displacement program of family ``kind``, every property drawn from its range."""
     from chainid.records import excitation as ex
 
-    n = int(rng.integers(2500, 6001))
+    n = int(rng.integers(2000, 4501))
     if kind == "random":
         f_hi = rng.uniform(1.0, 4.0)
         fs = _fs(rng, f_hi)
@@ -100,11 +100,11 @@ def motion(kind: str, rng: np.random.Generator) -> Any:
         m = ex.band_random(n, fs, f_lo, f_hi, rng.uniform(0.04, 0.11), rng.uniform(1.7, 2.3), rng,
                            wander=rng.uniform(0.02, 0.08) if rng.random() < 0.3 else 0.0)
     elif kind == "sweep":
-        f0, f1 = rng.uniform(0.1, 0.4), rng.uniform(2.0, 4.0)
+        f0, f1 = rng.uniform(0.2, 0.5), rng.uniform(2.0, 4.0)
         if rng.random() < 0.3:
             f0, f1 = f1, f0  # a down-sweep
         fs = _fs(rng, max(f0, f1))
-        n = max(n, int(6 * fs / min(f0, f1)))
+        n = max(n, int(3 * fs / min(f0, f1)))  # at least 3 periods of the slowest frequency
         m = ex.sweep(n, fs, f0, f1, rng.uniform(0.06, 0.3), rng.uniform(1.8, 2.3), log=bool(rng.random() < 0.5))
     elif kind == "startup":
         f_run = rng.uniform(1.0, 4.0)
@@ -116,7 +116,7 @@ def motion(kind: str, rng: np.random.Generator) -> Any:
     elif kind == "quake":
         f_g = rng.uniform(1.0, 3.0)
         fs = _fs(rng, 4 * f_g, per=20.0)
-        n = int(rng.integers(3000, 8001))
+        n = int(rng.integers(3000, 6001))
         m = ex.earthquake(n, fs, rng.uniform(0.15, 0.45), rng.uniform(1.9, 2.4), rng, f_g=f_g,
                           zeta_g=rng.uniform(0.3, 0.7), f_c=rng.uniform(0.05, 0.15) * f_g, f_hi=4 * f_g,
                           t_rise=rng.uniform(0.08, 0.25) * n / fs, decay=rng.uniform(3.0, 8.0) * fs / n,
