@@ -178,13 +178,38 @@ def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, fl
         else:
             hooks.append(_outside(eff, lv, S, 0.1 * S, rng))
 
+    c = case["c_rel"] * k / wmax * 2.0  # viscous loss ~ c_rel of k·A at half the top frequency
+    return nominal, true, hooks, S, c
+
+
+def _compose(hooks: list[Any]) -> Any:
+    if not hooks:
+        return None
+
     def hook(t, x, xd, xdd, F):  # noqa: ANN001
         for h in hooks:
             F = h(t, x, xd, xdd, F)
         return F
+    return hook
 
-    c = case["c_rel"] * k / wmax * 2.0  # viscous loss ~ c_rel of k·A at half the top frequency
-    return nominal, true, hook if hooks else None, S, c
+
+def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: float, sigmas: list[float]) -> list[float]:
+    """Each effect's own detectability: the RMS over the records of the force it adds on top of the others
+    (noise-free; its part along ẋ removed, which the fitted viscous c absorbs), over the noise σ."""
+    from chainid.records.simulate import model_force
+
+    out = []
+    for j in range(len(hooks)):
+        num = den = 0.0
+        for m, sg in zip(motions, sigmas):
+            F0 = model_force(m.x, m.xd, m.xdd, model, c)
+            d = _compose(hooks)(m.t, m.x, m.xd, m.xdd, F0) - (
+                _compose(hooks[:j] + hooks[j + 1:]) or (lambda t, x, xd, xdd, F: F))(m.t, m.x, m.xd, m.xdd, F0)
+            d = d - float(np.dot(d, m.xd) / max(np.dot(m.xd, m.xd), 1e-300)) * m.xd
+            num += float(np.sum(d * d))
+            den += sg * sg * d.size
+        out.append(math.sqrt(num / den) if den > 0 else 0.0)
+    return out
 
 
 def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
@@ -194,14 +219,17 @@ def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
 
     rng = np.random.default_rng(case["seed"])
     motions = [motion(case["excitation"], rng) for _ in range(N_RECORDS)]
-    nominal, true, hook, S, c = _device(case, motions)
-    recs = []
+    nominal, true, hooks, S, c = _device(case, motions)
+    hook = _compose(hooks)
+    recs, sigmas = [], []
     for i, m in enumerate(motions):
         sig = case["noise"] * S * rng.uniform(0.8, 1.25)
         q = sig * rng.uniform(0.5, 2.0) if rng.random() < 0.3 else 0.0
         recs.append(simulate_motion(f"r{i + 1}", m, true, c, force_fn=hook, noise_F=sig,
                                     noise_x=rng.uniform(0.0, 0.003) * m.A, quantum_F=q, rng=rng))
-    return recs, {"nominal": nominal, "true": true, "hook": hook, "S": S, "c": c, "motions": motions}
+        sigmas.append(math.sqrt(sig * sig + q * q / 12))
+    return recs, {"nominal": nominal, "true": true, "hook": hook, "S": S, "c": c, "motions": motions,
+                  "hooks": hooks, "sigmas": sigmas}
 
 
 def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]:
@@ -232,9 +260,10 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
     try:
         recs, dev = records(case)
         res = diagnose(recs, [case["hold"]], dev["nominal"], uncertainty=False, quiet=True)
+        snr = effect_snr(dev["motions"], dev["true"], dev["hooks"], dev["c"], dev["sigmas"])
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         return _error(case, exc, t0)
-    return _row(case, res, t0)
+    return _row(case, res, t0) | {"effect_snr": snr}
 
 
 def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
