@@ -243,6 +243,7 @@ def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]
             "steps": [s["effect"] for s in res.get("steps", [])[1:]], "params": last.get("params"),
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"],
+            "ranked_first": (res.get("ranking") or [{}])[0].get("effect"),
             "chatter": any(f.get("kind") == "chatter" for f in where)}
 
 
