@@ -1,6 +1,7 @@
 """Test records: the :class:`Record` (t s, x mm, F N), reading and writing them (:mod:`.files`), their
 validation and per-test harmonic analysis (:mod:`.validate`), the paper's Table 1 (:mod:`.table1`) and synthetic
-records from a model (:mod:`.simulate`).
+records from a model (:mod:`.simulate`; non-harmonic displacement programs — random, sweep, start-up with load steps,
+earthquake-like — in :mod:`.excitation`).
 """
 from __future__ import annotations
 
@@ -36,6 +37,13 @@ _LAZY = {
     "n_samples": "simulate",
     "estimate_memory": "simulate",
     "load_table1": "table1",
+    "Motion": "excitation",
+    "band_random": "excitation",
+    "sweep": "excitation",
+    "startup_steps": "excitation",
+    "earthquake": "excitation",
+    "with_envelope": "excitation",
+    "simulate_motion": "excitation",
 }
 
 __all__ = sorted(_LAZY)
