@@ -95,7 +95,7 @@ else:
 # %% [markdown]
 # ## Transfer: the harmonic tests' chain on the earthquake records
 # The heavy part (the harmonic diagnosis of 10 real tests, ~40 s) runs when `CHAINID_NOTEBOOK_FULL=1`;
-# the numbers are in NOTES_h18.md with the command that produced them.
+# the numbers are in the README ("The gap on any excitation") with the command that produced them.
 
 # %%
 HARM = D / "brfd_ds2_tension30lb.csv"

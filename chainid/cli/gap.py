@@ -86,8 +86,13 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
             from chainid.infra.fileio import check_output_file
 
             check_output_file(args.json, force=args.force, what="--json")
+        exc = tuple(e.strip() for e in args.excitations.split(",") if e.strip())
+        from chainid.gap.benchmark import grid
+
+        grid(True, 0, exc)  # an unknown excitation is refused before the run
         run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed,
-                      scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress)
+                      scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress,
+                      excitations=exc)
     except ValueError as exc:
         print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
         return 2
@@ -138,6 +143,10 @@ def add_subparsers(subparsers: Any) -> None:
     b.add_argument("--small", action="store_true", help="a small, fast grid")
     b.add_argument("--json", metavar="FILE", help="write the JSON summary")
     b.add_argument("--seed", type=int, default=0)
+    b.add_argument("--excitations", default="harmonic,random,sweep,startup,quake,transfer", metavar="LIST",
+                   help="which excitations run, comma separated: harmonic (steady test plans), random, sweep, "
+                        "startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, score "
+                        "random, and back); default all")
     b.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="dask scheduler address of an existing cluster, or local (default: a dask LocalCluster "
                         "when dask is installed, else a process pool), processes, serial")

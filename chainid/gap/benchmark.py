@@ -11,6 +11,11 @@ Case families (the diagnosis sees only the records, the nominal chain and the he
 * ``outside``    — effects outside the library: a slow linear drift and an exponential relaxation of the
   mean force within each test.
 
+These are the ``harmonic`` excitation (steady harmonic test plans).  The same families on non-harmonic
+excitations (band-limited random, sweep, start-up with load steps, earthquake-like) and the transfer
+cases (fit harmonic, score random and back) are :mod:`chainid.gap.benchmark_time`; ``excitations``
+chooses which run, and each excitation is reported apart.
+
 "Residual over noise" (snr) of a case is the baseline's systematic held-out residual over the noise σ.
 Cases run in parallel through :func:`chainid.infra.parallel.run_cases` (dask LocalCluster by default, an existing
 cluster by address, a process pool without dask).
@@ -25,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark_report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
+from chainid.gap.benchmark_time import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
@@ -54,31 +60,6 @@ def _chains() -> dict[str, Any]:
     return {"14x50": c, "small": replace(c, d=10.0, pitch=35.0, width=12.0)}
 
 
-def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float) -> str:
-    """``--effect`` text of a library effect at a relative strength ``level`` (1 = typical).
-
-    S [N] is the median dynamic force k_e·A of the plan, k [N/mm] the median stiffness, Amin [mm] the
-    smallest amplitude, wmax [rad/s] the highest frequency.
-    """
-    if effect == "friction":
-        return f"friction:F_c={0.1 * level * S:.6g}"
-    if effect == "hysteresis":
-        return f"hysteresis:F_h={0.1 * level * S:.6g},x_h={0.3 * Amin:.6g}"
-    if effect == "backlash":
-        return f"backlash:b={0.1 * level * Amin:.6g}"
-    if effect == "slack":
-        return f"slack:s={0.1 * level * Amin:.6g}"
-    if effect == "machine_compliance":
-        return f"machine_compliance:c={0.1 * level / k:.6g}"
-    if effect == "stiffness_level":
-        return f"stiffness_level:scale={1 - 0.1 * level if level < 3 else 1.3:.6g}"
-    if effect == "contact_law":
-        return f"contact_law:scale={1 + 0.3 * level:.6g}"
-    if effect == "sensor_delay":
-        return f"sensor_delay:tau={0.15 * level / wmax:.6g}"
-    return f"damping_law:eta={0.1 * level:.6g}"
-
-
 def _outside_hook(kind: str, level: float, S: float) -> Any:
     if kind == "drift":
         rate = 0.05 * level * S
@@ -95,6 +76,10 @@ def _outside_hook(kind: str, level: float, S: float) -> Any:
 
 def run_case(case: dict[str, Any]) -> dict[str, Any]:
     """Simulate one case and diagnose it blind; returns the case with the verdict and scores."""
+    if case.get("excitation", "harmonic") != "harmonic":
+        from chainid.gap.benchmark_time import run_case_time, run_case_transfer
+
+        return (run_case_transfer if case["excitation"] == "transfer" else run_case_time)(case)
     from chainid.model.laws import PolynomialLaw
     from chainid.model.base import ChainModel
     from chainid.records.simulate import simulate
@@ -145,8 +130,27 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
             "stationary": res["residual"]["stationary"]}
 
 
-def grid(small: bool = False, seed: int = 0) -> list[dict[str, Any]]:
-    """The benchmark cases (``small``: a subset for the tests)."""
+#: every excitation of the benchmark: the harmonic plans, the non-harmonic families and the transfer cases
+ALL_EXCITATIONS = ("harmonic", "random", "sweep", "startup", "quake", "transfer")
+
+
+def grid(small: bool = False, seed: int = 0, excitations: Any = ALL_EXCITATIONS) -> list[dict[str, Any]]:
+    """The benchmark cases (``small``: a subset for the tests) of the given excitations (see
+    :data:`ALL_EXCITATIONS`)."""
+    excitations = tuple(excitations)
+    bad = [e for e in excitations if e not in ALL_EXCITATIONS]
+    if bad or not excitations:
+        raise ValueError(f"--excitations {','.join(excitations)!r}: unknown {bad or 'empty'}; valid: "
+                         f"{','.join(ALL_EXCITATIONS)}")
+    from chainid.gap.benchmark_time import time_grid
+
+    others = time_grid(seed, small, tuple(e for e in excitations if e != "harmonic"))
+    if "harmonic" not in excitations:
+        return others
+    return _harmonic_grid(small, seed) + others
+
+
+def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
     cases: list[dict[str, Any]] = []
     s = seed
 
@@ -154,7 +158,7 @@ def grid(small: bool = False, seed: int = 0) -> list[dict[str, Any]]:
             plan: str, **kw: Any) -> None:
         nonlocal s
         s += 1
-        cases.append({"family": family, "truth": truth, "effects": effects, "levels": levels, "noise": noise,
+        cases.append({"excitation": "harmonic", "family": family, "truth": truth, "effects": effects, "levels": levels, "noise": noise,
                       "chain": chain, "plan": plan, "seed": s, **kw})
 
     singles = list(EFFECT_NAMES)
@@ -201,7 +205,7 @@ def grid(small: bool = False, seed: int = 0) -> list[dict[str, Any]]:
 
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   scheduler: str | None = None, n_workers: int | None = None,
-                  progress: bool = True) -> dict[str, Any]:
+                  progress: bool = True, excitations: Any = ALL_EXCITATIONS) -> dict[str, Any]:
     """Run the grid in parallel, print the summary, optionally write JSON (atomically).
 
     Parameters
@@ -213,6 +217,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     scheduler : None/"local" (dask LocalCluster or a process pool), "processes", "serial", or a dask address
     n_workers : worker processes (default: the machine's cores)
     progress : progress bar on stderr
+    excitations : which excitations run (:data:`ALL_EXCITATIONS`; default all)
     """
     from chainid.infra.parallel import run_cases
     from chainid.infra.fileio import check_output_file, write_json
@@ -220,7 +225,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
 
     if json_path:  # check the target before the long work
         check_output_file(json_path, force=overwrite, what="--json")
-    cases = grid(small, seed)
+    cases = grid(small, seed, excitations)
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=n_workers, progress=progress,
                      desc="benchmark-gap")

@@ -13,6 +13,11 @@ cycle, so the noise is estimated from the record itself:
   biased low when the force channel is low-pass filtered close to its own
   sampling rate (correlated noise); then the spectrum of the force above the
   excitation band (:func:`hf_floor`) is reported beside it.
+  A **quantised** force channel (an ADC: every value a whole multiple of a step q,
+  :func:`force_quantum`) has a lattice-valued Δ²F whose plain median is a whole number
+  of steps (biased low or high by up to a step); there the MAD is the median of the
+  grouped data (each lattice value spread over ±q/2), and σ includes the
+  quantisation error (q²/12 of variance), which is part of the channel's noise.
 * **Excitation band [Hz]** — the frequency below which ``BAND_FRACTION`` of the
   displacement's variance (linear trend removed, the flat noise floor of the
   spectrum's upper half subtracted) lies.
@@ -50,8 +55,55 @@ def force_noise(F: np.ndarray) -> float:
     if F.size < 5:
         raise ValueError(f"force_noise needs >= 5 samples; got {F.size}")
     d2 = np.diff(F, 2)
+    q = force_quantum(F)
+    if q > 0:
+        return 1.4826 * _grouped_mad(np.round(d2 / q).astype(np.int64)) * q / math.sqrt(6.0)
     mad = float(np.median(np.abs(d2 - np.median(d2))))
     return 1.4826 * mad / math.sqrt(6.0)
+
+
+def force_quantum(F: np.ndarray) -> float:
+    """The force channel's quantisation step q [N] (every sample a whole multiple of q plus one offset), or 0.
+
+    Detected when the record has fewer distinct values than half its samples and the gaps between
+    neighbouring distinct values up to 20 steps are whole multiples of the step within 0.1 of it (the values
+    may be printed with a rounding of their own, e.g. a step of 3.5625 N written to 0.01 N).  q is the mean
+    of the gaps within 1.5× the smallest.
+    """
+    u = np.unique(np.asarray(F, float))
+    if u.size < 3 or u.size > 0.5 * np.asarray(F).size:
+        return 0.0
+    g = np.diff(u)
+    if not g.min() > 0:
+        return 0.0
+    q = float(np.mean(g[g < 1.5 * g.min()]))
+    r = g[g < 20 * q] / q
+    return q if r.size >= 2 and bool(np.all(np.abs(r - np.round(r)) < 0.1)) else 0.0
+
+
+def _grouped_mad(k: np.ndarray) -> float:
+    """MAD [steps] of integer lattice data, each value spread uniformly over ±½ step (grouped-data median)."""
+    med = _grouped_median(k)
+    a = np.abs(k - med)  # half-integer or integer distances; group a covers [a − ½, a + ½] clipped at 0
+    vals, cnt = np.unique(np.round(2 * a).astype(np.int64), return_counts=True)
+    lo = np.maximum(vals / 2.0 - 0.5, 0.0)
+    hi = vals / 2.0 + 0.5
+    order = np.argsort(lo)
+    lo, hi, cnt = lo[order], hi[order], cnt[order].astype(float)
+    half = 0.5 * cnt.sum()
+    c = np.cumsum(cnt)
+    j = int(np.searchsorted(c, half))
+    below = c[j] - cnt[j]
+    return float(lo[j] + (half - below) / cnt[j] * (hi[j] - lo[j]))
+
+
+def _grouped_median(k: np.ndarray) -> float:
+    vals, cnt = np.unique(k, return_counts=True)
+    c = np.cumsum(cnt).astype(float)
+    half = 0.5 * c[-1]
+    j = int(np.searchsorted(c, half))
+    below = c[j] - cnt[j]
+    return float(vals[j] - 0.5 + (half - below) / cnt[j])
 
 
 def sample_rate(t: np.ndarray) -> float:

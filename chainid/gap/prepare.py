@@ -203,6 +203,9 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     win = est.window
     if win is None or win.n_cycles < 1:
         raise Unusable("no steady cycles found")
+    other = other_plateau(win)
+    if other:
+        raise Unusable(other)
     m = (rec.t >= win.t_start) & (rec.t < win.t_end)
     # time from the record's first sample (est.t_origin): the phase omega t + theta of a Unix time stamp
     # (~1.7e9 s) would be rounded; TestData.t is this relative time, TestData.t_origin the shift [s]
@@ -223,6 +226,28 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     return TestData(rec.test, est.omega, est.A, est.x0, est.theta, t, F, xs, xd, xdd, xfun, bins, counts, Fbar,
                     sigma, x, describe() if callable(describe) else "", cycle_stats(t, F, est.omega, est.theta, x),
                     phase_grid(psi, B, est.theta, est.omega, xfun, bins), float(getattr(est, "t_origin", 0.0)))
+
+
+def other_plateau(win: Any) -> str:
+    """Why the record is not *one* steady harmonic test, or "": a whole cycle outside the steady window
+    oscillates at the plateau's amplitude (within 25 %) about a mean more than half that amplitude away — a
+    second steady state (a load step, a start-up plateau).  Ramp-in and ramp-out cycles (smaller amplitude)
+    do not count.  Such a record goes to the time-domain route, which uses all of it."""
+    A = np.asarray(getattr(win, "cycle_amplitudes", []) or [], float)
+    m = np.asarray(getattr(win, "cycle_means", []) or [], float)
+    kept = [k for k in getattr(win, "cycles_kept", []) if 0 <= k < min(A.size, m.size)]
+    if not kept or A.size != m.size or not win.plateau_A > 0:
+        return ""
+    pl_A, pl_m = float(win.plateau_A), float(np.median(m[kept]))
+    out = np.ones(A.size, bool)
+    out[kept] = False
+    other = out & (np.abs(A / pl_A - 1) <= 0.25) & (np.abs(m - pl_m) > 0.5 * pl_A)
+    if not other.any():
+        return ""
+    i = int(np.flatnonzero(other)[0])
+    return (f"not one steady harmonic test: cycle {i} oscillates at the plateau amplitude ({A[i]:.3g} mm) about "
+            f"x = {m[i]:.4g} mm, {abs(m[i] - pl_m):.3g} mm from the steady window's mean (a load step or another "
+            f"plateau)")
 
 
 def _bin_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray, B: int) -> float:

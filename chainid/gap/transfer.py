@@ -16,9 +16,11 @@ same way, so ``shrinkage = 1 − NRMSE_model/NRMSE_baseline`` on the other set s
 of the gap the chain closes there.  A second pair of numbers refits only the linear part on
 each record (offset, stiffness correction and viscous term: a least-squares fit of the
 residual on 1, x and ẋ) with the effects frozen — what a user refitting a spring and a
-dashpot would see.  The chain *transfers* when both pooled shrinkages reach ``MIN_SHRINK`` (the
-bar a diagnosis needs to name an effect): the frozen one, and the one after the linear refit (else
-what the chain gains on the other set is no more than a refitted spring and dashpot would give).
+dashpot would see.  The chain *transfers* when the frozen pooled shrinkage reaches ``MIN_SHRINK`` (the
+bar a diagnosis needs to name an effect) and either the one after the linear refit does too (else what
+the chain gains on the other set is no more than a refitted spring and dashpot would give) or the frozen
+model leaves the other set at its noise floor (the diagnosis' own `none` rule on the records' σ: nothing
+is left for a refit to find — a right stiffness-side effect is largely absorbed by a refitted spring).
 
 Units: mm, N, s; NRMSE = RMS(residual)/RMS(F − mean F).
 """
@@ -32,6 +34,7 @@ import numpy as np
 
 from chainid.gap import law_choice as L
 from chainid.gap.prepare import Unusable, prepare_test
+from chainid.gap.selection import at_noise_floor
 from chainid.gap.problem import Problem
 from chainid.gap.timedomain import MIN_SAMPLES, prepare_time, undamped
 from chainid.gap.verdict import MIN_SHRINK
@@ -73,7 +76,9 @@ def _score(prob: Any, cand: Any, rec: Any, n_bins: int, steady_tol: float | None
         w = d.counts
         var = float(np.sum(w * (d.Fbar - np.sum(w * d.Fbar) / np.sum(w)) ** 2))
         r, rr = d.Fbar - Fm, _refit(d.Fbar, Fm, xb, v, w)
-        return {"route": "harmonic", "sse": float(np.sum(w * r**2)), "sse_refit": float(np.sum(w * rr**2)), "var": var}
+        return {"route": "harmonic", "sse": float(np.sum(w * r**2)), "sse_refit": float(np.sum(w * rr**2)), "var": var,
+                "r2": float(np.sum(r**2)), "f2": float(np.sum(d.sigma**2 / np.maximum(w, 1))), "n": int(r.size),
+                "sigma": float(d.sigma)}
     if rec.t.size < MIN_SAMPLES:
         raise ValueError(f"--validate: test {rec.test!r} has {rec.t.size} samples; need >= {MIN_SAMPLES}")
     d = prepare_time(rec, 1)
@@ -81,7 +86,8 @@ def _score(prob: Any, cand: Any, rec: Any, n_bins: int, steady_tol: float | None
     Fm = Fn + _damping(prob, cand, d.omega, d.A, d.x0, False) * v
     var = float(np.sum((d.F - d.F.mean()) ** 2))
     r, rr = d.F - Fm, _refit(d.F, Fm, d.x, v)
-    return {"route": "time", "sse": float(np.sum(r**2)), "sse_refit": float(np.sum(rr**2)), "var": var}
+    return {"route": "time", "sse": float(np.sum(r**2)), "sse_refit": float(np.sum(rr**2)), "var": var,
+            "r2": float(np.sum(r**2)), "f2": float(d.sigma**2 * r.size), "n": int(r.size), "sigma": float(d.sigma)}
 
 
 def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
@@ -106,7 +112,7 @@ def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
     if not other:
         raise ValueError("--validate: the other set has no records")
     rows = []
-    tot = {k: 0.0 for k in ("b", "m", "br", "mr", "v")}
+    tot = {k: 0.0 for k in ("b", "m", "br", "mr", "v", "r2", "f2", "n", "s2")}
     for rec in other:
         sb = _score(prob, base, rec, n_bins, steady_tol)
         sm = _score(prob, final, rec, n_bins, steady_tol) if final is not base else sb
@@ -118,7 +124,8 @@ def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
         row["shrinkage_refit"] = (1 - row["nrmse_model_refit"] / row["nrmse_baseline_refit"]
                                   if row["nrmse_baseline_refit"] > 0 else float("nan"))
         rows.append(row)
-        for k, s in (("b", sb["sse"]), ("m", sm["sse"]), ("br", sb["sse_refit"]), ("mr", sm["sse_refit"]), ("v", v)):
+        for k, s in (("b", sb["sse"]), ("m", sm["sse"]), ("br", sb["sse_refit"]), ("mr", sm["sse_refit"]), ("v", v),
+                     ("r2", sm["r2"]), ("f2", sm["f2"]), ("n", sm["n"]), ("s2", sm["sigma"] ** 2 * sm["n"])):
             tot[k] += s
     f = lambda k: math.sqrt(tot[k] / tot["v"]) if tot["v"] > 0 else float("nan")  # noqa: E731
     pooled = {"nrmse_baseline": f("b"), "nrmse_model": f("m"), "nrmse_baseline_refit": f("br"),
@@ -127,16 +134,27 @@ def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
     pooled["shrinkage_refit"] = (1 - pooled["nrmse_model_refit"] / pooled["nrmse_baseline_refit"]
                                  if pooled["nrmse_baseline_refit"] > 0 else float("nan"))
     chain = "+".join(final.names) or "baseline"
-    # both comparisons must close half the gap: against the carried-over baseline, and against a spring and a
-    # dashpot refitted on each record (else the gain is only what a refit of the linear part would give)
-    ok = bool(final is not base and pooled["shrinkage"] >= MIN_SHRINK and pooled["shrinkage_refit"] >= MIN_SHRINK)
+    # the frozen model on the other set against its noise floor (the records' own σ: time samples σ², harmonic bins
+    # σ²/n), the rule of the diagnosis' own `none`
+    n = max(int(tot["n"]), 1)
+    r2, f2 = tot["r2"] / n, tot["f2"] / n
+    floor = at_noise_floor(r2, f2, math.sqrt(tot["s2"] / n), n)
+    pooled["model_db_over_noise"] = 10 * math.log10(max(r2, 1e-300) / max(f2, 1e-300))
+    pooled["model_at_noise_floor"] = bool(floor)
+    # the chain must close half the gap against the carried-over baseline, and either leave the other set at its
+    # noise floor or close half the gap against a spring and a dashpot refitted on each record (else the gain is
+    # only what a refit of the linear part would give)
+    ok = bool(final is not base and pooled["shrinkage"] >= MIN_SHRINK
+              and (floor or pooled["shrinkage_refit"] >= MIN_SHRINK))
     kinds = sorted({r["route"] for r in rows})
     txt = (f"the chain {chain} {'TRANSFERS' if ok else 'does NOT transfer'} to the other set ({len(rows)} "
            f"{'/'.join(kinds)} record(s)): pooled NRMSE baseline {pooled['nrmse_baseline']:.3g} → model "
            f"{pooled['nrmse_model']:.3g} (shrinkage {100 * pooled['shrinkage']:.0f} %); with offset, "
            f"stiffness and viscous term refitted per record {pooled['nrmse_baseline_refit']:.3g} → "
-           f"{pooled['nrmse_model_refit']:.3g} (shrinkage {100 * pooled['shrinkage_refit']:.0f} %); both must "
-           f"reach {100 * MIN_SHRINK:.0f} %")
+           f"{pooled['nrmse_model_refit']:.3g} (shrinkage {100 * pooled['shrinkage_refit']:.0f} %); the model "
+           f"leaves {pooled['model_db_over_noise']:.1f} dB over the other set's noise"
+           f"{' (at its noise floor)' if floor else ''}; it transfers when the first reaches {100 * MIN_SHRINK:.0f} % "
+           f"and the second does too or the model is at the noise floor")
     if final is base:
         txt = (f"no effect was named on the fitting set; on the other set the baseline leaves NRMSE "
                f"{pooled['nrmse_baseline']:.3g} ({pooled['nrmse_baseline_refit']:.3g} after the linear refit)")

@@ -1,6 +1,7 @@
 """Test records: the :class:`Record` (t s, x mm, F N), reading and writing them (:mod:`.files`), their
 validation and per-test harmonic analysis (:mod:`.validate`), the paper's Table 1 (:mod:`.table1`) and synthetic
-records from a model (:mod:`.simulate`); records as rigs write them: a :class:`ReaderSpec` (:mod:`.spec`,
+records from a model (:mod:`.simulate`; non-harmonic displacement programs — random, sweep, start-up
+with load steps, earthquake-like — in :mod:`.excitation`); records as rigs write them: a :class:`ReaderSpec` (:mod:`.spec`,
 columns, units by pint in :mod:`.units`, layout), :func:`read_any` (:mod:`.reader`; text in :mod:`.textcanon`
 and :mod:`.textread`, other formats in :mod:`.formats`, the mapping in :mod:`.table`), the fast writer
 (:mod:`.writer`) and the unit-slip warnings (:mod:`.plausible`).
@@ -48,6 +49,13 @@ _LAZY = {
     "read_canonical_csv": "textcanon",
     "read_csv_strict": "textcanon",
     "plausibility_warnings": "plausible",
+    "Motion": "excitation",
+    "band_random": "excitation",
+    "sweep": "excitation",
+    "startup_steps": "excitation",
+    "earthquake": "excitation",
+    "with_envelope": "excitation",
+    "simulate_motion": "excitation",
 }
 
 __all__ = sorted(_LAZY)

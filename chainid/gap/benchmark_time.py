@@ -1,0 +1,356 @@
+"""``chainid benchmark-gap``: the non-harmonic excitation families and the transfer cases (issue 18).
+
+Each non-harmonic case is a set of 4 records of one chain under one excitation family
+(:mod:`chainid.records.excitation`): ``random`` (band-limited random, some with a wandering
+mean), ``sweep`` (linear or exponential chirp), ``startup`` (start-up ramp of the mean load with
+load steps and a running vibration that runs up in frequency) and ``quake`` (Kanai–Tajimi
+filtered noise under a rise/decay envelope, some with a near-fault pulse and a permanent offset).
+The case families are those of the harmonic grid (:mod:`chainid.gap.benchmark`): ``single``,
+``mismatch``, ``mismatch+``, ``pair``, ``control``, ``outside``.  Everything a record is made of is
+drawn from ranges with the case's seed — not from the diagnosis' grid: sampling rate, length,
+band, amplitude and mean, the effect's strength (log-uniform 0.5–3 × typical), the viscous damping,
+the noise (0.5–3 % of the dynamic force, some records quantised, a little displacement noise), a rest
+lead-in or a taper on some records.  One whole record is held out.
+
+``damping_law`` (a c_e(ω, A) law) is not simulated on a non-harmonic excitation: it has no meaning
+without a frequency and an amplitude, and the time route carries rate-independent loss by the
+friction/hysteresis effects; the pairs with it are left out of these families.
+
+Out-of-library cases: a slow drift and an exponential relaxation of the force over each record
+(``truth_named`` = []), and stick-slip chatter — friction plus an oscillation of the force while the
+contact slides — whose right outcome names friction at most and reports the chatter in ``where``.
+
+Transfer cases (``excitation = "transfer"``): one device (chain, effect, viscous damping) measured
+twice — 11 steady harmonic tests and 4 band-limited random records; ``harmonic>random`` fits on
+the harmonic set and scores on the random one (``chainid diagnose --validate``), ``random>harmonic``
+the other way round; the score is the pooled held-out shrinkage on the other set.
+
+Units: mm, N, s, Hz.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from chainid.model.effects import EFFECT_NAMES, parse_effect
+
+#: the non-harmonic excitation families
+EXCITATIONS = ("random", "sweep", "startup", "quake")
+#: effects simulated on non-harmonic records (damping_law is a harmonic c_e(ω, A) form: see the module docstring)
+TIME_EFFECTS = tuple(e for e in EFFECT_NAMES if e != "damping_law")
+#: the harmonic grid's compound pairs without damping_law
+TIME_PAIRS = (("friction", "sensor_delay"), ("hysteresis", "slack"), ("friction", "slack"),
+              ("backlash", "sensor_delay"))
+#: records per case and the one held out
+N_RECORDS = 4
+
+
+def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float) -> str:
+    """``--effect`` text of a library effect at a relative strength ``level`` (1 = typical).
+
+    S [N] is the median dynamic force k_e·A of the plan, k [N/mm] the median stiffness, Amin [mm] the
+    smallest amplitude, wmax [rad/s] the highest frequency.
+    """
+    if effect == "friction":
+        return f"friction:F_c={0.1 * level * S:.6g}"
+    if effect == "hysteresis":
+        return f"hysteresis:F_h={0.1 * level * S:.6g},x_h={0.3 * Amin:.6g}"
+    if effect == "backlash":
+        return f"backlash:b={0.1 * level * Amin:.6g}"
+    if effect == "slack":
+        return f"slack:s={0.1 * level * Amin:.6g}"
+    if effect == "machine_compliance":
+        return f"machine_compliance:c={0.1 * level / k:.6g}"
+    if effect == "stiffness_level":
+        return f"stiffness_level:scale={1 - 0.1 * level if level < 3 else 1.3:.6g}"
+    if effect == "contact_law":
+        return f"contact_law:scale={1 + 0.3 * level:.6g}"
+    if effect == "sensor_delay":
+        return f"sensor_delay:tau={0.15 * level / wmax:.6g}"
+    return f"damping_law:eta={0.1 * level:.6g}"
+
+
+def _chain(name: str) -> Any:
+    from chainid.chain.spec import default_chain
+
+    c = default_chain()
+    return c if name == "14x50" else replace(c, d=10.0, pitch=35.0, width=12.0)
+
+
+def _fs(rng: np.random.Generator, f_max: float, per: float = 25.0) -> float:
+    """A sampling rate [Hz] of a data logger, at least ``per`` samples per period of the band edge."""
+    ok = [f for f in (100.0, 200.0, 250.0, 500.0, 1000.0, 2000.0) if f >= per * f_max]
+    return float(rng.choice(ok[:3]))
+
+
+def motion(kind: str, rng: np.random.Generator) -> Any:
+    """One record's displacement program of family ``kind``, every property drawn from its range."""
+    from chainid.records import excitation as ex
+
+    n = int(rng.integers(2000, 4501))
+    if kind == "random":
+        f_hi = rng.uniform(1.0, 4.0)
+        fs = _fs(rng, f_hi)
+        f_lo = max(f_hi * rng.uniform(0.02, 0.1), 2.5 * fs / n)
+        m = ex.band_random(n, fs, f_lo, f_hi, rng.uniform(0.04, 0.11), rng.uniform(1.7, 2.3), rng,
+                           wander=rng.uniform(0.02, 0.08) if rng.random() < 0.3 else 0.0)
+    elif kind == "sweep":
+        f0, f1 = rng.uniform(0.2, 0.5), rng.uniform(2.0, 4.0)
+        if rng.random() < 0.3:
+            f0, f1 = f1, f0  # a down-sweep
+        fs = _fs(rng, max(f0, f1))
+        n = max(n, int(3 * fs / min(f0, f1)))  # at least 3 periods of the slowest frequency
+        m = ex.sweep(n, fs, f0, f1, rng.uniform(0.06, 0.3), rng.uniform(1.8, 2.3), log=bool(rng.random() < 0.5))
+    elif kind == "startup":
+        f_run = rng.uniform(1.0, 4.0)
+        fs = _fs(rng, f_run)
+        T = n / fs
+        levels = list(rng.uniform(1.6, 2.5, int(rng.integers(2, 5))))
+        m = ex.startup_steps(n, fs, levels, rng.uniform(0.15, 0.3) * T, rng.uniform(0.3, 1.5), f_run,
+                             rng.uniform(0.04, 0.2), x_start=rng.uniform(0.6, 1.2))
+    elif kind == "quake":
+        f_g = rng.uniform(1.0, 3.0)
+        fs = _fs(rng, 4 * f_g, per=20.0)
+        n = int(rng.integers(3000, 6001))
+        m = ex.earthquake(n, fs, rng.uniform(0.15, 0.45), rng.uniform(1.9, 2.4), rng, f_g=f_g,
+                          zeta_g=rng.uniform(0.3, 0.7), f_c=rng.uniform(0.05, 0.15) * f_g, f_hi=4 * f_g,
+                          t_rise=rng.uniform(0.08, 0.25) * n / fs, decay=rng.uniform(3.0, 8.0) * fs / n,
+                          pulse=rng.uniform(0.5, 1.5) if rng.random() < 0.5 else 0.0,
+                          offset=rng.uniform(-0.3, 0.3) if rng.random() < 0.3 else 0.0)
+    else:
+        raise ValueError(f"excitation = {kind!r} is unknown; valid: {', '.join(EXCITATIONS)}")
+    T = m.t[-1]
+    if kind in ("random", "sweep") and rng.random() < 0.3:
+        m = ex.with_envelope(m, taper=rng.uniform(0.05, 0.1) * T)
+    if rng.random() < 0.25:
+        m = ex.with_envelope(m, lead=rng.uniform(0.03, 0.1) * T)
+    return m
+
+
+def _outside(kind: str, level: float, S: float, F_c: float, rng: np.random.Generator) -> Any:
+    """Force hook of an effect outside the library (N): drift, relaxation or stick-slip chatter."""
+    if kind == "drift":
+        rate = 0.05 * level * S
+
+        def hook(t, x, xd, xdd, F):  # noqa: ANN001
+            return F + rate * (t - t[0]) / (t[-1] - t[0])
+    elif kind == "relaxation":
+        dF = 0.1 * level * S
+
+        def hook(t, x, xd, xdd, F):  # noqa: ANN001
+            return F - dF * (1.0 - np.exp(-3.0 * (t - t[0]) / (t[-1] - t[0])))
+    else:  # chatter: Coulomb friction and a force oscillation while the contact slides
+        from chainid.model.effects import stick_slip
+
+        amp, ph = rng.uniform(0.3, 0.8) * F_c, rng.uniform(0, 2 * np.pi)
+        frac = rng.uniform(0.1, 0.25)
+
+        def hook(t, x, xd, xdd, F):  # noqa: ANN001
+            fs = 1.0 / (t[1] - t[0])
+            fch = min(0.2 * fs, max(12.0, 0.05 * fs))
+            slide = np.abs(xd) > frac * np.abs(xd).max()
+            return F + F_c * stick_slip(x, xd, 0.0, periodic=False) + amp * np.sin(2 * np.pi * fch * t + ph) * slide
+    return hook
+
+
+def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, float, float]:
+    """Nominal and true chain models, the effect hook, the dynamic force scale S [N] and the damping c."""
+    from chainid.model.base import ChainModel
+
+    chain = _chain(case["chain"])
+    nominal = ChainModel(chain)
+    true = ChainModel(chain, ea_scale=case.get("ea_scale", 1.0), hertz_scale=case.get("hertz_scale", 1.0))
+    x0s = np.array([float(np.median(m.x)) for m in motions])
+    As = np.array([m.A for m in motions])
+    k = float(np.median(nominal.stiffness(x0s)))
+    S = float(k * np.median(As))
+    wmax = 2 * np.pi * max(m.f_dom for m in motions)  # the effects' scale: where the motion is
+    rng = np.random.default_rng(case["seed"] + 7)
+    hooks = []
+    for eff, lv in zip(case["effects"], case["levels"]):
+        if eff in EFFECT_NAMES:
+            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax), true))
+        else:
+            hooks.append(_outside(eff, lv, S, 0.1 * S, rng))
+
+    c = case["c_rel"] * k / wmax * 2.0  # viscous loss ~ c_rel of k·A at half the top frequency
+    return nominal, true, hooks, S, c
+
+
+def _compose(hooks: list[Any]) -> Any:
+    if not hooks:
+        return None
+
+    def hook(t, x, xd, xdd, F):  # noqa: ANN001
+        for h in hooks:
+            F = h(t, x, xd, xdd, F)
+        return F
+    return hook
+
+
+def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: float, sigmas: list[float]) -> list[float]:
+    """Each effect's own detectability: the RMS over the records of the force it adds on top of the others
+    (noise-free; its part along ẋ removed, which the fitted viscous c absorbs), over the noise σ."""
+    from chainid.records.simulate import model_force
+
+    out = []
+    for j in range(len(hooks)):
+        num = den = 0.0
+        for m, sg in zip(motions, sigmas):
+            F0 = model_force(m.x, m.xd, m.xdd, model, c)
+            d = _compose(hooks)(m.t, m.x, m.xd, m.xdd, F0) - (
+                _compose(hooks[:j] + hooks[j + 1:]) or (lambda t, x, xd, xdd, F: F))(m.t, m.x, m.xd, m.xdd, F0)
+            d = d - float(np.dot(d, m.xd) / max(np.dot(m.xd, m.xd), 1e-300)) * m.xd
+            num += float(np.sum(d * d))
+            den += sg * sg * d.size
+        out.append(math.sqrt(num / den) if den > 0 else 0.0)
+    return out
+
+
+def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
+    """The case's records (``r1`` … ``r4``) and the device: nominal and true models, effect hook, dynamic force
+    scale S [N], viscous c [N·s/mm] and the records' motions."""
+    from chainid.records.excitation import simulate_motion
+
+    rng = np.random.default_rng(case["seed"])
+    motions = [motion(case["excitation"], rng) for _ in range(N_RECORDS)]
+    nominal, true, hooks, S, c = _device(case, motions)
+    hook = _compose(hooks)
+    recs, sigmas = [], []
+    for i, m in enumerate(motions):
+        sig = case["noise"] * S * rng.uniform(0.8, 1.25)
+        q = sig * rng.uniform(0.5, 2.0) if rng.random() < 0.3 else 0.0
+        recs.append(simulate_motion(f"r{i + 1}", m, true, c, force_fn=hook, noise_F=sig,
+                                    noise_x=rng.uniform(0.0, 0.003) * m.A, quantum_F=q, rng=rng))
+        sigmas.append(math.sqrt(sig * sig + q * q / 12))
+    return recs, {"nominal": nominal, "true": true, "hook": hook, "S": S, "c": c, "motions": motions,
+                  "hooks": hooks, "sigmas": sigmas}
+
+
+def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]:
+    best = res.get("best") or {}
+    b = res["baseline"]
+    last = res["steps"][-1] if res.get("steps") else {}
+    where = res.get("where", []) + res.get("residual", {}).get("where", [])
+    return {**case, "verdict": res["verdict"], "seconds": time.perf_counter() - t0,
+            "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
+            "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
+            "steps": [s["effect"] for s in res.get("steps", [])[1:]], "params": last.get("params"),
+            "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
+            "stationary": res["residual"]["stationary"],
+            "ranked_first": (res.get("ranking") or [{}])[0].get("effect"),
+            "chatter": any(f.get("kind") == "chatter" for f in where)}
+
+
+def _error(case: dict[str, Any], exc: Exception, t0: float) -> dict[str, Any]:
+    return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
+            "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None,
+            "confounded": [], "chatter": False, "transfer_shrinkage": None, "transfer_shrinkage_refit": None}
+
+
+def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
+    """Simulate one non-harmonic case and diagnose it blind (one whole record held out)."""
+    from chainid.gap.diagnose import diagnose
+
+    t0 = time.perf_counter()
+    try:
+        recs, dev = records(case)
+        res = diagnose(recs, [case["hold"]], dev["nominal"], uncertainty=False, quiet=True)
+        snr = effect_snr(dev["motions"], dev["true"], dev["hooks"], dev["c"], dev["sigmas"])
+    except Exception as exc:  # a crash is a miss to report, not the end of the run
+        return _error(case, exc, t0)
+    return _row(case, res, t0) | {"effect_snr": snr}
+
+
+def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
+    """One device measured harmonically and under band-limited random excitation; fit on one, score the other."""
+    from chainid.gap.diagnose import diagnose
+    from chainid.records.simulate import grid_plan, simulate
+
+    t0 = time.perf_counter()
+    try:
+        rand, dev = records(case | {"excitation": "random"})
+        nominal = dev["nominal"]
+        # the same device (effect parameters, viscous c) on 11 steady harmonic tests over the random records'
+        # band and amplitudes
+        f_lo = min(m.f_max for m in dev["motions"])
+        A = float(np.median([m.A for m in dev["motions"]]))
+        x0 = float(np.median([np.median(m.x) for m in dev["motions"]]))
+        w = 2 * np.pi * f_lo
+        plan = grid_plan((0.25 * w, 0.5 * w, w), (0.5 * A, A, 1.5 * A), x0,
+                         extra=[(0.75 * w, x0 + 0.1, 0.75 * A), (0.375 * w, x0 - 0.1, 1.25 * A)], prefix="h")
+        harm = simulate(plan, dev["true"], dev["c"], n_cycles=8, samples_per_cycle=256,
+                        noise_F=case["noise"] * dev["S"], seed=case["seed"] + 1, force_fn=dev["hook"])
+        if case["direction"] == "harmonic>random":
+            res = diagnose(harm, ["h3", "h6", "h11"], nominal, uncertainty=False, quiet=True, validate=rand)
+        else:
+            res = diagnose(rand, [case["hold"]], nominal, uncertainty=False, quiet=True, validate=harm)
+    except Exception as exc:
+        return _error(case, exc, t0)
+    row = _row(case, res, t0)
+    tr = res["transfer"]
+    row.update({"transfer_shrinkage": tr["pooled"]["shrinkage"], "transfer_shrinkage_refit": tr["pooled"]["shrinkage_refit"],
+                "transfers": tr["transfers"], "transfer_chain": tr["chain"]})
+    return row
+
+
+def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] = EXCITATIONS + ("transfer",)
+              ) -> list[dict[str, Any]]:
+    """The non-harmonic and transfer cases (``small``: one single-effect case per family, one control, one
+    transfer).  Case seeds are ``seed + 100000 + 1000·k + i`` (k the excitation's place in
+    :data:`EXCITATIONS` + transfer, i the case's place in it); everything else is drawn from them."""
+    cases: list[dict[str, Any]] = []
+    order = EXCITATIONS + ("transfer",)
+    count = {e: 0 for e in order}
+
+    def add(exc: str, family: str, truth: list[str], effects: list[str], levels: list[float], **kw: Any) -> None:
+        # seeds in a block per excitation: a case is the same whichever excitations run
+        s = seed + 100000 + 1000 * order.index(exc) + count[exc]
+        count[exc] += 1
+        r = np.random.default_rng(s)
+        cases.append({"excitation": exc, "family": family, "truth": truth, "effects": effects, "levels": levels,
+                      "noise": float(r.uniform(0.005, 0.03)), "c_rel": float(r.uniform(0.01, 0.05)),
+                      "chain": str(r.choice(["14x50", "small"])), "plan": exc, "seed": s,
+                      "hold": f"r{int(r.integers(1, N_RECORDS + 1))}", **kw})
+
+    rng = np.random.default_rng(seed + 99)
+    lv = lambda: float(np.exp(rng.uniform(math.log(0.5), math.log(3.0))))  # noqa: E731
+    fams = [e for e in EXCITATIONS if e in excitations]
+    if small:
+        for e, eff in zip(fams, ("friction", "hysteresis", "backlash", "stiffness_level")):
+            add(e, "single", [eff], [eff], [1.5])
+        if fams:
+            add(fams[0], "control", [], [], [])
+        if "transfer" in excitations:
+            add("transfer", "transfer", ["hysteresis"], ["hysteresis"], [1.5], direction="harmonic>random")
+        return cases
+    for e in fams:
+        rng = np.random.default_rng(seed + 99 + order.index(e))
+        for eff in TIME_EFFECTS:
+            for _ in range(2):
+                add(e, "single", [eff], [eff], [lv()])
+        for _ in range(4):
+            add(e, "control", [], [], [])
+        mism = [("stiffness_level", {"ea_scale": float(rng.uniform(0.7, 0.85))}),
+                ("stiffness_level", {"ea_scale": float(rng.uniform(1.2, 1.4))}),
+                ("contact_law", {"hertz_scale": float(rng.choice([rng.uniform(0.5, 0.7), rng.uniform(1.5, 2.0)]))})]
+        for m, kw in mism:
+            add(e, "mismatch", [m], [], [], **kw)
+        for i, eff in enumerate(("friction", "hysteresis", "backlash", "slack", "sensor_delay")):
+            m, kw = mism[i % len(mism)]
+            add(e, "mismatch+", [m, eff], [eff], [lv()], **kw)
+        for a, b in TIME_PAIRS:
+            add(e, "pair", [a, b], [a, b], [lv(), lv()])
+        for kind in ("drift", "relaxation", "chatter"):
+            add(e, "outside", [kind], [kind], [lv()], truth_named=["friction"] if kind == "chatter" else [])
+    if "transfer" in excitations:
+        rng = np.random.default_rng(seed + 99 + order.index("transfer"))
+        for eff in ("friction", "hysteresis", "backlash", "stiffness_level", "slack", "sensor_delay"):
+            for d in ("harmonic>random", "random>harmonic"):
+                add("transfer", "transfer", [eff], [eff], [lv()], direction=d)
+    return cases
