@@ -67,7 +67,7 @@ def test_json_dash_benchmark_gap(monkeypatch, capsys):
     from chainid.gap import benchmark
 
     small = benchmark.grid(True, 0)[:1]
-    monkeypatch.setattr(benchmark, "grid", lambda small_, seed: small)
+    monkeypatch.setattr(benchmark, "grid", lambda small_, seed, *excitations: small)
     rc, out, err = _run(capsys, ["benchmark-gap", "--small", "--scheduler", "serial", "--no-progress",
                                  "--json", "-"])
     assert rc == 0, err

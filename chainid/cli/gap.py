@@ -29,8 +29,10 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         # per-test problems are reported (and the test left out) by the diagnosis; data errors stop it
         from chainid.cli.readopts import chain_for_checks, load_records
 
+        from chainid.gap.diagnose import check_magnitudes
+
         chain = chain_for_checks(args)
-        recs = load_records(args, args.data, chain)
+        recs = load_records(args, args.data, chain, check=check_magnitudes)
         if args.model == "linear":
             model = None
         else:
@@ -41,7 +43,7 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         holdout = [h for h in (args.holdout or "").split(",") if h.strip()]
         if args.holdout is None and not args.holdout_blocks:
             raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
-        other = load_records(args, args.validate, chain) if args.validate else None
+        other = load_records(args, args.validate, chain, check=check_magnitudes) if args.validate else None
         res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
                        allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
                        holdout_blocks=args.holdout_blocks, validate=other)

@@ -59,7 +59,8 @@ def chain_for_checks(args: argparse.Namespace) -> Any:
     return load_chain(getattr(args, "chain", None))
 
 
-def load_records(args: argparse.Namespace, paths: Any, chain: Any = None, doc: dict | None = None) -> list:
+def load_records(args: argparse.Namespace, paths: Any, chain: Any = None, doc: dict | None = None,
+                 check: Any = None) -> list:
     """Read records as the options say; print the plausibility warnings (``--strict``: raise them).
 
     Parameters
@@ -72,6 +73,9 @@ def load_records(args: argparse.Namespace, paths: Any, chain: Any = None, doc: d
         Check amplitudes, forces and stiffness against this chain's elastic range.
     doc : dict or None
         The command's JSON result: warnings are added to ``doc["warnings"]``.
+    check : callable, optional
+        The command's own hard checks of the records (raising ValueError), run before the plausibility
+        warnings, so that a record the command refuses gets its one error line and no warnings first.
     """
     from chainid.infra.progress import progress_iter
     from chainid.records.plausible import plausibility_warnings
@@ -80,6 +84,8 @@ def load_records(args: argparse.Namespace, paths: Any, chain: Any = None, doc: d
     spec = reader_spec(args)
     quiet = bool(getattr(args, "quiet", False))
     recs = read_any(paths, spec, progress=lambda files: progress_iter(files, "reading", len(files), quiet, "file"))
+    if check is not None:
+        check(recs)
     msgs = plausibility_warnings(recs, chain, getattr(args, "variant", "paper") or "paper")
     if msgs and getattr(args, "strict", False):
         raise ValueError("--strict: implausible records: " + "; ".join(msgs))
