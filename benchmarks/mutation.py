@@ -225,9 +225,11 @@ def main(argv: list[str] | None = None) -> int:
         shared = REPO.parent / "shared"
         if shared.is_dir():
             (Path(tmp) / "shared").symlink_to(shared)
+        pristine = Path(tmp) / "pristine"  # one snapshot at the start: edits made during the run do not leak in
+        _copy_repo(pristine)
         for i, pkg in enumerate(args.packages):
             copy = Path(tmp) / f"repo_{pkg}"  # a fresh copy per package: a run cut by the budget leaves a mutant
-            _copy_repo(copy)
+            shutil.copytree(pristine, copy, symlinks=True)
             if args.list:
                 _, _, n = _init(pkg, copy, 60.0)
                 print(f"{pkg:10s} {n:6d} mutants; tests: {' '.join(_targets(pkg, copy))}")
