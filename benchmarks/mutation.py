@@ -29,6 +29,7 @@ Not part of the test suite (it takes tens of minutes of CPU).
 from __future__ import annotations
 
 import argparse
+import ast
 import datetime as _dt
 import json
 import os
@@ -115,15 +116,49 @@ def _init(pkg: str, copy: Path, timeout: float) -> tuple[Path, Path, int]:
     return cfg, session, n
 
 
-def _sample(session: Path, k: int, seed: int) -> int:
+def _annotation_spans(path: Path) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+    """(start, end) positions of every annotation of a module that has ``from __future__ import annotations``
+    (such annotations are never evaluated, so a mutant inside one is equivalent by construction)."""
+    text = path.read_text(encoding="utf-8")
+    tree = ast.parse(text)
+    if not any(isinstance(n, ast.ImportFrom) and n.module == "__future__" and
+               any(a.name == "annotations" for a in n.names) for n in tree.body):
+        return []
+    spans = []
+    for node in ast.walk(tree):
+        anns = []
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            a = node.args
+            anns = [x.annotation for x in (*a.posonlyargs, *a.args, *a.kwonlyargs, a.vararg, a.kwarg)
+                    if x is not None and x.annotation is not None] + ([node.returns] if node.returns else [])
+        elif isinstance(node, ast.AnnAssign):
+            anns = [node.annotation]
+        for an in anns:
+            spans.append(((an.lineno, an.col_offset), (an.end_lineno, an.end_col_offset)))
+    return spans
+
+
+def _in_annotation(m, spans_of: dict, root: Path) -> bool:
+    f = m.module_path
+    if f not in spans_of:
+        spans_of[f] = _annotation_spans(root / f)
+    s = tuple(m.start_pos)
+    return any(a <= s < b for a, b in spans_of[f])
+
+
+def _sample(session: Path, k: int, seed: int, root: Path) -> tuple[int, int]:
+    """Keep a seeded random sample of k mutants (after dropping those inside unevaluated annotations).
+    Returns (kept, dropped as annotation mutants)."""
     from cosmic_ray.work_db import WorkDB, use_db
 
     with use_db(str(session), WorkDB.Mode.open) as db:
         items = sorted(db.work_items, key=lambda w: w.job_id)
-        keep = random.Random(seed).sample(items, min(k, len(items)))
+        spans: dict = {}
+        real = [w for w in items if not _in_annotation(w.mutations[0], spans, root)]
+        keep = random.Random(seed).sample(real, min(k, len(real)))
         db.clear()
         db.add_work_items(keep)
-        return len(keep)
+        return len(keep), len(items) - len(real)
 
 
 def _results(session: Path) -> list[dict]:
@@ -153,7 +188,8 @@ def run_package(pkg: str, copy: Path, sample: int, seed: int, budget_s: float) -
         return row
     timeout = 3.0 * t_base + 10.0
     cfg, session, n_all = _init(pkg, copy, timeout)
-    row.update(mutants_total=n_all, sampled=_sample(session, sample, seed), timeout_s=round(timeout, 1))
+    kept, n_ann = _sample(session, sample, seed, copy)
+    row.update(mutants_total=n_all, annotation_mutants=n_ann, sampled=kept, timeout_s=round(timeout, 1))
     t1 = time.perf_counter()
     proc = subprocess.Popen(["cosmic-ray", "exec", str(cfg), str(session)], cwd=copy, env=_env(copy),
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
@@ -190,15 +226,20 @@ def write_markdown(rows: list[dict], args: argparse.Namespace, path: Path, start
         "against the package's targeted tests (`TARGETS` in `benchmarks/mutation.py`); kill rate = killed / "
         "(killed + survived); a timeout counts as killed; incompetent mutants are not counted. Survivors and their "
         "triage: `benchmarks/mutation_survivors.md` (raw diffs: `benchmarks/mutation_survivors.json`).", "",
-        "| package | mutants (all) | sampled | run | killed | survived | incompetent | kill rate | budget hit |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---|",
+        "Mutants inside type annotations are dropped before sampling: every module has `from __future__ import "
+        "annotations`, so its annotations are never evaluated and such a mutant (`str | None` → `str % None`) is "
+        "equivalent by construction.", "",
+        "| package | mutants (all) | in annotations | sampled | run | killed | survived | incompetent | kill rate "
+        "| budget hit |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in rows:
         if "error" in r:
-            lines.append(f"| {r['package']} | – | – | – | – | – | – | not run: {r['error']} | |")
+            lines.append(f"| {r['package']} | – | – | – | – | – | – | – | not run: {r['error']} | |")
             continue
         kr = f"{100 * r['kill_rate']:.0f} %" if r["kill_rate"] is not None else "–"
-        lines.append(f"| {r['package']} | {r['mutants_total']} | {r['sampled']} | {r['run']} | {r['killed']} | "
+        lines.append(f"| {r['package']} | {r['mutants_total']} | {r['annotation_mutants']} | {r['sampled']} | "
+                     f"{r['run']} | {r['killed']} | "
                      f"{r['survived']} | {r['incompetent']} | {kr} | {'yes' if r['budget_hit'] else 'no'} |")
     if tot_k + tot_s:
         lines += ["", f"All packages: {tot_k} of {tot_k + tot_s} killed ({100 * tot_k / (tot_k + tot_s):.0f} %)."]
