@@ -177,3 +177,18 @@ def test_model_file_round_trip_keeps_grade(tmp_path):
         save_model(m, tmp_path / name)
         c = load_model(tmp_path / name).base.chain
         assert (c.family, c.grade) == ("studless", "R4")
+
+
+@pytest.mark.parametrize("fam", ["studless", "studlink"])
+@pytest.mark.parametrize("d", [16.0, 220.0])
+def test_match_finds_mooring_chain_at_the_diameter_bounds(fam, d):
+    """A chain given by dimensions at d_min or d_max is matched to its family (inclusive bounds, as in resolve)."""
+    spec = ChainSpec.preset(f"{fam}:{d:g}").replace(family=None, grade=None)
+    p = presets.match(spec)
+    assert p is not None and p.family == fam and p.chain.d == d
+
+
+def test_stiffness_json_carries_the_grade(capsys):
+    assert main(["stiffness", "--chain", "studlink:76:grade=r4", "--F", "1000", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["chain"]["grade"] == "R4" and doc["chain"]["family"] == "studlink"
