@@ -23,6 +23,8 @@ Usage (from the repository root; needs ``pip install ".[mutation]"``)::
     python benchmarks/mutation.py                          # all packages, 15 mutants each, seed 20, 40 min
     python benchmarks/mutation.py --packages chain infra --sample 10
     python benchmarks/mutation.py --list                   # number of mutants per package, no run
+    python benchmarks/mutation.py --retest benchmarks/mutation_survivors.json --retest-out F.md
+                                                           # the survivors again, against today's tests
 
 Not part of the test suite (it takes tens of minutes of CPU).
 """
@@ -48,12 +50,12 @@ REPO = Path(__file__).resolve().parents[1]
 #: targeted tests per package: the fast test files (or node ids) that exercise it; pytest arguments
 TARGETS: dict[str, tuple[str, ...]] = {
     "chain": ("tests/test_spec.py", "tests/test_spec_input.py", "tests/test_presets.py", "tests/test_grade.py"),
-    "signal": ("tests/test_steady.py", "tests/test_records.py"),
-    "model": ("tests/test_kernels.py", "tests/test_operators.py", "tests/test_laws.py", "tests/test_practice.py",
+    "signal": ("tests/test_signal_pins.py", "tests/test_steady.py", "tests/test_records.py"),
+    "model": ("tests/test_model_pins.py", "tests/test_kernels.py", "tests/test_operators.py", "tests/test_laws.py", "tests/test_practice.py",
               "tests/test_simulate.py", "tests/test_gap_pins.py",
               "tests/test_augmented.py::test_force_closed_form_linear_viscous_mass_delay_and_non_uniform_sampling",
               "tests/test_augmented.py::test_model_file_round_trip_and_errors"),
-    "records": ("tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py"),
+    "records": ("tests/test_records_pins.py", "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py"),
     "damping": ("tests/test_identify.py", "tests/test_identify_excluded.py", "tests/test_audit.py"),
     "gap": ("tests/test_gap_pins.py", "tests/test_gap_diagnose.py::test_control_gives_none",
             "tests/test_gap_diagnose.py::test_coulomb_equivalent_damping_recovered",
@@ -152,7 +154,9 @@ def _sample(session: Path, k: int, seed: int, root: Path) -> tuple[int, int]:
     from cosmic_ray.work_db import WorkDB, use_db
 
     with use_db(str(session), WorkDB.Mode.open) as db:
-        items = sorted(db.work_items, key=lambda w: w.job_id)
+        # sorted by what the mutant is (job ids are random uuids), so that a seed gives the same sample
+        items = sorted(db.work_items, key=lambda w: (str(w.mutations[0].module_path), w.mutations[0].operator_name,
+                                                      w.mutations[0].occurrence))
         spans: dict = {}
         real = [w for w in items if not _in_annotation(w.mutations[0], spans, root)]
         keep = random.Random(seed).sample(real, min(k, len(real)))
@@ -211,6 +215,44 @@ def run_package(pkg: str, copy: Path, sample: int, seed: int, budget_s: float) -
     return row
 
 
+def retest(survivors_json: Path, out_md: Path | None) -> list[dict]:
+    """Apply every survivor of an earlier run again (``cosmic-ray apply``, in a fresh copy of the repository as it
+    is now) and run its package's current targeted tests: killed now (a test was added) or still surviving."""
+    rows = json.loads(survivors_json.read_text(encoding="utf-8"))
+    out = []
+    with tempfile.TemporaryDirectory(prefix="chainid-retest-") as tmp:
+        shared = REPO.parent / "shared"
+        if shared.is_dir():
+            (Path(tmp) / "shared").symlink_to(shared)
+        pristine = Path(tmp) / "pristine"
+        _copy_repo(pristine)
+        for r in rows:
+            for sv in r.get("survivors", []):
+                copy = Path(tmp) / "work"
+                if copy.exists():
+                    shutil.rmtree(copy)
+                shutil.copytree(pristine, copy, symlinks=True)
+                subprocess.run(["cosmic-ray", "apply", sv["file"], sv["operator"], str(sv["occurrence"])], cwd=copy,
+                               env=_env(copy), check=True, capture_output=True)
+                cmd = shlex.split(_test_command(_targets(r["package"], copy)))
+                try:
+                    rc = subprocess.run(cmd, cwd=copy, env=_env(copy), capture_output=True, timeout=600).returncode
+                except subprocess.TimeoutExpired:
+                    rc = -1
+                row = {"package": r["package"], "file": sv["file"], "line": sv["line"], "operator": sv["operator"],
+                       "occurrence": sv["occurrence"], "now": "killed" if rc != 0 else "survived"}
+                out.append(row)
+                print(f"{row['package']:9s} {row['file']}:{row['line']} {row['operator']}: {row['now']}", flush=True)
+    if out_md is not None:
+        k = sum(r["now"] == "killed" for r in out)
+        lines = ["| package | where | operator | with today's targeted tests |", "|---|---|---|---|"]
+        lines += [f"| {r['package']} | {r['file']}:{r['line']} | {r['operator']} (#{r['occurrence']}) | {r['now']} |"
+                  for r in out]
+        lines += ["", f"{k} of {len(out)} survivors are killed by today's targeted tests."]
+        out_md.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return out
+
+
 def write_markdown(rows: list[dict], args: argparse.Namespace, path: Path, started: str, minutes: float) -> None:
     ver = metadata.version("cosmic-ray")
     cmd = "python benchmarks/mutation.py " + " ".join(
@@ -255,10 +297,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--list", action="store_true", help="only count the mutants per package")
     ap.add_argument("--out", default=str(REPO / "benchmarks" / "MUTATION.md"))
     ap.add_argument("--survivors", default=str(REPO / "benchmarks" / "mutation_survivors.json"))
+    ap.add_argument("--retest", metavar="SURVIVORS.json",
+                    help="re-apply the survivors of an earlier run and run today's targeted tests on each")
+    ap.add_argument("--retest-out", metavar="FILE.md", help="with --retest: write the table to FILE.md")
     args = ap.parse_args(argv)
     if shutil.which("cosmic-ray") is None:
         print("mutation.py: cosmic-ray is not installed: pip install '.[mutation]'", file=sys.stderr)
         return 2
+    if args.retest:
+        retest(Path(args.retest), Path(args.retest_out) if args.retest_out else None)
+        return 0
     started = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M")
     t0 = time.perf_counter()
     rows = []
