@@ -32,3 +32,28 @@ def test_spanned_cycles_of_a_pure_sine():
     u = t / 2.0
     c, r2 = _spanned_cycles(t, 3.0 + np.sin(2 * math.pi * 0.75 * u))
     assert c == pytest.approx(0.75, abs=1e-9) and r2 == pytest.approx(1.0, abs=1e-9)
+
+
+def test_estimate_memory_by_hand():
+    """Two tests of 6 cycles × 200 samples (no ramp): 1200 samples each; kept 24 B each, peak 200 B for the larger:
+    2·1200·24 + 1200·200 = 297 600 B; an empty plan needs 0.  Bug caught: the empty-plan guard inverted."""
+    from chainid.records.simulate import TestSpec, estimate_memory
+
+    plan = [TestSpec("a", 2.0, 2.0, 0.2), TestSpec("b", 5.0, 2.0, 0.2)]  # (id, omega rad/s, x0 mm, A mm)
+    assert estimate_memory(plan, n_cycles=6, samples_per_cycle=200) == pytest.approx(297_600.0, rel=1e-12)
+    assert estimate_memory([]) == 0.0
+
+
+def test_under_one_cycle_message_and_condition():
+    """Half a period of a clean sine (R² ≈ 1, c = 0.5) is refused, naming 0.5 period(s) and the period 2·span;
+    white noise (no oscillation: R² small) is left to the other checks.  Bugs caught: 'and' made 'or', the
+    period span/c garbled."""
+    from chainid.records.record import Record
+    from chainid.records.validate import _raise_if_under_one_cycle
+
+    t = np.linspace(0.0, 1.0, 200)
+    rec = Record("h", t, np.sin(math.pi * t), np.zeros_like(t))
+    with pytest.raises(ValueError, match=r"about 0\.5 period\(s\).*period ~2 s, record 1 s"):
+        _raise_if_under_one_cycle(rec)
+    noise = np.random.default_rng(1).standard_normal(200)
+    _raise_if_under_one_cycle(Record("n", t, noise, np.zeros_like(t)))  # no raise
