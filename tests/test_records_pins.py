@@ -57,3 +57,4 @@ def test_under_one_cycle_message_and_condition():
         _raise_if_under_one_cycle(rec)
     noise = np.random.default_rng(1).standard_normal(200)
     _raise_if_under_one_cycle(Record("n", t, noise, np.zeros_like(t)))  # no raise
+    _raise_if_under_one_cycle(Record("two", t, np.sin(4 * math.pi * t), np.zeros_like(t)))  # 2 periods: no raise
