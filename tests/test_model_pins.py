@@ -95,3 +95,31 @@ def test_augmented_force_refuses_repeated_time():
     m = AugmentedModel(LinearModel(100.0, 0.0), [], Damping("viscous", {"c": 1.0}), 0.0, 0.0)
     with pytest.raises(ValueError, match="strictly increasing"):
         m.force([0.0, 0.1, 0.1, 0.2], [0.0, 1.0, 1.0, 2.0])
+
+
+def test_effect_force_stiffness_side_adds_the_inertia():
+    """Effect.force of stiffness_level: m·ẍ·1e-3 plus the changed chain's force (ChainModel(ea_scale=s) built
+    directly).  Bug caught: the inertia and the force combined by anything but a sum."""
+    from dataclasses import replace
+
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import make_effect
+
+    model = ChainModel()
+    x = np.linspace(0.5, 2.0, 7)
+    xdd = np.linspace(-3e3, 3e3, 7)  # mm/s²
+    F, _, _ = make_effect("stiffness_level").force({"scale": 0.8}, model, np.linspace(0, 1, 7), x,
+                                                   np.zeros(7), xdd, 10.0, 0.75, 1.25)
+    expect = model.mass_kg * xdd * 1e-3 + replace(model, ea_scale=0.8).force(x)
+    np.testing.assert_allclose(F, expect, rtol=1e-12)
+    assert model.mass_kg > 0
+
+
+def test_format_practice_lists_the_explanation():
+    """The audit text ends its chain part with the ratios behind the EA ratio (one line, 3 decimals)."""
+    from chainid.model.practice import explain_ratio, format_practice, practice_section
+
+    text = format_practice(practice_section())
+    e = explain_ratio()
+    line = next(ln for ln in text.splitlines() if "why the model is softer" in ln)
+    assert f"ratio {e['ratio']:.3f}" in line and f"shear {e['shear']:.3f}" in line
