@@ -56,7 +56,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "tests/test_augmented.py::test_force_closed_form_linear_viscous_mass_delay_and_non_uniform_sampling",
               "tests/test_augmented.py::test_model_file_round_trip_and_errors"),
     "records": ("tests/test_records_pins.py", "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py"),
-    "damping": ("tests/test_identify.py", "tests/test_identify_excluded.py", "tests/test_audit.py"),
+    "damping": ("tests/test_damping_pins.py", "tests/test_identify.py", "tests/test_identify_excluded.py", "tests/test_audit.py"),
     "gap": ("tests/test_gap_pins.py", "tests/test_gap_diagnose.py::test_control_gives_none",
             "tests/test_gap_diagnose.py::test_coulomb_equivalent_damping_recovered",
             "tests/test_gap_diagnose.py::test_effect_recovered", "tests/test_gap_diagnose.py::test_bad_input",

@@ -192,3 +192,12 @@ def test_stiffness_json_carries_the_grade(capsys):
     assert main(["stiffness", "--chain", "studlink:76:grade=r4", "--F", "1000", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["chain"]["grade"] == "R4" and doc["chain"]["family"] == "studlink"
+
+
+def test_bar_diameter_bounds_inclusive():
+    """0.5 <= d <= 500 mm (ChainSpec docstring): both ends accepted, just outside refused with the range."""
+    assert ChainSpec(d=0.5, pitch=1.5, width=0.6, n=1).d == 0.5
+    assert ChainSpec(d=500.0, pitch=2000.0, width=600.0, n=1).d == 500.0
+    for d in (0.4999, 500.01):
+        with pytest.raises(ValueError, match=r"ChainSpec.d = .* valid range is 0.5 <= d <= 500.0 mm"):
+            ChainSpec(d=d, pitch=4 * d, width=1.2 * d, n=1)
