@@ -36,3 +36,26 @@ def test_finding_d_forward_prediction_closed_form():
         assert f[f"F_max_N_{key}"] == pytest.approx(k * x0 + amp, abs=1e-5 * amp)
         assert f[f"F_min_N_{key}"] == pytest.approx(k * x0 - amp, abs=1e-5 * amp)
     assert f["F_k_range_N"] == pytest.approx([k * (x0 - A), k * (x0 + A)], rel=1e-9)
+
+
+def test_damping_surface_grid_spans_the_tests_with_10pct_margin(tmp_path):
+    """The surface is evaluated on ω from ω_min − 10 % of the span to ω_max + 10 % (and A alike): tests at
+    ω = 10, 20, 30 rad/s and A = 0.2, 0.4 mm give ω 8…32 and A 0.18…0.42.  Bugs caught: the margins garbled."""
+    from types import SimpleNamespace
+
+    from chainid.damping.plots import plot_damping_surface
+
+    seen = {}
+
+    class Law:
+        name = "spy"
+
+        def predict(self, w, A, x0):
+            seen.update(w=(w.min(), w.max()), A=(A.min(), A.max()))
+            return np.zeros_like(w)
+
+    res = [SimpleNamespace(test=f"T{i}", omega=w, A=A, c_e=1.0, x0=2.0)
+           for i, (w, A) in enumerate([(10.0, 0.2), (20.0, 0.4), (30.0, 0.2)])]
+    plot_damping_surface(res, Law(), tmp_path / "s.png")
+    assert seen["w"] == pytest.approx((8.0, 32.0), rel=1e-12)
+    assert seen["A"] == pytest.approx((0.18, 0.42), rel=1e-12)
