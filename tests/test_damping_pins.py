@@ -59,3 +59,14 @@ def test_damping_surface_grid_spans_the_tests_with_10pct_margin(tmp_path):
     plot_damping_surface(res, Law(), tmp_path / "s.png")
     assert seen["w"] == pytest.approx((8.0, 32.0), rel=1e-12)
     assert seen["A"] == pytest.approx((0.18, 0.42), rel=1e-12)
+
+
+def test_finding_c_half_swing_of_a_linear_spring():
+    """k = 1e4 N/mm: half the swing of F_k over x0 ± A is k·A, its value at x0 is k·x0 (EQ27's x0, A).
+    Bug caught: 0.5·(F₊ − F₋) garbled."""
+    from chainid.damping.audit import EQ27
+
+    f = {x["id"]: x for x in audit(Lin())["findings"]}["c"]["numbers"]
+    assert f["F_k_swing_half_N"] == pytest.approx(1e4 * EQ27["A"], rel=1e-12)
+    assert f["F_k_at_x0_N"] == pytest.approx(1e4 * EQ27["x0"], rel=1e-12)
+    assert f["k_e_range_x0_pm_A_N_per_mm"] == [1e4, 1e4]
