@@ -223,3 +223,28 @@ def test_local_peak_over_the_octave_median():
     P2[69] = 60.0  # a line at 70 Hz below the band's level: no narrow peak (ratio 0.6)
     fk2, h2 = _local_peak(f, P2, 5.0)
     assert h2 == pytest.approx(1.0, rel=1e-12)  # the flat parts' ratio 1 is the best anywhere
+
+
+def test_at_noise_floor_chi2_band():
+    """Within 5 standard deviations of a χ² mean: ratio < 1 + 5·sqrt(2/n) = 1.5 for n = 200 bins (systematic part
+    well above half σ, so only the ratio decides).  Bug caught: 2/n made an integer division (threshold 1)."""
+    from chainid.gap.selection import at_noise_floor
+
+    assert at_noise_floor(1.4, 1.0, 0.1, 200) is True
+    assert at_noise_floor(1.6, 1.0, 0.1, 200) is False
+    assert at_noise_floor(4.0, 1.0, 4.0, 200) is True  # excess sqrt(3) = 1.73 < 0.5·4
+
+
+def test_cycle_stats_whole_cycles_by_hand():
+    """F = 3 + 2 sin ψ + 0.5 cos ψ sampled over 6.5 cycles from ψ = 0.3: the first and last (partial) cycles are
+    dropped, the 5 middle ones give mean 3, a = 2, b = 0.5 exactly.  Bug caught: no cycle marked whole."""
+    from chainid.gap.prepare import cycle_stats
+
+    w = 2 * math.pi
+    t = np.linspace(0.0, 6.5, 833)  # 128 samples per cycle
+    psi = w * t + 0.3
+    cy = cycle_stats(t, 3 + 2 * np.sin(psi) + 0.5 * np.cos(psi), w, 0.3)
+    assert cy["t"].size == 5
+    np.testing.assert_allclose(cy["mean"], 3.0, atol=1e-9)
+    np.testing.assert_allclose(cy["a"], 2.0, atol=1e-9)
+    np.testing.assert_allclose(cy["b"], 0.5, atol=1e-9)
