@@ -62,7 +62,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_gap_diagnose.py::test_effect_recovered", "tests/test_gap_diagnose.py::test_bad_input",
             "tests/test_gap_diagnose.py::test_small_effect_above_half_the_noise_is_named",
             "tests/test_gap_compound.py::test_mismatch_alone_is_one_step",
-            "tests/test_gap_compound.py::test_excluded_test_with_reason_and_strict"),
+            "tests/test_gap_compound.py::test_excluded_test_with_reason_and_strict", "tests/test_gap_time_where.py"),
     "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_checks.py", "tests/test_dynamics_damping.py",
                  "tests/test_dynamics.py", "tests/test_cli_dynamics.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
