@@ -282,3 +282,26 @@ def test_localise_multi_valued_residual_by_hand():
     _, found = _localise_viscous_excess()
     surf = [f for f in found if f.get("kind") == "surface"]
     assert len(surf) == 1 and surf[0]["multi_valued_N"] == pytest.approx(30.0 / math.sqrt(2), rel=1e-9)
+
+
+def test_delay_signature_reads_a_pure_lag():
+    """The data are the model's force delayed by τ = 2 ms: harmonic k turns by −kωτ, so δ_k/k against ω has slope
+    −τ through the origin: τ read back exactly (harmonics 2 and 3, ω = 10, 20, 30 rad/s).
+    Bug caught: the harmonic's phase grid k·ψ garbled."""
+    from chainid.gap.where import delay_signature
+
+    B, tau = 64, 0.002
+    psi = (np.arange(B) + 0.5) * 2 * math.pi / B
+
+    def force(shift):
+        return 500 * np.sin(psi - shift) + 100 * np.sin(2 * (psi - shift)) + 50 * np.cos(3 * (psi - shift))
+
+    data, model = [], {}
+    for i, w in enumerate((10.0, 20.0, 30.0)):
+        data.append(SimpleNamespace(test=f"T{i}", omega=w, sigma=0.1, counts=np.full(B, 10.0),
+                                    Fbar=force(w * tau)))
+        model[f"T{i}"] = force(0.0)
+    sig = delay_signature(data, model)
+    assert sig["n_points"] == 6
+    assert sig["tau_harmonics_s"] == pytest.approx(tau, rel=1e-9)
+    assert sig["phase1_slope_s"] == pytest.approx(-tau, rel=1e-9)
