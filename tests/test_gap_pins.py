@@ -305,3 +305,19 @@ def test_delay_signature_reads_a_pure_lag():
     assert sig["n_points"] == 6
     assert sig["tau_harmonics_s"] == pytest.approx(tau, rel=1e-9)
     assert sig["phase1_slope_s"] == pytest.approx(-tau, rel=1e-9)
+
+
+def test_benchmark_summary_counts_a_case_at_the_snr_threshold():
+    """Single-effect cases with residual ≥ SNR_MIN × noise are scored: one at exactly SNR_MIN (right), one
+    below it (wrong, not scored), one above (wrong): rate 1/2 = "50.0 %" in the text.
+    Bugs caught: >= made != or >, the percentage garbled."""
+    from chainid.gap.benchmark_report import SNR_MIN, format_summary, summarise
+
+    def row(snr, verdict):
+        return {"family": "single", "truth": ["friction"], "verdict": verdict, "snr": snr, "shrinkage": 0.5,
+                "seconds": 1.0, "chain": "c", "plan": "p", "noise": 1.0, "seed": 0, "levels": {}}
+
+    rows = [row(SNR_MIN, "friction"), row(0.5 * SNR_MIN, "hysteresis"), row(2 * SNR_MIN, "backlash")]
+    s = summarise(rows)
+    assert s["single_n"] == 2 and s["single_right_rate"] == 0.5
+    assert "single effects, right verdict (residual >= 3x noise): 50.0 % of 2" in format_summary(s)
