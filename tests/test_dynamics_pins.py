@@ -69,3 +69,37 @@ def test_implicit_scheme_creeps_viscously_near_standstill():
     res = simulate(line, Drive("none"), 2 * tau, dt=tau / 2000, scheme="implicit", initial_u=np.array([0.0, 5.0]),
                    initial_v=np.array([0.0, 0.8]), n_out=100)
     np.testing.assert_allclose(res.v[:, 1], 0.8 * np.exp(-res.t / tau), rtol=2e-3)
+
+
+def test_polygon_drive_acceleration_is_the_derivative_of_velocity():
+    """Chordal action at constant sprocket speed: a = R cos φ θ̈ − R sin φ θ̇² with θ̈ = 0, i.e. a = dv/dt
+    (numerical derivative, away from the tooth changes); at φ = 0 the acceleration is 0.
+    Bug caught: θ̇² garbled (θ̇/θ̇)."""
+    import math
+
+    from chainid.dynamics.drives import drive_motion
+
+    p, z, v = 50.0, 8, 400.0
+    d = Drive("polygon", v=v, z=z, pitch=p)
+    t = np.linspace(0.3, 0.3 + p / v, 4001)
+    u, vel, acc = drive_motion(d, t, p)
+    dv = np.gradient(vel, t)
+    R = p / (2 * math.sin(math.pi / z))
+    thd = 2 * math.pi / (z * p) * v
+    assert np.max(np.abs(acc)) == pytest.approx(R * math.sin(math.pi / z) * thd ** 2, rel=1e-4)  # at φ = ±π/z
+    amax = np.max(np.abs(acc))
+    smooth = np.abs(np.gradient(acc)) < 0.05 * amax  # not at a tooth change (a jumps from −a_max to +a_max)
+    smooth[:5] = smooth[-5:] = False
+    np.testing.assert_allclose(acc[smooth], dv[smooth], rtol=2e-3, atol=1e-3 * amax)
+
+
+def test_balance_of_a_non_finite_run_reports_the_last_residual():
+    """A run whose energy went non-finite mid-way: ``finite`` False, ``residual`` the last value (3 N·mm here),
+    not an earlier one.  Bug caught: res[1] for res[-1]."""
+    import math
+
+    from chainid.dynamics.energy import balance
+
+    z = np.zeros(4)
+    eb = balance(np.array([0.0, 1.0, np.nan, 3.0]), z, z, z)
+    assert eb["finite"] is False and eb["residual"] == 3.0 and math.isnan(eb["relative_error"])
