@@ -77,3 +77,46 @@ def test_default_runs_on_dask_when_available():
     Bug caught: the default falls back to the process pool (or serial) although dask is there."""
     out = run_cases(_where, range(2), n_workers=1, progress=False)
     assert all(d for _, d in out) and os.getpid() not in {p for p, _ in out}
+
+
+def test_progress_bar_throttles_to_ten_draws_a_second(monkeypatch):
+    """The bar draws at start, then at most every 0.1 s, and always at the end (fake clock).
+    Bug caught: the throttle's 'and' made 'or' (no draw at all until the end)."""
+    import io
+
+    from chainid.infra import parallel
+
+    now = [100.0]
+    monkeypatch.setattr(parallel.time, "monotonic", lambda: now[0])
+    out = io.StringIO()
+    bar = parallel._Bar(4, "x", True, stream=out)
+    assert out.getvalue().count("\r") == 1 and "0/4" in out.getvalue()
+    now[0] = 100.05
+    bar.update()  # 0.05 s after the last draw: skipped
+    assert out.getvalue().count("\r") == 1
+    now[0] = 100.2
+    bar.update()  # 0.2 s: drawn
+    assert out.getvalue().count("\r") == 2 and out.getvalue().endswith("2/4 0.2s")
+    now[0] = 100.21
+    bar.update(2)  # the end: always drawn
+    assert out.getvalue().count("\r") == 3 and "4/4" in out.getvalue()
+
+
+def test_commit_without_hard_links_still_refuses_to_overwrite(tmp_path, monkeypatch):
+    """On a file system without hard links (os.link raises EPERM) the no-clobber commit falls back to a checked
+    rename: a new target is written, an existing one is refused and kept, and no temporary file is left.
+    Bug caught: the existence check inverted."""
+    import errno
+
+    def no_link(*a, **k):
+        raise OSError(errno.EPERM, "Operation not permitted")
+
+    monkeypatch.setattr(fileio.os, "link", no_link)
+    p = fileio.atomic_write_text(tmp_path / "a.txt", "new\n")
+    assert p.read_text() == "new\n"
+    q = tmp_path / "b.txt"
+    with pytest.raises(fileio.OutputError, match="already exists"):
+        with fileio.atomic_open(q) as fh:
+            fh.write("ours\n")
+            q.write_text("appeared meanwhile\n")  # another process wrote the target while we were writing
+    assert q.read_text() == "appeared meanwhile\n" and sorted(os.listdir(tmp_path)) == ["a.txt", "b.txt"]
