@@ -89,9 +89,18 @@ def _targets(pkg: str, root: Path) -> list[str]:
     return [t for t in TARGETS[pkg] if t.startswith("-") or (root / t.split("::")[0]).is_file()]
 
 
-def _test_command(tests: list[str]) -> str:
-    return " ".join(shlex.quote(a) for a in
-                    [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header", *tests])
+#: packages whose njit functions are compiled into other modules' njit functions (numba's cache of the caller
+#: does not see a change in the callee's file): every mutant gets a fresh NUMBA_CACHE_DIR (slower, but not stale)
+FRESH_NUMBA_CACHE = {"dynamics", "model"}
+
+
+def _test_command(tests: list[str], fresh_cache: bool = False) -> str:
+    cmd = " ".join(shlex.quote(a) for a in
+                   [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header", *tests])
+    if not fresh_cache:
+        return cmd
+    script = f'd=$(mktemp -d); NUMBA_CACHE_DIR="$d" {cmd}; rc=$?; rm -rf "$d"; exit $rc'
+    return f"sh -c {shlex.quote(script)}"
 
 
 def _config(pkg: str, command: str, timeout: float) -> str:
@@ -106,7 +115,8 @@ def _env(copy: Path) -> dict[str, str]:
 
 def _init(pkg: str, copy: Path, timeout: float) -> tuple[Path, Path, int]:
     cfg, session = copy / f"cr_{pkg}.toml", copy / f"cr_{pkg}.sqlite"
-    cfg.write_text(_config(pkg, _test_command(_targets(pkg, copy)), timeout), encoding="utf-8")
+    cfg.write_text(_config(pkg, _test_command(_targets(pkg, copy), pkg in FRESH_NUMBA_CACHE), timeout),
+                   encoding="utf-8")
     if session.exists():
         session.unlink()
     subprocess.run(["cosmic-ray", "init", str(cfg), str(session)], cwd=copy, env=_env(copy), check=True,
@@ -184,7 +194,7 @@ def run_package(pkg: str, copy: Path, sample: int, seed: int, budget_s: float) -
     """Baseline, init, sample and exec for one package; its counts and survivors."""
     tests = _targets(pkg, copy)
     t0 = time.perf_counter()
-    base = subprocess.run(shlex.split(_test_command(tests)), cwd=copy, env=_env(copy), capture_output=True, text=True)
+    base = subprocess.run(shlex.split(_test_command(tests, pkg in FRESH_NUMBA_CACHE)), cwd=copy, env=_env(copy), capture_output=True, text=True)
     t_base = time.perf_counter() - t0
     row: dict = {"package": pkg, "tests": tests, "baseline_s": round(t_base, 1)}
     if base.returncode != 0:
@@ -262,8 +272,10 @@ def write_markdown(rows: list[dict], args: argparse.Namespace, path: Path, start
     tot_s = sum(r.get("survived", 0) for r in rows)
     lines = [
         "# Mutation testing per package (cosmic-ray)", "",
-        f"Run {started} UTC, cosmic-ray {ver}, Python {sys.version.split()[0]}, {minutes:.1f} min.", "",
-        f"Command: `{cmd}`", "",
+        f"Run {started} UTC, cosmic-ray {ver}, Python {sys.version.split()[0]}"
+        + (f", {minutes:.1f} min." if minutes == minutes else "."), "",
+        "Commands: " + ", ".join(sorted({f"`{r.get('command', cmd)}` ({r.get('run_started_utc', started)} UTC)"
+                                           for r in rows})), "",
         f"A seeded random sample of {args.sample} of cosmic-ray's mutants per package (seed {args.seed}), each run "
         "against the package's targeted tests (`TARGETS` in `benchmarks/mutation.py`); kill rate = killed / "
         "(killed + survived); a timeout counts as killed; incompetent mutants are not counted. Survivors and their "
@@ -297,6 +309,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--list", action="store_true", help="only count the mutants per package")
     ap.add_argument("--out", default=str(REPO / "benchmarks" / "MUTATION.md"))
     ap.add_argument("--survivors", default=str(REPO / "benchmarks" / "mutation_survivors.json"))
+    ap.add_argument("--merge", action="store_true",
+                    help="keep the other packages' rows of the survivors JSON and MUTATION.md (re-run some packages)")
     ap.add_argument("--retest", metavar="SURVIVORS.json",
                     help="re-apply the survivors of an earlier run and run today's targeted tests on each")
     ap.add_argument("--retest-out", metavar="FILE.md", help="with --retest: write the table to FILE.md")
@@ -334,7 +348,16 @@ def main(argv: list[str] | None = None) -> int:
                   + f", {row['incompetent']} incompetent, {row['exec_s']:.0f} s"), flush=True)
     if args.list:
         return 0
-    write_markdown(rows, args, Path(args.out), started, (time.perf_counter() - t0) / 60.0)
+    minutes = (time.perf_counter() - t0) / 60.0
+    for r in rows:
+        r["run_started_utc"] = started
+        r["command"] = " ".join(["python benchmarks/mutation.py", *(argv if argv is not None else sys.argv[1:])])
+    if args.merge and Path(args.survivors).is_file():
+        old_rows = json.loads(Path(args.survivors).read_text(encoding="utf-8"))
+        new = {r["package"]: r for r in rows}
+        rows = [new.pop(r["package"], r) for r in old_rows] + list(new.values())
+        minutes = float("nan")
+    write_markdown(rows, args, Path(args.out), started, minutes)
     Path(args.survivors).write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
     return 0
 
