@@ -70,7 +70,10 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "tests/test_numba_cache.py"),
     "cli": ("tests/test_cli_outputs.py", "tests/test_cli_dynamics.py", "tests/test_cli_simulate_effect.py",
             "tests/test_cli_pins.py", "tests/test_grade.py", "tests/test_kernels.py::test_cli_stiffness_json",
-            "tests/test_identify_excluded.py"),
+            "tests/test_identify_excluded.py",
+            # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
+            # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
+            "--deselect=tests/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output"),
     "report": ("tests/test_report_gap.py",
                "tests/test_report.py::test_fig8_curves_are_the_closed_form_stiffness",
                "tests/test_report.py::test_report_data_step_with_compressive_records_uses_a_linear_spring"),
@@ -225,7 +228,7 @@ def run_package(pkg: str, copy: Path, sample: int, seed: int, budget_s: float) -
     return row
 
 
-def retest(survivors_json: Path, out_md: Path | None) -> list[dict]:
+def retest(survivors_json: Path, out_md: Path | None, packages: tuple[str, ...] = PACKAGES) -> list[dict]:
     """Apply every survivor of an earlier run again (``cosmic-ray apply``, in a fresh copy of the repository as it
     is now) and run its package's current targeted tests: killed now (a test was added) or still surviving."""
     rows = json.loads(survivors_json.read_text(encoding="utf-8"))
@@ -237,6 +240,8 @@ def retest(survivors_json: Path, out_md: Path | None) -> list[dict]:
         pristine = Path(tmp) / "pristine"
         _copy_repo(pristine)
         for r in rows:
+            if r["package"] not in packages:
+                continue
             for sv in r.get("survivors", []):
                 copy = Path(tmp) / "work"
                 if copy.exists():
@@ -244,7 +249,7 @@ def retest(survivors_json: Path, out_md: Path | None) -> list[dict]:
                 shutil.copytree(pristine, copy, symlinks=True)
                 subprocess.run(["cosmic-ray", "apply", sv["file"], sv["operator"], str(sv["occurrence"])], cwd=copy,
                                env=_env(copy), check=True, capture_output=True)
-                cmd = shlex.split(_test_command(_targets(r["package"], copy)))
+                cmd = shlex.split(_test_command(_targets(r["package"], copy), r["package"] in FRESH_NUMBA_CACHE))
                 try:
                     rc = subprocess.run(cmd, cwd=copy, env=_env(copy), capture_output=True, timeout=600).returncode
                 except subprocess.TimeoutExpired:
@@ -319,7 +324,7 @@ def main(argv: list[str] | None = None) -> int:
         print("mutation.py: cosmic-ray is not installed: pip install '.[mutation]'", file=sys.stderr)
         return 2
     if args.retest:
-        retest(Path(args.retest), Path(args.retest_out) if args.retest_out else None)
+        retest(Path(args.retest), Path(args.retest_out) if args.retest_out else None, tuple(args.packages))
         return 0
     started = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M")
     t0 = time.perf_counter()
