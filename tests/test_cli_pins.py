@@ -69,3 +69,65 @@ def test_cli_max_combo_default_is_the_documented_one(tmp_path, monkeypatch):
     data = _data(tmp_path, with_short=False)
     assert main(["diagnose", str(data), "--holdout", "3"]) == 2
     assert seen["max_combo"] == documented
+
+
+def test_cli_benchmark_gap_exit_code(monkeypatch):
+    """A finished benchmark exits 0 (the grid itself is replaced by a stand-in here).  Bug caught: rc 1."""
+    import importlib
+
+    bm = importlib.import_module("chainid.gap.benchmark")
+    monkeypatch.setattr(bm, "run_benchmark", lambda **kw: None)
+    assert main(["benchmark-gap", "--small", "--no-progress"]) == 0
+
+
+@pytest.mark.parametrize("tol,ok", [("0.05", True), ("0.999", True), ("0", False), ("1", False)])
+def test_cli_diagnose_steady_tol_range(tmp_path, monkeypatch, capsys, tol, ok):
+    """--steady-tol in (0, 1): 0.05 passes the check (the stand-in diagnosis then stops), 0 and 1 are refused.
+    Bug caught: the lower bound's comparison garbled."""
+    import importlib
+
+    dg = importlib.import_module("chainid.gap.diagnose")
+
+    def fake(*a, **k):
+        raise ValueError("stand-in stops here")
+
+    monkeypatch.setattr(dg, "diagnose", fake)
+    data = _data(tmp_path, with_short=False)
+    assert main(["diagnose", str(data), "--holdout", "3", "--steady-tol", tol]) == 2
+    err = capsys.readouterr().err
+    assert ("stand-in stops here" in err) is ok and ("--steady-tol" in err) is (not ok)
+
+
+def test_cli_chains_compare_labels_only_din_rows(capsys):
+    """--compare: the DIN 22252 rows say their catalogue EA is the studless formula used as a reference; the
+    mooring rows do not.  Bug caught: the label on the wrong rows."""
+    assert main(["chains", "--compare"]) == 0
+    out = capsys.readouterr().out
+    comp = out[out.index("EA model N"):]
+    din = [ln for ln in comp.splitlines() if ln.startswith("din22252:")]
+    moor = [ln for ln in comp.splitlines() if ln.startswith(("studless:", "studlink:"))]
+    assert din and moor
+    assert all("(EA cat.: studless formula as reference)" in ln for ln in din)
+    assert not any("studless formula as reference" in ln for ln in moor)
+
+
+def test_cli_simulate_from_a_model_file(tmp_path, capsys):
+    """simulate --model M.toml (a linear base, no effects) writes the paper's plan within the default memory limit
+    (1 GiB) and names 'no effects'.  Bugs caught: the model-file option not registered, GiB mis-scaled (1024-3
+    bytes), the 'no effects' fallback lost."""
+    from chainid.model.augmented import AugmentedModel
+    from chainid.model.modelfile import save_model
+    from chainid.model.timedamping import Damping
+
+    mf = tmp_path / "m.toml"
+    save_model(AugmentedModel(LinearModel_(), [], Damping("viscous", {"c": 1.0}), 0.0, 0.0), mf)
+    out = tmp_path / "r.csv"
+    assert main(["simulate", str(out), "--model", str(mf), "--cycles", "3", "--samples-per-cycle", "32"]) == 0
+    text = capsys.readouterr().out
+    assert "no effects" in text and out.is_file()
+
+
+def LinearModel_():
+    from chainid.model.base import LinearModel
+
+    return LinearModel(1e4, 0.0)
