@@ -201,3 +201,13 @@ def test_bar_diameter_bounds_inclusive():
     for d in (0.4999, 500.01):
         with pytest.raises(ValueError, match=r"ChainSpec.d = .* valid range is 0.5 <= d <= 500.0 mm"):
             ChainSpec(d=d, pitch=4 * d, width=1.2 * d, n=1)
+
+
+def test_stated_mooring_grade_on_din_dimensions_is_used(tmp_path):
+    """Dimensions of DIN 22252 14x50 with grade = 'R4' and no family: the stated grade wins (R4 loads by the W22
+    formula: MBL 0.0274·14²·(44 − 1.12) kN = 230.3 kN), not an error and not grade C."""
+    f = tmp_path / "c.toml"
+    f.write_text("d = 14\npitch = 50\nwidth = 17\nn = 16\nmass_per_m = 4.0\ngrade = 'R4'\n")
+    p = chain_practice(load_chain(f))
+    assert p["grade"] == "R4" and p["family"] is None
+    assert p["breaking_load_N"] == pytest.approx(0.0274 * 14 ** 2 * (44 - 1.12) * 1e3, rel=1e-12)

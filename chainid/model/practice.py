@@ -211,8 +211,13 @@ def chain_practice(chain: ChainSpec | None = None, grade_name: str | None = None
     """
     chain = chain or default_chain()
     preset = preset or _preset_of(chain)
-    family = chain.family or (preset.family if preset else None)
     g = grade_name or chain.grade or (preset.grade if preset else "C")
+    family = chain.family or (preset.family if preset else None)
+    if chain.family is None and family is not None:
+        try:  # a stated grade of the other kind (R4 on DIN 22252 dimensions): the grade wins, family unknown
+            canonical_grade(g, family)
+        except ValueError:
+            family = None
     g = canonical_grade(g, family)
     knd = kind or ("studlink" if family == "studlink" else "studless")
     gr = grade(g)
