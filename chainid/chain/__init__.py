@@ -10,6 +10,8 @@ from chainid.infra.lazy import exports
 _LAZY = {
     "FAMILIES": "catalogue",
     "is_preset_name": "catalogue",
+    "canonical_grade": "catalogue",
+    "suggest_preset": "catalogue",
     "Preset": "presets",
     "resolve": "presets",
     "listed": "presets",

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from chainid.chain.catalogue import dimensions, is_preset_name
+from chainid.chain.catalogue import FAMILIES, canonical_grade, data, dimensions, is_preset_name, suggest_preset
 
 try:  # Python >= 3.11
     import tomllib as _toml
@@ -75,6 +75,24 @@ def _count(v: Any) -> int:
     return int(f)
 
 
+def _check_family_grade(spec: "ChainSpec") -> None:
+    """Canonicalise and validate ``family`` and ``grade`` (case-insensitive; the grade must apply to the family)."""
+    fam, g = spec.family, spec.grade
+    if fam is not None:
+        if not isinstance(fam, str) or fam.strip().lower() not in FAMILIES:
+            raise ValueError(f"ChainSpec.family = {fam!r} is invalid: valid values are {list(FAMILIES)} or None")
+        fam = fam.strip().lower()
+        object.__setattr__(spec, "family", fam)
+    if g is not None:
+        if not isinstance(g, str):
+            raise ValueError(f"ChainSpec.grade = {g!r} is invalid: must be a grade name such as 'C' or 'R4', "
+                             f"not {type(g).__name__}")
+        g = canonical_grade(g, fam, what="ChainSpec.grade =")
+    elif fam is not None:
+        g = data()[fam]["grade"]
+    object.__setattr__(spec, "grade", g)
+
+
 def steel_mass_per_m(d: float, pitch: float, width: float) -> float:
     """Mass per metre [kg/m] of bare round steel links: ρ·(π d²/4)·(2(pitch − width) + π(width + d)) / pitch.
 
@@ -107,6 +125,16 @@ class ChainSpec:
     mass_per_m : float
         Mass per metre of chain [kg/m], 0 <= mass_per_m <= 10 x that of the bare
         links in steel (:func:`steel_mass_per_m`).
+    family : str or None
+        ``"din22252"`` (mining chain), ``"studless"`` or ``"studlink"`` (mooring chain), or None (not
+        stated: the family is then taken from the preset with the same dimensions, else DIN 22252).
+        Case-insensitive.
+    grade : str or None
+        The steel grade (``[grades]`` of ``chainid/data/chains.toml``): DIN 22252 ``C``; mooring ``R3``,
+        ``R3S``, ``R4``, ``R4S``, ``R5``.  Case-insensitive, stored upper-case.  None: the family's default
+        (DIN 22252: C, mooring: R3); with no family either, the grade of the preset with the same
+        dimensions, else C.  The grade sets the proof and breaking loads and the yield stress used in every
+        load warning.
 
     Numbers may be Python or numpy ints and floats (``np.int64(16)``,
     ``np.float32(14)``); bool, str and None are refused; ``n`` may be an
@@ -149,8 +177,11 @@ class ChainSpec:
     E: float = 210000.0
     nu: float = 0.3
     mass_per_m: float = 0.0
+    family: str | None = None
+    grade: str | None = None
 
     def __post_init__(self) -> None:
+        _check_family_grade(self)
         for name in ("d", "pitch", "width", "E", "nu", "mass_per_m"):
             object.__setattr__(self, name, _real(name, getattr(self, name)))
         n_raw = self.n
@@ -200,8 +231,13 @@ class ChainSpec:
         return ChainSpec(**data)
 
     def to_dict(self) -> dict[str, Any]:
-        """Fields as a plain dict (TOML/JSON keys), units as in the class docstring."""
-        return asdict(self)
+        """Fields as a plain dict (TOML/JSON keys), units as in the class docstring.
+
+        ``family`` and ``grade`` are left out when None (not stated), so that a chain without them writes
+        the same keys as before they existed.
+        """
+        d = asdict(self)
+        return {k: v for k, v in d.items() if not (k in ("family", "grade") and v is None)}
 
     @classmethod
     def preset(cls, name: str, n: int | None = None) -> "ChainSpec":
@@ -209,7 +245,8 @@ class ChainSpec:
         return cls(**dimensions(name, n=n)["fields"])
 
 
-PAPER_CHAIN = ChainSpec(d=14.0, pitch=50.0, width=17.0, n=16, E=210000.0, nu=0.3, mass_per_m=4.0)
+PAPER_CHAIN = ChainSpec(d=14.0, pitch=50.0, width=17.0, n=16, E=210000.0, nu=0.3, mass_per_m=4.0,
+                        family="din22252", grade="C")
 
 
 def default_chain() -> ChainSpec:
@@ -217,7 +254,7 @@ def default_chain() -> ChainSpec:
     return PAPER_CHAIN
 
 
-_KEYS = {"d", "pitch", "width", "n", "E", "nu", "mass_per_m"}
+_KEYS = {"d", "pitch", "width", "n", "E", "nu", "mass_per_m", "family", "grade"}
 _REQUIRED = {"d", "pitch", "width", "n", "mass_per_m"}
 
 
@@ -225,8 +262,10 @@ def chain_from_mapping(data: dict[str, Any], source: str = "chain") -> ChainSpec
     """Build a :class:`ChainSpec` from a mapping with the TOML keys.
 
     Keys: ``d`` mm, ``pitch`` mm, ``width`` mm, ``n``, ``E`` MPa (default 210000),
-    ``nu`` (default 0.3), ``mass_per_m`` kg/m.  A ``[chain]`` table is accepted too, and
-    ``preset = "din22252:14x50"`` (:mod:`chainid.chain.presets`) with any of the keys overriding it.
+    ``nu`` (default 0.3), ``mass_per_m`` kg/m, optional ``family`` and ``grade`` (see :class:`ChainSpec`).
+    A ``[chain]`` table is accepted too, and ``preset = "din22252:14x50"`` (:mod:`chainid.chain.presets`) with
+    any of the keys overriding it: the preset's family and grade are kept (``preset = "studless:76:grade=R4"``
+    with ``width = 100`` stays a studless R4 chain), unless ``grade`` / ``family`` are given too.
     """
     if "chain" in data and isinstance(data["chain"], dict):
         data = data["chain"]
@@ -256,7 +295,8 @@ def load_chain(path: str | Path | None) -> ChainSpec:
         return ChainSpec.preset(str(path))
     p = Path(path)
     if not p.is_file():
-        raise ValueError(f"chain file {str(p)!r} does not exist")
+        hint = suggest_preset(str(path))
+        raise ValueError(f"chain file {str(p)!r} does not exist" + (f"; {hint}" if hint else ""))
     with p.open("rb") as fh:
         try:
             data = _toml.load(fh)

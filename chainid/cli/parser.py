@@ -128,7 +128,9 @@ def cmd_stiffness(args: argparse.Namespace) -> int:
         write_json(doc, "-")
         return 0
     print(f"chain: d={chain.d} mm, pitch={chain.pitch} mm, width={chain.width} mm, n={chain.n}, "
-          f"E={chain.E} MPa, nu={chain.nu}; variant {args.variant}")
+          f"E={chain.E} MPa, nu={chain.nu}"
+          + (f", {chain.family or 'family not stated'} grade {chain.grade}" if chain.grade else "")
+          + f"; variant {args.variant}")
     print(f"x = {c_lin:.6e}·F + {c_h:.6e}·F^(2/3)  [mm, N]")
     print(f"{'x [mm]':>12} {'F_k [N]':>14} {'k_e [N/mm]':>14}")
     for r in rows:

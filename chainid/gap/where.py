@@ -128,7 +128,8 @@ def localise(prob: Any, base_eval: dict[str, Any]) -> list[dict[str, Any]]:
     # per test
     for d, r, h, rms, sfl, lo, un in sorted(rows, key=lambda z: -z[3])[:3]:
         split = "held-out" if d in prob.hold else "training"
-        W = float(np.mean(r * np.cos((np.arange(r.size) + 0.5) * 2 * math.pi / r.size))) * math.pi * d.A * d.omega / d.omega
+        # work of the residual per cycle, ∮ r dx = ∫ r(ψ)·A cos ψ dψ = 2π·A·mean(r cos ψ) [N·mm]
+        W = float(np.mean(r * np.cos((np.arange(r.size) + 0.5) * 2 * math.pi / r.size))) * 2 * math.pi * d.A
         findings.append({"finding": f"test {d.test} ({split}; ω={d.omega:.3g} rad/s, A={d.A:.3g} mm, x0={d.x0:.3g} mm): "
                          f"NRMSE {base_eval['per_test'][d.test]:.3g}, residual RMS {rms:.3g} N, signed energy "
                          f"error {W:+.3g} N·mm per cycle", "kind": "test", "test": d.test,

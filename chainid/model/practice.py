@@ -18,6 +18,7 @@ import math
 from typing import Any
 
 from chainid.model import kernels
+from chainid.chain.catalogue import canonical_grade
 from chainid.chain.presets import Preset, data, listed, match
 from chainid.chain.spec import ChainSpec, default_chain
 
@@ -85,9 +86,10 @@ def catalogue_ea_N(d_mm: float, kind: str = "studless", source: str = "orcaflex"
 def grade(name: str) -> dict[str, Any]:
     """The grade's entry of the data file (``kind``, strengths [MPa], load coefficients, ``source``)."""
     g = data()["grades"]
-    if name not in g:
+    key = str(name).strip().upper()
+    if key not in g:
         raise ValueError(f"grade = {name!r} is invalid: valid grades are {sorted(g)}")
-    return dict(g[name])
+    return dict(g[key])
 
 
 def _w22_force_N(coeff: float, d: float) -> float:
@@ -180,6 +182,16 @@ def tangent_ea_N(F_N: float, chain: ChainSpec | None = None, variant: str = "pap
     return chain.length_mm / (c_lin + (2.0 / 3.0) * c_h * F ** (-1.0 / 3.0))
 
 
+def _ea_label(family: str | None, kind: str) -> str:
+    """What the "catalogue" EA of a chain is: the OrcaFlex formula of its own type, or for DIN 22252 chain (for
+    which no catalogue EA exists) the studless mooring-chain formula used as a reference only."""
+    formula = "0.854e8 d^2 kN" if kind == "studless" else "1.01e8 d^2 kN"
+    if family in ("studless", "studlink"):
+        return f"OrcaFlex {kind} mooring chain, {formula} (d in m)"
+    return (f"studless mooring-chain formula (OrcaFlex {formula}, d in m) as a reference: no catalogue EA exists "
+            f"for DIN 22252 chain")
+
+
 def _preset_of(chain: ChainSpec) -> Preset | None:
     return match(chain)
 
@@ -191,15 +203,23 @@ def chain_practice(chain: ChainSpec | None = None, grade_name: str | None = None
     Parameters
     ----------
     chain : ChainSpec, optional
-        Default the built-in chain.  Its grade and type come from the matching preset; a chain that
-        matches none is treated as DIN 22252 grade C studless (the paper's kind of chain).
+        Default the built-in chain.  Its grade and family are the chain's own (:attr:`ChainSpec.grade`,
+        :attr:`ChainSpec.family`); when not stated, those of the preset with the same dimensions; a chain that
+        matches none is treated as DIN 22252 grade C (the paper's kind of chain).
     grade_name, kind : str, optional
         Override the grade (``C``, ``R3`` … ``R5``) and the type (``studless``/``studlink``).
     """
     chain = chain or default_chain()
     preset = preset or _preset_of(chain)
-    g = grade_name or (preset.grade if preset else "C")
-    knd = kind or ("studlink" if preset is not None and preset.studlink else "studless")
+    g = grade_name or chain.grade or (preset.grade if preset else "C")
+    family = chain.family or (preset.family if preset else None)
+    if chain.family is None and family is not None:
+        try:  # a stated grade of the other kind (R4 on DIN 22252 dimensions): the grade wins, family unknown
+            canonical_grade(g, family)
+        except ValueError:
+            family = None
+    g = canonical_grade(g, family)
+    knd = kind or ("studlink" if family == "studlink" else "studless")
     gr = grade(g)
     stud = knd == "studlink"
     ea_m = model_ea_N(chain)
@@ -212,7 +232,7 @@ def chain_practice(chain: ChainSpec | None = None, grade_name: str | None = None
     F_fy = contact_limit_load_N(chain, gr["yield"], "first_yield")
     return {
         "preset": preset.name if preset else None,
-        "family": preset.family if preset else None,
+        "family": family,
         "grade": g,
         "kind": knd,
         "d_mm": chain.d, "pitch_mm": chain.pitch, "width_mm": chain.width, "n": chain.n,
@@ -223,6 +243,7 @@ def chain_practice(chain: ChainSpec | None = None, grade_name: str | None = None
         "EA_tangent_10pct_mbl_N": tangent_ea_N(0.1 * mbl, chain),
         "EA_tangent_proof_N": tangent_ea_N(proof, chain),
         "EA_catalogue_orcaflex_N": ea_cat,
+        "EA_catalogue_label": _ea_label(family, knd),
         f"EA_catalogue_dnv_{dnv_grade}_N": ea_dnv,
         "EA_catalogue_dnv_N": ea_dnv,
         "ratio_model_catalogue": ea_m / ea_cat,
@@ -335,7 +356,7 @@ def format_practice(sec: dict[str, Any]) -> str:
         "The model against practice (chain EA, validity of the elastic contact):",
         f"  chain d = {c['d_mm']:g} mm, pitch = {c['pitch_mm']:g} mm, width = {c['width_mm']:g} mm, n = {c['n']}"
         f" ({c['preset'] or 'no preset'}, grade {c['grade']}, {c['kind']})",
-        f"  model EA = l/c_lin = {c['EA_model_N']:.4g} N; catalogue (OrcaFlex {c['kind']}) {c['EA_catalogue_orcaflex_N']:.4g} N"
+        f"  model EA = l/c_lin = {c['EA_model_N']:.4g} N; {c['EA_catalogue_label']}: {c['EA_catalogue_orcaflex_N']:.4g} N"
         f" -> ratio {c['ratio_model_catalogue']:.3f}; DNV-OS-E301 {c['EA_catalogue_dnv_N']:.4g} N -> {c['ratio_model_dnv']:.3f}",
         f"  tangent EA at the proof force {c['EA_tangent_proof_N']:.4g} N ({c['ratio_tangent_proof_catalogue']:.3f} x catalogue)",
         f"  sigma_max(11117 N) = {c['sigma_max_at_paper_load_MPa']:.5g} MPa; elastic-contact limit (sigma_max = yield "
@@ -352,5 +373,8 @@ def format_practice(sec: dict[str, Any]) -> str:
     for r in sec["table"]:
         lines.append(f"  {r['preset']:16s} {r['d_mm']:5g} {r['EA_model_N']:11.4g} {r['EA_catalogue_orcaflex_N']:11.4g} "
                      f"{r['ratio_model_catalogue']:6.3f} {r['contact_limit_load_N']:9.4g} {r['proof_load_N']:10.4g} "
-                     f"{r['contact_limit_over_proof']:11.2e}" + ("  (model has no stud)" if r["model_has_no_stud"] else ""))
+                     f"{r['contact_limit_over_proof']:11.2e}" + ("  (model has no stud)" if r["model_has_no_stud"] else "")
+                     + ("  (EA cat.: studless formula as reference)" if r["family"] == "din22252" else ""))
+    lines.append("  EA cat. of the DIN 22252 rows: the studless mooring-chain formula as a reference; no catalogue EA "
+                 "exists for DIN 22252 chain")
     return "\n".join(lines)

@@ -18,7 +18,7 @@ from chainid.report.common import md_table
 
 __all__ = ["plot_ea", "plot_limits", "report_section"]
 
-_STYLE = {"din22252": ("o", "C0", "DIN 22252 (grade C)"), "studless": ("s", "C1", "studless mooring (R3)"),
+_STYLE = {"din22252": ("o", "C0", "DIN 22252 (grade C; vs the studless formula: no catalogue EA for DIN chain)"), "studless": ("s", "C1", "studless mooring (R3)"),
           "studlink": ("^", "C2", "stud-link mooring (R3; model has no stud)")}
 
 

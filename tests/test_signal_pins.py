@@ -1,0 +1,65 @@
+"""Pins of chainid.signal to closed forms and hand numbers (survivors of the mutation run, issue 20 §5).
+
+Units: mm, s, rad/s.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from chainid.signal.harmonic import HarmonicEstimate
+from chainid.signal.steady import TOL_MAX, _select_with_tol, select_steady
+
+
+def test_harmonic_estimate_kinematics_closed_form():
+    """x = x0 + A sin(ωt + θ), ẋ = ωA cos(ωt + θ), ẍ = −ω²A sin(ωt + θ), period 2π/ω (ω = 2: π)."""
+    h = HarmonicEstimate(omega=2.0, x0=1.0, A=3.0, theta=0.5, noise=0.0)
+    t = np.array([0.0, 0.3, 1.1])
+    np.testing.assert_allclose(h.x(t), 1.0 + 3.0 * np.sin(2.0 * t + 0.5), rtol=1e-15)
+    np.testing.assert_allclose(h.xdot(t), 6.0 * np.cos(2.0 * t + 0.5), rtol=1e-15)
+    np.testing.assert_allclose(h.xddot(t), -12.0 * np.sin(2.0 * t + 0.5), rtol=1e-15)
+    assert h.period == pytest.approx(math.pi, rel=1e-15)
+
+
+def _stats(amps, drifts=None, sd=0.0, nn=8):
+    n = len(amps)
+    return (list(np.arange(n + 1, dtype=float)), np.array(amps, float), np.zeros(n),
+            np.array(drifts if drifts is not None else np.zeros(n), float), np.full(n, sd), np.full(n, nn))
+
+
+def test_drift_tolerance_scales_with_the_plateau():
+    """Plateau 2 mm, tol 5 %: a cycle may drift 0.05·2 = 0.1 mm; 0.08 mm passes, 0.12 mm does not (no noise).
+    Bug caught: tol·plateau replaced (tol % plateau = 0.05 would refuse 0.08)."""
+    t = np.arange(8.0)
+    win = _select_with_tol(t, _stats([2.0] * 7, [0, 0, 0, 0.08, 0, 0, 0]), 0.05, False, None)
+    assert win.n_cycles == 7
+    win = _select_with_tol(t, _stats([2.0] * 7, [0, 0, 0, 0.12, 0, 0, 0]), 0.05, False, None)
+    assert win.n_cycles == 3 and win.cycles_kept == [0, 1, 2]  # the longest run, first on a tie
+    win = _select_with_tol(t, _stats([2.0] * 7, [0, 0, 0, 0.12, 0, 0, 0]), 0.05, False, 0.1)  # drift_tol 10 %
+    assert win.n_cycles == 7
+
+
+def test_amplitude_noise_allowance_four_standard_errors():
+    """Residual SD 0.1 mm over 8 samples: amplitude allowance 4·0.1·sqrt(2/8) = 0.2 mm on top of tol·plateau =
+    0.01·2 = 0.02 mm; a cycle 0.21 mm off passes, 0.23 mm off does not.
+    Bugs caught: sqrt(2/n) changed (2 % n gives sqrt(2): 0.57 mm), the factor 4."""
+    t = np.arange(8.0)
+    amps = [2.0, 2.0, 2.0, 2.21, 2.0, 2.0, 2.0]
+    assert _select_with_tol(t, _stats(amps, sd=0.1), 0.01, False, float("inf")).n_cycles == 7
+    amps[3] = 2.23
+    assert _select_with_tol(t, _stats(amps, sd=0.1), 0.01, False, float("inf")).n_cycles == 3
+
+
+def test_adaptive_tolerance_capped_says_so():
+    """Cycle amplitudes jittering with SD 6 % (clipped to ±20 %): 4 × scatter ≈ 24 % is above the cap, so the tolerance is TOL_MAX = 15 % and
+    the reason names the cap as '15 %'.  Bug caught: the reason's number (100·TOL_MAX) garbled."""
+    w = 2 * math.pi
+    rng = np.random.default_rng(0)
+    amps = 1.0 + np.clip(0.06 * rng.standard_normal(20), -0.2, 0.2)
+    t = np.linspace(0.0, 20.0, 20 * 64, endpoint=False)
+    x = amps[np.minimum((t).astype(int), 19)] * np.sin(w * t)
+    win = select_steady(t, x, w, 0.0, rel_tol=None)
+    assert win.scatter * 4 > TOL_MAX and win.rel_tol >= TOL_MAX
+    assert f"cap {100 * TOL_MAX:g} % (" in win.reason and "cap 15 %" in win.reason
