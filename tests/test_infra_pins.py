@@ -79,27 +79,34 @@ def test_default_runs_on_dask_when_available():
     assert all(d for _, d in out) and os.getpid() not in {p for p, _ in out}
 
 
-def test_progress_bar_throttles_to_ten_draws_a_second(monkeypatch):
-    """The bar draws at start, then at most every 0.1 s, and always at the end (fake clock).
-    Bug caught: the throttle's 'and' made 'or' (no draw at all until the end)."""
+def test_progress_bar_counts_to_the_total_on_a_terminal_only(monkeypatch):
+    """The bar of run_cases is tqdm's (its own 0.1 s throttle replaced the hand-drawn one): on a terminal it
+    reaches n/n and closes; no bar without cases, when disabled, or when stderr is not a terminal.
+    Bugs caught: a bar drawn into a pipe or log; a bar left open (never reaching its total)."""
     import io
+    import sys
 
     from chainid.infra import parallel
 
-    now = [100.0]
-    monkeypatch.setattr(parallel.time, "monotonic", lambda: now[0])
-    out = io.StringIO()
-    bar = parallel._Bar(4, "x", True, stream=out)
-    assert out.getvalue().count("\r") == 1 and "0/4" in out.getvalue()
-    now[0] = 100.05
-    bar.update()  # 0.05 s after the last draw: skipped
-    assert out.getvalue().count("\r") == 1
-    now[0] = 100.2
-    bar.update()  # 0.2 s: drawn
-    assert out.getvalue().count("\r") == 2 and out.getvalue().endswith("2/4 0.2s")
-    now[0] = 100.21
-    bar.update(2)  # the end: always drawn
-    assert out.getvalue().count("\r") == 3 and "4/4" in out.getvalue()
+    tty = io.StringIO()
+    tty.isatty = lambda: True  # type: ignore[method-assign]
+    monkeypatch.setattr(sys, "stderr", tty)
+    bar = parallel._Bar(4, "x", True)
+    for _ in range(4):
+        bar.update()
+    bar.close()
+    assert "4/4" in tty.getvalue()
+    for total, enabled in ((0, True), (4, False)):
+        n0 = len(tty.getvalue())
+        parallel._Bar(total, "y", enabled).close()
+        assert len(tty.getvalue()) == n0
+    pipe = io.StringIO()
+    pipe.isatty = lambda: False  # type: ignore[method-assign]
+    monkeypatch.setattr(sys, "stderr", pipe)
+    b = parallel._Bar(4, "z", True)
+    b.update(4)
+    b.close()
+    assert pipe.getvalue() == ""
 
 
 def test_commit_without_hard_links_still_refuses_to_overwrite(tmp_path, monkeypatch):
