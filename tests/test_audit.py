@@ -11,17 +11,12 @@ import paper_forms  # tests/paper_forms.py: the paper's closed forms in plain Py
 
 from chainid.damping.audit import EQ28_PAPER, audit, eq28, format_audit, load_table1
 from chainid.cli.identify import main as cli
+from stand_ins import LinearSpring
 
 
-class Lin:
-    name = "stand-in linear"
-    mass_kg = 3.2
-
-    def force(self, x):
-        return 10000.0 * np.asarray(x, float)
-
-    def stiffness(self, x):
-        return np.full(np.shape(x), 10000.0)
+def Lin():
+    """The closed-form spring of these tests: F = 10000·x."""
+    return LinearSpring(10000.0)
 
 
 def _models_available():

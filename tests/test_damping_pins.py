@@ -8,17 +8,12 @@ import numpy as np
 import pytest
 
 from chainid.damping.audit import VALIDATION, audit
+from stand_ins import LinearSpring
 
 
-class Lin:
-    name = "stand-in linear"
-    mass_kg = 3.2
-
-    def force(self, x):
-        return 10000.0 * np.asarray(x, float)
-
-    def stiffness(self, x):
-        return np.full(np.shape(x), 10000.0)
+def Lin():
+    """The closed-form spring of these tests: F = 10000·x."""
+    return LinearSpring(10000.0)
 
 
 def test_finding_d_forward_prediction_closed_form():

@@ -18,17 +18,12 @@ from chainid.records.simulate import (
     simulate_test,
     write_plan,
 )
+from stand_ins import LinearSpring
 
 
-class Lin:
-    name = "stand-in linear"
-    mass_kg = 3.2
-
-    def force(self, x):
-        return 20000.0 * np.asarray(x, float)
-
-    def stiffness(self, x):
-        return np.full(np.shape(x), 20000.0)
+def Lin():
+    """The closed-form spring of these tests: F = 20000·x."""
+    return LinearSpring(20000.0)
 
 
 def test_paper_plan_matches_table1_with_documented_conversion():
