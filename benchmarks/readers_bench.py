@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -34,6 +33,7 @@ sys.path.insert(0, str(ROOT))
 
 from chainid.records.record import Record  # noqa: E402
 from chainid.records.writer import write_canonical  # noqa: E402
+from timing import PEAK_RSS_AFTER, PEAK_RSS_BEFORE, run_child  # benchmarks/timing.py  # noqa: E402
 
 
 def shaker(test: str, n: int, seed: int) -> Record:
@@ -53,44 +53,25 @@ def legacy_write(path: Path, records: list[Record]) -> None:
 
 
 _CHILD = r"""
-import gc, json, resource, sys, time
+import json, sys, time
 sys.path.insert(0, sys.argv[1])
 from chainid.records import files, textcanon
 import pyarrow.csv  # imported before the peak reset in both runs (its import is not reading)
-
-def status(key):
-    with open("/proc/self/status") as fh:
-        for line in fh:
-            if line.startswith(key + ":"):
-                return int(line.split()[1]) * 1024
-    return 0
-
-gc.collect()
-base = status("VmRSS")
-try:
-    with open("/proc/self/clear_refs", "w") as fh:
-        fh.write("5")
-    reset = True
-except OSError:
-    reset = False
+""" + PEAK_RSS_BEFORE + r"""
 t0, c0 = time.perf_counter(), time.process_time()
 if sys.argv[3] == "legacy":
     recs = textcanon.read_csv_strict(sys.argv[2])
 else:
     recs = files.read_records(sys.argv[2], validate=False)
 dt, cpu = time.perf_counter() - t0, time.process_time() - c0
-peak = status("VmHWM") if reset else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+""" + PEAK_RSS_AFTER + r"""
 print(json.dumps({"base": base, "peak": peak, "seconds": dt, "cpu_seconds": cpu, "rows": sum(r.t.size for r in recs),
                   "checksum": float(sum(float(r.F.sum()) for r in recs))}))
 """
 
 
 def read_in_child(path: Path, which: str) -> dict:
-    out = subprocess.run([sys.executable, "-c", _CHILD, str(ROOT), str(path), which], capture_output=True,
-                         text=True, env={**os.environ, "PYTHONPATH": str(ROOT)})
-    if out.returncode != 0:
-        raise SystemExit(f"child failed: {out.stderr.strip()}")
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return run_child(_CHILD, [str(ROOT), str(path), which], str(ROOT))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -29,7 +29,6 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -41,7 +40,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from chainid.records import files as records  # noqa: E402
-from timing import median_time  # benchmarks/timing.py (this folder is on sys.path when run)  # noqa: E402
+from timing import PEAK_RSS_AFTER, PEAK_RSS_BEFORE, median_time, run_child  # benchmarks/timing.py (this folder is on sys.path when run)  # noqa: E402
 
 
 def shaker(n: int, seed: int = 0, f: float = 18.0, fs: float = 10_000.0) -> records.Record:
@@ -111,40 +110,21 @@ def write_csv(path: Path, target_bytes: int, n_tests: int = 10) -> tuple[int, in
 
 
 _CHILD = r"""
-import gc, resource, sys, json, time
+import json, sys, time
 sys.path.insert(0, sys.argv[2])
 from chainid import records
-
-def status(key):
-    with open("/proc/self/status") as fh:
-        for line in fh:
-            if line.startswith(key + ":"):
-                return int(line.split()[1]) * 1024
-    return 0
-
-gc.collect()
-base = status("VmRSS")
-try:  # reset the peak (VmHWM) so that the import's own transient peak does not count
-    with open("/proc/self/clear_refs", "w") as fh:
-        fh.write("5")
-    reset = True
-except OSError:
-    reset = False
+""" + PEAK_RSS_BEFORE + r"""
 t0 = time.perf_counter()
 recs = records.read_records(sys.argv[1], validate=sys.argv[3] == "1")
 dt = time.perf_counter() - t0
-peak = status("VmHWM") if reset else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+""" + PEAK_RSS_AFTER + r"""
 print(json.dumps({"base": base, "peak": peak, "seconds": dt, "tests": len(recs),
                   "samples": sum(r.t.size for r in recs)}))
 """
 
 
 def _child(path: Path, validate: bool) -> dict:
-    out = subprocess.run([sys.executable, "-c", _CHILD, str(path), str(ROOT), "1" if validate else "0"],
-                         capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(ROOT)})
-    if out.returncode != 0:
-        raise SystemExit(f"child failed: {out.stderr.strip()}")
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return run_child(_CHILD, [str(path), str(ROOT), "1" if validate else "0"], str(ROOT))
 
 
 def bench_memory(target_mb: float) -> dict:
