@@ -201,14 +201,42 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         if swaps:
             path[:] = _rebuild(prob, base, final, base_hold)
     dropped = _backward(prob, path, base_hold)
-    confounded += _two_for_one(prob, path[-1], names, base_hold)
+    alts = _two_for_one(prob, path[-1], names, base_hold)
+    confounded += [a["report"] for a in alts]
+    _take_tie_break(prob, base, path, alts, base_hold)
     return {"path": path, "singles": singles, "stop": stop, "confounded": confounded, "dropped": dropped,
             "swapped": swaps}
 
 
+def _tie_key(c: Candidate) -> tuple[int, int, float]:
+    """The near-tie order of :func:`_pick`: fewer parameters pinned at a bound, then fewer parameters, then BIC."""
+    return (len(c.at_bound), c.n_params, c.bic)
+
+
+def _take_tie_break(prob: Problem, base: Candidate, path: list[Candidate], alts: list[dict[str, Any]],
+                    base_hold: float) -> None:
+    """Apply the step rule's near-tie order to the two-for-one alternatives of the final chain.
+
+    An alternative within ``TIE`` that comes first in :func:`_tie_key` (same number of parameters and a lower BIC:
+    a Hertz law's scale and exponent against a stiffness level and a slack) replaces the chain, when each of its
+    effects survives the backward pass; otherwise the chain stands.  Either way the pair is reported as confounded.
+    """
+    full = path[-1]
+    better = [a for a in alts if _tie_key(a["cand"]) < _tie_key(full)]
+    if not better:
+        return
+    pick = min(better, key=lambda a: _tie_key(a["cand"]))
+    new = _rebuild(prob, base, pick["cand"], base_hold)
+    if not _backward(prob, new, base_hold):
+        path[:] = new
+        rep = pick["report"]  # now the chain's pair is the verdict and the replaced effect the alternative
+        rep["pair"], rep["loto"] = rep["pair"][::-1], rep["loto"][::-1]
+
+
 def _two_for_one(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> list[dict[str, Any]]:
     """Stiffness-side effects that the plan cannot tell apart from a pair of others (e.g. a Hertz law with a
-    fitted exponent vs a stiffness level plus an offset): reported as confounded, the verdict unchanged."""
+    fitted exponent vs a stiffness level plus an offset), each as ``{"report": confounded entry, "cand": the
+    alternative's fit}``."""
     out: list[dict[str, Any]] = []
     fam = FAMILIES[0]
     for n in full.names:
@@ -221,8 +249,8 @@ def _two_for_one(prob: Problem, full: Candidate, allowed: Sequence[str], base_ho
                 start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
                 c = _fit_score(prob, names, start, base_hold)
                 if c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and not c.at_bound:
-                    out.append({"step": len(full.names), "pair": [n, f"{a}+{b}"],
-                                "loto": [full.nrmse_loto, c.nrmse_loto]})
+                    out.append({"report": {"step": len(full.names), "pair": [n, f"{a}+{b}"],
+                                           "loto": [full.nrmse_loto, c.nrmse_loto]}, "cand": c})
     return out
 
 
@@ -265,7 +293,8 @@ def _fit_score(prob: Problem, names: list[str], start: dict[str, float], base_ho
 
 def _exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> tuple[Candidate, list[str]]:
     """Swap a chosen effect for a member of its family when that fits better (LOTO lower by more than TIE, or
-    within TIE with fewer parameters): the first pick of a step is made before later effects are known."""
+    within TIE with fewer parameters) and is identified (rule 4: none of its parameters at a bound of its physical
+    range): the first pick of a step is made before later effects are known."""
     swaps: list[str] = []
     for _ in range(2):
         improved = False
@@ -277,6 +306,10 @@ def _exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold:
                 names = [m if k == n else k for k in full.names]
                 start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
                 c = _fit_score(prob, names, start, base_hold)
+                # rule 4 holds for a swap too: a member whose parameters sit at a bound of their physical range
+                # does not fit (Dahl hysteresis with x_h at its floor is Coulomb friction under another name)
+                if any(k.startswith(m + ".") for k in c.at_bound):
+                    continue
                 better = c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
                     c.nrmse_loto <= (1 + TIE) * full.nrmse_loto
                     and (len(c.at_bound), c.n_params) < (len(full.at_bound), full.n_params))

@@ -36,6 +36,37 @@ from chainid.gap.timedomain import TimeData, split_blocks, undamped
 
 #: finite-difference step of the Jacobian in the unit box of a parameter's physical range
 FD_STEP = 1e-4
+#: a leave-out step that moves a parameter by more than this fraction of its physical range is checked on the
+#: nonlinear model (the Gauss–Newton linearisation is a local one)
+LINEAR_STEP = 0.01
+
+
+def leave_out_step(Ab: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The linearised leave-one-block-out refit step Δ (θ_(b) = θ − Δ in the unit box of each parameter's
+    physical range; the last entry is the viscous c [N·s/mm]).
+
+    The refit without block b minimises ½·ΔᵀA_bΔ − gᵀΔ, A_b = JᵀJ − J_bᵀJ_b and g = J_bᵀe_b (Gauss–Newton at the
+    full fit θ), subject to the parameters staying in their physical ranges: lo <= Δ <= hi.  When the unconstrained
+    solution A_bΔ = g leaves the box, the box-constrained quadratic is solved (bounded least squares,
+    ``scipy.optimize.lsq_linear``) rather than the solution clipped: parameters that trade off against each other
+    (a force-channel lag τ against the viscous c, which it mimics as −k·τ·ẋ) must move together, and clipping one of
+    them alone predicts a refit no optimiser would return.
+    """
+    d = np.linalg.lstsq(Ab, g, rcond=1e-12)[0]
+    if np.all(d >= lo) and np.all(d <= hi):
+        return d
+    from scipy.optimize import lsq_linear
+
+    w, V = np.linalg.eigh(0.5 * (Ab + Ab.T))
+    keep = w > max(float(w.max()), 0.0) * 1e-12
+    if not np.any(keep):
+        return np.zeros_like(d)
+    sw = np.sqrt(w[keep])
+    M = sw[:, None] * V[:, keep].T           # MᵀM = A_b on its range
+    y = (V[:, keep].T @ g) / sw              # Mᵀy = g on its range
+    x0 = np.clip(d, lo, hi)
+    r = lsq_linear(M, y, bounds=(lo, hi), method="bvls", tol=1e-12, max_iter=200)
+    return r.x if r.success and np.all(np.isfinite(r.x)) else x0
 
 
 class AnyProblem(Problem):
@@ -206,9 +237,11 @@ class AnyProblem(Problem):
                     sel = off + np.flatnonzero(lab[off:off + n_i] == b + 10_000 * i)
                     Jb, eb = J[sel], e[sel]
                     g = Jb.T @ eb
-                    dth = np.clip(np.linalg.lstsq(A - Jb.T @ Jb, g, rcond=1e-12)[0], dlo, dhi)
+                    dth = leave_out_step(A - Jb.T @ Jb, g, dlo, dhi)
                     eloo = (eb + Jb @ dth) * d.sigma
                     idx = np.flatnonzero(m)[sel - off]
+                    if np.max(np.abs(dth[:-1]), initial=0.0) > LINEAR_STEP:
+                        dth, eloo = self._leave_out_checked(names, p, used, c, dth, d, b, e, lab, i)
                     loo_res[d.test][idx] = eloo
                     deltas.append(dth)
                 off += n_i
@@ -223,6 +256,44 @@ class AnyProblem(Problem):
                    for d in self.tdata for b in range(d.n_blocks)}
         return {"c": c, "res": res, "loo_res": loo_res, "var": var, "sse": sse, "sse_loo": sse_loo, "sd": sd,
                 "force": Fm}
+
+    def _leave_out_checked(self, names: Sequence[str], p: dict[str, float], used: list[str], c: float,
+                           dth: np.ndarray, d: TimeData, b: int, e: np.ndarray, lab: np.ndarray, i: int
+                           ) -> tuple[np.ndarray, np.ndarray]:
+        """A large leave-one-block-out step checked on the nonlinear model (a backtracking Gauss–Newton step).
+
+        The refit without block b is taken at θ − α·Δ with the largest α in 1, ½, ¼, … (down to 1/64) that does not
+        raise the leave-out training cost S_(b) above its value at the full fit θ — an optimiser started at θ would
+        not accept a worse point; with none, α = 0 (the full fit).  Returns α·Δ and block b's left-out residual [N],
+        both from the nonlinear model: an effect whose force is strongly nonlinear in a parameter near its bound
+        (a presliding displacement x_s → 0) makes the linear prediction of a large step meaningless.
+        """
+        keys, lo, hi, _ = self._keys(names)
+        rng = {k: (a, bb) for k, a, bb in zip(keys, lo, hi)}
+        m = self._mask[d.test]
+        keep = lab != b + 10_000 * i          # training rows outside block b, in J's row order
+        s0 = float(np.sum(e[keep] ** 2))
+
+        def at(alpha: float) -> tuple[float, dict[str, np.ndarray]]:
+            pp = dict(p)
+            for j, k in enumerate(used[:-1]):
+                a, bb = rng[k]
+                pp[k] = a + (min(max((p[k] - a) / (bb - a) - alpha * dth[j], 0.0), 1.0)) * (bb - a)
+            Fm, _ = self.forces(names, pp, max(c - alpha * dth[-1], 0.0))
+            res = {dd.test: dd.F - Fm[dd.test] for dd in self.tdata}
+            ek = np.concatenate([res[dd.test][self._mask[dd.test]] / dd.sigma for dd in self.tdata])
+            return float(np.sum(ek[keep] ** 2)), res
+
+        alpha = 1.0
+        while alpha >= 1 / 64:
+            s1, res = at(alpha)
+            if s1 <= s0:
+                sel = m & (d.block == b)
+                return alpha * dth, res[d.test][sel]
+            alpha *= 0.5
+        sel = m & (d.block == b)
+        _, res = at(0.0)
+        return 0.0 * dth, res[d.test][sel]
 
     def evaluate(self, names: Sequence[str], p: dict[str, float], law: str | None = None,
                  at_bound: Sequence[str] = ()) -> dict[str, Any]:
