@@ -270,8 +270,10 @@ def csv_chunks(prefix: bytes, cols: list[np.ndarray], chunk_rows: int = 1 << 18,
     out = np.empty(nblk_max * cap, np.uint8)
     no_text, no_start = np.zeros(0, np.uint8), np.zeros(1, np.int64)
     from concurrent.futures import ThreadPoolExecutor
+    from contextlib import nullcontext
 
-    with ThreadPoolExecutor(max_workers=max(1, min(os.cpu_count() or 1, 8))) as pool:
+    workers = max(1, min(os.cpu_count() or 1, 8))
+    with (ThreadPoolExecutor(max_workers=workers) if n > block_rows and workers > 1 else nullcontext()) as pool:
         for i0 in range(0, n, chunk_rows):
             blk = np.empty((nc, min(chunk_rows, n - i0)))
             for c, col in enumerate(cols):
