@@ -6,10 +6,11 @@ provably round to ``v`` again, in the layout of Python's ``repr`` (positional fo
 error-free product with a double-double table of 10^k, relative error < 1e-30), the candidate integers
 ``D`` = ``y`` rounded to 15, 16, 17 digits, and the certificate ``|D - y| < ulp(v)/2 · 10^k`` (the lower half-gap
 halved when ``v`` is a power of two) with a margin of 1e-7 (in units of the 17th digit; the error of ``y`` is
-< 1e-13 there).  A value no candidate certifies -- none in practice: NaN, ±inf, subnormals and |v| outside
-[1e-280, 1e280] by design, and a decimal that falls within the margin of a half-way point -- is written by
+< 1e-13 there).  A value no candidate certifies -- NaN, ±inf, subnormals and |v| outside [1e-280, 1e280] by
+design, and rarely a power of two whose 17-digit decimal falls in the narrower gap below it -- is written by
 Python's ``repr`` after the kernel (exact, shortest).  The output is not always ``repr``'s: when two 16-digit
-decimals round to ``v`` the nearer is taken, which may not be the one ``repr`` picks; both are exact.
+decimals round to ``v`` the nearer is taken, which may not be the one ``repr`` picks, and a short decimal exactly
+half-way between two doubles (5e22) is left to the 16/17-digit candidates; all are exact.
 
 Units: none (the numbers are written as given).
 """
