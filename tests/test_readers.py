@@ -58,7 +58,12 @@ def test_canonical_csv_fast_and_strict_paths_agree(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "pyarrow", None)  # no pyarrow: the row-by-row reader
     monkeypatch.setitem(sys.modules, "pyarrow.csv", None)
     _same(read_records(p, validate=False))
-    q = write_records(tmp_path / "plain.csv", REF)  # the writer's no-pyarrow path
+    q = write_records(tmp_path / "kernel.csv", REF)  # the numba kernel's text, read by the row-by-row reader
+    _same(read_records(q, validate=False))
+    import chainid.infra.floattext as floattext
+
+    monkeypatch.setattr(floattext, "jit_enabled", lambda: False)  # no kernel, no pyarrow: the %.17g writer
+    q = write_records(tmp_path / "plain.csv", REF)
     _same(read_records(q, validate=False))
 
 

@@ -7,7 +7,7 @@ each subcommand sets ``func(args) -> int`` (exit code).
   [--side F.csv] [--steady-tol TOL] [--strict] [--json F] [--plots DIR] [--force]``
 * ``chainid simulate OUT.csv [--plan F.csv|paper] [--law NAME --params ...]
   [--noise-x MM] [--noise-F N] [--seed S] [--force]``
-* ``chainid audit [--chain F.toml] [--json F] [--force]``
+* ``chainid audit [--chain F.toml] [--data RECORDS [reading options]] [--json F] [--force]``
 """
 from __future__ import annotations
 
@@ -360,17 +360,25 @@ def _check_simulate_options(args: argparse.Namespace) -> None:
 # audit
 # ----------------------------------------------------------------------------
 def cmd_audit(args: argparse.Namespace) -> int:
-    """``chainid audit``: Eq. 28 from Table 1 and findings (a)–(e)."""
+    """``chainid audit``: Eq. 28 from Table 1 and findings (a)–(e); with ``--data RECORDS``: c_e(ω, A) identified
+    per test from the records (as ``identify``) and the same Eq. 28 audit on them instead of Table 1."""
     from chainid.damping.audit import audit, format_audit
 
     _check_out(args.json, args.force)
-    model = None
-    try:
-        model = _model(args)
-    except ImportError:
-        print("warning: stiffness model unavailable; finding (c) without k_e", file=sys.stderr)
-    rep = audit(model)
-    print(format_audit(rep))
+    if args.data:  # the records' c_e instead of Table 1 (chainid.cli.audit_data)
+        from chainid.cli.audit_data import audit_data
+
+        _check_model_numbers(args)
+        rep, text = audit_data(args, _model, _steady_tol(args.steady_tol))
+    else:
+        try:
+            model = _model(args)
+        except ImportError:
+            model = None
+            print("warning: stiffness model unavailable; finding (c) without k_e", file=sys.stderr)
+        rep = audit(model)
+        text = format_audit(rep)
+    print(text)
     if args.json:
         _write_json(args.json, rep, args.force)
         if args.json != "-":
@@ -461,10 +469,15 @@ def add_subparsers(subparsers: Any) -> None:
 
     a = subparsers.add_parser("audit", help="reproduce Eq. 28 and audit the paper's damping numbers",
                               description=cmd_audit.__doc__)
-    a.add_argument("--chain", metavar="FILE.toml", help="chain TOML file for finding (c)")
-    a.add_argument("--variant", default="paper")
+    a.add_argument("--data", metavar="RECORDS", help="audit c_e identified from these records instead of Table 1")
+    _model_options(a)
+    a.add_argument("--allow-compression", action="store_true", help="--data: accept F < 0 (implied by --model linear)")
+    a.add_argument("--steady-tol", dest="steady_tol", metavar="TOL", help="--data: steady-cycle tolerance (as identify)")
+    a.add_argument("--strict", action="store_true", help="--data: fail on a test left out or a plausibility warning")
     a.add_argument("--json", metavar="FILE", help="write the report as JSON (includes eq28_alpha)")
     a.add_argument("--force", action="store_true", help="overwrite an existing JSON file")
+    a.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_reader_options(a)
     a.set_defaults(func=_wrap(cmd_audit))
 
 

@@ -1,5 +1,6 @@
 """Damping identification from harmonic records (the paper's Eq. 21–28): per-test c_e and energy
-(:mod:`.identify`), the audit of the paper's Table 1 and Eq. 26–28 (:mod:`.audit`) and their figures
+(:mod:`.identify`), the audit of the paper's Table 1 and Eq. 26–28 (:mod:`.audit`) and of Eq. 28 on the user's records
+(:mod:`.audit_data`) and their figures
 (:mod:`.plots`). Units mm, N, s, rad/s.
 """
 from __future__ import annotations
@@ -18,6 +19,9 @@ _LAZY = {
     "eq28": "audit",
     "format_audit": "audit",
     "sig_round": "audit",
+    "audit_records": "audit_data",
+    "audit_results": "audit_data",
+    "format_audit_data": "audit_data",
     "HarmonicFit": "identify",
     "fit_harmonic": "identify",
     "TestResult": "identify",

@@ -1,6 +1,7 @@
 """Plumbing every floor may use: atomic files and strict JSON (:mod:`.fileio`), parallel execution on
 dask.distributed or a process pool (:mod:`.parallel`), a numba cache that never crashes (:mod:`.numba_cache`)
-and progress bars on a terminal (:mod:`.progress`).
+and progress bars on a terminal (:mod:`.progress`), exact CSV text of doubles by a numba kernel
+(:mod:`.floattext`).
 Nothing here knows about chains.
 """
 from __future__ import annotations
@@ -38,6 +39,7 @@ _LAZY = {
     "worker_count": "parallel",
     "probe_scheduler": "parallel",
     "progress_enabled": "progress",
+    "csv_chunks": "floattext",
     "progress_iter": "progress",
 }
 

@@ -130,7 +130,7 @@ def read_records(
 def write_records(path: str | Path, records: Iterable[Record], overwrite: bool = False) -> Path:
     """Write records as long-format CSV ``test,t,x,F`` (or Parquet by the suffix ``.parquet``).
 
-    Numbers are written as the shortest text that reads back to the same float64
+    Numbers are written as text that reads back to the identical float64, at most 17 significant digits
     (see :func:`chainid.records.writer.write_canonical`); the file appears atomically.
 
     Parameters

@@ -1,7 +1,11 @@
 """Write records in the canonical long format ``test,t,x,F`` (s, mm, N): CSV or Parquet, atomically and fast.
 
-CSV numbers are the shortest text that reads back to the same float64 (pyarrow's writer); without pyarrow a
-block-formatted ``%.17g`` writer (slower, see ``benchmarks/records_bench.py``) gives the same values.
+CSV numbers are text that reads back to the identical float64 in at most 17 significant digits.  Formatted by
+polars when it is installed (the optional extra ``chainid[fast]``: shortest round-trip text, about 2x less CPU),
+else by chainid's numba kernel on all cores (:mod:`chainid.infra.floattext`; ``repr``'s text for the few values it
+cannot certify); with ``NUMBA_DISABLE_JIT=1`` by pyarrow's writer, and without pyarrow by a block-formatted
+``%.17g`` writer.  All give the same values (``benchmarks/readers_bench.py`` measures them).  A record with NaN or
+inf is written by the kernel (``nan``, ``inf`` as before; polars would write ``NaN``).
 """
 from __future__ import annotations
 
@@ -82,6 +86,30 @@ def _write_csv_arrow(fh, records: list[Record]) -> None:
             fh.write(memoryview(fut.result()))
 
 
+def _write_csv_kernel(fh, records: list[Record], polars=None) -> None:
+    """The numba kernel's text (or polars', if given), chunk by chunk (bounded memory)."""
+    from chainid.infra.floattext import csv_chunks
+
+    for r in records:
+        if polars is not None and all(np.isfinite(a).all() for a in (r.t, r.x, r.F)):
+            for i in range(0, r.t.size, _ROWS_PER_WRITE):
+                j = i + _ROWS_PER_WRITE
+                polars.DataFrame({"test": polars.repeat(r.test, r.t[i:j].size, eager=True), "t": r.t[i:j],
+                                  "x": r.x[i:j], "F": r.F[i:j]}).write_csv(fh, include_header=False)
+            continue
+        for piece in csv_chunks(r.test.encode(), [r.t, r.x, r.F]):
+            fh.write(piece)
+
+
+def _polars():
+    """polars if installed (``pip install "chainid[fast]"``), else None."""
+    try:
+        import polars
+    except ImportError:
+        return None
+    return polars
+
+
 def write_canonical(path: str | Path, records: Iterable[Record], overwrite: bool = False,
                     fmt: str | None = None) -> Path:
     """Write records as ``test,t,x,F`` (t s, x mm, F N): CSV, or Parquet by the suffix ``.parquet``/``.pq``.
@@ -121,13 +149,17 @@ def write_canonical(path: str | Path, records: Iterable[Record], overwrite: bool
         return p
     if fmt != "csv":
         raise ValueError(f"output format {fmt!r} is invalid; valid: 'csv', 'parquet'")
+    from chainid.infra.floattext import jit_enabled
+
     try:
         import pyarrow.csv as pacsv
     except ImportError:
         pacsv = None
     with atomic_open(p, "wb", force=overwrite, what="records") as fh:
         fh.write(b"test,t,x,F\n")
-        if pacsv is None:
+        if jit_enabled():
+            _write_csv_kernel(fh, recs, _polars())
+        elif pacsv is None:
             _write_csv_plain(fh, recs)
         else:
             _write_csv_arrow(fh, recs)
