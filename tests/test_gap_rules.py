@@ -1,0 +1,147 @@
+"""Pins of the gap layer's small documented rules (verdict warnings, terminal summary, second-plateau message,
+ringing ratio, benchmark effect texts, step 0's baseline) to hand-computed values (issue 20 §5: the survivors of
+the seed-21 mutation run, `benchmarks/mutation_survivors_seed21.md`).
+
+Units: N, s, mm, Hz.
+"""
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from chainid.gap import verdict as vd
+from chainid.gap.benchmark_time import effect_spec
+from chainid.gap.prepare import other_plateau
+from chainid.gap.summary import summary
+from chainid.gap.where_time import PEAK, RING_RATIO, ringing
+
+STAT_OK = {"stationary": True, "trend_change_N": 0.0, "finding": ""}
+
+
+# ---------------------------------------------------------------- verdict.decide
+def _decide(consistent, final, best):
+    warn: list[str] = []
+    v = vd.decide(consistent, final, dict(STAT_OK), 1.0, [], {"stop": "STOP"}, [], warn, best=best)
+    return v, warn
+
+
+def test_no_effect_warning_only_when_the_verdict_is_unexplained():
+    """'no effect passed the step rule' is said only for an `unexplained` verdict with no final step and a best
+    candidate (documented in decide).  Bug caught: `and` → `or` (the warning on a `none` verdict)."""
+    best = SimpleNamespace(names=("friction",), shrinkage=0.9)
+    assert _decide(True, None, best) == ("none", [])  # the baseline is at the noise: nothing to warn about
+    v, warn = _decide(False, None, best)
+    assert v == "unexplained" and warn == ["no effect passed the step rule (STOP)"]
+    assert _decide(False, None, None) == ("unexplained", [])  # no candidate at all: no step rule was tried
+    final = SimpleNamespace(names=("friction", "slack"), shrinkage=vd.MIN_SHRINK)
+    assert _decide(False, final, best) == ("friction+slack", [])
+    short = SimpleNamespace(names=("friction",), shrinkage=0.99 * vd.MIN_SHRINK)
+    assert _decide(False, short, best) == ("unexplained", [])
+
+
+# ---------------------------------------------------------------- summary
+def _result(**baseline):
+    b = {"model": "linear", "damping_law": "viscous", "nrmse_train": 0.1, "nrmse_holdout": 0.2,
+         "db_over_noise": 3.0, "excess_rms_N": 5.0, "noise_sigma_N": 2.0} | baseline
+    return {"baseline": b, "where": [], "ranking": [], "verdict": "none", "steps": []}
+
+
+def test_summary_says_the_damping_law_reason_unless_given():
+    """The baseline's damping-law reason is printed when the law was chosen (auto), not when the user gave it,
+    and a result without a reason has no such line.  Bug caught: `and` → `or` in the condition."""
+    assert "  damping law:" not in summary(_result())
+    assert "  damping law:" not in summary(_result(damping_law_reason="given"))
+    txt = summary(_result(damping_law_reason="4 training tests: a law with <= 3 coefficients"))
+    assert "  damping law: 4 training tests: a law with <= 3 coefficients" in txt.splitlines()
+    assert "VERDICT: none" in txt
+
+
+# ---------------------------------------------------------------- prepare.other_plateau
+def test_second_plateau_named_with_its_distance_from_the_steady_mean():
+    """A whole cycle at the plateau amplitude about a mean more than half that amplitude away is a second steady
+    state; the message gives its index, amplitude, mean and distance |8 − 5| = 3 mm (by hand).  Ramp cycles
+    (amplitude 40 % off) and cycles within half an amplitude of the mean do not count."""
+    win = SimpleNamespace(cycle_amplitudes=[1.2, 2.0, 2.0, 2.0, 2.0, 2.1, 1.9], cycle_means=[9.0, 5.0, 5.1, 4.9, 5.0,
+                          5.9, 8.0], cycles_kept=[1, 2, 3, 4], plateau_A=2.0)
+    msg = other_plateau(win)
+    # cycle 0 is a ramp (1.2/2 − 1 = −40 %), cycle 5 is 0.9 mm < 1 mm (half the amplitude) from the mean 5.0
+    assert msg.startswith("not one steady harmonic test: cycle 6 oscillates at the plateau amplitude (1.9 mm)")
+    assert "about x = 8 mm, 3 mm from the steady window's mean" in msg
+    win.cycle_means = [9.0, 5.0, 5.1, 4.9, 5.0, 5.9, 5.8]
+    assert other_plateau(win) == ""
+
+
+# ---------------------------------------------------------------- where_time.ringing
+def _ring_case(burst_everywhere: bool):
+    fs, n = 1000.0, 8000
+    t = np.arange(n) / fs
+    xd = 2 * math.pi * np.cos(2 * math.pi * 1.0 * t)  # x = sin(2π t): 1 Hz motion
+    sliding = np.abs(xd) >= 0.2 * np.quantile(np.abs(xd), 0.99)
+    hum = 5.0 * np.sin(2 * math.pi * 60.0 * t)  # 60 Hz, far above the cut 4 × 2 Hz
+    res = hum if burst_everywhere else np.where(sliding, hum, 0.0) + 0.05 * np.random.default_rng(1).normal(size=n)
+    d = SimpleNamespace(test="R", f_band=2.0, fs=fs, xd=xd)
+    return ringing([d], {"R": res}), sliding
+
+
+def test_ringing_needs_the_sliding_residual_above_the_rest():
+    """A narrow 60 Hz tone of the same amplitude while sliding and at rest (mains hum, a sensor resonance) is not
+    chatter: its sliding/rest mean-square ratio is 1 (by construction), below RING_RATIO, although its spectral
+    peak is narrow.  The same tone only while sliding is chatter: ratio (25/2)/0.05² ≫ RING_RATIO.
+    Bug caught: the ratio replaced by inf when the rest has power (`rest > 0` → `rest <= 0`)."""
+    hum, _ = _ring_case(True)
+    assert hum["peak_ratio"] >= PEAK and hum["ratio"] == pytest.approx(1.0, abs=0.1)
+    assert hum["chatter"] is False and hum["kind"] == "ringing"
+    chat, _ = _ring_case(False)
+    assert chat["ratio"] > 100 * RING_RATIO and chat["chatter"] is True and chat["kind"] == "chatter"
+    assert chat["frequency_Hz"] == pytest.approx(60.0, abs=2.0)
+    assert chat["rms_N"] == pytest.approx(5.0 / math.sqrt(2), rel=0.05)  # RMS of the 5 N tone while sliding
+
+
+# ---------------------------------------------------------------- benchmark_time.effect_spec
+@pytest.mark.parametrize("effect, level, want", [
+    ("friction", 2.0, "friction:F_c=200"),  # 0.1 · 2 · S
+    ("hysteresis", 1.0, "hysteresis:F_h=100,x_h=0.15"),  # 0.1 · S, 0.3 · Amin
+    ("backlash", 2.0, "backlash:b=0.1"),  # 0.1 · 2 · Amin
+    ("slack", 3.0, "slack:s=0.15"),
+    ("machine_compliance", 1.0, "machine_compliance:c=0.0004"),  # 0.1 / k
+    ("stiffness_level", 2.0, "stiffness_level:scale=0.8"),  # 1 − 0.1 · level below level 3
+    ("stiffness_level", 3.0, "stiffness_level:scale=1.3"),  # a stiffer chain from level 3 on
+    ("contact_law", 1.0, "contact_law:scale=1.3"),  # 1 + 0.3 · level
+    ("sensor_delay", 1.0, "sensor_delay:tau=0.015"),  # 0.15 / wmax
+    ("damping_law", 2.0, "damping_law:eta=0.2"),
+])
+def test_benchmark_effect_text_by_hand(effect, level, want):
+    """S = 1000 N, k = 250 N/mm, Amin = 0.5 mm, wmax = 10 rad/s: the `--effect` texts computed by hand from the
+    documented strengths."""
+    assert effect_spec(effect, level, 1000.0, 250.0, 0.5, 10.0) == want
+
+
+# ---------------------------------------------------------------- modelio.step_models
+def test_step_models_baseline_is_step_zero_and_step_zero_is_bare():
+    """Every step's model is compared with step 0 (the baseline: the base spring and the fitted damping, no effect,
+    no delay); step 0's own baseline is that same bare model, so both predict the same force on any record.
+    The truth here is a pure 0.05 s force-channel lag: the last step carries it, step 0 does not."""
+    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.gap.diagnose import diagnose
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import parse_effect
+    from chainid.model.laws import PolynomialLaw
+    from chainid.records.simulate import simulate
+
+    model = ChainModel()
+    recs = simulate(grid3x3_plan(prefix=""), model, PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0]), n_cycles=6,
+                    samples_per_cycle=96, noise_F=2.0, seed=1, force_fn=parse_effect("sensor_delay:tau=0.05", model))
+    res = diagnose(recs, ["3", "7", "11"], model, max_combo=1, uncertainty=False, quiet=True)
+    assert res["verdict"] == "sensor_delay"
+    models = res["_models"]
+    assert len(models) == len(res["steps"]) == 2
+    assert models[0].effects == [] and models[0].delay_s == 0.0
+    assert models[1].delay_s == pytest.approx(0.05, rel=0.05) and models[1].baseline is models[0]
+    b0 = models[0].baseline
+    assert b0.effects == [] and b0.delay_s == 0.0 and b0.base is models[0].base
+    r = recs[0]
+    t, x = np.asarray(r.t, float), np.asarray(r.x, float)
+    np.testing.assert_allclose(b0.force(t, x), models[0].force(t, x), rtol=1e-12, atol=1e-9)
