@@ -65,3 +65,71 @@ def test_finding_c_half_swing_of_a_linear_spring():
     assert f["F_k_swing_half_N"] == pytest.approx(1e4 * EQ27["A"], rel=1e-12)
     assert f["F_k_at_x0_N"] == pytest.approx(1e4 * EQ27["x0"], rel=1e-12)
     assert f["k_e_range_x0_pm_A_N_per_mm"] == [1e4, 1e4]
+
+
+# ---------------------------------------------------------------- seed-21 survivors (issue 20 §5)
+class HeavySpring(LinearSpring):
+    """F = 10000·x with a 500 kg moving mass: m·ω²·1e-3 = 967 N/mm at 7 Hz, a tenth of k (the inertia shows)."""
+
+    mass_kg = 500.0
+
+
+def test_finding_d_inertia_term_of_a_heavy_mass():
+    """The closed form of test_finding_d_forward_prediction_closed_form with m = 500 kg, where the inertia term
+    −m·ω²·A·sin ψ·1e-3 moves the extremes by hundreds of N.  Bug caught: ẍ = −ω²·A sin ψ garbled (−ω + 2·A sin ψ),
+    invisible next to c·ω·A with the chain's 3.2 kg."""
+    f = {x["id"]: x for x in audit(HeavySpring())["findings"]}["d"]["numbers"]
+    w = 2 * math.pi * VALIDATION["f_Hz"]
+    A, x0, k, m = VALIDATION["A"], VALIDATION["x0"], 1e4, 500.0
+    for key in ("omega_7", "omega_14pi"):
+        B, C = A * (k - m * w * w * 1e-3), f[f"c_e_{key}"] * w * A
+        amp = math.hypot(B, C)
+        assert f[f"F_max_N_{key}"] == pytest.approx(k * x0 + amp, abs=1e-5 * amp)
+        assert f[f"F_min_N_{key}"] == pytest.approx(k * x0 - amp, abs=1e-5 * amp)
+
+
+def test_finding_a_paper_omega_over_the_column_is_pi_over_10():
+    """Eq. 25's ω of test 3 is 1.884 rad/s where Table 1's column says 6: 1.884/6 = 0.314 = π/10 to 0.051 %
+    (by hand), the unit factor finding (a) is about.  Bug caught: 1.884 // 6 = 0."""
+    f = {x["id"]: x for x in audit(Lin())["findings"]}["a"]["numbers"]
+    assert f["eq25_omega_test3_rad_s"] == 1.884
+    assert f["eq25_over_column_test3"] == pytest.approx(0.314, rel=1e-12)
+    assert f["eq25_over_column_test3"] == pytest.approx(math.pi / 10, rel=6e-4)
+    assert f["column_equals_f_Hz_times"] == pytest.approx(20.0, rel=1e-12)  # 2π/(π/10)
+
+
+def test_plot_loop_draws_one_closed_model_cycle(tmp_path):
+    """The model loop of plot_loop is one cycle of the fitted harmonic from the window's start: x(t) =
+    x0 + A sin(ω(t − t_origin) + θ) over one period 2π/ω from t_start, so it closes and spans x0 ± A (by hand).
+    Bug caught: the period's end t_start + 2π/ω garbled (t_start**2·π/ω)."""
+    from types import SimpleNamespace
+
+    from chainid.damping.plots import plot_loop
+
+    seen = []
+
+    class Spy(LinearSpring):
+        def force(self, x):
+            seen.append(np.array(x, float))
+            return super().force(x)
+
+    t = np.linspace(0.0, 3.0, 301)
+    rec = SimpleNamespace(t=t, x=2.0 + 0.3 * np.sin(10.0 * t), F=1e4 * (2.0 + 0.3 * np.sin(10.0 * t)))
+    res = SimpleNamespace(t_start=1.0, t_end=2.5, omega=10.0, t_origin=0.25, theta=0.4, x0=2.0, A=0.3, c_e=5.0,
+                          mass_kg=3.2, test="T", W=1.0, W_ratio=1.0)
+    plot_loop(rec, res, Spy(), tmp_path / "loop.png")
+    xh = seen[-1]  # the elastic force's call on the model cycle
+    assert xh.size == 400
+    assert xh[0] == pytest.approx(2.0 + 0.3 * math.sin(10.0 * 0.75 + 0.4), rel=1e-12)
+    assert xh[-1] == pytest.approx(xh[0], abs=1e-12)  # one whole period: the loop closes
+    assert xh.max() == pytest.approx(2.3, abs=1e-4) and xh.min() == pytest.approx(1.7, abs=1e-4)
+
+
+def test_test_result_defaults_of_a_hand_made_result():
+    """A TestResult built by hand (a side file's values) used no cycles and no window: n_cycles 0, no kept
+    cycles, source "estimated" (the documented defaults)."""
+    from chainid.damping.identify import TestResult
+
+    r = TestResult("T", 10.0, 2.0, 0.3, 2e4, 3e3, 0.1, 0.99, 300.0, 100.0, 50.0)
+    d = r.to_dict()
+    assert (d["n_cycles"], d["cycles_kept"], d["source"], d["t_start"], d["t_end"]) == (0, [], "estimated", 0.0, 0.0)
