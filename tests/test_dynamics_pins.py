@@ -123,3 +123,26 @@ def test_slack_release_of_hysteretic_elements_keeps_the_balance(kw):
     eb = res.energy_balance()
     assert res.tension.min() == 0.0  # segments went slack
     assert eb["relative_error"] < 1e-2
+
+
+def test_viscous_equivalent_of_a_law_at_the_operating_point():
+    """A law object is evaluated at (ω, A, x0): Eq. 21 with α = (0.01, 0.2, 3, 4, 5) at ω = 10, A = 0.5 gives
+    c_e = 1 + 2 + 0.75 + 2 + 5 = 10.75 N·s/mm (by hand); a number is taken as c_e itself.
+    Bug caught: the law's first (only) value not the one taken."""
+    from chainid.dynamics.model import viscous_equivalent
+    from chainid.model.laws import PolynomialLaw
+
+    assert viscous_equivalent(PolynomialLaw([0.01, 0.2, 3.0, 4.0, 5.0]), 10.0, 0.5, 2.0) == pytest.approx(10.75,
+                                                                                                        rel=1e-12)
+    assert viscous_equivalent(7, 10.0, 0.5, 2.0) == 7.0
+    with pytest.raises(ValueError, match="c_e"):
+        viscous_equivalent(PolynomialLaw([0.0, 0.0, 0.0, 0.0, -1.0]), 10.0, 0.5, 2.0)
+
+
+def test_default_output_is_500_steps_besides_t0():
+    """simulate stores at most n_out = 500 samples besides t = 0 by default (documented); a run much shorter than
+    the stable step takes exactly t_end/500 per step, so the output is t = k·t_end/500, k = 0 … 500."""
+    line = ChainLine(n_links=20, n_masses=2, pretension_N=1000.0)
+    res = simulate(line, Drive("none"), 1e-6)
+    np.testing.assert_allclose(res.t, np.arange(501) * 1e-6 / 500, rtol=1e-9, atol=1e-18)
+    assert simulate(line, Drive("none"), 1e-6, n_out=7).t.size == 8
