@@ -133,3 +133,79 @@ def test_test_result_defaults_of_a_hand_made_result():
     r = TestResult("T", 10.0, 2.0, 0.3, 2e4, 3e3, 0.1, 0.99, 300.0, 100.0, 50.0)
     d = r.to_dict()
     assert (d["n_cycles"], d["cycles_kept"], d["source"], d["t_start"], d["t_end"]) == (0, [], "estimated", 0.0, 0.0)
+
+
+def _capture(monkeypatch):
+    """The figures the damping plots hand to chainid.infra.fileio.save_figure (nothing written)."""
+    import chainid.infra.fileio as fileio
+
+    figs = []
+
+    def grab(fig, path, force=True, what="figure", **kw):
+        figs.append(fig)
+        return path
+    monkeypatch.setattr(fileio, "save_figure", grab)
+    return figs
+
+
+def test_plot_loop_shows_the_window_and_eq1_by_hand(monkeypatch, tmp_path):
+    """plot_loop's curves in kN: the measured points of the steady window t_start <= t < t_end only; the model
+    F = m·ẍ·1e-3 + k·x + c·ẋ on the fitted harmonic with the test's c_e and with the law's c_e(ω, A); the elastic
+    force k·x.  k = 1e4 N/mm, m = 3.2 kg, c = 5, law c = 2 N·s/mm (by hand); labels and title state them."""
+    from types import SimpleNamespace
+
+    from chainid.damping.plots import plot_loop
+    from chainid.model.laws import ViscousLaw
+
+    figs = _capture(monkeypatch)
+    t = np.linspace(0.0, 3.0, 301)
+    x = 2.0 + 0.3 * np.sin(10.0 * t)
+    rec = SimpleNamespace(t=t, x=x, F=1e4 * x + 7.0)
+    res = SimpleNamespace(t_start=1.0, t_end=2.5, omega=10.0, t_origin=0.25, theta=0.4, x0=2.0, A=0.3, c_e=5.0,
+                          mass_kg=3.2, test="T7", W=12.5, W_ratio=0.875)
+    plot_loop(rec, res, Lin(), tmp_path / "loop.png", law=ViscousLaw([2.0]))
+    ax = figs[-1].axes[0]
+    meas, model, law, elastic = ax.lines
+    win = (t >= 1.0) & (t < 2.5)
+    np.testing.assert_allclose(meas.get_xdata(), x[win])
+    np.testing.assert_allclose(meas.get_ydata(), (1e4 * x[win] + 7.0) * 1e-3)
+    xh = np.asarray(model.get_xdata())
+    tt = np.linspace(1.0, 1.0 + 2 * math.pi / 10.0, 400)
+    psi = 10.0 * (tt - 0.25) + 0.4
+    xe, xde, xdde = 2.0 + 0.3 * np.sin(psi), 3.0 * np.cos(psi), -30.0 * np.sin(psi)
+    np.testing.assert_allclose(xh, xe, rtol=1e-12)
+    for line, c in ((model, 5.0), (law, 2.0)):
+        np.testing.assert_allclose(line.get_ydata(), (3.2 * xdde * 1e-3 + 1e4 * xe + c * xde) * 1e-3, rtol=1e-12)
+    np.testing.assert_allclose(elastic.get_ydata(), 10.0 * xe, rtol=1e-12)
+    labels = [ln.get_label() for ln in ax.lines]
+    assert labels == ["measured (steady cycles)", "model, test c_e = 5 N·s/mm", "model, viscous law c_e = 2 N·s/mm",
+                      "elastic force F_k(x)"]
+    assert ax.get_xlabel() == "elongation x [mm]" and ax.get_ylabel() == "force F [kN]"
+    assert ax.get_title() == ("test T7: ω = 10 rad/s, x0 = 2 mm, A = 0.3 mm\n"
+                              "W = 12.5 N·mm, W/(π c_e ω A²) = 0.875")
+
+
+def test_damping_surface_shows_the_law_and_the_tests(monkeypatch, tmp_path):
+    """The surface and contour are the law on the padded grid (Eq. 21 with α = (0.01, 0, 0, 10, 1): extremes at the
+    grid corners, ω 8…32, A 0.18…0.42: c = 0.01·64 + 1.8 + 1 = 3.44 and 0.01·1024 + 4.2 + 1 = 15.44, by hand);
+    the points are the identified (ω, A, c_e), annotated with their test ids."""
+    from types import SimpleNamespace
+
+    from chainid.damping.plots import plot_damping_surface
+    from chainid.model.laws import PolynomialLaw
+
+    figs = _capture(monkeypatch)
+    res = [SimpleNamespace(test=f"T{i}", omega=w, A=A, c_e=c, x0=2.0)
+           for i, (w, A, c) in enumerate([(10.0, 0.2, 4.0), (20.0, 0.4, 8.0), (30.0, 0.2, 12.0)])]
+    plot_damping_surface(res, PolynomialLaw([0.01, 0.0, 0.0, 10.0, 1.0]), tmp_path / "s.png")
+    fig = figs[-1]
+    ax3, ax = fig.axes[0], fig.axes[1]
+    cs = next(c for c in ax.get_children() if hasattr(c, "zmin"))  # the contour set
+    assert (cs.zmin, cs.zmax) == (pytest.approx(3.44, rel=1e-12), pytest.approx(15.44, rel=1e-12))
+    pts = next(c for c in ax.collections if c.get_label() == "identified tests")
+    np.testing.assert_allclose(pts.get_offsets(), [[10.0, 0.2], [20.0, 0.4], [30.0, 0.2]])
+    np.testing.assert_allclose(pts.get_array(), [4.0, 8.0, 12.0])
+    ann = [(a.get_text(), a.xy) for a in ax.texts]
+    assert ann == [("T0", (10.0, 0.2)), ("T1", (20.0, 0.4)), ("T2", (30.0, 0.2))]
+    assert ax3.get_title() == "polynomial law" and ax.get_xlabel() == "ω [rad/s]" and ax.get_ylabel() == "A [mm]"
+    assert ax3.get_zlabel() == "c_e [N·s/mm]"
