@@ -209,3 +209,40 @@ def test_damping_surface_shows_the_law_and_the_tests(monkeypatch, tmp_path):
     assert ann == [("T0", (10.0, 0.2)), ("T1", (20.0, 0.4)), ("T2", (30.0, 0.2))]
     assert ax3.get_title() == "polynomial law" and ax.get_xlabel() == "ω [rad/s]" and ax.get_ylabel() == "A [mm]"
     assert ax3.get_zlabel() == "c_e [N·s/mm]"
+
+
+def test_findings_summaries_state_the_hand_numbers():
+    """The audit's findings as the reader gets them: each summary's numbers from the paper's Table 1 and Eq. 26/27
+    by hand (test 1: ω = 0.1π·1 rad/s, A = 0.25 mm; Eq. 26: F_A = 19522.1 N, φ = −0.835, F0 = 11117.21 N) on the
+    spring k = 1e4 N/mm."""
+    from chainid.damping.audit import format_audit, load_table1
+
+    rep = audit(Lin())
+    s = {x["id"]: x["summary"] for x in rep["findings"]}
+    tb = load_table1()
+    fac = tb["F_ac"] / (tb["c_e"] * tb["A"] * tb["omega_col"])  # ω / column implied by c_e = F_ac/(ωA)
+    f29 = fac[1:]
+    assert s["a"].startswith(f"For tests 2-9, F_ac/(c_e A) = {f29.mean():.5f} x column (spread "
+                             f"{100 * np.ptp(f29) / f29.mean():.3f} %), i.e. pi/10 = 0.31416 to "
+                             f"{100 * abs(f29.mean() / (math.pi / 10) - 1):.3f} % (the paper rounds it to 0.3140")
+    assert f"F_ac/(omega A) is {f29.mean():.3f} x the tabulated c_e" in s["a"]
+    w1 = 0.1 * math.pi
+    ce1 = 8000.0 / (w1 * 0.25)
+    assert s["b"] == (f"At omega = 0.3142 rad/s, F_ac = 8000 N gives c_e = {ce1:.1f} N s/mm, {ce1 / 5095.5:.2f} x the "
+                      f"tabulated 5095.5; c_e = 5095.5 needs F_ac = {5095.5 * w1 * 0.25:.1f} N.")
+    assert s["c"] == ("F_A/A = 19522.1/0.25 = 78088 N/mm. The model's k_e(2.2 mm) = 10000 N/mm, so F_A/A is 7.81 x k_e; "
+                      "the model's F_k(2.2 mm) = 22000 N against F0 = 11117 N. F0 - F_A = -8404.9 N < 0: the fitted "
+                      "force would compress the chain.")
+    v = 19522.1 * math.sin(-0.835)
+    assert s["e"].startswith(f"With x = x0 + A sin(omega t), the part of F in phase with the velocity is F_A sin(phi) = "
+                             f"{v:.0f} N")
+    assert f"W = pi A F_A sin(phi) = {math.pi * 0.25 * v:.0f} N mm < 0" in s["e"]
+    d = {x["id"]: x for x in rep["findings"]}["d"]["numbers"]
+    assert ("the elastic part alone spans [19300, 25700] N." in s["d"]  # k·(2.25 ∓ 0.32)
+            and f"with omega = 14 pi = {14 * math.pi:.2f} rad/s" in s["d"]
+            and f"({d['c_e_omega_14pi'] / d['c_e_omega_7']:.1f} x)" in s["d"]
+            and "(20 f = 140)" in s["d"] and "0.314-3.142 rad/s" in s["d"])
+    text = format_audit(rep)
+    for f in rep["findings"]:
+        assert f"({f['id']}) {f['title']}\n    {f['summary']}" in text
+    assert "  matches the paper to 4 significant figures: yes" in text
