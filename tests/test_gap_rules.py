@@ -145,3 +145,58 @@ def test_step_models_baseline_is_step_zero_and_step_zero_is_bare():
     r = recs[0]
     t, x = np.asarray(r.t, float), np.asarray(r.x, float)
     np.testing.assert_allclose(b0.force(t, x), models[0].force(t, x), rtol=1e-12, atol=1e-9)
+
+
+# ---------------------------------------------------------------- plot_steps.waterfall_figure
+def test_waterfall_figure_bars_shrinkage_and_noise_floor():
+    """Bars of the held-out NRMSE per step (0.4 → 0.1 → 0.05), each later bar annotated with its shrinkage against
+    the previous (−75 %, −50 %), and the noise floor 0.05/10^(6/20) = 0.02506 (the last step 6 dB over the noise)
+    as a dashed line; log axis from min/3 to max·4 (by hand)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from chainid.gap.plot_steps import waterfall_figure
+
+    steps = [{"effect": "baseline", "nrmse_holdout": 0.4, "db_over_noise": 24.0},
+             {"effect": "friction", "nrmse_holdout": 0.1, "db_over_noise": 12.0},
+             {"effect": "slack", "nrmse_holdout": 0.05, "db_over_noise": 6.0}]
+    fig = waterfall_figure({"steps": steps, "verdict": "friction+slack"})
+    try:
+        ax = fig.axes[0]
+        assert [p.get_height() for p in ax.patches] == [0.4, 0.1, 0.05]
+        assert [t.get_text() for t in ax.get_xticklabels()] == ["baseline", "+ friction", "+ slack"]
+        texts = [t.get_text() for t in ax.texts]
+        assert texts[:3] == ["0.4\n24.0 dB", "−75 %\n0.1\n12.0 dB", "−50 %\n0.05\n6.0 dB"]
+        floor = 0.05 / 10 ** (6.0 / 20)
+        (line,) = ax.lines
+        assert line.get_ydata()[0] == pytest.approx(floor, rel=1e-12) and line.get_linestyle() == "--"
+        assert texts[3] == "noise floor"
+        assert ax.get_yscale() == "log"
+        assert ax.get_ylim() == (pytest.approx(floor / 3, rel=1e-12), pytest.approx(1.6, rel=1e-12))
+        assert ax.get_title() == "explanation chain: friction+slack" and ax.get_ylabel() == "held-out NRMSE"
+        # below the noise (dB < 0) the floor is the last step itself
+        steps[-1]["db_over_noise"] = -3.0
+        fig2 = waterfall_figure({"steps": steps})
+        assert fig2.axes[0].lines[0].get_ydata()[0] == pytest.approx(0.05, rel=1e-12)
+        plt.close(fig2)
+    finally:
+        plt.close(fig)
+
+
+# ---------------------------------------------------------------- problem.damping_separable
+def test_damping_separable_needs_three_by_three_and_six_tests():
+    """Eq. 21 has 5 coefficients: separable on >= 6 tests at >= 3 frequencies and >= 3 amplitudes (full rank);
+    five such tests, or 9 tests at 2 amplitudes, are not, and the message counts them."""
+    from chainid.gap.problem import damping_separable
+
+    plan = [(1.0, 0.1), (2.0, 0.2), (4.0, 0.3), (1.0, 0.3), (4.0, 0.1), (2.0, 0.3)]
+    data = [SimpleNamespace(omega=w, A=a) for w, a in plan]
+    assert damping_separable(data) == (True, "")
+    ok, msg = damping_separable(data[:5])
+    assert not ok and msg.startswith("the training plan has 5 tests at 3 distinct frequencies and 3 distinct "
+                                     "amplitudes (cond ")
+    two = [SimpleNamespace(omega=w, A=a) for w in (1.0, 2.0, 4.0) for a in (0.1, 0.2, 0.2)]
+    ok, msg = damping_separable(two)
+    assert not ok and "9 tests at 3 distinct frequencies and 2 distinct amplitudes" in msg
