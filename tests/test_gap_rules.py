@@ -200,3 +200,41 @@ def test_damping_separable_needs_three_by_three_and_six_tests():
     two = [SimpleNamespace(omega=w, A=a) for w in (1.0, 2.0, 4.0) for a in (0.1, 0.2, 0.2)]
     ok, msg = damping_separable(two)
     assert not ok and "9 tests at 3 distinct frequencies and 2 distinct amplitudes" in msg
+
+
+# ---------------------------------------------------------------- prepare.fourier_x / phase_grid
+def test_fourier_x_reproduces_a_two_harmonic_motion_and_its_derivatives():
+    """x = 2 + 0.3 sin ψ + 0.05 cos 3ψ, ψ = 5t + 0.2 (inside the 5-harmonic basis): x, ẋ = 1.5 cos ψ − 0.75 sin 3ψ,
+    ẍ = −7.5 sin ψ − 11.25 cos 3ψ, exact to round-off at any t."""
+    from chainid.gap.prepare import fourier_x
+
+    t = np.linspace(0.0, 3.0, 700)
+    ps = 5 * t + 0.2
+    f = fourier_x(t, 2 + 0.3 * np.sin(ps) + 0.05 * np.cos(3 * ps), 5.0, 0.2)
+    ts = np.array([-1.0, 0.37, 10.0])
+    p = 5 * ts + 0.2
+    x, xd, xdd = f(ts)
+    np.testing.assert_allclose(x, 2 + 0.3 * np.sin(p) + 0.05 * np.cos(3 * p), rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(xd, 1.5 * np.cos(p) - 0.75 * np.sin(3 * p), rtol=1e-9, atol=1e-10)
+    np.testing.assert_allclose(xdd, -7.5 * np.sin(p) - 11.25 * np.cos(3 * p), rtol=1e-9, atol=1e-9)
+
+
+def test_phase_grid_commensurate_sampling_is_one_point_per_phase():
+    """64 samples per cycle over 3 cycles, 8 bins: the grid has the 64 distinct phases (weight 3 each, 24 per bin) at
+    t = (ψ − θ)/ω in [0, T), and a grid mean of any function of ψ equals the samples' bin mean exactly."""
+    from chainid.gap.prepare import phase_grid
+
+    w, th, B = 2 * math.pi, math.pi / 64, 8  # phases half a sample off the bin edges
+    t = np.arange(3 * 64) / 64.0
+    psi = np.mod(w * t + th, 2 * math.pi)
+    g = phase_grid(psi, B, th, w, lambda ts: (np.sin(w * ts), np.cos(w * ts), -np.sin(w * ts)))
+    np.testing.assert_allclose(g["t"], np.arange(64) / 64.0, atol=1e-12)
+    # cells may split one phase by round-off (ψ mod 2π): the weights still count every sample in its own bin
+    assert np.bincount(g["bin"], weights=g["w"]).tolist() == [24.0] * 8
+    assert np.bincount(g["map"], weights=g["w"]).tolist() == [3.0] * 64
+    np.testing.assert_allclose(g["x"], np.sin(w * g["t"]), atol=1e-12)
+    bins = np.minimum((psi / (2 * math.pi) * B).astype(int), B - 1)
+    counts = np.bincount(bins, minlength=B).astype(float)
+    binmean = np.bincount(bins, weights=np.sin(w * t) ** 3, minlength=B) / counts  # x(t) = sin(ωt) sampled
+    gridmean = np.bincount(g["bin"], weights=g["w"] * (g["x"] ** 3)[g["map"]], minlength=B) / counts
+    np.testing.assert_allclose(gridmean, binmean, atol=1e-12)
