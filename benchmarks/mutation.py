@@ -73,7 +73,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_gap_diagnose.py::test_cli_json_contract",
             "tests/test_augmented.py::test_simulate_model_then_predict_round_trips_to_the_noise_level"),
     "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_checks.py", "tests/test_dynamics_damping.py",
-                 "tests/test_dynamics.py", "tests/test_cli_dynamics.py",
+                 "tests/test_dynamics.py", "tests/test_cli_dynamics.py", "tests/test_dynamics_waves.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
     "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
               "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py"),
