@@ -103,14 +103,14 @@ def test_ringing_needs_the_sliding_residual_above_the_rest():
 # ---------------------------------------------------------------- benchmark_time.effect_spec
 @pytest.mark.parametrize("effect, level, want", [
     ("friction", 2.0, "friction:F_c=200"),  # 0.1 · 2 · S
-    ("hysteresis", 1.0, "hysteresis:F_h=100,x_h=0.15"),  # 0.1 · S, 0.3 · Amin
+    ("hysteresis", 1.5, "hysteresis:F_h=150,x_h=0.15"),  # 0.1 · 1.5 · S, 0.3 · Amin
     ("backlash", 2.0, "backlash:b=0.1"),  # 0.1 · 2 · Amin
     ("slack", 3.0, "slack:s=0.15"),
-    ("machine_compliance", 1.0, "machine_compliance:c=0.0004"),  # 0.1 / k
+    ("machine_compliance", 2.5, "machine_compliance:c=0.001"),  # 0.1 · 2.5 / k
     ("stiffness_level", 2.0, "stiffness_level:scale=0.8"),  # 1 − 0.1 · level below level 3
     ("stiffness_level", 3.0, "stiffness_level:scale=1.3"),  # a stiffer chain from level 3 on
-    ("contact_law", 1.0, "contact_law:scale=1.3"),  # 1 + 0.3 · level
-    ("sensor_delay", 1.0, "sensor_delay:tau=0.015"),  # 0.15 / wmax
+    ("contact_law", 2.0, "contact_law:scale=1.6"),  # 1 + 0.3 · level
+    ("sensor_delay", 2.0, "sensor_delay:tau=0.03"),  # 0.15 · 2 / wmax
     ("damping_law", 2.0, "damping_law:eta=0.2"),
 ])
 def test_benchmark_effect_text_by_hand(effect, level, want):
@@ -166,6 +166,7 @@ def test_waterfall_figure_bars_shrinkage_and_noise_floor():
     try:
         ax = fig.axes[0]
         assert [p.get_height() for p in ax.patches] == [0.4, 0.1, 0.05]
+        assert [a.xy for a in ax.texts[:3]] == [(0.0, 0.4), (1.0, 0.1), (2.0, 0.05)]  # on top of each bar's centre
         assert [t.get_text() for t in ax.get_xticklabels()] == ["baseline", "+ friction", "+ slack"]
         texts = [t.get_text() for t in ax.texts]
         assert texts[:3] == ["0.4\n24.0 dB", "−75 %\n0.1\n12.0 dB", "−50 %\n0.05\n6.0 dB"]
@@ -238,3 +239,40 @@ def test_phase_grid_commensurate_sampling_is_one_point_per_phase():
     binmean = np.bincount(bins, weights=np.sin(w * t) ** 3, minlength=B) / counts  # x(t) = sin(ωt) sampled
     gridmean = np.bincount(g["bin"], weights=g["w"] * (g["x"] ** 3)[g["map"]], minlength=B) / counts
     np.testing.assert_allclose(gridmean, binmean, atol=1e-12)
+
+
+def test_ringing_is_not_looked_for_when_the_band_reaches_the_sampling():
+    """The ringing check needs room above the band: a record whose cut 4·f_band is at or above 0.2·fs (here
+    4·6 = 24 Hz ≥ 20 Hz at fs = 100 Hz) is skipped, so one such record gives no finding at all."""
+    fs = 100.0
+    t = np.arange(4000) / fs
+    xd = np.cos(2 * math.pi * t)
+    res = np.where(np.abs(xd) > 0.2, 5.0 * np.sin(2 * math.pi * 40.0 * t), 0.0)
+    assert ringing([SimpleNamespace(test="R", f_band=6.0, fs=fs, xd=xd)], {"R": res}) == {}
+    assert ringing([SimpleNamespace(test="R", f_band=4.9, fs=fs, xd=xd)], {"R": res}) != {}  # 19.6 Hz < 20 Hz
+
+
+def test_state_maps_skip_a_variable_with_two_levels_and_go_on():
+    """A displacement with two levels has < 3 distinct quantile edges and gets no map; the other variables are
+    still mapped: a residual 10·ẋ/max|ẋ| (σ = 0.1 N) is found to follow ẋ."""
+    from chainid.gap.where_time import state_maps
+
+    t = np.linspace(0.0, 8.0, 4000)
+    xd = np.cos(2 * math.pi * t)
+    x = np.where(np.sin(2 * math.pi * t) > 0, 2.0, 1.0)
+    d = SimpleNamespace(test="R", t=t, x=x, xd=xd, sigma=0.1)
+    r = 10.0 * xd + 0.1 * np.random.default_rng(2).normal(size=t.size)
+    maps = state_maps([d], {"R": r}, {"R": 5.0 * t})
+    names = [m["variable"] for m in maps]
+    assert "x" not in names and "xd" in names
+    m = maps[names.index("xd")]
+    assert m["share"] > 0.9 and m["finding"].startswith("residual follows the ")
+
+
+@pytest.mark.parametrize("kind", ["random", "sweep", "startup", "quake"])
+def test_benchmark_motion_is_of_its_family(kind):
+    """Each excitation family of the non-harmonic benchmark draws its own kind of program."""
+    from chainid.gap.benchmark_time import motion
+
+    m = motion(kind, np.random.default_rng(3))
+    assert m.kind == kind and m.t.size >= 2000 and np.all(np.diff(m.t) > 0)
