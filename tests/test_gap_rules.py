@@ -192,12 +192,12 @@ def test_damping_separable_needs_three_by_three_and_six_tests():
     five such tests, or 9 tests at 2 amplitudes, are not, and the message counts them."""
     from chainid.gap.problem import damping_separable
 
-    plan = [(1.0, 0.1), (2.0, 0.2), (4.0, 0.3), (1.0, 0.3), (4.0, 0.1), (2.0, 0.3)]
+    plan = [(1.0, 0.1), (2.0, 0.2), (4.0, 0.3), (1.0, 0.3), (2.0, 0.1), (4.0, 0.2)]
     data = [SimpleNamespace(omega=w, A=a) for w, a in plan]
     assert damping_separable(data) == (True, "")
-    ok, msg = damping_separable(data[:5])
+    ok, msg = damping_separable(data[:5])  # full rank (cond 84) but no test left over: not separable
     assert not ok and msg.startswith("the training plan has 5 tests at 3 distinct frequencies and 3 distinct "
-                                     "amplitudes (cond ")
+                                     "amplitudes (cond 84);")
     two = [SimpleNamespace(omega=w, A=a) for w in (1.0, 2.0, 4.0) for a in (0.1, 0.2, 0.2)]
     ok, msg = damping_separable(two)
     assert not ok and "9 tests at 3 distinct frequencies and 2 distinct amplitudes" in msg
