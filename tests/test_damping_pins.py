@@ -246,3 +246,28 @@ def test_findings_summaries_state_the_hand_numbers():
     for f in rep["findings"]:
         assert f"({f['id']}) {f['title']}\n    {f['summary']}" in text
     assert "  matches the paper to 4 significant figures: yes" in text
+
+
+def test_linear_spring_fitted_on_the_steady_window_only():
+    """F = 1000·(x − 0.5) N exactly on the steady cycles, but 300 N off during the first 3 s of ramp-in (amplitude
+    growing): the spring fitted on the steady window is k = 1000 N/mm, x_ref = 0.5 mm (the ramp left out)."""
+    from chainid.damping.identify import linear_model_from_records
+    from chainid.records.record import Record
+
+    t = np.arange(0.0, 20.0, 1 / 128)
+    amp = 0.3 * np.minimum(t / 3.0, 1.0)
+    x = 2.0 + amp * np.sin(2 * math.pi * t)
+    F = 1000.0 * (x - 0.5) + np.where(t < 3.0, 300.0, 0.0)
+    m = linear_model_from_records([Record("R", t, x, F)])
+    assert m.k == pytest.approx(1000.0, rel=1e-6) and m.x_ref == pytest.approx(0.5, abs=1e-6)
+
+
+def test_finding_d_minimum_of_eq21_in_omega():
+    """Eq. 21 is a parabola in ω with its minimum at −α₂/(2α₁) = 651.57/(2·28.024) = 11.63 column units (the paper's
+    Eq. 28 by hand), outside the tested 1–10."""
+    from chainid.damping.audit import EQ28_PAPER
+
+    f = {x["id"]: x for x in audit(Lin())["findings"]}["d"]
+    w_min = -EQ28_PAPER[1] / (2 * EQ28_PAPER[0])
+    assert f["numbers"]["omega_of_minimum_c_e_column_unit"] == pytest.approx(w_min, rel=1e-3)
+    assert f"the minimum of Eq. 21 in omega is at {w_min:.2f} column units, outside the tested 1-10." in f["summary"]
