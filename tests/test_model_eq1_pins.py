@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 
+from chainid.model.augmented import AugmentedModel
 from chainid.model.base import LinearModel
 from chainid.model.effects import make_effect
 from chainid.model.laws import PolynomialLaw, ViscousLaw
@@ -168,3 +169,55 @@ def test_effect_check_names_the_parameter_and_its_range():
         e.check({"tau": 0.1})
     with pytest.raises(ValueError, match="out of range"):
         e.check({"mu": float("nan")})
+
+
+# ---------------------------------------------------------------- own-seed 804 survivors
+def test_dahl_cycle_energy_closed_form_against_the_operator_loop():
+    """4·F_h·(A − x_h·tanh(A/x_h)) against the loop area ∮F dx of the Dahl operator's steady cycle on ±A (another
+    method: numerical integration): F_h = 50 N, x_h = 0.2 mm, A = 0.5 mm."""
+    from chainid.model.operators import dahl_cycle_energy
+
+    want = 4 * 50.0 * (0.5 - 0.2 * math.tanh(0.5 / 0.2))
+    assert dahl_cycle_energy(50.0, 0.2, 0.5) == pytest.approx(want, rel=1e-14)
+    psi = np.linspace(0.0, 2 * math.pi, 20001)
+    x = 0.5 * np.sin(psi)
+    from chainid.model.effects import dahl_operator
+
+    F = dahl_operator(x, 50.0, 0.2, periodic=True)
+    loop = abs(float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(x))))
+    assert loop == pytest.approx(want, rel=2e-3)
+
+
+def test_series_compliance_of_a_large_compliance():
+    """c = 1 mm/N on k = 100 N/mm: F = k·x/(1 + c·k) = x·100/101 (not the bare spring)."""
+    from chainid.model.effects import series_compliance_force
+
+    x = np.array([0.0, 0.5, 2.0])
+    np.testing.assert_allclose(series_compliance_force(LinearModel(100.0, 0.0), x, 1.0), x * 100 / 101, rtol=1e-9)
+
+
+def test_hysteretic_law_uses_the_given_mean_elongation():
+    """c_e = η·k_e(x0)/ω on a spring whose tangent is 100·x0 N/mm: η = 0.2, ω = 4, x0 = 3 → 0.2·300/4 = 15 (by
+    hand); without x0 the law refuses."""
+    from chainid.model.laws import HystereticLaw
+
+    class Stiffening:
+        def stiffness(self, x):
+            return 100.0 * np.asarray(x, float)
+
+    law = HystereticLaw(Stiffening(), [0.2])
+    assert law.predict(4.0, 0.5, 3.0)[0] == pytest.approx(15.0, rel=1e-12)
+    with pytest.raises(ValueError, match="x0"):
+        law.predict(4.0, 0.5)
+
+
+def test_model_file_keeps_infinities_with_their_sign(tmp_path):
+    """The evaluation metadata's ±inf is written as TOML inf / -inf and read back with its sign."""
+    from chainid.model.modelfile import load_model, save_model
+
+    ev = {"upper": math.inf, "lower": -math.inf, "n_bins": 3}
+    p = save_model(AugmentedModel(LinearModel(100.0, 0.0), info={"evaluation": ev}), tmp_path / "m.toml")
+    text = p.read_text(encoding="utf-8")
+    assert "upper = inf" in text and "lower = -inf" in text
+    back = load_model(p).info["evaluation"]
+    assert back["upper"] == math.inf and back["lower"] == -math.inf and back["n_bins"] == 3
