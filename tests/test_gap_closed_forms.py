@@ -129,3 +129,47 @@ def test_mechanism_names_and_separating_tests():
     assert "frequency range" in interpret.separating_test("sensor_delay", "friction")
     assert "amplitude range" in interpret.separating_test("damping_law", "slack")
     assert "mean-load range" in interpret.separating_test("slack", "stiffness_level")
+
+
+def test_benchmark_family_rates_by_hand():
+    """Twelve hand-made cases, every rate counted by hand: singles scored from SNR_MIN (3) on, machine_compliance
+    named stiffness_level is right; compounds: both named / exact / named-or-confounded / detectable; controls;
+    outside cases (an error is a miss); the median shrinkage of the right verdicts; the misses."""
+    from chainid.gap.benchmark_report import family_rates
+
+    def row(family, truth, verdict, snr=5.0, shrinkage=None, **kw):
+        return {"family": family, "truth": truth, "verdict": verdict, "snr": snr, "shrinkage": shrinkage,
+                "seconds": 2.0, **kw}
+
+    rows = [row("single", ["friction"], "friction", 5.0, 0.6), row("single", ["machine_compliance"],
+            "stiffness_level", 4.0, 0.8), row("single", ["backlash"], "hysteresis", 10.0, 0.7),
+            row("single", ["slack"], "none", 1.0),
+            row("mismatch", ["stiffness_level"], "stiffness_level", 5.0, 0.5),
+            row("mismatch+", ["stiffness_level", "friction"], "friction+stiffness_level", 6.0, 0.9),
+            row("pair", ["friction", "sensor_delay"], "friction", 6.0, 0.4,
+                confounded=[["friction", "friction+sensor_delay"]]),
+            row("pair", ["hysteresis", "slack"], "hysteresis+slack+backlash", 8.0, 0.3, effect_snr=[2.0, 5.0]),
+            row("control", [], "none", 0.5), row("control", [], "friction", 0.5),
+            row("outside", ["drift"], "unexplained", truth_named=[]),
+            row("outside", ["chatter"], "friction", truth_named=["friction"], chatter=True),
+            row("outside", ["relaxation"], "error: ValueError: boom", truth_named=[])]
+    r = family_rates(rows)
+    assert (r["n_cases"], r["single_n"], r["single_n_all"], r["single_right_rate"]) == (13, 3, 4, 2 / 3)
+    assert (r["mismatch_right_rate"], r["mismatch_n"]) == (1.0, 1)
+    assert (r["compound_n"], r["compound_both_named_rate"], r["compound_exact_rate"]) == (3, 2 / 3, 1 / 3)
+    assert r["compound_named_or_confounded_rate"] == 1.0
+    assert (r["compound_detectable_n"], r["compound_detectable_both_named_rate"]) == (2, 0.5)
+    assert (r["mismatch_plus_both_named_rate"], r["pair_both_named_rate"]) == (1.0, 0.5)
+    assert (r["control_none_rate"], r["control_n"]) == (0.5, 2)
+    assert (r["outside_not_named_rate"], r["outside_n"]) == (2 / 3, 3)
+    assert r["outside_verdicts"] == {"error: ValueError: boom": 1, "friction": 1, "unexplained": 1}
+    assert (r["chatter_reported_rate"], r["chatter_n"]) == (1.0, 1)
+    assert [e["error"] for e in r["errors"]] == ["error: ValueError: boom"]
+    assert r["median_shrinkage_when_right"] == pytest.approx(0.7)  # of 0.6, 0.8, 0.5, 0.9
+    assert r["median_seconds"] == 2.0
+    assert [(m["family"], m["verdict"]) for m in r["misses"]] == [
+        ("single", "hysteresis"), ("pair", "friction"), ("pair", "hysteresis+slack+backlash"),
+        ("control", "friction"), ("outside", "error: ValueError: boom")]
+    assert r["confusion"]["backlash"]["hysteresis"] == 1 and r["confusion"]["none"] == {
+        **{v: 0 for v in r["confusion"]["none"]}, "none": 1, "friction": 1}
+    assert r["confusion"]["machine_compliance"]["stiffness_level"] == 1
