@@ -173,3 +173,23 @@ def test_benchmark_family_rates_by_hand():
     assert r["confusion"]["backlash"]["hysteresis"] == 1 and r["confusion"]["none"] == {
         **{v: 0 for v in r["confusion"]["none"]}, "none": 1, "friction": 1}
     assert r["confusion"]["machine_compliance"]["stiffness_level"] == 1
+
+
+def test_prepare_test_bins_and_noise_of_a_clean_record():
+    """x = 2 + 0.3 sin(2π t + π/40) sampled 40 times a cycle over 12 cycles, F = 1000·(x − 0.5) + white noise σ = 2 N:
+    ω = 2π, A = 0.3, x0 = 2; B = max(8, min(n_bins, 4·(40 // 8))) = 20 bins (8 with n_bins = 8) of equal counts;
+    the bin means are F at the bins' mean x within the noise; σ = 2 N within 15 %."""
+    from chainid.gap.prepare import prepare_test
+    from chainid.records.record import Record
+
+    t = np.arange(12 * 40) / 40.0
+    x = 2.0 + 0.3 * np.sin(2 * math.pi * t + math.pi / 40)  # samples half a step off the bin edges
+    F = 1000.0 * (x - 0.5) + 2.0 * np.random.default_rng(9).normal(size=t.size)
+    d = prepare_test(Record("P", t, x, F))
+    assert d.test == "P" and d.counts.size == 20 and np.ptp(d.counts) == 0
+    assert (d.omega, d.A, d.x0) == (pytest.approx(2 * math.pi, rel=1e-6), pytest.approx(0.3, rel=1e-6),
+                                    pytest.approx(2.0, rel=1e-9))
+    np.testing.assert_allclose(d.Fbar, 1000.0 * (d.binmean(d.x_meas) - 0.5), atol=4 * 2.0 / math.sqrt(d.counts[0]))
+    assert d.sigma == pytest.approx(2.0, rel=0.15)
+    assert d.t[0] >= 0 and np.all(np.diff(d.t) > 0)
+    assert prepare_test(Record("P", t, x, F), n_bins=8).counts.size == 8
