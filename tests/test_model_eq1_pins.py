@@ -221,3 +221,53 @@ def test_model_file_keeps_infinities_with_their_sign(tmp_path):
     assert "upper = inf" in text and "lower = -inf" in text
     back = load_model(p).info["evaluation"]
     assert back["upper"] == math.inf and back["lower"] == -math.inf and back["n_bins"] == 3
+
+
+# ---------------------------------------------------------------- stiffness-side effects and cycle_force
+@pytest.mark.parametrize("name, p, compliance", [
+    ("stiffness_level", {"scale": 2.0}, lambda F, cl, ch: cl / 2.0 * F + ch * F ** (2 / 3)),
+    ("machine_compliance", {"c": 1e-5}, lambda F, cl, ch: (cl + 1e-5) * F + ch * F ** (2 / 3)),
+    ("contact_law", {"scale": 1.5}, lambda F, cl, ch: cl * F + 1.5 * ch * F ** (2 / 3)),
+    ("slack", {"s": 0.2}, lambda F, cl, ch: cl * F + ch * F ** (2 / 3) + 0.2),
+])
+def test_stiffness_side_effects_change_eq15(name, p, compliance):
+    """Eq. 15 x = c_lin·F + c_hertz·F^(2/3) of the built-in chain changed by each stiffness-side effect (EA ×
+    scale: c_lin/scale; a series compliance c: c_lin + c; the contact term × scale; a slack s: x + s): the
+    modified model's force at that x is F (by hand, F = 5, 50, 500 kN)."""
+    from chainid.model import kernels
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import modify_model
+
+    cl, ch = kernels.coefficients()
+    m = modify_model(name, p, ChainModel())
+    F = np.array([5e3, 5e4, 5e5])
+    np.testing.assert_allclose(m.force(compliance(F, cl, ch)), F, rtol=1e-9)
+
+
+def test_cycle_force_viscous_law_delay_and_coulomb_closed_form():
+    """cycle_force on a linear spring k = 100 N/mm (x_ref 1, mass 0.5 kg): a viscous c = 2 adds 2·ẋ; a
+    viscous+coulomb law resolved at the test's ω, A (c = 1 + 4·30/(π·ω·A)) adds c·ẋ; a delay τ evaluates the
+    inputs at t − τ; a Coulomb form adds F_c·sgn(ẋ) in its periodic steady state."""
+    from types import SimpleNamespace
+
+    w, A = 2 * math.pi * 3.0, 0.5
+    t = np.linspace(0.0, 1.0 / 3.0, 64, endpoint=False) + 0.5 / 3.0 / 64
+
+    def xfun(ts):
+        ps = w * ts
+        return 2 + A * np.sin(ps), A * w * np.cos(ps), -A * w * w * np.sin(ps)
+
+    x, xd, xdd = xfun(t)
+    d = SimpleNamespace(grid={"t": t, "x": x, "xd": xd, "xdd": xdd}, omega=w, A=A, x0=2.0, xfun=xfun, test="T",
+                        gridmean=lambda y: np.asarray(y, float))
+    spring = LinearModel(100.0, 1.0, 0.5)
+    base = 100.0 * (x - 1.0) + 0.5 * xdd * 1e-3
+    m = AugmentedModel(spring, damping=Damping("viscous", {"c": 2.0}))
+    np.testing.assert_allclose(m.cycle_force(d), base + 2.0 * xd, rtol=1e-12)
+    law = AugmentedModel(spring, damping=Damping("law", law="viscous+coulomb", coefficients=[1.0, 30.0]))
+    np.testing.assert_allclose(law.cycle_force(d), base + (1.0 + 120.0 / (math.pi * w * A)) * xd, rtol=1e-12)
+    xs, xds, xdds = xfun(t - 0.01)
+    late = AugmentedModel(spring, damping=Damping("viscous", {"c": 2.0}), delay_s=0.01)
+    np.testing.assert_allclose(late.cycle_force(d), 100.0 * (xs - 1.0) + 0.5 * xdds * 1e-3 + 2.0 * xds, rtol=1e-12)
+    cou = AugmentedModel(spring, damping=Damping("coulomb", {"F_c": 40.0}))
+    np.testing.assert_allclose(cou.cycle_force(d), base + 40.0 * np.sign(xd), rtol=1e-12)
