@@ -93,9 +93,10 @@ def test_ringing_needs_the_sliding_residual_above_the_rest():
     Bug caught: the ratio replaced by inf when the rest has power (`rest > 0` → `rest <= 0`)."""
     hum, _ = _ring_case(True)
     assert hum["peak_ratio"] >= PEAK and hum["ratio"] == pytest.approx(1.0, abs=0.1)
-    assert hum["chatter"] is False and hum["kind"] == "ringing"
+    assert hum["chatter"] is False and hum["kind"] == "ringing" and hum["score"] == 0.0  # reported, not ranked
     chat, _ = _ring_case(False)
     assert chat["ratio"] > 100 * RING_RATIO and chat["chatter"] is True and chat["kind"] == "chatter"
+    assert chat["score"] == chat["rms_N"]
     assert chat["frequency_Hz"] == pytest.approx(60.0, abs=2.0)
     assert chat["rms_N"] == pytest.approx(5.0 / math.sqrt(2), rel=0.05)  # RMS of the 5 N tone while sliding
 
@@ -276,3 +277,45 @@ def test_benchmark_motion_is_of_its_family(kind):
 
     m = motion(kind, np.random.default_rng(3))
     assert m.kind == kind and m.t.size >= 2000 and np.all(np.diff(m.t) > 0)
+
+
+def test_localise_names_a_residual_harmonic_above_twice_the_noise_floor():
+    """Bin-mean noise floor σ/√n = 1/√10 = 0.316 N: a residual r = C·cos ψ of C = 3 N (above 2 × 0.316 N) is named
+    as the fundamental in phase with ẋ with RMS over tests 3 N; C = 0.5 N (below) is not."""
+    from chainid.gap.where import localise
+
+    B = 64
+    psi = (np.arange(B) + 0.5) * 2 * math.pi / B
+
+    def found(C):
+        data = [SimpleNamespace(test=f"T{i}", sigma=1.0, counts=np.full(B, 10.0), omega=w, A=A, x0=2.0,
+                                Fbar=1000.0 + 500.0 * np.sin(psi) + C * np.cos(psi))
+                for i, (w, A) in enumerate([(10.0, 0.2), (20.0, 0.3), (30.0, 0.4)])]
+        base = {"res": {d.test: C * np.cos(psi) for d in data}, "per_test": {d.test: 0.1 for d in data},
+                "c_e": {d.test: 1.0 for d in data}, "F": {d.test: np.zeros(B) for d in data}}
+        prob = SimpleNamespace(data=data, hold=data[:1], train=data[1:], sigma_raw=1.0)
+        return [f for f in localise(prob, base) if f.get("kind") == "harmonic"]
+
+    named = found(3.0)
+    assert [f["component"] for f in named] == ["h1_xdot"] and named[0]["amplitude_N"] == pytest.approx(3.0)
+    assert named[0]["finding"] == "residual fundamental in phase with ẋ (damping): RMS over tests 3 N"
+    assert found(0.5) == []
+
+
+def test_a_given_damping_law_needs_one_training_test_more_than_its_coefficients():
+    """Eq. 21 has 5 coefficients: leave-one-out needs >= 6 training tests.  Seven tests, one held out: the given
+    law is taken ("given"); two held out (5 training tests): refused, saying so."""
+    from chainid.gap.prepare import prepare_test
+    from chainid.gap.problem import Problem
+    from chainid.model.base import ChainModel
+    from chainid.records.simulate import TestSpec, simulate
+
+    model = ChainModel()
+    plan = [TestSpec(str(i), w, 2.0, a) for i, (w, a) in
+            enumerate([(1.0, 0.1), (2.0, 0.2), (4.0, 0.3), (1.0, 0.3), (2.0, 0.1), (4.0, 0.2), (3.0, 0.15)], 1)]
+    data = [prepare_test(r) for r in simulate(plan, model, 60.0, n_cycles=5, samples_per_cycle=64, noise_F=5.0,
+                                              seed=1)]
+    prob = Problem(data, model, ["7"], "polynomial")
+    assert (prob.law, prob.law_reason) == ("polynomial", "given")
+    with pytest.raises(ValueError, match="has 5 coefficients; with 5 training tests at most 4"):
+        Problem(data, model, ["6", "7"], "polynomial")
