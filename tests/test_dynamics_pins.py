@@ -123,3 +123,95 @@ def test_slack_release_of_hysteretic_elements_keeps_the_balance(kw):
     eb = res.energy_balance()
     assert res.tension.min() == 0.0  # segments went slack
     assert eb["relative_error"] < 1e-2
+
+
+def test_viscous_equivalent_of_a_law_at_the_operating_point():
+    """A law object is evaluated at (ω, A, x0): Eq. 21 with α = (0.01, 0.2, 3, 4, 5) at ω = 10, A = 0.5 gives
+    c_e = 1 + 2 + 0.75 + 2 + 5 = 10.75 N·s/mm (by hand); a number is taken as c_e itself.
+    Bug caught: the law's first (only) value not the one taken."""
+    from chainid.dynamics.model import viscous_equivalent
+    from chainid.model.laws import PolynomialLaw
+
+    assert viscous_equivalent(PolynomialLaw([0.01, 0.2, 3.0, 4.0, 5.0]), 10.0, 0.5, 2.0) == pytest.approx(10.75,
+                                                                                                        rel=1e-12)
+    assert viscous_equivalent(7, 10.0, 0.5, 2.0) == 7.0
+    with pytest.raises(ValueError, match="c_e"):
+        viscous_equivalent(PolynomialLaw([0.0, 0.0, 0.0, 0.0, -1.0]), 10.0, 0.5, 2.0)
+
+
+def test_default_output_is_500_steps_besides_t0():
+    """simulate stores at most n_out = 500 samples besides t = 0 by default (documented); a run much shorter than
+    the stable step takes exactly t_end/500 per step, so the output is t = k·t_end/500, k = 0 … 500."""
+    line = ChainLine(n_links=20, n_masses=2, pretension_N=1000.0)
+    res = simulate(line, Drive("none"), 1e-6)
+    np.testing.assert_allclose(res.t, np.arange(501) * 1e-6 / 500, rtol=1e-9, atol=1e-18)
+    assert simulate(line, Drive("none"), 1e-6, n_out=7).t.size == 8
+
+
+def test_figures_show_the_result_in_kN_and_m():
+    """The heat map is segment tension [kN] at segment mid-points [m]; the drive plot has segment 1's tension,
+    the drive force and the static level in kN with the peak and dynamic factor in the title; the mode plot
+    starts each shape at the drive (0 at 0 m) and labels its frequency (hand-made result, 2 segments)."""
+    from types import SimpleNamespace
+
+    import matplotlib.pyplot as plt
+
+    from chainid.dynamics.plots import plot_drive_tension, plot_heatmap, plot_modes
+
+    res = SimpleNamespace(t=np.array([0.0, 0.1, 0.2]), positions=np.array([0.0, 1000.0, 3000.0]),
+                          tension=np.array([[1e3, 2e3], [3e3, 4e3], [5e3, 6e3]]), drive_force=np.array([0.0, 7e3, 8e3]),
+                          static_tension=2500.0, peak_tension=6000.0, dynamic_factor=2.4)
+    fig = plot_heatmap(res)
+    mesh = fig.axes[0].collections[0]
+    np.testing.assert_allclose(np.asarray(mesh.get_array()).reshape(2, 3), res.tension.T * 1e-3)
+    # cells centred on the mid-points 0.5 and 2 m (half their spacing, 0.75 m, either side)
+    assert fig.axes[0].get_ylim() == (pytest.approx(-0.25), pytest.approx(2.75))
+    plt.close(fig)
+    fig = plot_drive_tension(res)
+    ax = fig.axes[0]
+    seg, drive, static = ax.lines
+    np.testing.assert_allclose(seg.get_ydata(), [1.0, 3.0, 5.0])
+    np.testing.assert_allclose(drive.get_ydata(), [0.0, 7.0, 8.0])
+    assert static.get_ydata()[0] == pytest.approx(2.5)
+    assert ax.get_title() == "Drive-end tension (peak 6 kN, dynamic factor 2.4)"
+    plt.close(fig)
+    res.static_tension = 0.0  # no steady level: no line
+    fig = plot_drive_tension(res)
+    assert len(fig.axes[0].lines) == 2
+    plt.close(fig)
+    md = SimpleNamespace(positions=np.array([1000.0, 2000.0]), omega=np.array([10.0, 20.0, 30.0]),
+                         shapes=np.array([[0.5, 1.0, 0.2], [1.0, -1.0, 0.3]]), frequency_hz=np.array([1.6, 3.2, 4.8]))
+    fig = plot_modes(md, n=2)
+    lines = fig.axes[0].lines
+    assert len(lines) == 2 and [ln.get_label() for ln in lines] == ["mode 1: 1.6 Hz", "mode 2: 3.2 Hz"]
+    np.testing.assert_allclose(lines[1].get_xdata(), [0.0, 1.0, 2.0])
+    np.testing.assert_allclose(lines[1].get_ydata(), [0.0, 1.0, -1.0])
+    plt.close(fig)
+
+
+def test_node_masses_half_and_drive_lumping_with_a_tail_mass():
+    """20 links of the built-in chain in 4 segments of 5 links: each segment m_s = mass_per_m·5·pitch·1e-3 kg.
+    `half`: m_s/2 at the ends, m_s inside; `drive`: m_s on each drive-side node; the tail mass 5 kg on the far-end
+    node only (by hand)."""
+    from chainid.chain.spec import default_chain
+
+    c = default_chain()
+    ms = c.mass_per_m * 5 * c.pitch * 1e-3
+    half = ChainLine(n_links=20, n_masses=4, tail_mass_kg=5.0).node_masses()
+    np.testing.assert_allclose(half, [ms / 2, ms, ms, ms, ms / 2 + 5.0], rtol=1e-12)
+    drive = ChainLine(n_links=20, n_masses=4, tail_mass_kg=5.0, lumping="drive").node_masses()
+    np.testing.assert_allclose(drive, [ms, ms, ms, ms, 5.0], rtol=1e-12)
+
+
+def test_slack_substeps_and_fallbacks_are_counted_apart():
+    """A slack line (20 N pretension, 1 mm at 60 rad/s) goes slack in many sub-steps; without dampers the explicit
+    scheme never needs its implicit fallback (documented: Newton stuck at a damper jump), so that count is 0."""
+    import warnings
+
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=20.0, far_end="fixed")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # the energy-balance check of this coarse run
+        res = simulate(line, Drive("sine", A=1.0, omega=60.0), 0.2)
+    assert res.slack_substeps > 0 and res.explicit_fallbacks == 0
+    s = res.summary()
+    assert s["slack_substeps"] == res.slack_substeps and s["explicit_fallback_substeps"] == 0

@@ -123,3 +123,94 @@ def test_format_practice_lists_the_explanation():
     e = explain_ratio()
     line = next(ln for ln in text.splitlines() if "why the model is softer" in ln)
     assert f"ratio {e['ratio']:.3f}" in line and f"shear {e['shear']:.3f}" in line
+
+
+# ---------------------------------------------------------------- seed-21 survivors (issue 20 §5)
+def _runtime(s):
+    """The string s built at run time (as from the command line: not the interned literal)."""
+    return "".join(list(s))
+
+
+def test_chain_practice_studlink_kind_from_a_runtime_string():
+    """`--kind studlink` read from the command line is a run-time string: it must select the stud-link proof
+    force of the makers' table (d = 50 R4: 2160 kN stud-link, 1920 kN studless; IACS W22 / DNV-OS-E302).
+    Bug caught: `knd == "studlink"` → `knd is "studlink"` (true only for the interned literal)."""
+    from chainid.chain import presets
+    from chainid.model.practice import chain_practice
+
+    c = presets.chain("studless:50")
+    row = chain_practice(c, grade_name=_runtime("R4"), kind=_runtime("studlink"))
+    assert row["kind"] == "studlink" and row["proof_load_N"] == pytest.approx(2160e3, rel=1e-3)
+    assert row["working_load_N"] == pytest.approx(1080e3, rel=1e-3)
+    assert chain_practice(c, grade_name="R4")["proof_load_N"] == pytest.approx(1920e3, rel=1e-3)
+    # the DNV ratio is the model's EA over the DNV catalogue EA of that grade (its documented definition)
+    assert row["ratio_model_dnv"] == pytest.approx(row["EA_model_N"] / row["EA_catalogue_dnv_R4_N"], rel=1e-12)
+
+
+def test_make_effect_of_a_runtime_name():
+    """An effect named at run time (CLI `--effect hysteresis:…`) is the Dahl element with F_h, x_h.
+    Bug caught: `name == "hysteresis"` → `name is "hysteresis"`."""
+    from chainid.model.effects import make_effect
+
+    e = make_effect(_runtime("hysteresis"), F_scale=100.0, x_scale=2.0)
+    assert e.name == "hysteresis" and e.param_names == ("F_h", "x_h")
+    assert e.bounds == ((0.0, 500.0), (2e-3, 20.0))  # (0, 5 F_scale), (1e-3, 10) x_scale: the documented ranges
+
+
+def test_explain_ratio_secant_by_root_finding():
+    """The secant EA between 10 % and 50 % of the breaking force, from x(F) found by root-finding F_k(x) = F
+    (brentq on the force kernel, not the displacement kernel): 0.4·MBL·L/(x₅₀ − x₁₀) over the catalogue EA."""
+    from scipy.optimize import brentq
+
+    from chainid.chain import presets
+    from chainid.model import kernels
+    from chainid.model.practice import chain_practice, explain_ratio
+
+    c = presets.chain("studless:50")
+    p = chain_practice(c)
+    mbl = p["breaking_load_N"]
+    x1, x2 = (brentq(lambda x, F=F: kernels.force(x, c) - F, 0.0, 1e4, xtol=1e-13, rtol=1e-14)
+              for F in (0.1 * mbl, 0.5 * mbl))
+    want = 0.4 * mbl * c.length_mm / (x2 - x1) / p["EA_catalogue_orcaflex_N"]
+    assert explain_ratio(c)["secant_10_50_mbl"] == pytest.approx(want, rel=1e-9)
+
+
+def test_stiffness_beyond_the_linear_switch_is_the_asymptote():
+    """Above X_LINEAR (1e60 mm) and at +inf the stiffness is Eq. 16's limit 1/c_lin (the Hertz term vanishes as
+    F^(-1/3)); c_lin of the built-in chain is 6.3358e-5 mm/N (Eq. 15, test_kernels' closed form)."""
+    from chainid.model import kernels
+
+    c_lin = kernels.coefficients()[0]
+    assert c_lin == pytest.approx(6.3358e-5, rel=1e-4)
+    k = kernels.stiffness(np.array([1e70, np.inf]))
+    np.testing.assert_allclose(k, 1.0 / c_lin, rtol=1e-12)
+    assert kernels.force(1e70) == pytest.approx(1e70 / c_lin, rel=1e-12)
+
+
+@pytest.mark.parametrize("bad", [np.zeros((3, 4)), np.zeros(0), np.zeros((0, 2))])
+def test_operators_refuse_a_non_series(bad):
+    """The operators take one non-empty 1-D series (documented); a 2-D array is refused, not flattened.
+    Bug caught: `x.ndim != 1 or x.size == 0` → `and`."""
+    from chainid.model.operators import dahl, play
+
+    with pytest.raises(ValueError, match="non-empty 1-D"):
+        play(bad, 0.1)
+    with pytest.raises(ValueError, match="non-empty 1-D"):
+        dahl(bad, 1.0, 0.1)
+
+
+def test_cycle_parts_total_mass_closed_form():
+    """With a moving mass m = 3 kg set on a linear spring k = 100 N/mm (x_ref = 1 mm) whose own mass is 0.5 kg,
+    the undamped force is k·(x − x_ref) + m·ẍ·1e-3 on x = 2 + 0.5·sin(ω t) (closed form, ẍ = −ω²·0.5·sin).
+    Bug caught: the mass correction (m − m_base)·ẍ subtracted instead of added."""
+    from types import SimpleNamespace
+
+    w = 2 * math.pi * 3.0
+    t = np.linspace(0.0, 1.0 / 3.0, 64, endpoint=False)
+    x, xd, xdd = 2 + 0.5 * np.sin(w * t), 0.5 * w * np.cos(w * t), -0.5 * w * w * np.sin(w * t)
+    d = SimpleNamespace(grid={"t": t, "x": x, "xd": xd, "xdd": xdd}, omega=w, A=0.5, x0=2.0, xfun=None,
+                        gridmean=lambda y: np.asarray(y, float))
+    m = AugmentedModel(LinearModel(100.0, 1.0, 0.5), mass_kg=3.0)
+    Fn, v = m.cycle_parts(d)
+    np.testing.assert_allclose(Fn, 100.0 * (x - 1.0) + 3.0 * xdd * 1e-3, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(v, xd, rtol=1e-12)

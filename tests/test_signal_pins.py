@@ -63,3 +63,21 @@ def test_adaptive_tolerance_capped_says_so():
     win = select_steady(t, x, w, 0.0, rel_tol=None)
     assert win.scatter * 4 > TOL_MAX and win.rel_tol >= TOL_MAX
     assert f"cap {100 * TOL_MAX:g} % (" in win.reason and "cap 15 %" in win.reason
+
+
+def test_mean_and_drift_noise_allowances_four_standard_errors():
+    """Residual SD 0.1 mm over 8 samples, tol 1 % of a 2 mm plateau (0.02 mm), drift tolerance 0: a cycle's mean may
+    stray 0.02 + 4·0.1/sqrt(8) = 0.1614 mm from the others' and it may drift 4·0.1·sqrt(12/8) = 0.4899 mm (the SE
+    of a fitted trend over n samples, by hand).  Bugs caught: the factor 4 of either allowance, 12 or 1/√n."""
+    t = np.arange(8.0)
+
+    def kept(means=None, drifts=None):
+        st = list(_stats([2.0] * 7, drifts, sd=0.1))
+        if means is not None:
+            st[2] = np.array(means, float)
+        return _select_with_tol(t, tuple(st), 0.01, False, 0.0).n_cycles
+
+    assert kept(drifts=[0, 0, 0, 0.48, 0, 0, 0]) == 7
+    assert kept(drifts=[0, 0, 0, 0.50, 0, 0, 0]) == 3
+    assert kept(means=[0, 0, 0, 0.155, 0, 0, 0]) == 7
+    assert kept(means=[0, 0, 0, 0.168, 0, 0, 0]) == 3

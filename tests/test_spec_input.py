@@ -215,3 +215,18 @@ def test_cli_stiffness_inf_and_negative_force(capsys):
     assert cli.main(["stiffness", "--F", "inf"]) == 0
     row = capsys.readouterr().out.strip().splitlines()[-1].split()
     assert row[:2] == ["inf", "inf"] and float(row[2]) == pytest.approx(chainid.stiffness(math.inf), rel=1e-5)
+
+
+def test_pitch_bounds_are_inclusive_and_stated_in_mm():
+    """d = 14 mm, width 17 mm: pitch = 2 d = 28 mm (two bars exactly) and 20 d = 280 mm are valid (the documented
+    range max(2 d, width) <= pitch <= 20 d is closed); the refusal states both bounds in mm, computed by hand
+    (28 <= pitch <= 20 d = 280 mm).  Bugs caught: `p >= 2 d` made strict, the upper bound 20·d garbled (20 + d)."""
+    assert ChainSpec(**(GOOD | dict(pitch=28.0))).pitch == 28.0
+    assert ChainSpec(**(GOOD | dict(pitch=280.0))).pitch == 280.0
+    for bad in (27.999, 280.001):
+        with pytest.raises(ValueError) as info:
+            ChainSpec(**(GOOD | dict(pitch=bad)))
+        assert "max(2 d, width) = 28 <= pitch <= 20 d = 280 mm" in str(info.value)
+    with pytest.raises(ValueError) as info:  # a width above 2 d is the lower bound, strictly (pitch = width)
+        ChainSpec(**(GOOD | dict(width=30.0, pitch=30.0)))
+    assert "max(2 d, width) = 30 < pitch <= 20 d = 280 mm" in str(info.value)
