@@ -77,9 +77,16 @@ TARGETS: dict[str, tuple[str, ...]] = {
             # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
             # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
             "--deselect=tests/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output"),
-    "report": ("tests/test_report_gap.py",
+    "report": ("tests/test_report_gap.py", "tests/test_report_pins.py",
                "tests/test_report.py::test_fig8_curves_are_the_closed_form_stiffness",
-               "tests/test_report.py::test_report_data_step_with_compressive_records_uses_a_linear_spring"),
+               "tests/test_report.py::test_report_data_step_with_compressive_records_uses_a_linear_spring",
+               # the report driver (manifest, swap, late failure) with the steps faked: fast
+               "tests/test_cli_outputs.py::test_report_force_with_a_bad_input_keeps_every_file",
+               "tests/test_cli_outputs.py::test_report_late_failure_or_sigint_leaves_the_old_report",
+               "tests/test_cli_outputs.py::test_report_force_replaces_only_the_files_it_wrote",
+               "tests/test_cli_outputs.py::test_report_into_the_current_folder",
+               "tests/test_files_ours.py::test_report_force_never_replaces_a_file_it_did_not_write",
+               "tests/test_files_ours.py::test_report_never_replaces_its_data"),
 }
 PACKAGES = tuple(TARGETS)
 
