@@ -1,0 +1,132 @@
+"""infra contracts (issue 20 §2 and §5, mutation survivors of infra): ``--json -`` routes the JSON alone to the
+real stdout, an output in folders still to be made is fine while a file in its path is not, a closed stderr means
+no progress bar, and the dask handshake check (an 8-byte little-endian length of at most 1 MiB) with what a
+server that passes it but speaks no dask makes of a run: one line, within the time bound."""
+from __future__ import annotations
+
+import io
+import json
+import socket
+import sys
+import threading
+import time
+
+import pytest
+
+from chainid.infra.fileio import OutputError, check_output_file, json_to_stdout, write_json
+from chainid.infra.parallel import dask_available, probe_scheduler, run_cases
+from chainid.infra.progress import progress_enabled, progress_iter
+
+
+def test_json_dash_goes_to_the_real_stdout_and_text_to_stderr(capsys):
+    with json_to_stdout():
+        print("a text table")
+        assert write_json({"c_e": float("nan"), "n": [1, 2]}, "-") is None
+        print("wrote -")
+    cap = capsys.readouterr()
+    assert json.loads(cap.out) == {"c_e": None, "n": [1, 2]}  # NaN is written as null (strict JSON)
+    assert "a text table" not in cap.out and "a text table\n" in cap.err and "wrote -" in cap.err
+    # outside the block: stdout as usual
+    write_json({"a": 1}, "-")
+    print("after")
+    cap = capsys.readouterr()
+    assert cap.out.endswith("}\nafter\n") and json.loads(cap.out[: -len("after\n")]) == {"a": 1}
+
+
+def test_output_in_folders_still_to_be_made(tmp_path):
+    p = tmp_path / "a" / "b" / "c" / "out.json"
+    assert check_output_file(p, what="--json") == p
+    (tmp_path / "f").write_text("x")
+    with pytest.raises(OutputError, match=r"--json .*f/b/out.json.*'.*/f' is not a directory"):
+        check_output_file(tmp_path / "f" / "b" / "out.json", what="--json")
+    # a relative name in the current folder
+    assert check_output_file("rel_out.json", what="--json").name == "rel_out.json"
+
+
+class _Tty(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_progress_only_on_an_open_terminal(monkeypatch):
+    monkeypatch.setattr(sys, "stderr", _Tty())
+    assert progress_enabled() is True and progress_enabled(quiet=True) is False
+    closed = io.StringIO()
+    closed.close()
+    with pytest.raises(ValueError):
+        closed.isatty()  # on a closed file: ValueError
+    monkeypatch.setattr(sys, "stderr", closed)
+    assert progress_enabled() is False
+    assert list(progress_iter(iter([3, 1, 2]), desc="x")) == [3, 1, 2]
+    monkeypatch.setattr(sys, "stderr", object())  # no isatty at all
+    assert progress_enabled() is False
+    monkeypatch.setattr(sys, "stderr", io.StringIO())  # a pipe or a log
+    assert progress_enabled() is False
+
+
+@pytest.fixture
+def greeter():
+    """A TCP listener that greets every connection with the given bytes, then closes it after 0.3 s."""
+    lst = socket.socket()
+    lst.bind(("127.0.0.1", 0))
+    lst.listen(16)
+    lst.settimeout(0.2)
+    stop = threading.Event()
+    payload = {"bytes": b""}
+
+    def serve():
+        while not stop.is_set():
+            try:
+                c, _ = lst.accept()
+            except OSError:
+                continue
+            with c:
+                try:
+                    c.sendall(payload["bytes"])
+                    time.sleep(0.3)
+                except OSError:
+                    pass
+
+    th = threading.Thread(target=serve, daemon=True)
+    th.start()
+    yield f"tcp://127.0.0.1:{lst.getsockname()[1]}", payload
+    stop.set()
+    th.join(2)
+    lst.close()
+
+
+def _le(n: int) -> bytes:
+    return n.to_bytes(8, "little")
+
+
+def test_probe_accepts_lengths_up_to_one_mib(greeter):
+    address, payload = greeter
+    for n in (1, 300, 1 << 20):
+        payload["bytes"] = _le(n)
+        probe_scheduler(address, timeout=3.0)  # a dask-like greeting: accepted
+    for n in (0, (1 << 20) + 1):
+        payload["bytes"] = _le(n)
+        with pytest.raises(ValueError, match="the server there answered .*not a dask handshake"):
+            probe_scheduler(address, timeout=3.0)
+
+
+@pytest.mark.skipif(not dask_available(), reason="needs dask.distributed")
+@pytest.mark.parametrize("greeting", [
+    _le(1 << 20),  # a valid length, then the connection closes (dask: CommClosedError, an OSError)
+    _le(16) + _le(1) + _le(0),  # frames that msgpack cannot unpack (ValueError)
+    _le(17) + _le(1) + _le(1) + b"\x01",  # (TypeError inside dask's reader)
+    _le(100) + b"\x00" * 100,  # (IndexError inside dask's reader)
+    _le(8) + b"\xc1" * 8,  # (struct.error inside dask's reader)
+], ids=["closed", "ValueError", "TypeError", "IndexError", "struct.error"])
+def test_a_server_that_passes_the_probe_but_is_not_dask_is_one_line(greeter, capsys, greeting):
+    address, payload = greeter
+    payload["bytes"] = greeting
+    probe_scheduler(address, timeout=3.0)
+    t0 = time.monotonic()
+    with pytest.raises(ValueError) as ei:
+        run_cases(abs, [1, -2], scheduler=address, progress=False)
+    assert time.monotonic() - t0 < 15.0
+    msg = str(ei.value)
+    assert msg.startswith(f"scheduler = {address!r} is invalid: no dask scheduler answers at that address (")
+    assert "\n" not in msg
+    assert "CRITICAL" not in capsys.readouterr().err  # dask's deserialisation traceback is held back
