@@ -55,7 +55,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "tests/test_simulate.py", "tests/test_gap_pins.py",
               "tests/test_augmented.py::test_force_closed_form_linear_viscous_mass_delay_and_non_uniform_sampling",
               "tests/test_augmented.py::test_model_file_round_trip_and_errors"),
-    "records": ("tests/test_records_pins.py", "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
+    "records": ("tests/test_records_pins.py", "tests/test_records_contracts.py", "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
                 "tests/test_readers.py", "tests/test_readers_readme.py", "tests/test_gap_benchmark_time.py::test_excitation_closed_forms",
                 "tests/test_gap_benchmark_time.py::test_excitation_derivatives_are_exact"),
     "damping": ("tests/test_damping_pins.py", "tests/test_identify.py", "tests/test_identify_excluded.py", "tests/test_audit.py"),
