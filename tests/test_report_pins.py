@@ -39,11 +39,29 @@ def _harmonics(r, psi, k):
     return 2 * float(np.mean(r * np.sin(k * psi))), 2 * float(np.mean(r * np.cos(k * psi)))
 
 
+def _spy_figures(mp, figs):
+    """Keep every figure the report saves (by file name) while ``mp`` is active."""
+    import chainid.infra.fileio
+
+    orig = chainid.infra.fileio.save_figure
+
+    def spy(fig, path, *a, **k):
+        figs[Path(path).name] = fig
+        return orig(fig, path, *a, **k)
+
+    mp.setattr(chainid.infra.fileio, "save_figure", spy)
+
+
+EQ26_FIGS: dict[str, object] = {}
+
+
 @pytest.fixture(scope="module")
 def eq26(tmp_path_factory):
     folder = tmp_path_factory.mktemp("eq26")
     msgs: list[str] = []
-    md = report_steps.eq26_section(folder, MODEL, msgs.append)
+    with pytest.MonkeyPatch.context() as mp:
+        _spy_figures(mp, EQ26_FIGS)
+        md = report_steps.eq26_section(folder, MODEL, msgs.append)
     doc = json.loads((folder / "json" / "gap_eq26.json").read_text())
     return md, doc, msgs
 
@@ -127,20 +145,12 @@ def test_table1_r2_is_the_squared_correlation(eq26):
 
 @pytest.fixture(scope="module")
 def damping_step(tmp_path_factory):
-    import chainid.infra.fileio
-
     folder = tmp_path_factory.mktemp("damp")
     (folder / "figures").mkdir()
     figs: dict[str, object] = {}
-    orig = chainid.infra.fileio.save_figure
-
-    def spy(fig, path, *a, **k):
-        figs[Path(path).name] = fig
-        return orig(fig, path, *a, **k)
-
     msgs: list[str] = []
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(chainid.infra.fileio, "save_figure", spy)
+        _spy_figures(mp, figs)
         md = build.step_damping(folder, MODEL, msgs.append)
     return folder, md, figs, msgs
 
@@ -185,7 +195,10 @@ def test_validation_case_both_readings_of_omega(damping_step):
 def test_practice_section_text(tmp_path):
     from chainid.chain.spec import default_chain
 
-    md = report_practice.report_section(tmp_path, default_chain(), lambda s: None)
+    figs: dict[str, object] = {}
+    with pytest.MonkeyPatch.context() as mp:
+        _spy_figures(mp, figs)
+        md = report_practice.report_section(tmp_path, default_chain(), lambda s: None)
     sec = json.loads((tmp_path / "json" / "practice.json").read_text())
     c = sec["chain"]
     pct = 100 * c["contact_limit_load_N"] / c["proof_load_N"]
@@ -197,6 +210,81 @@ def test_practice_section_text(tmp_path):
     assert "width_minus_1mm" in e
     assert md.startswith("## 2b. The model against practice")
     assert (tmp_path / "figures" / "practice_ea.png").stat().st_size > 5000
+    # the EA figure: the catalogue formulas as labelled, EA = 0.854e8 d² and 1.01e8 d² kN (d in m) = 85 400 d²
+    # and 101 000 d² N (d in mm), over d = 12-160 mm; the ratio panel: model EA over the studless formula
+    ax, ax2 = figs["practice_ea.png"].axes[:2]
+    d = ax.lines[0].get_xdata()
+    assert d.min() == pytest.approx(12.0) and d.max() == pytest.approx(160.0)
+    np.testing.assert_allclose(ax.lines[0].get_ydata(), 85_400 * d**2, rtol=1e-9)
+    np.testing.assert_allclose(ax.lines[1].get_ydata(), 101_000 * d**2, rtol=1e-9)
+    rows = sec["table"]
+    for fam in ("din22252", "studless"):
+        rr = [r for r in rows if r["family"] == fam]
+        line = next(ln for ln in ax2.lines if list(ln.get_xdata()) == [r["d_mm"] for r in rr]
+                    and ln.get_linestyle() == "-")
+        np.testing.assert_allclose(line.get_ydata(), [r["EA_model_N"] / (85_400 * r["d_mm"] ** 2) for r in rr],
+                                   rtol=1e-6)
+    # the limits figure: per family the contact limit, first yield, proof and breaking loads; the paper's 11117 N
+    axl = figs["practice_limits.png"].axes[0]
+    assert any(np.allclose(ln.get_ydata(), 11117.0) for ln in axl.lines)
+    rr = [r for r in rows if r["family"] == "studless"]
+    ys = [list(ln.get_ydata()) for ln in axl.lines]
+    for key in ("contact_limit_load_N", "first_yield_load_N", "proof_load_N", "breaking_load_N"):
+        assert [r[key] for r in rr] in ys, key
+    # studless R3 breaking force: 0.0223 d² (44 - 0.08 d) kN (d in mm), as the catalogue gives it
+    for r in rr:
+        assert r["breaking_load_N"] == pytest.approx(22.3 * r["d_mm"] ** 2 * (44 - 0.08 * r["d_mm"]), rel=1e-3)
+
+
+def test_eq26_figure_plots_the_record_the_model_and_the_residual(eq26):
+    _, doc, _ = eq26
+    d = doc["eq26"]
+    left, right = EQ26_FIGS["eq26_record.png"].axes[:2]
+    psi = np.linspace(0, 2 * math.pi, 361)
+    x = X0 + A3 * np.sin(psi)
+    F = F0 + FA * np.sin(psi + PHI)
+    base = MODEL.force(x) - M * W3**2 * A3 * np.sin(psi) * 1e-3
+    c27 = 2834.4  # Eq. 27's c_e [N s/mm]
+    np.testing.assert_allclose(left.lines[0].get_xdata(), x, rtol=1e-12)
+    np.testing.assert_allclose(left.lines[2].get_ydata(), (base + c27 * W3 * A3 * np.cos(psi)) / 1000, rtol=1e-9)
+    # markers at psi = 0 and 90 deg on the record's loop
+    assert left.lines[3].get_xdata()[0] == pytest.approx(X0) and left.lines[4].get_xdata()[0] == pytest.approx(X0 + A3)
+    assert left.lines[4].get_ydata()[0] == pytest.approx((F0 + FA * math.sin(math.pi / 2 + PHI)) / 1000)
+    deg = right.lines[0].get_xdata()
+    np.testing.assert_allclose(deg, np.degrees(psi), rtol=1e-12)
+    np.testing.assert_allclose(right.lines[0].get_ydata(), (F - base) / 1000, rtol=1e-9, atol=1e-9)
+    h = d["residual_harmonics"]
+    np.testing.assert_allclose(right.lines[1].get_ydata(), h["h1_x"] * np.sin(psi) / 1000, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(right.lines[2].get_ydata(), h["h1_xdot"] * np.cos(psi) / 1000, rtol=1e-9,
+                               atol=1e-12)
+    np.testing.assert_allclose(right.lines[3].get_ydata(), h["mean"] / 1000)
+    np.testing.assert_allclose(right.lines[4].get_ydata(), c27 * W3 * A3 * np.cos(psi) / 1000, rtol=1e-9,
+                               atol=1e-12)
+    assert list(right.get_xticks()) == [0, 90, 180, 270, 360]
+
+
+def test_table1_figure_fits_and_reference_slopes(eq26):
+    """log W against log A and ω: the fit line has the fitted slope through the geometric means; the reference
+    lines have slopes 1, 2, 3 (A) and 0, 1 (ω); test 1 as printed and with F_ac from its c_e."""
+    _, doc, _ = eq26
+    t1 = doc["table1"]
+    axA, axw = EQ26_FIGS["table1_energy.png"].axes[:2]
+    for ax, slopes, fit in ((axA, (1, 2, 3), t1["slope_A"]), (axw, (0, 1), t1["slope_omega"])):
+        xs, ws = ax.lines[0].get_xdata(), ax.lines[0].get_ydata()
+        gx, gw = math.exp(np.mean(np.log(xs))), math.exp(np.mean(np.log(ws)))
+        lines = ax.lines[1:2 + len(slopes)]
+        got = [np.polyfit(np.log(ln.get_xdata()), np.log(ln.get_ydata()), 1) for ln in lines]
+        assert [g[0] for g in got] == pytest.approx([fit, *slopes], abs=1e-9)
+        for g in got:  # every line passes through the points' geometric mean
+            assert g[0] * math.log(gx) + g[1] == pytest.approx(math.log(gw), abs=1e-9)
+        xx = lines[0].get_xdata()
+        assert xx.min() == pytest.approx(0.85 * xs.min()) and xx.max() == pytest.approx(1.15 * xs.max())
+    rows = {t["test"]: t for t in t1["tests"]}
+    w1 = rows[1]["omega_rad_s"]
+    printed, implied = axw.lines[-2], axw.lines[-1]
+    assert printed.get_xdata()[0] == pytest.approx(w1) and implied.get_xdata()[0] == pytest.approx(w1)
+    assert printed.get_ydata()[0] == pytest.approx(math.pi * rows[1]["F_ac_N"] * rows[1]["A_mm"])
+    assert implied.get_ydata()[0] == pytest.approx(math.pi * t1["test1"]["F_ac_implied_by_c_e_N"] * rows[1]["A_mm"])
 
 
 def test_md_table_escapes_bars():
