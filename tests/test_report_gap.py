@@ -257,6 +257,7 @@ def test_data_diagnosis(tmp_path):
     assert "4b." not in md  # with --data only the user's records
     doc = json.loads((folder / "json" / "gap_data.json").read_text())
     assert doc["holdout"] == ["7", "8"]  # last 25 % of 8 tests
+    assert "8 tests; the last 2 (7, 8) are held out whole, the other 6 train." in md
     assert doc["data"]["baseline_model"] == "chain"
     assert doc["verdict"] == "backlash"
     assert doc["best"]["params"]["backlash.b"] == pytest.approx(0.02, rel=0.1)

@@ -400,3 +400,52 @@ def test_data_step_with_tension_records_keeps_the_chain(tmp_path):
     assert doc["model"] == MODEL.name
     assert [t["c_e"] for t in doc["tests"]] == pytest.approx([500.0] * 3, rel=0.02)
     assert msgs[0] == f"identification of 3 tests from {data}"
+
+
+def test_stiffness_step_numbers_and_figures(tmp_path):
+    """Step 2: the table and JSON are Eq. 15 (typed in paper_forms) at x = 0.5…5 mm; x(11117 N) is its inverse;
+    Fig. 8b's legend gives E in GPa (MPa / 1000)."""
+    from chainid.chain.spec import default_chain
+
+    (tmp_path / "figures").mkdir()
+    figs: dict[str, object] = {}
+    msgs: list[str] = []
+    with pytest.MonkeyPatch.context() as mp:
+        _spy_figures(mp, figs)
+        md = build.step_stiffness(tmp_path, default_chain(), msgs.append)
+    doc = json.loads((tmp_path / "json" / "stiffness.json").read_text())
+    assert doc["x_at_11117N_mm"] == pytest.approx(paper_forms.x_of_F(11117.0), rel=1e-9)
+    pts = {p["x_mm"]: p for p in doc["points"]}
+    assert sorted(pts) == [0.5, 1.0, 2.2, 3.0, 5.0]
+    for x, p in pts.items():
+        assert p["F_k_paper_N"] == pytest.approx(paper_forms.F_of_x(x), rel=1e-6)
+        assert p["k_e_paper_N_per_mm"] == pytest.approx(paper_forms.k_e(x), rel=1e-6)
+    assert f"x(11117 N) = {paper_forms.x_of_F(11117.0):.4f} mm" in md
+    assert f"| 2.2 | {paper_forms.F_of_x(2.2):.0f} / {paper_forms.k_e(2.2):.0f} |" in md
+    labels = [ln.get_label() for ln in figs["fig8b_stiffness_vs_modulus.png"].axes[0].lines]
+    assert labels == [f"E = {f:g} E₀ = {210 * f:g} GPa" for f in (0.5, 0.75, 1.0, 1.25, 1.5)]
+    assert {"fig8a_stiffness_vs_length.png", "fig8b_stiffness_vs_modulus.png", "stiffness_variants.png"} <= set(figs)
+    assert msgs == ["stiffness figures"]
+    assert all((tmp_path / "figures" / n).stat().st_size > 5000 for n in figs)
+
+
+def test_every_note_placed_in_axes_coordinates_is_inside_its_panel(eq26, damping_step):
+    """A note placed with axes coordinates (0..1) outside that range is drawn off its panel, over another one."""
+    figs = {**EQ26_FIGS, **damping_step[2]}
+    n = 0
+    for name, fig in figs.items():
+        for ax in fig.axes:
+            for txt in ax.texts:
+                if txt.get_transform() == ax.transAxes:
+                    x, y = txt.get_position()
+                    assert 0 <= x <= 1 and 0 <= y <= 1, (name, txt.get_text())
+                    n += 1
+    assert n >= 1
+
+
+def test_data_section_with_unreadable_records_says_so(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("test,t,x,F\n1,0,1,2\n1,0.1,1,abc\n")
+    md = report_steps.report_section(tmp_path / "rep", MODEL, bad, lambda s: None)
+    assert md.startswith("## 4. Gap diagnosis of `bad.csv`\n\nThe records could not be read, no diagnosis: ")
+    assert "abc" in md
