@@ -133,6 +133,10 @@ def test_predict_plots_show_the_residuals_over_t_and_x(tmp_path):
     np.testing.assert_allclose(panels[1, 1].lines[1].get_xdata(), x)
     np.testing.assert_allclose(panels[1, 1].lines[1].get_ydata(), 2.0)
     assert [ln.get_label() for ln in panels[0, 1].lines] == ["measured", "baseline", "model"]
+    assert [ln.get_label() for ln in panels[0, 0].lines] == ["measured", "baseline", "model"]
+    for ln, y in zip(panels[0, 0].lines, (F, Fb, Fm)):
+        np.testing.assert_allclose(ln.get_xdata(), t)
+        np.testing.assert_allclose(ln.get_ydata(), y)
 
 
 def test_parser_module_runs_as_a_script():
@@ -190,3 +194,34 @@ def test_simulate_defaults_are_the_papers_test():
     assert (args.links, args.masses, args.t_end, args.modes, args.speed, args.t_ramp) == (4000, 400, 10.0, 4, 1000.0,
                                                                                           2.0)
     assert (args.kt, args.damping, args.coulomb, args.resistance, args.teeth) == (0.0, 0.0, 0.0, 0.0, 8)
+
+
+def test_saved_model_records_the_command_line_and_the_data_hash(tmp_path):
+    """The model file's provenance is the command as typed (``main(argv)``'s argv, not the process's) and the
+    SHA-256 of the data file (hashlib on the bytes)."""
+    import hashlib
+
+    data, m = tmp_path / "d.csv", tmp_path / "m.toml"
+    assert main(["simulate", str(data), "--cycles", "5", "--samples-per-cycle", "48", "--noise-F", "5"]) == 0
+    argv = ["diagnose", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(m)]
+    assert main(argv) == 0
+    prov = load_model(m).info["provenance"]
+    assert prov["command"] == "chainid " + " ".join(argv)
+    assert prov["data_sha256"] == hashlib.sha256(data.read_bytes()).hexdigest()
+    assert prov["data_file"] == str(data)
+
+
+@pytest.mark.parametrize("n, ok", [(-1, False), (0, True), (1, True)])
+def test_skip_rows_below_zero_is_refused(tmp_path, capsys, n, ok):
+    data = tmp_path / "d.csv"
+    lines = ["# a header block of one line"] if n == 1 else []
+    t = np.arange(0, 20, 0.05)
+    lines += ["test,t,x,F"] + [f"1,{v:.3f},{2 + 0.2 * np.sin(v):.6f},{1000 + 200 * np.sin(v):.6f}" for v in t]
+    data.write_text("\n".join(lines) + "\n")
+    rc = main(["identify", str(data), "--model", "linear", "--k", "1000", "--quiet", "--skip-rows", str(n)])
+    err = capsys.readouterr().err
+    if ok:
+        assert "--skip-rows" not in err
+        assert rc == 2 and "only 1 test(s) identified" in err  # read and identified; too few for a law
+    else:
+        assert rc == 2 and "error: --skip-rows = -1 is invalid; valid range >= 0" in err
