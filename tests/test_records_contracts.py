@@ -50,6 +50,8 @@ def test_one_and_a_half_cycles_are_reported_as_such():
     rec = Record("a", t, x, 1000.0 * x)
     with pytest.raises(ValueError, match=r"test 'a': fewer than 2 full cycles .* spans 1\.5 periods of 6\.283 s"):
         validate_record(rec)
+    with pytest.raises(ValueError, match=r"spans 1\.5 periods .* within 5 % of the plateau"):
+        validate_record(rec, steady_tol=0.05)
 
 
 def test_duplicate_column_is_named_with_its_positions(tmp_path):
@@ -57,3 +59,32 @@ def test_duplicate_column_is_named_with_its_positions(tmp_path):
     p.write_text("test,t,x,F,x\n1,0,1,2,3\n1,0.1,1,2,3\n")
     with pytest.raises(ValueError, match=r"column\(s\) \['x'\] appear more than once .*at positions \[3, 5\]"):
         read_records(p)
+
+
+def test_x_in_micrometres_is_flagged_against_the_breaking_elongation():
+    """x spanning 500 mm on a 14x50 chain: the warning gives the span over the elongation at the breaking load,
+    x_bl = x(F_bl) of Eq. 15 (typed in paper_forms), and suggests µm."""
+    import paper_forms
+
+    from chainid.chain.spec import default_chain
+    from chainid.model.practice import chain_practice
+    from chainid.records.plausible import plausibility_warnings
+
+    x_bl = paper_forms.x_of_F(chain_practice(default_chain())["breaking_load_N"])
+    t = np.linspace(0, 10, 1000)
+    rec = Record("u", t, 2200 + 250 * np.sin(t), 11000 + 1000 * np.sin(t))
+    w = [s for s in plausibility_warnings([rec], default_chain()) if "x spans" in s]
+    assert w == [f"test 'u': x spans 500 mm, {500 / x_bl:.3g}x the chain's elongation at the breaking load "
+                 f"({x_bl:.3g} mm): is x in um read as mm (--units x=um)?"]
+
+
+def test_a_chain_simulation_refuses_compression_only():
+    """The chain model carries no compression: a test that stays taut simulates; one that goes slack with
+    damping (F < 0 while x < 0 and ẋ < 0) is refused, naming the test."""
+    from chainid.model.base import ChainModel
+    from chainid.records.simulate import TestSpec, simulate
+
+    recs = simulate([TestSpec("taut", 1.0, 2.2, 0.25)], ChainModel(), 500.0, n_cycles=3, samples_per_cycle=64)
+    assert float(recs[0].F.min()) > 0
+    with pytest.raises(ValueError, match=r"test 'slack': the force goes compressive .* valid range A < x0"):
+        simulate([TestSpec("slack", 1.0, 0.2, 0.5)], ChainModel(), 500.0, n_cycles=3, samples_per_cycle=64)
