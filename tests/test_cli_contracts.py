@@ -225,3 +225,24 @@ def test_skip_rows_below_zero_is_refused(tmp_path, capsys, n, ok):
         assert rc == 2 and "only 1 test(s) identified" in err  # read and identified; too few for a law
     else:
         assert rc == 2 and "error: --skip-rows = -1 is invalid; valid range >= 0" in err
+
+
+@pytest.mark.parametrize("stamp, note", [("1.11.1", True), (None, False), ("same", False)])
+def test_generate_check_names_the_sympy_of_a_stale_file(tmp_path, capsys, monkeypatch, stamp, note):
+    """``generate --check`` on a stale file names the SymPy that wrote it (the last word of its
+    ``# generator: SymPy X`` header line) when that is not the SymPy this generator needs. The emitter is
+    stubbed: the CLI's own reading of the header is under test."""
+    from chainid.derive import emit
+
+    stamp = emit.REQUIRED_SYMPY if stamp == "same" else stamp
+    out = tmp_path / "gen"
+    out.mkdir()
+    head = ["# GENERATED FILE - DO NOT EDIT.", "# variant: paper"] + ([f"# generator: SymPy {stamp}"] if stamp else [])
+    (out / "stiffness_paper.py").write_text("\n".join(head + ["x = 1"]) + "\n")
+    monkeypatch.setattr(emit, "generate", lambda o, check=False: {"stiffness_paper.py": "stale", "b.py": "unchanged"})
+    assert main(["generate", "--check", "--out", str(out)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("generated/ is stale: stiffness_paper.py")
+    extra = f" (the file was generated with SymPy {stamp}; this generator needs {emit.REQUIRED_SYMPY})"
+    assert (extra in err) is note
+    assert err.endswith("; run `chainid generate` and commit")
