@@ -130,3 +130,40 @@ def test_a_server_that_passes_the_probe_but_is_not_dask_is_one_line(greeter, cap
     assert msg.startswith(f"scheduler = {address!r} is invalid: no dask scheduler answers at that address (")
     assert "\n" not in msg
     assert "CRITICAL" not in capsys.readouterr().err  # dask's deserialisation traceback is held back
+
+
+def test_to_jsonable_by_hand():
+    import math
+    from pathlib import Path
+
+    import numpy as np
+
+    from chainid.infra.jsonio import dumps_json, json_default, to_jsonable
+
+    doc = {1: (np.float64(1.5), np.int32(-3), np.bool_(True)), "a": [math.inf, -math.inf, math.nan, 2.0],
+           "p": Path("/x/y.csv"), "arr": np.array([[1, 2], [3, 4]]), "t": True, "n": None, "s": "é", "i": 7}
+    out = to_jsonable(doc)
+    assert out == {"1": [1.5, -3, True], "a": [None, None, None, 2.0], "p": "/x/y.csv", "arr": [[1, 2], [3, 4]],
+                   "t": True, "n": None, "s": "é", "i": 7}
+    assert type(out["1"][1]) is int and type(out["1"][2]) is bool and out["t"] is True
+    with pytest.raises(TypeError, match="not JSON serialisable: object"):
+        to_jsonable(object())
+    assert dumps_json({"a": [1, math.nan]}, indent=None) == '{"a": [1, null]}'
+    assert dumps_json({"s": "é"}) == '{\n  "s": "é"\n}'  # UTF-8 kept, two-space indent
+    assert json.dumps({"v": np.float32(0.5), "k": np.int64(3), "a": np.arange(2)}, default=json_default) == \
+        '{"v": 0.5, "k": 3, "a": [0, 1]}'
+    with pytest.raises(TypeError, match="not JSON serialisable"):
+        json_default(object())
+
+
+def test_lazy_exports_import_on_first_use_and_cache():
+    from chainid.infra.lazy import exports
+
+    ns: dict = {"already": 1}
+    getattr_, dir_ = exports("chainid.infra", {"dumps_json": "jsonio", "exports": "lazy"}, ns)
+    from chainid.infra.jsonio import dumps_json
+
+    assert getattr_("dumps_json") is dumps_json and ns["dumps_json"] is dumps_json  # cached in the namespace
+    with pytest.raises(AttributeError, match="module 'chainid.infra' has no attribute 'nope'"):
+        getattr_("nope")
+    assert dir_() == ["already", "dumps_json", "exports"]
