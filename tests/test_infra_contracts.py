@@ -167,3 +167,34 @@ def test_lazy_exports_import_on_first_use_and_cache():
     with pytest.raises(AttributeError, match="module 'chainid.infra' has no attribute 'nope'"):
         getattr_("nope")
     assert dir_() == ["already", "dumps_json", "exports"]
+
+
+def test_safe_filename_by_hand_and_save_figure_format(tmp_path, capsys):
+    import hashlib
+
+    from chainid.infra.fileio import EXIT_INTERRUPTED, interrupted, safe_filename, save_figure
+
+    def h(s):
+        return hashlib.sha256(s.encode()).hexdigest()[:8]
+
+    assert safe_filename("T/1", "loop_", ".png") == f"loop_T_1-{h('T/1')}.png"
+    assert safe_filename(".hidden") == f"hidden-{h('.hidden')}"
+    assert safe_filename("") == f"id-{h('')}"
+    assert safe_filename("a" * 100) == "a" * 80 + f"-{h('a' * 100)}"
+    assert safe_filename("a" * 80) == "a" * 80 and safe_filename("x.y-z_1") == "x.y-z_1"
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    p = save_figure(fig, tmp_path / "f.svg")
+    assert p == tmp_path / "f.svg" and b"<svg" in p.read_bytes()[:500]
+    q = save_figure(fig, tmp_path / "noext", format="pdf")
+    assert q.read_bytes().startswith(b"%PDF")
+    r = save_figure(fig, tmp_path / "plain")
+    assert r.read_bytes().startswith(b"\x89PNG")  # no suffix: PNG
+    plt.close(fig)
+    assert interrupted("simulate") == EXIT_INTERRUPTED == 130
+    assert capsys.readouterr().err == "chainid simulate: interrupted; no partial output was written\n"
