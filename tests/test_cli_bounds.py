@@ -90,3 +90,69 @@ def test_identify_model_numbers(records, capsys, extra, ok, words):
         assert rc == 0, err
     else:
         assert rc == 2 and len(err) == 1 and words in err[0], err
+
+
+class _Reached(Exception):
+    """Raised by the stubbed simulation: every check before the work has passed."""
+
+
+DYN = ["dynamics", "--links", "100", "--masses", "10", "--pretension", "1000", "--t-end", "0.1", "--quiet"]
+
+
+@pytest.fixture
+def stub_simulate(monkeypatch):
+    import chainid.dynamics as dyn
+
+    seen = {}
+
+    def stub(line, drive, t_end, **kw):
+        seen.update(line=line, drive=drive, t_end=t_end, **kw)
+        raise _Reached
+
+    monkeypatch.setattr(dyn, "simulate", stub)
+    return seen
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--modes", "1"], None), (["--modes", "0"], "--modes = 0 is invalid: valid range an int >= 1"),
+    (["--refine", "0"], None), (["--refine", "10"], None), (["--refine", "11"], "--refine = 11 is invalid: valid range 0 .. 10"),
+    (["--refine=-1"], "--refine = -1 is invalid"),
+    (["--max-work", "1"], None), (["--max-work", "inf"], "--max-work = inf is invalid: valid range > 0 (finite)"),
+    (["--max-memory", "inf"], "--max-memory = inf is invalid"), (["--max-memory", "0.001"], None),
+    (["--sweep-speed", "100,200", "--plots", "P"], "--plots = 'P' is invalid with a sweep"),
+    (["--segment-model", "m.toml", "--coulomb", "5"], "--segment-model comes with its own chain and damping: --coulomb"),
+])
+def test_dynamics_checks_before_work(stub_simulate, capsys, monkeypatch, tmp_path, extra, words):
+    monkeypatch.chdir(tmp_path)
+    if words is None:
+        with pytest.raises(_Reached):
+            main(DYN + extra)
+    else:
+        assert main(DYN + extra) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and words in err[0], err
+
+
+def test_dynamics_option_values_reach_the_simulation(stub_simulate):
+    """``--hysteresis K:F``, ``--dahl F_H:X_H`` and ``--load NODE:F:T`` are parsed into the line; the memory limit
+    in GiB becomes bytes."""
+    with pytest.raises(_Reached):
+        main(DYN + ["--hysteresis", "2000:150", "--dahl", "120:0.05", "--load", "5:3000:0.04", "--max-memory", "1.5",
+                    "--refine", "3", "--scheme", "implicit"])
+    line = stub_simulate["line"]
+    assert line.hysteresis == ((2000.0, 150.0),) and line.dahl == ((120.0, 0.05),)
+    (ld,) = line.loads
+    assert (ld.node, ld.force_N, ld.t_on) == (5, 3000.0, 0.04)
+    assert stub_simulate["max_memory"] == 1.5 * 2**30 and stub_simulate["refine"] == 3
+    assert stub_simulate["scheme"] == "implicit" and stub_simulate["t_end"] == 0.1
+    assert (line.n_links, line.n_masses, line.pretension_N) == (100, 10, 1000.0)
+
+
+@pytest.mark.parametrize("opt, bad, words", [("--hysteresis", "2000", "expected two numbers A:B"),
+                                             ("--load", "5:3000", "expected NODE:FORCE_N:T_ON_S"),
+                                             ("--sweep-masses", "10,0", "whole numbers >= 1 (got 0)"),
+                                             ("--sweep-speed", "1,x", "is not a comma-separated list of numbers")])
+def test_dynamics_malformed_values(capsys, opt, bad, words):
+    with pytest.raises(SystemExit) as e:
+        main(DYN + [opt, bad])
+    assert e.value.code == 2 and words in capsys.readouterr().err
