@@ -4,6 +4,7 @@ duplicated column is named with its 1-based positions."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -149,3 +150,45 @@ def test_writer_blocks_round_trip_bit_exact(tmp_path, monkeypatch, arrow):
             col = tb.column(k).to_numpy()
             np.testing.assert_array_equal(col[:n], getattr(a, k))
             np.testing.assert_array_equal(col[n:], getattr(b, k))
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(fs=0.0), "reader fs = 0.0 Hz is invalid; valid range fs > 0 Hz"),
+    (dict(fs=float("inf")), "reader fs = inf Hz is invalid"),
+    (dict(skip_rows=-1), "reader skip_rows = -1 is invalid; valid: an integer >= 0"),
+    (dict(skip_rows=True), "reader skip_rows = True is invalid"),
+    (dict(decimal=",", delimiter=","), "reader decimal = ',' needs another delimiter than ','"),
+    (dict(decimal=":", delimiter=";"), "reader decimal = ':' is invalid; valid: '.' or ','"),
+    (dict(delimiter=":"), "reader delimiter = ':' is invalid"),
+    (dict(scale={"x": 0.0}), "reader scale: x = 0.0 is invalid; valid: a finite non-zero factor"),
+    (dict(scale={"test": -1.0}), "reader scale: unknown role(s) ['test']"),
+    (dict(columns={"x": 0}), "reader columns: x = 0 is invalid; give a column name or a 1-based position >= 1"),
+    (dict(columns={"x": True}), "reader columns: x = True is invalid"),
+    (dict(columns={"y": "Y"}), "reader columns: unknown role(s) ['y']"),
+    (dict(units={"x": " "}), "reader units: x = ' ' is invalid"),
+    (dict(id_pattern="("), "reader id_pattern = '(' is not a regular expression"),
+    (dict(format="xls"), "reader format = 'xls' is invalid"),
+])
+def test_reader_spec_refuses_with_the_field_and_the_valid_range(kw, words):
+    from chainid.records.spec import ReaderSpec
+
+    with pytest.raises(ValueError, match=re.escape(words)):
+        ReaderSpec(**kw)
+
+
+def test_reader_spec_accepts_its_bounds_and_normalises():
+    from chainid.records.spec import ReaderSpec, parse_assignments
+
+    s = ReaderSpec(fs=1e-9, skip_rows=0, decimal=",", delimiter=";", scale={"x": "-1"}, columns={"F": 1, "x": "D"})
+    assert s.fs == 1e-9 and s.scale == {"x": -1.0} and s.columns == {"F": 1, "x": "D"}
+    assert ReaderSpec(delimiter="tab").delimiter == "\t" and ReaderSpec().is_default
+    assert not s.is_default and s.merged(fs=None, skip_rows=3).skip_rows == 3 and s.merged(fs=None).fs == 1e-9
+    assert parse_assignments("t=Time, x = 2 ,F=Load", "--columns") == {"t": "Time", "x": 2, "F": "Load"}
+    assert parse_assignments("x=-1,F=1e3", "--scale", numeric=True) == {"x": -1.0, "F": 1000.0}
+    assert parse_assignments(None, "--units") == {}
+    for text, words in (("t", "item 't' is not ROLE=VALUE"), ("t=a,t=b", "role 't' is given twice"),
+                        ("x=", "item 'x=' is not ROLE=VALUE")):
+        with pytest.raises(ValueError, match=re.escape(f"--columns {text!r}: {words}")):
+            parse_assignments(text, "--columns")
+    with pytest.raises(ValueError, match=re.escape("--scale 'x=a': x = 'a' is not a number")):
+        parse_assignments("x=a", "--scale", numeric=True)
