@@ -192,3 +192,46 @@ def test_reader_spec_accepts_its_bounds_and_normalises():
             parse_assignments(text, "--columns")
     with pytest.raises(ValueError, match=re.escape("--scale 'x=a': x = 'a' is not a number")):
         parse_assignments("x=a", "--scale", numeric=True)
+
+
+def test_check_data_names_the_first_bad_sample():
+    from chainid.records.validate import check_data
+
+    t = np.arange(6) * 0.1
+    good = Record("g", t, np.ones(6), np.zeros(6))  # F = 0 N is not compressive
+    check_data(good)
+    x = np.ones(6)
+    x[3] = np.nan
+    with pytest.raises(ValueError, match=r"test 'n': column 'x' has a NaN/non-finite value at sample 3"):
+        check_data(Record("n", t, x, np.ones(6)))
+    t2 = t.copy()
+    t2[4] = t2[3]  # a repeated time: not strictly increasing at sample 4
+    with pytest.raises(ValueError, match=r"test 'r': t is not strictly increasing at sample 4 \(t = 0\.3 s then 0\.3 s\)"):
+        check_data(Record("r", t2, np.ones(6), np.ones(6)))
+    F = np.array([5.0, -1.0, 2.0, -3.0, 1.0, 0.0])
+    with pytest.raises(ValueError, match=r"test 'c': force goes compressive \(min F = -3 N at t = 0\.3 s\)"):
+        check_data(Record("c", t, np.ones(6), F))
+    check_data(Record("c", t, np.ones(6), F), allow_compression=True)
+
+
+def test_side_file_round_trip_and_bounds(tmp_path):
+    from types import SimpleNamespace
+
+    from chainid.records.files import read_side_file, write_side_file
+
+    est = {"a": SimpleNamespace(omega=1.0 / 3.0, x0=2.2, A=0.25), "b": SimpleNamespace(omega=2.0, x0=0.0, A=1e-3)}
+    p = write_side_file(tmp_path / "s.csv", est)
+    assert p.read_text().splitlines() == ["test,omega,x0,A", "a,0.3333333333,2.2,0.25", "b,2,0,0.001"]
+    assert read_side_file(p) == {"a": (0.3333333333, 2.2, 0.25), "b": (2.0, 0.0, 0.001)}
+    for body, words in (("1,0,2.2,0.25", r"line 2: test '1': omega = 0.0 rad/s must be > 0"),
+                        ("1,1,2.2,0", r"line 2: test '1': A = 0.0 mm must be > 0"),
+                        ("1,1,2.2,0.2\n2,1,2,1\n1,1,2.2,0.3", r"line 4: test '1' appears twice \(line 2 too\)")):
+        q = tmp_path / "bad.csv"
+        q.write_text("test,omega,x0,A\n" + body + "\n")
+        with pytest.raises(ValueError, match=words):
+            read_side_file(q)
+    q.write_text("test,omega,A\n1,1,1\n")
+    with pytest.raises(ValueError, match=r"missing column\(s\) \['x0'\]; required test,omega,x0,A"):
+        read_side_file(q)
+    with pytest.raises(ValueError, match="does not exist"):
+        read_side_file(tmp_path / "none.csv")
