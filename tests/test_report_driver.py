@@ -136,3 +136,23 @@ def test_a_file_where_a_folder_goes_and_a_folder_where_a_file_goes(tmp_path, ste
     with pytest.raises(OutputError, match=r"report.md' is a folder where the report writes a file"):
         build.run_report(out, force=True, say=lambda s: None)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["R"]  # no temporary folder left
+
+
+def test_verification_step_table(tmp_path, monkeypatch):
+    """Step 1 with the SymPy checks stubbed by three hand-made rows: the summary counts them and the table lists
+    them in order, a ``|`` inside a cell shown as ``/``."""
+    from chainid.derive import verify
+
+    rows = [verify.Check("Eq. 4", "agrees", "ok"), verify.Check("Eq. 9", "differs", "sign | typo"),
+            verify.Check("Eq. 15", "agrees", "x = c F")]
+    monkeypatch.setattr(verify, "run_checks", lambda progress=None: (progress("one"), rows)[1])
+    msgs: list[str] = []
+    md = build.step_verification(tmp_path, msgs.append)
+    assert msgs == ["verification: one"]
+    assert md.startswith("## 1. Verification: the paper, equation by equation\n\n")
+    assert "form: 2 agree, 1 differ (findings, with the reason). JSON: `json/verify.json`." in md
+    assert md.endswith("| Eq. 15 | agrees | x = c F |\n")
+    assert "| Eq. 9 | differs | sign / typo |" in md
+    doc = json.loads((tmp_path / "json" / "verify.json").read_text())
+    assert doc["summary"] == {"agrees": 2, "differs": 1} and [c["equation"] for c in doc["checks"]] == \
+        ["Eq. 4", "Eq. 9", "Eq. 15"]

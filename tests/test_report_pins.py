@@ -112,6 +112,9 @@ def test_eq26_markdown_says_the_numbers(eq26):
     k_in = FA * math.cos(PHI) / A3
     ke0 = paper_forms.k_e(X0)
     assert f"{k_in / ke0:.1f} × stiffer" in md
+    lo, hi = sorted((paper_forms.k_e(X0 - A3), paper_forms.k_e(X0 + A3)))
+    assert f"k_e(x₀) = {ke0:.0f} N/mm ({lo:.0f}–{hi:.0f} over x₀ ± A;" in md
+    assert f"m·ω²·10⁻³ = {M * W3**2 * 1e-3:.3g} N/mm (m = {M:g} kg)" in md
     assert f"(c_e = {FA * math.sin(PHI) / (W3 * A3):.0f} N·s/mm" in md
     assert "energy generated" in md and f"+{F_AC27:g} N" in md
     assert f"{abs(FA * math.sin(PHI)) / F_AC27:.1f} × F_ac" in md
