@@ -246,3 +246,50 @@ def test_generate_check_names_the_sympy_of_a_stale_file(tmp_path, capsys, monkey
     extra = f" (the file was generated with SymPy {stamp}; this generator needs {emit.REQUIRED_SYMPY})"
     assert (extra in err) is note
     assert err.endswith("; run `chainid generate` and commit")
+
+
+def test_a_missing_subcommand_module_is_skipped_a_broken_one_is_not(monkeypatch):
+    """Optional subcommands live in their own modules: a module that is not there (a build without it) is left out
+    of the parser; a module that is there but fails to import raises (a real bug must not hide)."""
+    from chainid.cli import parser
+
+    monkeypatch.setattr(parser, "SUBCOMMAND_MODULES", (*parser.SUBCOMMAND_MODULES, "chainid.cli.no_such_module"))
+    p = parser.build_parser()
+    assert p.parse_args(["stiffness", "--x", "2.2"]).command == "stiffness"
+    real = parser.importlib.import_module
+
+    def fake_import(name, *a, **k):
+        if name == "chainid.cli.broken_sub":  # it exists, but a dependency of it is missing
+            raise ModuleNotFoundError("No module named 'some_dependency'", name="some_dependency")
+        return real(name, *a, **k)
+
+    monkeypatch.setattr(parser.importlib, "import_module", fake_import)
+    monkeypatch.setattr(parser, "SUBCOMMAND_MODULES", (*parser.SUBCOMMAND_MODULES, "chainid.cli.broken_sub"))
+    with pytest.raises(ModuleNotFoundError, match="some_dependency"):
+        parser.build_parser()
+
+
+def test_convert_writes_the_canonical_file_and_refuses_a_bad_cell_in_one_line(tmp_path, capsys):
+    src = tmp_path / "rig.csv"
+    src.write_text("Time;Disp;Load\n0,0;2,2;11000\n0,1;2,3;11500,5\n0,2;2,25;11250\n")
+    out = tmp_path / "o.csv"
+    rc = main(["convert", str(src), "--to", str(out), "--columns", "t=Time,x=Disp,F=Load", "--delimiter", ";",
+               "--decimal", ","])
+    cap = capsys.readouterr()
+    assert rc == 0, cap.err
+    assert cap.out.strip() == f"wrote {out}: 1 test(s), 3 rows (test,t,x,F in s, mm, N)"
+    assert out.read_text().splitlines() == ["test,t,x,F", "rig,0,2.2,11000", "rig,0.1,2.3,11500.5",
+                                            "rig,0.2,2.25,11250"]
+    src.write_text("Time;Disp;Load\n0,0;2,2;11000\n0,1;abc;11500\n")
+    rc = main(["convert", str(src), "--to", str(tmp_path / "o2.csv"), "--columns", "t=Time,x=Disp,F=Load",
+               "--delimiter", ";", "--decimal", ","])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and err[0].startswith("chainid convert: error: ") and "abc" in err[0], err
+    assert not (tmp_path / "o2.csv").exists()
+
+
+def test_identify_progress_counts_every_test(tmp_path, capsys):
+    data = _mixed(tmp_path)
+    assert main(["identify", str(data), "--model", "linear", "--k", "200", "--x-ref", "0", "--mass", "0"]) == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "identifying test" in ln]
+    assert lines == [f"[{i}/6] identifying test {t}" for i, t in enumerate(["v1", "v2", "v3", "f1", "f2", "f3"], 1)]
