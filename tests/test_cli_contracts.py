@@ -293,3 +293,33 @@ def test_identify_progress_counts_every_test(tmp_path, capsys):
     assert main(["identify", str(data), "--model", "linear", "--k", "200", "--x-ref", "0", "--mass", "0"]) == 0
     lines = [ln for ln in capsys.readouterr().err.splitlines() if "identifying test" in ln]
     assert lines == [f"[{i}/6] identifying test {t}" for i, t in enumerate(["v1", "v2", "v3", "f1", "f2", "f3"], 1)]
+
+
+def test_identify_linear_without_k_fits_the_spring(tmp_path):
+    """``--model linear`` without ``--k``: k is fitted on the steady cycles (the records' spring is 200 N/mm)."""
+    data = _mixed(tmp_path)
+    out = tmp_path / "r.json"
+    assert main(["identify", str(data), "--model", "linear", "--mass", "0", "--json", str(out), "--quiet"]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["model"]["name"].startswith("linear")
+    ce = {t["test"]: t["c_e"] for t in doc["tests"]}
+    assert [ce[f"v{i}"] for i in (1, 2, 3)] == pytest.approx([20.0] * 3, rel=0.02)  # viscous c_e through the fit
+    out2 = tmp_path / "r2.json"
+    assert main(["identify", str(data), "--model", "linear", "--k", "200", "--mass", "0", "--json", str(out2),
+                 "--quiet"]) == 0
+    assert json.loads(out2.read_text())["model"]["name"].startswith("linear")
+
+
+def test_strict_makes_implausible_records_one_error_line(tmp_path, capsys):
+    """x in µm read as mm (a 500 mm span on the 14x50 chain): a warning, and with ``--strict`` the one error
+    line that lists it."""
+    t = np.linspace(0, 20, 2000)
+    p = tmp_path / "um.csv"
+    from chainid.records.record import Record
+
+    write_records(p, [Record("u", t, 2200 + 250 * np.sin(t), 11000 + 1000 * np.sin(t))])
+    rc = main(["identify", str(p), "--quiet", "--strict"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1, err
+    assert err[0].startswith("error: --strict: implausible records: test 'u': x spans 500 mm")
+    assert "; test 'u': " in err[0]  # the second warning, joined on the same line
