@@ -323,3 +323,24 @@ def test_strict_makes_implausible_records_one_error_line(tmp_path, capsys):
     assert rc == 2 and len(err) == 1, err
     assert err[0].startswith("error: --strict: implausible records: test 'u': x spans 500 mm")
     assert "; test 'u': " in err[0]  # the second warning, joined on the same line
+
+
+def test_predict_table_lists_each_test_and_the_pooled_row(tmp_path, capsys):
+    data, m, js = tmp_path / "d.csv", tmp_path / "m.toml", tmp_path / "p.json"
+    assert main(["simulate", str(data), "--cycles", "5", "--samples-per-cycle", "48", "--noise-F", "5"]) == 0
+    assert main(["diagnose", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(m)]) == 0
+    capsys.readouterr()
+    assert main(["predict", str(m), str(data), "--tests", " 7, 3 ,", "--json", str(js)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    doc = json.loads(js.read_text())
+    assert sorted(t["test"] for t in doc["tests"]) == ["3", "7"]
+
+    def f(v):
+        return "-" if v is None else f"{v:.4g}"
+
+    assert out[0].split() == ["test", "mode", "NRMSE", "base", "NRMSE", "model", "shrinkage"]
+    for r, line in zip(doc["tests"], out[1:3]):
+        assert line.split() == [r["test"], r["mode"], f(r["nrmse_baseline"]), f(r["nrmse_model"]), f(r["shrinkage"])]
+    p = doc["pooled"]
+    assert out[3].split()[:4] == ["pooled", f(p["nrmse_baseline"]), f(p["nrmse_model"]), f(p["shrinkage"])]
+    assert out[3].endswith(f"(damping: {doc['damping_used']})") and out[4] == f"wrote {js}"
