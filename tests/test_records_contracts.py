@@ -235,3 +235,46 @@ def test_side_file_round_trip_and_bounds(tmp_path):
         read_side_file(q)
     with pytest.raises(ValueError, match="does not exist"):
         read_side_file(tmp_path / "none.csv")
+
+
+def test_earthquake_clough_penzien_corner_by_band_power():
+    """Power of the displacement in 0.15–0.35 Hz (around the Clough–Penzien corner f_c = 0.2 Hz) over that in
+    0.8–1.6 Hz, averaged over six records, against the same ratio of the textbook KT × CP form: within a factor
+    1.6 (measured over seeds 0–29 in groups of six: 0.75–1.13). A corner of another shape or damping moves it by
+    an order of magnitude."""
+    fs, T = 8.0, 480.0
+    n = int(fs * T)
+    f = np.fft.rfftfreq(n, 1 / fs)
+    P = np.zeros(f.size)
+    for seed in range(18, 24):
+        X = np.abs(np.fft.rfft(earthquake(n, fs, 10.0, 0.0, np.random.default_rng(seed), f_hi=3.0).x)) ** 2
+        P += X / X.sum()
+    b1, b2 = (f >= 0.15) & (f <= 0.35), (f >= 0.8) & (f <= 1.6)
+    ref = (_kt_cp_displacement(f[b1]) ** 2).sum() / (_kt_cp_displacement(f[b2]) ** 2).sum()
+    assert P[b1].sum() / P[b2].sum() / ref == pytest.approx(1.0, abs=0.6)
+
+
+def test_excitation_band_errors_name_the_nyquist_frequency():
+    from chainid.records.excitation import band_random
+
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match=r"band \[1, 60\] Hz is invalid: valid range 0 < f_lo < f_hi < fs/2 = 50$"):
+        band_random(1000, 100.0, 1, 60, 0.1, 2.0, rng)
+    with pytest.raises(ValueError, match=r"band \[1, 1.5\] Hz holds 1 line\(s\) over 1 s: valid range >= 2 lines"):
+        band_random(100, 100.0, 1, 1.5, 0.1, 2.0, rng)
+    with pytest.raises(ValueError, match=r"f_c = 2.0, f_g = 2.0, f_hi = 10.0 Hz invalid: .* fs/2 = 50"):
+        earthquake(1000, 100.0, 1.0, 0.0, rng, f_c=2.0)
+
+
+def test_a_file_that_is_not_utf8_text_is_one_error(tmp_path):
+    p = tmp_path / "latin.csv"
+    p.write_bytes(b"test,t,x,F\n1,0,1,2\n\xff\xfe,1,1,1\n")
+    with pytest.raises(ValueError, match=r"latin.csv.*not a UTF-8 text"):
+        read_records(p)
+    q = tmp_path / "latin.txt"
+    q.write_bytes(b"\xe9t\xe9;x;F\n0;1;2\n")
+    from chainid.records.spec import ReaderSpec
+
+    with pytest.raises(ValueError, match=r"latin.txt: not a UTF-8 text file \(undecodable byte at file offset 0 near "
+                                         r"line 1\)"):
+        read_records(q, spec=ReaderSpec(columns={"t": 1, "x": 2, "F": 3}, delimiter=";"))
