@@ -278,3 +278,22 @@ def test_a_file_that_is_not_utf8_text_is_one_error(tmp_path):
     with pytest.raises(ValueError, match=r"latin.txt: not a UTF-8 text file \(undecodable byte at file offset 0 near "
                                          r"line 1\)"):
         read_records(q, spec=ReaderSpec(columns={"t": 1, "x": 2, "F": 3}, delimiter=";"))
+
+
+def test_simulate_motion_force_and_quantisation_by_hand():
+    """F = m·ẍ + F_k(x) + c·ẋ of a linear spring (mass 2 kg: m·ẍ in N with ẍ in mm/s² is 1e-3 m ẍ), then
+    rounded to the force quantum: every force a multiple of it, within half a quantum of the exact one."""
+    from chainid.model.base import LinearModel
+    from chainid.records.excitation import simulate_motion, sweep
+
+    m = sweep(2000, 100.0, 0.5, 2.0, 0.3, 2.0)
+    spring = LinearModel(k=150.0, x_ref=1.0, mass=2.0)
+    exact = 2.0 * m.xdd * 1e-3 + 150.0 * (m.x - 1.0) + 40.0 * m.xd
+    r = simulate_motion("s", m, spring, 40.0)
+    np.testing.assert_allclose(r.F, exact, rtol=1e-12, atol=1e-9)
+    q = simulate_motion("q", m, spring, 40.0, quantum_F=0.5)
+    np.testing.assert_allclose(q.F / 0.5, np.round(q.F / 0.5), atol=1e-9)
+    assert np.max(np.abs(q.F - exact)) <= 0.25 + 1e-9
+    assert np.ptp(q.F) > 100  # the quantum does not flatten the signal
+    np.testing.assert_array_equal(q.x, m.x)
+    np.testing.assert_array_equal(q.t, m.t)
