@@ -71,7 +71,10 @@ TARGETS: dict[str, tuple[str, ...]] = {
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
     "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
               "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py",
-              "tests/test_infra_contracts.py"),
+              "tests/test_infra_contracts.py",
+              # timing-dependent under load (a SIGINT sent after a delay to a child starting a dask LocalCluster,
+              # importing without bytecode): failed the unmutated copy's baseline in two runs (seeds 901, 903)
+              "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback"),
     "cli": ("tests/test_cli_outputs.py", "tests/test_cli_dynamics.py", "tests/test_cli_simulate_effect.py",
             "tests/test_cli_pins.py", "tests/test_grade.py", "tests/test_kernels.py::test_cli_stiffness_json",
             "tests/test_identify_excluded.py", "tests/test_cli_input_checks.py", "tests/test_json_stdout.py",
