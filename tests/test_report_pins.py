@@ -430,6 +430,16 @@ def test_stiffness_step_numbers_and_figures(tmp_path):
     assert {"fig8a_stiffness_vs_length.png", "fig8b_stiffness_vs_modulus.png", "stiffness_variants.png"} <= set(figs)
     assert msgs == ["stiffness figures"]
     assert all((tmp_path / "figures" / n).stat().st_size > 5000 for n in figs)
+    # the variants figure: x = 0-5 mm; the paper variant's curve is Eq. 16 (k_e of paper_forms)
+    lines = {ln.get_label(): ln for ln in figs["stiffness_variants.png"].axes[0].lines}
+    assert "paper" in lines and len(lines) >= 2
+    x, k = lines["paper"].get_xdata(), lines["paper"].get_ydata()
+    assert x[0] == 0.0 and x[-1] == 5.0 and len(x) == 600
+    for i in (100, 300, 599):
+        assert k[i] == pytest.approx(paper_forms.k_e(x[i]), rel=1e-9)
+    # Fig. 8a's legend: n links of the 50 mm pitch
+    labels = [ln.get_label() for ln in figs["fig8a_stiffness_vs_length.png"].axes[0].lines]
+    assert labels == [f"n = {n} ({50 * n} mm)" for n in (8, 16, 32, 64)]
 
 
 def test_every_note_placed_in_axes_coordinates_is_inside_its_panel(eq26, damping_step):
