@@ -72,9 +72,11 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
               "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py",
               "tests/test_infra_contracts.py",
-              # timing-dependent under load (a SIGINT sent after a delay to a child starting a dask LocalCluster,
-              # importing without bytecode): failed the unmutated copy's baseline in two runs (seeds 901, 903)
-              "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback"),
+              # timing-dependent under load (a SIGINT sent 1.5 s after the workers appear, while they may still be
+              # importing without bytecode): the first failed the unmutated copy's baseline in the runs of seeds 901
+              # and 903, the second in that of seed 905 once the first was deselected
+              "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback",
+              "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_benchmark_gap_exits_130_with_one_line"),
     "cli": ("tests/test_cli_outputs.py", "tests/test_cli_dynamics.py", "tests/test_cli_simulate_effect.py",
             "tests/test_cli_pins.py", "tests/test_grade.py", "tests/test_kernels.py::test_cli_stiffness_json",
             "tests/test_identify_excluded.py", "tests/test_cli_input_checks.py", "tests/test_json_stdout.py",
