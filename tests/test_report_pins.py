@@ -264,6 +264,10 @@ def test_eq26_figure_plots_the_record_the_model_and_the_residual(eq26):
     np.testing.assert_allclose(right.lines[4].get_ydata(), c27 * W3 * A3 * np.cos(psi) / 1000, rtol=1e-9,
                                atol=1e-12)
     assert list(right.get_xticks()) == [0, 90, 180, 270, 360]
+    assert right.lines[1].get_label() == f"in phase with x: {h['h1_x'] / 1000:+.1f} kN (stiffness)"
+    assert right.lines[2].get_label() == f"in phase with ẋ: {h['h1_xdot'] / 1000:+.1f} kN (damping)"
+    assert right.lines[3].get_label() == f"mean {h['mean'] / 1000:+.2f} kN"
+    assert left.lines[2].get_label() == "model + Eq. 27 damping (c_e = 2834.4 N·s/mm)"
 
 
 def test_table1_figure_fits_and_reference_slopes(eq26):
@@ -349,6 +353,12 @@ def test_diagnosis_markdown_of_a_hand_made_result():
     assert "| 3 | holdout | 2.2 | 2.2 | 0.31 | 0.06 | – |" in md
     assert "| 1 | train | 1 | 2.2 | 0.1 | 0.05 | 0.01 |" in md
     assert "JSON: `json/x.json`." in md and "![held-out loops](figures/x/loops.png)" in md
+
+
+def test_diagnosis_markdown_of_a_result_read_back_from_json():
+    """A result saved as JSON and read back (new string objects) renders the same Markdown."""
+    res = _res()
+    assert diagnosis_markdown(json.loads(json.dumps(res)), "f", "j") == diagnosis_markdown(res, "f", "j")
 
 
 def test_diagnosis_markdown_verdicts_none_and_unexplained():
