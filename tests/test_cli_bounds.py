@@ -29,6 +29,7 @@ SIMULATE = [
     (["--noise-F", "-1"], False, "--noise-F = -1.0 is invalid: valid range >= 0 N"),
     (["--cycles", "0"], False, "--cycles = 0.0 is invalid: valid range > 0"),
     (["--max-memory", "0"], False, "--max-memory = 0.0 is invalid: valid range > 0 GiB"),
+    (["--max-memory=-1"], False, "--max-memory = -1.0 is invalid: valid range > 0 GiB"),
     (["--mass", "0"], True, None),
     (["--mass", "-1"], False, "--mass = -1.0 is invalid: valid range >= 0 kg"),
     (["--model", "linear", "--k", "0"], False, "--k = 0.0 is invalid: valid range > 0 N/mm"),
@@ -39,8 +40,10 @@ SIMULATE = [
 @pytest.mark.parametrize("extra, ok, words", SIMULATE)
 def test_simulate_bounds(tmp_path, plan, capsys, extra, ok, words):
     out = tmp_path / "o.csv"
-    opts = {"--cycles": "4", "--samples-per-cycle": "32", **dict(zip(extra[::2], extra[1::2]))}  # each once
-    rc = main(["simulate", str(out), "--plan", str(plan), *(a for kv in opts.items() for a in kv)])
+    pairs = [tuple(a.split("=", 1)) if "=" in a else None for a in extra]
+    extra_d = dict(p for p in pairs if p) if all(pairs) else dict(zip(extra[::2], extra[1::2]))
+    opts = {"--cycles": "4", "--samples-per-cycle": "32", **extra_d}  # each option once
+    rc = main(["simulate", str(out), "--plan", str(plan), *(f"{k}={v}" for k, v in opts.items())])
     err = capsys.readouterr().err.strip().splitlines()
     if ok:
         assert rc == 0 and out.is_file(), err

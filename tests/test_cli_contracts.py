@@ -344,3 +344,10 @@ def test_predict_table_lists_each_test_and_the_pooled_row(tmp_path, capsys):
     p = doc["pooled"]
     assert out[3].split()[:4] == ["pooled", f(p["nrmse_baseline"]), f(p["nrmse_model"]), f(p["shrinkage"])]
     assert out[3].endswith(f"(damping: {doc['damping_used']})") and out[4] == f"wrote {js}"
+
+
+def test_default_generated_dir_is_the_packages_generated_folder():
+    from chainid.cli.parser import default_generated_dir
+
+    d = default_generated_dir()
+    assert d == ROOT / "generated" and (d / "stiffness_paper.py").is_file()
