@@ -58,7 +58,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "tests/test_gap_diagnose.py::test_damping_law_effect_hook_by_hand",
               "tests/test_augmented.py::test_force_closed_form_linear_viscous_mass_delay_and_non_uniform_sampling",
               "tests/test_augmented.py::test_model_file_round_trip_and_errors"),
-    "records": ("tests/test_records_pins.py", "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
+    "records": ("tests/test_records_pins.py", "tests/test_records_contracts.py", "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
                 "tests/test_readers.py", "tests/test_readers_readme.py", "tests/test_gap_benchmark_time.py::test_excitation_closed_forms",
                 "tests/test_gap_benchmark_time.py::test_excitation_derivatives_are_exact"),
     "damping": ("tests/test_damping_pins.py", "tests/test_identify.py", "tests/test_identify_excluded.py", "tests/test_audit.py"),
@@ -76,16 +76,30 @@ TARGETS: dict[str, tuple[str, ...]] = {
                  "tests/test_dynamics.py", "tests/test_cli_dynamics.py", "tests/test_dynamics_waves.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
     "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
-              "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py"),
+              "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py",
+              "tests/test_infra_contracts.py",
+              # timing-dependent under load (a SIGINT sent 1.5 s after the workers appear, while they may still be
+              # importing without bytecode): the first failed the unmutated copy's baseline in the runs of seeds 901
+              # and 903, the second in that of seed 905 once the first was deselected
+              "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback",
+              "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_benchmark_gap_exits_130_with_one_line"),
     "cli": ("tests/test_cli_outputs.py", "tests/test_cli_dynamics.py", "tests/test_cli_simulate_effect.py",
             "tests/test_cli_pins.py", "tests/test_grade.py", "tests/test_kernels.py::test_cli_stiffness_json",
             "tests/test_identify_excluded.py", "tests/test_cli_input_checks.py", "tests/test_json_stdout.py",
+            "tests/test_cli_contracts.py", "tests/test_cli_bounds.py", "tests/test_files_ours.py", "tests/test_presets.py",
             # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
             # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
             "--deselect=tests/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output"),
-    "report": ("tests/test_report_gap.py",
+    "report": ("tests/test_report_gap.py", "tests/test_report_pins.py", "tests/test_report_driver.py",
                "tests/test_report.py::test_fig8_curves_are_the_closed_form_stiffness",
-               "tests/test_report.py::test_report_data_step_with_compressive_records_uses_a_linear_spring"),
+               "tests/test_report.py::test_report_data_step_with_compressive_records_uses_a_linear_spring",
+               # the report driver (manifest, swap, late failure) with the steps faked: fast
+               "tests/test_cli_outputs.py::test_report_force_with_a_bad_input_keeps_every_file",
+               "tests/test_cli_outputs.py::test_report_late_failure_or_sigint_leaves_the_old_report",
+               "tests/test_cli_outputs.py::test_report_force_replaces_only_the_files_it_wrote",
+               "tests/test_cli_outputs.py::test_report_into_the_current_folder",
+               "tests/test_files_ours.py::test_report_force_never_replaces_a_file_it_did_not_write",
+               "tests/test_files_ours.py::test_report_never_replaces_its_data"),
 }
 PACKAGES = tuple(TARGETS)
 

@@ -126,6 +126,16 @@ def test_simulated_blind_diagnosis_finds_hidden_effect(builtin):
         assert 0.3 <= p["omega_rad_s"] <= 3.2 and 0.1 <= p["A_mm"] <= 0.4 and abs(p["x0_mm"] - 2.2) <= 0.1
     assert f"**Verdict: {hidden}**" in md
     assert f"{100 * best['shrinkage']:.0f} %" in md
+    # part 4a's text: the plan of simulated_plan's docstring (3 x 3 grid + 2 off-grid tests), the hidden truth
+    assert ("11 harmonic tests simulated on this chain around the paper's operating point: x₀ = 2.15–2.3 mm, "
+            "A = 0.1–0.4 mm, ω = 0.5–3 rad/s, 8 cycles of 128 samples, force noise σ = 20 N") in md
+    ces = [p["c_e_N_s_per_mm"] for p in doc["simulation"]["plan"]]
+    assert f"damping c_e = {min(ces):.0f}–{max(ces):.0f} N·s/mm" in md
+    assert "verdict `friction` matches the hidden effect `friction`" in md
+    ff = doc["check"]["friction_force_at_x0"]
+    assert ff["true_N"] == 150.0 and ff["F_k_N"] == pytest.approx(Fk0, rel=1e-12)
+    assert (f"is {total:.1f} N recovered against 150.0 N true ({100 * (total / 150.0 - 1):+.1f} %)") in md
+    assert "| friction.F_c | 150 |" in md
 
 
 def _independent_holdout_nrmse(holdout, params, best_law="polynomial", nb=64):
@@ -257,6 +267,7 @@ def test_data_diagnosis(tmp_path):
     assert "4b." not in md  # with --data only the user's records
     doc = json.loads((folder / "json" / "gap_data.json").read_text())
     assert doc["holdout"] == ["7", "8"]  # last 25 % of 8 tests
+    assert "8 tests; the last 2 (7, 8) are held out whole, the other 6 train." in md
     assert doc["data"]["baseline_model"] == "chain"
     assert doc["verdict"] == "backlash"
     assert doc["best"]["params"]["backlash.b"] == pytest.approx(0.02, rel=0.1)

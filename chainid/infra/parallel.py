@@ -363,11 +363,18 @@ def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: in
                                        preload=["chainid.infra.parallel"])
                 client = Client(cluster)
         else:
+            # bytes that pass the probe but are no dask handshake make dask's reader raise almost anything
+            # (ValueError, TypeError, IndexError, struct.error, MemoryError, OSError) and log a CRITICAL
+            # traceback: one line instead, and dask's logs held back while connecting
+            previous = logging.root.manager.disable
+            logging.disable(logging.CRITICAL)
             try:
                 client = Client(address, timeout="10s")
-            except (OSError, MemoryError, ValueError, TypeError) as exc:  # what a non-scheduler can provoke
+            except Exception as exc:  # what a non-scheduler can provoke
                 raise _refused(address, f"no dask scheduler answers at that address ({type(exc).__name__}: "
                                         f"{str(exc)[:200]})") from None
+            finally:
+                logging.disable(previous)
         futures = client.map(fn, cases, pure=False)
         for fut in as_completed(futures):
             if fut.status == "error":
