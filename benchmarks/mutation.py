@@ -77,7 +77,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
     "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
               "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py",
-              "tests/test_infra_contracts.py",
+              "tests/test_infra_contracts.py", "tests/test_floattext.py",
               # timing-dependent under load (a SIGINT sent 1.5 s after the workers appear, while they may still be
               # importing without bytecode): the first failed the unmutated copy's baseline in the runs of seeds 901
               # and 903, the second in that of seed 905 once the first was deselected
