@@ -241,7 +241,7 @@ class AnyProblem(Problem):
                     eloo = (eb + Jb @ dth) * d.sigma
                     idx = np.flatnonzero(m)[sel - off]
                     if np.max(np.abs(dth[:-1]), initial=0.0) > LINEAR_STEP:
-                        dth, eloo = self._leave_out_checked(names, p, used, c, dth, d, b, e, lab, i)
+                        dth, eloo = self._leave_out_checked(names, p, used, c, dth, d, b, e, lab, i, eb * d.sigma)
                     loo_res[d.test][idx] = eloo
                     deltas.append(dth)
                 off += n_i
@@ -258,19 +258,19 @@ class AnyProblem(Problem):
                 "force": Fm}
 
     def _leave_out_checked(self, names: Sequence[str], p: dict[str, float], used: list[str], c: float,
-                           dth: np.ndarray, d: TimeData, b: int, e: np.ndarray, lab: np.ndarray, i: int
-                           ) -> tuple[np.ndarray, np.ndarray]:
+                           dth: np.ndarray, d: TimeData, b: int, e: np.ndarray, lab: np.ndarray, i: int,
+                           fitted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """A large leave-one-block-out step checked on the nonlinear model (a backtracking Gauss–Newton step).
 
         The refit without block b is taken at θ − α·Δ with the largest α in 1, ½, ¼, … (down to 1/64) that does not
         raise the leave-out training cost S_(b) above its value at the full fit θ — an optimiser started at θ would
-        not accept a worse point; with none, α = 0 (the full fit).  Returns α·Δ and block b's left-out residual [N],
-        both from the nonlinear model: an effect whose force is strongly nonlinear in a parameter near its bound
-        (a presliding displacement x_s → 0) makes the linear prediction of a large step meaningless.
+        not accept a worse point; with none, α = 0 (the full fit: block b's ``fitted`` residual [N]).  Returns α·Δ
+        and block b's left-out residual [N], both from the nonlinear model: an effect whose force is strongly
+        nonlinear in a parameter near its bound (a presliding displacement x_s → 0) makes the linear prediction of a
+        large step meaningless.
         """
         keys, lo, hi, _ = self._keys(names)
         rng = {k: (a, bb) for k, a, bb in zip(keys, lo, hi)}
-        m = self._mask[d.test]
         keep = lab != b + 10_000 * i          # training rows outside block b, in J's row order
         s0 = float(np.sum(e[keep] ** 2))
 
@@ -284,16 +284,14 @@ class AnyProblem(Problem):
             ek = np.concatenate([res[dd.test][self._mask[dd.test]] / dd.sigma for dd in self.tdata])
             return float(np.sum(ek[keep] ** 2)), res
 
+        sel = self._mask[d.test] & (d.block == b)
         alpha = 1.0
         while alpha >= 1 / 64:
             s1, res = at(alpha)
             if s1 <= s0:
-                sel = m & (d.block == b)
                 return alpha * dth, res[d.test][sel]
             alpha *= 0.5
-        sel = m & (d.block == b)
-        _, res = at(0.0)
-        return 0.0 * dth, res[d.test][sel]
+        return 0.0 * dth, fitted
 
     def evaluate(self, names: Sequence[str], p: dict[str, float], law: str | None = None,
                  at_bound: Sequence[str] = ()) -> dict[str, Any]:
