@@ -16,6 +16,7 @@ from chainid.gap.diagnose import _jackknife
 from chainid.gap.problem import Candidate, Problem
 from chainid.gap.selection import TIE, _pick
 from chainid.model.operators import coulomb_sign
+from stand_ins import localise_viscous_excess
 
 
 # ---------------------------------------------------------------- stationarity
@@ -251,26 +252,11 @@ def test_cycle_stats_whole_cycles_by_hand():
 
 
 # ---------------------------------------------------------------- where the baseline misses
-def _localise_viscous_excess(C=30.0):
-    """Three tests whose baseline residual is a pure viscous excess r = C·cos ψ (x = x0 + A sin ψ)."""
-    from chainid.gap.where import localise
-
-    B = 64
-    psi = (np.arange(B) + 0.5) * 2 * math.pi / B
-    data = [SimpleNamespace(test=f"T{i}", sigma=1.0, counts=np.full(B, 10.0), omega=w, A=A, x0=2.0,
-                            Fbar=1000.0 + 500.0 * np.sin(psi) + C * np.cos(psi))
-            for i, (w, A) in enumerate([(10.0, 0.2), (20.0, 0.3), (30.0, 0.4)])]
-    base = {"res": {d.test: C * np.cos(psi) for d in data}, "per_test": {d.test: 0.1 for d in data},
-            "c_e": {d.test: 1.0 for d in data}, "F": {d.test: np.zeros(B) for d in data}}
-    prob = SimpleNamespace(data=data, hold=data[:1], train=data[1:], sigma_raw=1.0)
-    return data, localise(prob, base)
-
-
 def test_localise_energy_error_per_cycle_is_the_loop_integral():
     """r = C cos ψ over x = x0 + A sin ψ: the residual's work per cycle ∮ r dx = ∫ C cos ψ · A cos ψ dψ = π·A·C
     (C = 30 N, A = 0.2/0.3/0.4 mm: 18.85/28.27/37.70 N·mm).  Bugs caught: a factor lost (the code had π·A·mean,
     half the integral), A dropped."""
-    data, found = _localise_viscous_excess()
+    data, found = localise_viscous_excess()
     per_test = {f["test"]: f["energy_error_Nmm"] for f in found if f.get("kind") == "test"}
     for d in data:
         assert per_test[d.test] == pytest.approx(math.pi * d.A * 30.0, rel=1e-9)
@@ -279,7 +265,7 @@ def test_localise_energy_error_per_cycle_is_the_loop_integral():
 def test_localise_multi_valued_residual_by_hand():
     """At ψ and π − ψ x is the same and ẋ opposite: r − r(mirror) = 2C cos ψ, RMS/2 = C/√2 = 21.21 N.
     Bug caught: the difference not squared."""
-    _, found = _localise_viscous_excess()
+    _, found = localise_viscous_excess()
     surf = [f for f in found if f.get("kind") == "surface"]
     assert len(surf) == 1 and surf[0]["multi_valued_N"] == pytest.approx(30.0 / math.sqrt(2), rel=1e-9)
 

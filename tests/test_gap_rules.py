@@ -17,6 +17,7 @@ from chainid.gap.benchmark_time import effect_spec
 from chainid.gap.prepare import other_plateau
 from chainid.gap.summary import summary
 from chainid.gap.where_time import PEAK, RING_RATIO, ringing
+from stand_ins import localise_viscous_excess
 
 STAT_OK = {"stationary": True, "trend_change_N": 0.0, "finding": ""}
 
@@ -282,19 +283,8 @@ def test_benchmark_motion_is_of_its_family(kind):
 def test_localise_names_a_residual_harmonic_above_twice_the_noise_floor():
     """Bin-mean noise floor σ/√n = 1/√10 = 0.316 N: a residual r = C·cos ψ of C = 3 N (above 2 × 0.316 N) is named
     as the fundamental in phase with ẋ with RMS over tests 3 N; C = 0.5 N (below) is not."""
-    from chainid.gap.where import localise
-
-    B = 64
-    psi = (np.arange(B) + 0.5) * 2 * math.pi / B
-
     def found(C):
-        data = [SimpleNamespace(test=f"T{i}", sigma=1.0, counts=np.full(B, 10.0), omega=w, A=A, x0=2.0,
-                                Fbar=1000.0 + 500.0 * np.sin(psi) + C * np.cos(psi))
-                for i, (w, A) in enumerate([(10.0, 0.2), (20.0, 0.3), (30.0, 0.4)])]
-        base = {"res": {d.test: C * np.cos(psi) for d in data}, "per_test": {d.test: 0.1 for d in data},
-                "c_e": {d.test: 1.0 for d in data}, "F": {d.test: np.zeros(B) for d in data}}
-        prob = SimpleNamespace(data=data, hold=data[:1], train=data[1:], sigma_raw=1.0)
-        return [f for f in localise(prob, base) if f.get("kind") == "harmonic"]
+        return [f for f in localise_viscous_excess(C)[1] if f.get("kind") == "harmonic"]
 
     named = found(3.0)
     assert [f["component"] for f in named] == ["h1_xdot"] and named[0]["amplitude_N"] == pytest.approx(3.0)

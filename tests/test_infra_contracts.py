@@ -6,9 +6,7 @@ from __future__ import annotations
 
 import io
 import json
-import socket
 import sys
-import threading
 import time
 
 import pytest
@@ -16,6 +14,7 @@ import pytest
 from chainid.infra.fileio import OutputError, check_output_file, json_to_stdout, write_json
 from chainid.infra.parallel import dask_available, probe_scheduler, run_cases
 from chainid.infra.progress import progress_enabled, progress_iter
+from fake_servers import greeting_listener
 
 
 def test_json_dash_goes_to_the_real_stdout_and_text_to_stderr(capsys):
@@ -67,32 +66,9 @@ def test_progress_only_on_an_open_terminal(monkeypatch):
 @pytest.fixture
 def greeter():
     """A TCP listener that greets every connection with the given bytes, then closes it after 0.3 s."""
-    lst = socket.socket()
-    lst.bind(("127.0.0.1", 0))
-    lst.listen(16)
-    lst.settimeout(0.2)
-    stop = threading.Event()
     payload = {"bytes": b""}
-
-    def serve():
-        while not stop.is_set():
-            try:
-                c, _ = lst.accept()
-            except OSError:
-                continue
-            with c:
-                try:
-                    c.sendall(payload["bytes"])
-                    time.sleep(0.3)
-                except OSError:
-                    pass
-
-    th = threading.Thread(target=serve, daemon=True)
-    th.start()
-    yield f"tcp://127.0.0.1:{lst.getsockname()[1]}", payload
-    stop.set()
-    th.join(2)
-    lst.close()
+    with greeting_listener(lambda: payload["bytes"], hold_s=0.3) as address:
+        yield address, payload
 
 
 def _le(n: int) -> bytes:

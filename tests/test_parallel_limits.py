@@ -21,6 +21,7 @@ import pytest
 
 from chainid.infra import parallel
 from chainid.infra.parallel import MAX_WORKERS, run_cases, worker_count
+from fake_servers import greeting_listener
 
 ROOT = Path(__file__).resolve().parents[1]
 ENV = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
@@ -82,27 +83,9 @@ def http_server():
 @pytest.fixture
 def http400_listener():
     """A TCP listener that greets every connection with an HTTP 400 and closes it (as a proxy does)."""
-    lst = socket.socket()
-    lst.bind(("127.0.0.1", 0))
-    lst.listen()
-    lst.settimeout(0.2)
-    stop = threading.Event()
-
-    def serve():
-        while not stop.is_set():
-            try:
-                c, _ = lst.accept()
-            except OSError:
-                continue
-            with c:
-                c.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\nConnection: close\r\n\r\n")
-
-    th = threading.Thread(target=serve, daemon=True)
-    th.start()
-    yield f"tcp://127.0.0.1:{lst.getsockname()[1]}"
-    stop.set()
-    th.join(2)
-    lst.close()
+    answer = b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"
+    with greeting_listener(lambda: answer) as address:
+        yield address
 
 
 @pytest.mark.parametrize("server, why", [("http_server", "sent no dask handshake within 5 s"),

@@ -1,0 +1,42 @@
+"""A TCP listener on 127.0.0.1 that greets every connection with some bytes and closes it: a stand-in for a
+server at a ``--scheduler`` address that is not a dask scheduler (tests of the probe and of run_cases)."""
+from __future__ import annotations
+
+import contextlib
+import socket
+import threading
+import time
+from typing import Callable, Iterator
+
+
+@contextlib.contextmanager
+def greeting_listener(greeting: Callable[[], bytes], hold_s: float = 0.0) -> Iterator[str]:
+    """Serve ``greeting()`` to every connection, keep it open ``hold_s`` seconds, close it; yields the address
+    ``tcp://127.0.0.1:PORT``.  A client that hangs up early is not an error."""
+    lst = socket.socket()
+    lst.bind(("127.0.0.1", 0))
+    lst.listen(16)
+    lst.settimeout(0.2)
+    stop = threading.Event()
+
+    def serve():
+        while not stop.is_set():
+            try:
+                c, _ = lst.accept()
+            except OSError:
+                continue
+            with c:
+                try:
+                    c.sendall(greeting())
+                    time.sleep(hold_s)
+                except OSError:
+                    pass
+
+    th = threading.Thread(target=serve, daemon=True)
+    th.start()
+    try:
+        yield f"tcp://127.0.0.1:{lst.getsockname()[1]}"
+    finally:
+        stop.set()
+        th.join(2)
+        lst.close()
