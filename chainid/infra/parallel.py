@@ -40,6 +40,7 @@ something else (a proxy's "HTTP/1.1 400") is refused with a one-line
 from __future__ import annotations
 
 import contextlib
+import gc
 import os
 import signal
 import socket
@@ -368,13 +369,19 @@ def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: in
             # traceback: one line instead, and dask's logs held back while connecting
             previous = logging.root.manager.disable
             logging.disable(logging.CRITICAL)
+            why = ""
             try:
                 client = Client(address, timeout="10s")
             except Exception as exc:  # what a non-scheduler can provoke
-                raise _refused(address, f"no dask scheduler answers at that address ({type(exc).__name__}: "
-                                        f"{str(exc)[:200]})") from None
+                why = f"{type(exc).__name__}: {str(exc)[:200]}"
             finally:
                 logging.disable(previous)
+            if why:
+                # the half-built Client is garbage now: collect it here, where no lock is held, so that its
+                # finaliser (which closes its connections on dask's loop thread) cannot run inside a later
+                # thread start's wait and block it (seen once as a hang of the test suite)
+                gc.collect()
+                raise _refused(address, f"no dask scheduler answers at that address ({why})")
         futures = client.map(fn, cases, pure=False)
         for fut in as_completed(futures):
             if fut.status == "error":
