@@ -117,7 +117,9 @@ def diagnose(
     n_bins : int
         Phase bins per cycle.
     uncertainty : bool
-        Jack-knife standard deviations of every step's parameters.
+        Jack-knife standard deviations of every step's parameters (harmonic route: leave-one-test-out refits;
+        time route: the larger of the linearised block jack-knife and leave-one-unit-out refits). Without it the
+        time route reports the linearised one only.
     damping_law : str
         Baseline damping law: ``auto`` (default; the paper's Eq. 21 when the plan separates it, else the
         leave-one-out best simple law), ``polynomial``, ``viscous``, ``coulomb``, ``viscous+coulomb``,
@@ -193,7 +195,8 @@ def diagnose(
         if model is None:
             model = fit_linear_model(records, holdout)
         res = diagnose_any(records, data, time_recs, holdout, model, holdout_blocks=holdout_blocks, effects=effects,
-                           max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet)
+                           max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet,
+                           uncertainty=uncertainty)
         if validate is not None:
             from chainid.gap.transfer import transfer
 

@@ -53,10 +53,18 @@ def build_problem(records: Sequence[Any], hdata: Sequence[Any], time_recs: Seque
     return AnyProblem(tdata, model, holdout, holdout_blocks, hprob)
 
 
+def larger_sd(linear: dict[str, float], refit: dict[str, float], at_bound: Sequence[str]) -> dict[str, float]:
+    """Per parameter the larger of two jack-knife sds [its units]: the linearised one misses a cost that is not
+    smooth in the parameter, a local refit misses one that is flat or jagged around the fit.  Parameters pinned at a
+    bound get none (they are not estimated)."""
+    keys = [k for k in dict.fromkeys([*linear, *refit]) if k not in at_bound]
+    return {k: max(linear.get(k, 0.0), refit.get(k, 0.0)) for k in keys}
+
+
 def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequence[Any], holdout: Sequence[str],
                  model: Any, *, holdout_blocks: int = 0, effects: Sequence[str] | None = None, max_combo: int = 3,
-                 damping_law: str = "auto", excluded: Sequence[dict[str, str]] = (), quiet: bool = False
-                 ) -> dict[str, Any]:
+                 damping_law: str = "auto", excluded: Sequence[dict[str, str]] = (), quiet: bool = False,
+                 uncertainty: bool = True) -> dict[str, Any]:
     """Diagnose a set with time-domain records (see the module docstring); returns the JSON contract dict.
 
     Parameters
@@ -67,6 +75,8 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
     holdout : held-out test ids (whole tests)
     model : baseline stiffness model (fitted linear spring or chain model)
     holdout_blocks : K > 0: every record in K contiguous blocks, the last one held out
+    uncertainty : the reported parameter sds of the chosen steps also from leave-one-unit-out refits
+        (:meth:`AnyProblem.refit_sd`; the larger of it and the linearised block jack-knife is kept)
     """
     warn: list[str] = []
     for r in time_recs:
@@ -88,6 +98,9 @@ def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequen
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     final = path[-1] if len(path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
+    if uncertainty:
+        for c in path[1:] + ([best] if final is None and best is not None and best.n_params else []):
+            c.param_sd = larger_sd(c.param_sd, prob.refit_sd(c.names, c.params), c.at_bound)
     left = final if final is not None else base_c
     lev = left._ev  # type: ignore[attr-defined]
     stat = drift(prob.tdata, lev["time"]["res"])
