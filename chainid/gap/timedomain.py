@@ -146,8 +146,7 @@ def undamped(names: Sequence[str], p: dict[str, float], model: Any, d: TimeData,
         x, xd, xdd = np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)
     sel = slice(None) if idx is None else idx
     m = float(getattr(model, "mass_kg", 0.0))
-    xa = x[sel]
-    Fk = np.asarray(model.force(xa), float)
+    Fk = np.asarray(model.force(x[sel]), float)
     Fn = m * xdd[sel] * 1e-3 + Fk
     for n in rest:
         e = effect_params(p, n)
@@ -159,8 +158,6 @@ def undamped(names: Sequence[str], p: dict[str, float], model: Any, d: TimeData,
         elif n == "backlash":
             xp = play_operator(x, 0.5 * e.get("b", 0.0), periodic=False)[sel]
             Fn = Fn - Fk + np.asarray(model.force(xp), float)
-        elif n == "slack":  # linear baseline (the chain model takes it through modify_model)
-            Fn = Fn - Fk + np.asarray(model.force(xa - e.get("s", 0.0)), float)
     return Fn, xd[sel]
 
 
