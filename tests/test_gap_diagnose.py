@@ -202,6 +202,10 @@ def test_real_friction_damper_linear():
     # the winner is a friction model (Coulomb or Dahl-type smooth pre-sliding friction)
     assert set(res["verdict"].split("+")) & {"friction", "hysteresis"}
     assert "friction" in res["mechanism"].split("+")
+    # a final viscous law below zero (effects over-explaining the loops' dissipation) is a warning, never silent
+    dmp = res["model"]["damping"]
+    negative = dmp.get("law") == "viscous" and dmp["coefficients"][0] < 0
+    assert any("negative viscous c" in w for w in res["warnings"]) == negative
     # plain Coulomb friction needs the largest load-proportional part allowed: flagged as at its bound
     assert "friction.mu" in rank["friction"]["at_bound"]
     assert not res["best"]["at_bound"]

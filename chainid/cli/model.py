@@ -73,6 +73,10 @@ def cmd_predict(args: argparse.Namespace) -> int:
         recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None))
         tests = [s.strip() for s in args.tests.split(",") if s.strip()] if args.tests else None
         res = predict(model, recs, tests, fitted=args.fitted_damping, keep=bool(args.plots))
+        for w in res["warnings"]:
+            if getattr(args, "strict", False):
+                raise ValueError(f"{w} (--strict)")
+            print(f"chainid predict: warning: {w}", file=sys.stderr)
         print(_table(res))
         if args.json:
             write_json({k: v for k, v in res.items() if not k.startswith("_")}, args.json, force=args.force)

@@ -20,7 +20,7 @@ import numpy as np
 
 from chainid.gap import selection as fw
 from chainid.gap.interpret import interpretation, separating_test
-from chainid.gap.modelio import step_fields, step_models
+from chainid.gap.modelio import negative_damping, step_fields, step_models
 from chainid.model.modelfile import model_to_dict
 from chainid.gap.prepare import Unusable, prepare_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
@@ -264,6 +264,9 @@ def diagnose(
                   "allow_compression": bool(allow_compression or not is_chain)}
     models = step_models(summary, {"evaluation": evaluation})
     summary["model"] = model_to_dict(models[-1])  # the last step's model, in the model file's keys
+    for msg in negative_damping(models[-1], prob.data):
+        summary["warnings"].append(msg)
+        warnings.warn(msg, stacklevel=2)
     summary["_models"] = models
     if validate is not None:
         from chainid.gap.transfer import transfer

@@ -4,6 +4,7 @@
   parameters, the re-fitted linear spring of a ``--model linear`` baseline, the damping law re-identified at
   that step with its coefficients and per-test c_e, the delay, the mass).
 * :func:`predict` — ``chainid predict``: per-test and pooled NRMSE of a model file's baseline and model.
+* :func:`negative_damping` — a warning where the damping resolves to a negative dashpot.
 
 **Which damping ``predict`` uses.**  For a steady harmonic test (one :func:`chainid.gap.prepare.prepare_test`
 accepts) the model is evaluated exactly as the diagnosis evaluates a held-out test: on the test's phase
@@ -87,6 +88,25 @@ def _sse_var(F: np.ndarray, Fm: np.ndarray, w: np.ndarray) -> tuple[float, float
     return float(np.sum(w * (F - Fm) ** 2)), float(np.sum(w * (F - mean) ** 2))
 
 
+def negative_damping(model: AugmentedModel, data: Sequence[Any], fitted: bool = False) -> list[str]:
+    """Warnings for the prepared harmonic tests ``data`` (TestData) at which the model's damping resolves to a
+    viscous c < 0 [N·s/mm]: a negative dashpot feeds energy in, which no passive device does — the named effects
+    over-explain the dissipation there, or the law is extrapolated (Eq. 21 is a fitted surface).  One message
+    naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none."""
+    bad = []
+    for d in data:
+        dmp = model.damping.resolve(d.omega, d.A, model.ke(d.x0), d.test, fitted, d.x0)
+        if dmp.form == "viscous" and dmp.params.get("c", 0.0) < 0:
+            bad.append((dmp.params["c"], d))
+    if not bad:
+        return []
+    c, d = min(bad, key=lambda b: b[0])
+    ids = ", ".join(b[1].test for b in bad)
+    return [f"the damping gives a negative viscous c at test(s) {ids} (lowest c = {c:.4g} N·s/mm at "
+            f"ω = {d.omega:.4g} rad/s, A = {d.A:.4g} mm): the model feeds energy in there, which a passive device "
+            "cannot; the effects over-explain the dissipation or the law is extrapolated"]
+
+
 def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] | None = None,
             fitted: bool = False, keep: bool = False) -> dict[str, Any]:
     """Per-test and pooled NRMSE of the model file's baseline and of the model on ``records``.
@@ -108,7 +128,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     -------
     dict
         ``{"tests": [{"test", "nrmse_baseline", "nrmse_model", "shrinkage", "mode"}], "pooled": {...},
-        "model": {...}}``.
+        "model": {...}, "warnings": [...]}`` (warnings: :func:`negative_damping` on the harmonic tests).
     """
     ids = [r.test for r in records]
     if tests:
@@ -120,7 +140,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         raise ValueError("no records to predict")
     ev = dict(model.info.get("evaluation", {}))
     base = model.baseline or model
-    rows, series = [], {}
+    rows, series, prepared = [], {}, []
     tot = {"b": 0.0, "m": 0.0, "v": 0.0}
     for r in records:
         try:
@@ -129,6 +149,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         except Unusable:
             d = None
         if d is not None:
+            prepared.append(d)
             Fm, Fb = model.cycle_force(d, fitted), base.cycle_force(d, fitted)
             (sm, var), (sb, _) = _sse_var(d.Fbar, Fm, d.counts), _sse_var(d.Fbar, Fb, d.counts)
             mode = "steady-cycle"
@@ -149,7 +170,8 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         tot["v"] += var
     pb, pm = _nrmse(tot["b"], tot["v"]), _nrmse(tot["m"], tot["v"])
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
-           "model": model_to_dict(model), "damping_used": "per-test fitted c_e" if fitted else "law"}
+           "model": model_to_dict(model), "damping_used": "per-test fitted c_e" if fitted else "law",
+           "warnings": negative_damping(model, prepared, fitted)}
     if keep:
         out["_series"] = series
     return out
