@@ -17,13 +17,14 @@ Units: t [s], x [mm], F [N], k [N/mm].
 from __future__ import annotations
 
 import math
+import re
 from typing import Any, Sequence
 
 import numpy as np
 
 from chainid.records.record import Record
 
-__all__ = ["FS_MAX_HZ", "sampling_warnings", "chain_warnings", "plausibility_warnings"]
+__all__ = ["FS_MAX_HZ", "sampling_warnings", "chain_warnings", "plausibility_warnings", "grouped"]
 
 #: A sampling rate above this [Hz] is implausible for a chain test rig.
 FS_MAX_HZ = 1.0e6
@@ -142,9 +143,38 @@ def plausibility_warnings(records: Sequence[Record], chain: Any = None, variant:
     Returns
     -------
     list of str
-        One line per warning, each naming the test and the likely unit slip.  Nothing is rescaled.
+        One line per check that fires, naming the likely unit slip: the first test's message, then the other tests
+        the same check fired on (a file with one slip in every test gives one line, not one per test).  Nothing
+        is rescaled.
     """
     out = sampling_warnings(records)
     if chain is not None:
         out += chain_warnings(records, chain, variant)
+    return grouped(out)
+
+
+_TAG = re.compile(r"^test '((?:[^'\\]|\\.)*)': ")
+_NUM = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?")
+
+
+def grouped(msgs: Sequence[str]) -> list[str]:
+    """Per-test warnings ``test 'ID': text`` grouped by check: messages whose texts differ only in their
+    numbers are one check; it is reported once (the first test's message) with the other tests' ids."""
+    groups: dict[str, list[tuple[str, str]]] = {}
+    order: list[str] = []
+    for m in msgs:
+        tag = _TAG.match(m)
+        key = _NUM.sub("#", m[tag.end():]) if tag else m
+        if key not in groups:
+            groups[key] = []
+            order.append(key)
+        groups[key].append((tag.group(1) if tag else "", m))
+    out = []
+    for key in order:
+        g = groups[key]
+        first = g[0][1]
+        if len(g) > 1:
+            ids = ", ".join(repr(t) for t, _ in g[1:])
+            first += f" [the same check on {len(g) - 1} more test(s): {ids}]"
+        out.append(first)
     return out
