@@ -325,7 +325,7 @@ def test_strict_makes_implausible_records_one_error_line(tmp_path, capsys):
     rc = main(["identify", str(p), "--quiet", "--strict"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1, err
-    assert err[0].startswith("error: --strict: implausible records: test 'u': x spans 500 mm")
+    assert err[0].startswith("chainid identify: error: --strict: implausible records: test 'u': x spans 500 mm")
     assert "; test 'u': " in err[0]  # the second warning, joined on the same line
 
 

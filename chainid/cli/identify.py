@@ -212,7 +212,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
         left = f" ({len(excluded)} excluded)" if excluded else ""
         msg = (f"only {len(results)} test(s) identified{left}: fitting a damping law needs at least {MIN_TESTS} "
                f"(paper Eq. 22: M > 5); per-test results only")
-        print(f"\nerror: {msg}", file=sys.stderr)
+        print(f"chainid identify: error: {msg}", file=sys.stderr)
         out["law_error"] = msg
         rc = 2
         law = None
@@ -394,7 +394,7 @@ def _wrap(fn: Any) -> Any:
         try:
             return fn(args)
         except ValueError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            print(f"chainid {getattr(args, 'command', None) or 'identify'}: error: {exc}", file=sys.stderr)
             return 2
 
     run.__doc__ = fn.__doc__
