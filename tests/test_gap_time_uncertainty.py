@@ -37,3 +37,58 @@ def test_the_lag_sd_covers_the_simulated_lag_on_a_sweep():
     # ... and is not vacuous: smaller than the lag itself (0.0009 s spread over noise, see the module docstring)
     assert sd < 0.6 * tau_true
     assert st["params_sd"]["friction.F_c"] > 0
+
+
+class _Block:
+    """A stand-in time record: its id and a block label per sample."""
+
+    def __init__(self, test, blocks):
+        self.test = test
+        self.block = np.asarray(blocks)
+
+
+def test_refit_sd_leaves_each_unit_out_once_and_takes_the_jackknife_spread():
+    """Stand-in refits return known values; the sd must be √((n−1)/n·Σ(θ_i − θ̄)²) of them, every training unit
+    (time block or harmonic test) left out exactly once, and every mask restored."""
+    from types import SimpleNamespace
+
+    from chainid.gap.timeproblem import AnyProblem
+
+    a, b = _Block("a", [0, 0, 1, 1, 2, 2]), _Block("b", [0, 1, 1])
+    prob = object.__new__(AnyProblem)
+    prob.train_units = [(a, 0), (a, 1), (b, 0)]
+    masks = {"a": np.array([1, 1, 1, 1, 0, 0], bool), "b": np.ones(3, bool)}
+    prob._mask = {k: v.copy() for k, v in masks.items()}
+    prob.hprob = SimpleNamespace(train=["h1", "h2"])
+    prob._keys = lambda names: (["e.p", "e.q"], [0.0, 0.0], [1.0, 1.0], [0.5, 0.5])
+    values = iter([(1.0, 10.0), (2.0, 10.0), (4.0, 10.0), (3.0, 14.0), (5.0, 6.0)])
+    seen = []
+
+    def fit(names, start=None, polish_only=False):
+        assert polish_only and start == {"e.p": 2.5, "e.q": 9.0}
+        seen.append(({k: v.copy() for k, v in prob._mask.items()}, list(prob.hprob.train)))
+        p, q = next(values)
+        return SimpleNamespace(params={"e.p": p, "e.q": q})
+
+    prob.fit = fit
+    sd = prob.refit_sd(["e"], {"e.p": 2.5, "e.q": 9.0, "damping.c": 1.0})
+    # the units left out, in order: block 0 of a, block 1 of a, block 0 of b, then each harmonic test
+    assert seen[0][0]["a"].tolist() == [0, 0, 1, 1, 0, 0] and seen[0][0]["b"].all()
+    assert seen[1][0]["a"].tolist() == [1, 1, 0, 0, 0, 0]
+    assert seen[2][0]["b"].tolist() == [False, True, True] and seen[2][0]["a"].tolist() == masks["a"].tolist()
+    assert [s[1] for s in seen[3:]] == [["h2"], ["h1"]]
+    assert all(np.array_equal(prob._mask[k], masks[k]) for k in masks) and prob.hprob.train == ["h1", "h2"]
+    p = np.array([1.0, 2.0, 4.0, 3.0, 5.0])
+    q = np.array([10.0, 10.0, 10.0, 14.0, 6.0])
+    jk = lambda v: np.sqrt(4 / 5 * np.sum((v - v.mean()) ** 2))  # noqa: E731
+    assert sd == pytest.approx({"e.p": jk(p), "e.q": jk(q)}, rel=1e-12)
+    assert sd["e.p"] == pytest.approx(np.sqrt(0.8 * 10.0), rel=1e-12)  # Σ(p − 3)² = 10 by hand
+
+
+def test_refit_sd_needs_two_units():
+    from chainid.gap.timeproblem import AnyProblem
+
+    prob = object.__new__(AnyProblem)
+    prob.train_units, prob.hprob = [(_Block("a", [0]), 0)], None
+    prob._keys = lambda names: (["e.p"], [0.0], [1.0], [0.5])
+    assert prob.refit_sd(["e"], {"e.p": 0.5}) == {}
