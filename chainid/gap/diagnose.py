@@ -23,7 +23,7 @@ from chainid.gap.interpret import interpretation, separating_test
 from chainid.gap.modelio import negative_damping, step_fields, step_models
 from chainid.model.modelfile import model_to_dict
 from chainid.gap.prepare import Unusable, prepare_test
-from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
+from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable, jackknife_sd
 from chainid.gap.stationarity import check as stationarity_check
 from chainid.gap.verdict import MIN_SHRINK, NONSTAT_FRACTION, contract, decide  # noqa: F401  (the verdict rule, one place)
 from chainid.gap.where import localise
@@ -285,7 +285,4 @@ def _jackknife(prob: Problem, cand: Candidate) -> dict[str, float]:
         sub = tr[:i] + tr[i + 1:]
         c = prob.fit(names, train_only=sub, start=cand.params, polish_only=True)
         vals.append([c.params.get(k, float("nan")) for k in keys])
-    v = np.array(vals)
-    n = len(tr)
-    sd = np.sqrt((n - 1) / n * np.sum((v - v.mean(axis=0)) ** 2, axis=0))
-    return dict(zip(keys, (float(s) for s in sd)))
+    return dict(zip(keys, (float(s) for s in jackknife_sd(np.array(vals)))))

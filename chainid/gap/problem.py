@@ -31,6 +31,14 @@ from chainid.gap.prepare import TestData
 MIN_TRAIN = 3
 
 
+def jackknife_sd(values: np.ndarray) -> np.ndarray:
+    """Jack-knife standard deviation per column of leave-one-out estimates ``values`` (n rows, n >= 2):
+    √((n−1)/n · Σ(θ_(i) − θ̄)²) (Efron & Stein; units of the estimates)."""
+    v = np.asarray(values, float)
+    n = v.shape[0]
+    return np.sqrt((n - 1) / n * np.sum((v - v.mean(axis=0)) ** 2, axis=0))
+
+
 @dataclass
 class Candidate:
     """A fitted effect set with its scores (NRMSE dimensionless, params in the effect's units)."""

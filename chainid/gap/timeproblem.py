@@ -32,7 +32,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.model.effects import EFFECT_NAMES, make_effect
-from chainid.gap.problem import Candidate, Problem
+from chainid.gap.problem import Candidate, Problem, jackknife_sd
 from chainid.gap.timedomain import TimeData, split_blocks, undamped
 
 #: finite-difference step of the Jacobian in the unit box of a parameter's physical range
@@ -249,7 +249,7 @@ class AnyProblem(Problem):
             D = np.array(deltas)
             nb = D.shape[0]
             if nb >= 2:
-                s = np.sqrt((nb - 1) / nb * np.sum((D - D.mean(0)) ** 2, axis=0))
+                s = jackknife_sd(D)
                 keys, lo, hi, _ = self._keys(names)
                 rng = {k: b - a for k, a, b in zip(keys, lo, hi)}
                 sd = {k: float(s[j] * rng.get(k, 1.0)) for j, k in enumerate(used)}
@@ -376,10 +376,7 @@ class AnyProblem(Problem):
                 finally:
                     hp.train = saved_h
             vals.append([cand.params.get(k, float("nan")) for k in keys])
-        v = np.array(vals)
-        n = v.shape[0]
-        sd = np.sqrt((n - 1) / n * np.sum((v - v.mean(axis=0)) ** 2, axis=0))
-        return {k: float(s) for k, s in zip(keys, sd)}
+        return {k: float(s) for k, s in zip(keys, jackknife_sd(np.array(vals)))}
 
     def noise_db(self, ev: dict[str, Any], split: str = "hold") -> tuple[float, float, float]:
         """Mean squared residual per noise cell, its noise floor [N²] and the ratio in dB (time samples: σ²;
