@@ -3,6 +3,7 @@ Units: s, mm."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -58,3 +59,76 @@ def test_under_one_cycle_message_and_condition():
     noise = np.random.default_rng(1).standard_normal(200)
     _raise_if_under_one_cycle(Record("n", t, noise, np.zeros_like(t)))  # no raise
     _raise_if_under_one_cycle(Record("two", t, np.sin(4 * math.pi * t), np.zeros_like(t)))  # 2 periods: no raise
+
+
+# --- seed-22 mutation survivors (issue 20 §5) ------------------------------------------------------------------
+@pytest.mark.parametrize("n", [63, 10, 64.0, 100.0, "128"])
+def test_generators_refuse_fewer_than_64_or_a_non_integer_sample_count(n):
+    """The excitation generators take n as an integer >= 64 (the message names n, the value and the range); 64
+    itself is accepted.  Bug caught: ``isinstance(n, int) and n >= 64`` → ``or`` (63 or 64.0 accepted)."""
+    from chainid.records.excitation import sweep
+
+    with pytest.raises(ValueError, match=rf"n = {re.escape(repr(n))} samples is invalid: valid range integer >= 64"):
+        sweep(n, 100.0, 1.0, 2.0, 0.5, 3.0)
+    m = sweep(64, 100.0, 1.0, 2.0, 0.5, 3.0)
+    assert m.t.size == 64 and m.t[-1] == pytest.approx(63 / 100.0, rel=1e-15)
+    assert m.x[0] == pytest.approx(3.0, abs=1e-12)  # x0 + A sin(0)
+
+
+@pytest.mark.parametrize("n_cycles,taper,ok", [(8, 4.0, True), (8, 4.001, False), (5, 2.5, True), (5, 2.6, False),
+                                               (6, 0.0, True), (6, -0.1, False)])
+def test_taper_may_reach_half_the_cycles(n_cycles, taper, ok):
+    """The taper (in and out) may take up to n_cycles/2 cycles each, inclusive; beyond, the message names the
+    option, the value and the bound n_cycles/2 (4 for 8 cycles, 2.5 for 5).  Bug caught: ``n_cycles / 2`` →
+    ``n_cycles & 2`` (8 & 2 = 0: any taper refused)."""
+    from chainid.records.simulate import _check_options
+
+    if ok:
+        _check_options(n_cycles, 200, None, taper, 0.0, 0.0, None)
+    else:
+        with pytest.raises(ValueError, match=rf"taper_cycles = {taper!r} is invalid: valid range 0 to "
+                                             rf"n_cycles/2 = {n_cycles / 2:g}$"):
+            _check_options(n_cycles, 200, None, taper, 0.0, 0.0, None)
+
+
+def test_earthquake_above_the_ground_frequency_keeps_the_kanai_tajimi_numerator():
+    """Above f_g the Kanai–Tajimi |H|² falls as (1 + 4ζ²r)/r² (r = (f/f_g)²), not as 1/r²: the power of the
+    displacement in 4–8 Hz over that in 0.8–1.6 Hz (f_g = 2 Hz, ζ = 0.5, six records normalised and summed)
+    against the same ratio of the textbook KT × CP form, within a factor 1.6 (measured over seeds 0–47 in
+    groups of six: 0.89–1.28).  Bug caught: ``4ζ²·r`` → ``4ζ² % r`` in the numerator (the ratio drops ~5×)."""
+    from chainid.records.excitation import earthquake
+    from tests.test_records_contracts import _kt_cp_displacement
+
+    fs, T = 24.0, 120.0
+    n = int(fs * T)
+    f = np.fft.rfftfreq(n, 1 / fs)
+    P = np.zeros(f.size)
+    for seed in range(6, 12):
+        X = np.abs(np.fft.rfft(earthquake(n, fs, 10.0, 0.0, np.random.default_rng(seed), f_hi=10.0).x)) ** 2
+        P += X / X.sum()
+    b1, b2 = (f >= 0.8) & (f <= 1.6), (f >= 4.0) & (f <= 8.0)
+    ref = (_kt_cp_displacement(f[b2]) ** 2).sum() / (_kt_cp_displacement(f[b1]) ** 2).sum()
+    assert P[b2].sum() / P[b1].sum() / ref == pytest.approx(1.0, abs=0.6)
+
+
+@pytest.mark.parametrize("delim", [" ", ",", ";"])
+def test_a_regular_text_file_is_read_by_the_fast_path_as_by_the_scan(tmp_path, delim):
+    """A regular delimited file (whitespace: numpy's loadtxt; else pyarrow) is read by the fast path, which
+    gives the same numbers as the line-by-line scan (the other method; both correctly rounded).  Bug caught:
+    the fast path made to fail on every file (``loadtxt(..., ndmin=3)`` raises; the scan hid it)."""
+    from chainid.records.spec import ReaderSpec
+    from chainid.records.table import resolve_roles
+    from chainid.records.textread import _fast, scan_strict, text_layout
+
+    p = tmp_path / "r.txt"
+    rows = [(0.01 * i, 1.0 + 0.1 * i, -3.5e2 + i / 3) for i in range(50)]
+    sep = "  " if delim == " " else delim
+    p.write_text(sep.join(["t", "x", "F"]) + "\n" + "".join(sep.join(repr(v) for v in r) + "\n" for r in rows))
+    spec = ReaderSpec()
+    lay = text_layout(p, spec)
+    use = resolve_roles(lay.names, spec, str(p), lay.positional, skip_test=True)
+    fast = _fast(p, lay, use, ".")
+    assert fast is not None
+    slow = scan_strict(p, lay, use, ".")
+    for k, j in (("t", 0), ("x", 1), ("F", 2)):
+        assert fast[k].tolist() == slow[k].tolist() == [r[j] for r in rows]
