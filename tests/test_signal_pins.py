@@ -81,3 +81,41 @@ def test_mean_and_drift_noise_allowances_four_standard_errors():
     assert kept(drifts=[0, 0, 0, 0.50, 0, 0, 0]) == 3
     assert kept(means=[0, 0, 0, 0.155, 0, 0, 0]) == 7
     assert kept(means=[0, 0, 0, 0.168, 0, 0, 0]) == 3
+
+
+# --- seed-22 mutation survivors (issue 20 §5) ------------------------------------------------------------------
+def test_fft_peak_removes_a_linear_trend_first():
+    """x = 100·t + sin(2π·5 t) over 10 s (a ramp of 1000 mm under a 1 mm oscillation): the documented linear
+    trend removal leaves the 5 Hz line as the peak (within 0.1 %).  Bug caught: the least-squares line's centre
+    ``tu − mid`` → ``tu + mid`` (an uncentred regressor leaves most of the ramp: its leakage wins)."""
+    from chainid.signal.harmonic import _fft_peak_omega
+
+    t = np.linspace(0.0, 10.0, 2001)
+    assert _fft_peak_omega(t, 100.0 * t + np.sin(2 * np.pi * 5.0 * t)) == pytest.approx(2 * np.pi * 5.0, rel=1e-3)
+    t = t + 3.0  # the same on a record that does not start at 0
+    assert _fft_peak_omega(t, 100.0 * t + np.sin(2 * np.pi * 5.0 * t)) == pytest.approx(2 * np.pi * 5.0, rel=1e-3)
+
+
+def test_fft_peak_ignores_lines_below_one_and_a_half_cycles():
+    """x = 2 sin(2π·0.1 t) + sin(2π·0.8 t) over 10 s: one cycle of the larger line, eight of the smaller.  Bins
+    below 1.5 cycles in the record (0.15 Hz) are ignored, so the peak is the 0.8 Hz line (within 0.5 %).  Bug
+    caught: the cut ``1.5 / span`` → ``1.5 − span`` (negative for a 10 s record: nothing ignored)."""
+    from chainid.signal.harmonic import _fft_peak_omega
+
+    t = np.linspace(0.0, 10.0, 2001)
+    x = 2.0 * np.sin(2 * np.pi * 0.1 * t) + np.sin(2 * np.pi * 0.8 * t)
+    assert _fft_peak_omega(t, x) == pytest.approx(2 * np.pi * 0.8, rel=5e-3)
+
+
+def test_adaptive_tolerance_at_the_floor_says_so():
+    """A clean sine (noise 0.1 % of the amplitude): 4 × the cycle-to-cycle scatter is far below the 3 % floor,
+    so the tolerance is the floor and the reason says 'floor 3 % (… is smaller)'.  Bug caught: the reason's
+    number ``100 * TOL_FLOOR`` → ``100 - TOL_FLOOR`` (99.97 %)."""
+    w = 2 * math.pi
+    rng = np.random.default_rng(1)
+    t = np.linspace(0.0, 12.0, 12 * 64, endpoint=False)
+    x = 5.0 + 2.0 * np.sin(w * t) + 0.002 * rng.standard_normal(t.size)
+    win = select_steady(t, x, w, 0.0, rel_tol=None)
+    assert 4 * win.scatter < 0.03 and win.rel_tol == pytest.approx(0.03, rel=1e-12)
+    assert win.reason.startswith("tolerance from the record: floor 3 % (4 x cycle-to-cycle scatter ")
+    assert win.reason.endswith(" % is smaller)")
