@@ -132,3 +132,47 @@ def test_a_regular_text_file_is_read_by_the_fast_path_as_by_the_scan(tmp_path, d
     slow = scan_strict(p, lay, use, ".")
     for k, j in (("t", 0), ("x", 1), ("F", 2)):
         assert fast[k].tolist() == slow[k].tolist() == [r[j] for r in rows]
+
+
+# --- own-seed (701) mutation survivors -------------------------------------------------------------------------
+def test_record_window_is_half_open():
+    """``window(t0, t1)`` keeps t0 <= t < t1: t = 0..9 s, window(2, 5) → 2, 3, 4 (x and F alike); window(2.5, 5)
+    → 3, 4.  Bug caught: ``t >= t_start`` → ``t == t_start``."""
+    from chainid.records.record import Record
+
+    t = np.arange(10.0)
+    r = Record("a", t, 10.0 + t, 100.0 * t)
+    w = r.window(2.0, 5.0)
+    assert w.t.tolist() == [2.0, 3.0, 4.0] and w.x.tolist() == [12.0, 13.0, 14.0]
+    assert w.F.tolist() == [200.0, 300.0, 400.0] and w.test == "a"
+    assert r.window(2.5, 5.0).t.tolist() == [3.0, 4.0]
+
+
+def test_too_few_cycles_message_counts_the_dropped_first_cycle():
+    """A clean sine over 4 periods, asked for 5: the message says 4 contiguous whole cycles, 3 left after the
+    first is dropped (the count includes the cycle that selection drops: one more than kept).  Bug caught:
+    ``n_cycles + 1`` → ``+ 2``."""
+    from chainid.records.record import Record
+    from chainid.records.validate import validate_record
+
+    t = np.linspace(0, 4 * 2 * math.pi, 4 * 200, endpoint=False)
+    x = 2 + 0.3 * np.sin(t)
+    with pytest.raises(ValueError, match=r"fewer than 5 full cycles .* has 4 contiguous whole cycle\(s\) .*"
+                                         r"\(3 left after dropping the ramp and the first cycle\)"):
+        validate_record(Record("a", t, x, 1000 * x), min_cycles=5)
+
+
+def test_band_random_wander_lines_are_below_a_quarter_of_the_band():
+    """``wander``: a slow wander of RMS ``wander`` mm on lines 1/T … M/T, M = max(2, ⌊f_lo·T/4⌋) (below f_lo/4).
+    The same seed with and without wander differs by exactly that wander: on FFT bins (the lines are bins of the
+    record) its power is on bins 1..M only, and its RMS is 0.2 mm.  f_lo = 1 Hz, T = 40 s: M = 10.  Bug caught:
+    the line count ``M + 1`` → ``M << 1`` (lines up to 2M − 1)."""
+    from chainid.records.excitation import band_random
+
+    n, fs = 4000, 100.0
+    a = band_random(n, fs, 1.0, 5.0, 1.0, 0.0, np.random.default_rng(4))
+    b = band_random(n, fs, 1.0, 5.0, 1.0, 0.0, np.random.default_rng(4), wander=0.2)
+    d = b.x - a.x
+    P = np.abs(np.fft.rfft(d)) ** 2
+    assert P[11:].sum() < 1e-20 * P[1:11].sum() and (P[1:11] > 0).all()
+    assert float(np.std(d)) == pytest.approx(0.2, rel=1e-9)

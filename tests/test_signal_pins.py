@@ -119,3 +119,48 @@ def test_adaptive_tolerance_at_the_floor_says_so():
     assert 4 * win.scatter < 0.03 and win.rel_tol == pytest.approx(0.03, rel=1e-12)
     assert win.reason.startswith("tolerance from the record: floor 3 % (4 x cycle-to-cycle scatter ")
     assert win.reason.endswith(" % is smaller)")
+
+
+# --- own-seed (701) mutation survivors -------------------------------------------------------------------------
+def test_drift_bound_is_inclusive():
+    """A cycle whose drift equals the bound tol·plateau (+ the 1e-12 slack the code adds for rounding) is kept:
+    the bound is inclusive, as the mean's.  Bug caught: ``drifts <= bound`` → ``<``."""
+    t = np.arange(8.0)
+    bound = 0.05 * 2.0 + 1e-12
+    win = _select_with_tol(t, _stats([2.0] * 7, [0, 0, 0, bound, 0, 0, 0]), 0.05, False, None)
+    assert win.n_cycles == 7
+    win = _select_with_tol(t, _stats([2.0] * 7, [0, 0, 0, 0.1 + 1e-9, 0, 0, 0]), 0.05, False, None)
+    assert win.n_cycles == 3
+
+
+@pytest.mark.parametrize("T,dt,off,whole", [(10.0, 0.01, 5e-4, 6), (10.0, 0.01, 0.05, 5),
+                                            (0.1, 1e-3, 5e-4, 6), (0.1, 1e-3, 0.05, 5)])
+def test_a_sample_within_a_thousandth_step_of_a_boundary_is_on_it(T, dt, off, whole):
+    """Six periods sampled from t = 0, with the first boundary ``off`` sampling steps before the first sample:
+    within 1e-3 of a step (5e-4) the first sample is on the boundary and the record holds 6 whole cycles; at
+    0.05 steps it is not (5), for a period of 10 s as for 0.1 s.  Bug caught: the tolerance in cycles
+    ``eps_t / T`` → ``eps_t * T`` (right only for T = 1 s)."""
+    w = 2 * math.pi / T
+    t = np.arange(0, round(6 * T / dt) + 1) * dt
+    theta = w * off * dt
+    win = select_steady(t, 3.0 + np.sin(w * t + theta), w, theta, rel_tol=0.03, drop_first=False)
+    assert win.n_cycles_total == whole
+
+
+def test_scatter_is_the_robust_sd_of_second_differences_over_the_plateau():
+    """Cycle amplitudes 2 mm ± 1 % and means ± 0.5 % of it (15 cycles): the scatter is the larger of
+    1.4826·MAD(d)/√6 / plateau over amplitudes and means, d the second differences (the docstring's formula,
+    computed here with numpy's median; plateau = the median amplitude).  Bug caught: ``/ ref`` → ``** ref``."""
+    from chainid.signal.steady import _scatter
+
+    rng = np.random.default_rng(3)
+    amps = 2.0 + 0.02 * rng.standard_normal(15)
+    means = 0.5 + 0.01 * rng.standard_normal(15)
+
+    def robust(v):
+        d = v[2:] - 2 * v[1:-1] + v[:-2]
+        return 1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(6.0)
+
+    expected = max(robust(amps), robust(means)) / np.median(amps)
+    assert 0.003 < expected < 0.03
+    assert _scatter(amps, means) == pytest.approx(expected, rel=1e-12)
