@@ -179,3 +179,28 @@ def test_probe_a_server_that_closes_without_a_word_and_an_ipv6_address():
     s.close()
     with pytest.raises(ValueError, match="no dask scheduler answers at that address"):
         probe_scheduler(f"tcp://[::1]:{port}", timeout=1.0)
+
+
+@pytest.mark.parametrize("kw,message", [
+    ({"n_workers": 0}, r"^n_workers = 0 is invalid: valid values are None or an int >= 1 \(capped at {M}\)$"),
+    ({"n_workers": True}, r"^n_workers = True is invalid: valid values are None or an int >= 1"),
+    ({"n_workers": 2.0}, r"^n_workers = 2.0 is invalid"),
+    ({"scheduler": "  "}, r"^scheduler = '  ' is invalid: valid values are None, \['local', 'processes', 'serial'\]"),
+    ({"scheduler": 3}, r"^scheduler = 3 is invalid"),
+    ({"fn": 3}, r"^fn = 3 is invalid: valid values are callables"),
+])
+def test_run_cases_refuses_bad_arguments_naming_field_value_and_range(kw, message):
+    """Each bad argument is one ValueError naming the field, the value and the valid values (MAX_WORKERS in the
+    n_workers message), before any case runs; the checks come before the empty-cases shortcut."""
+    from chainid.infra.parallel import MAX_WORKERS
+
+    args = {"fn": abs, **kw}
+    fn = args.pop("fn")
+    for cases in ([1, -2], []):
+        with pytest.raises(ValueError, match=message.replace("{M}", str(MAX_WORKERS))):
+            run_cases(fn, cases, progress=False, **args)
+
+
+def test_run_cases_smallest_valid_arguments():
+    """n_workers = 1 is valid (the bound is inclusive); a scheduler name with spaces around it is that name."""
+    assert run_cases(abs, [1, -2, 3], scheduler=" serial ", n_workers=1, progress=False) == [1, 2, 3]
