@@ -37,3 +37,43 @@ def test_canonical_grade_any_case_and_family_none():
     with pytest.raises(ValueError, match="grade 'R6' is invalid") as e:
         catalogue.canonical_grade("R6", "studless")
     assert _listed(str(e.value)) == sorted(DIN_GRADES + W22_GRADES)
+
+
+# --- own-seed (702) mutation survivors -------------------------------------------------------------------------
+SPELLED = ("preset names are spelled din22252:DxPITCH, studless:D, studlink:D (d in mm; options :n=, :E=, :nu=, "
+           ":grade=; `chainid chains` lists them)")
+
+
+@pytest.mark.parametrize("text,guess", [
+    ("studles:76", "studless:76"),  # a prefix of a family: the size is kept as given (no DIN size list)
+    ("STUDLINK:120:grade=r4", "studlink:120:grade=r4"),
+    ("studlees:76", "studless:76"),  # a typo: the closest family name (difflib, ratio >= 0.5)
+    ("stuzzzzzzzzzzzz:76", "studless:76"),  # neither: the first family with the same three first letters
+    ("din:26X92", "din22252:26x92"),  # DIN: the closest listed size
+])
+def test_suggest_preset_guesses_the_family_and_the_size(text, guess):
+    """The hint for a --chain value that is neither a file nor a preset: the spelling rule, then 'did you mean'
+    with the family found by prefix, else by closeness, else by its first three letters.  Bugs caught: the
+    closeness rule asked for 0 matches (a ValueError), the three-letter rule joined by ``and``, a mooring
+    family sent into the DIN size list (``fam == 'din22252'`` → ``>=``)."""
+    assert catalogue.suggest_preset(text) == f"{SPELLED}; did you mean {guess!r}?"
+
+
+@pytest.mark.parametrize("text,hint", [("xyz:1", SPELLED), ("mychain", SPELLED), ("chain.toml", "")])
+def test_suggest_preset_without_a_guess(text, hint):
+    """No family fits: only the spelling rule; a name ending in .toml is a missing file: no hint at all."""
+    assert catalogue.suggest_preset(text) == hint
+
+
+def test_pitch_message_is_strict_when_the_width_sets_the_lower_bound():
+    """d = 14: with width 28 = 2 d the lower bound is the width, and pitch > width is strict, so the message
+    says '28 < pitch'; with width 20 the bound is 2 d = 28 and inclusive ('28 <= pitch').  Bug caught: the
+    choice ``lo == w`` → ``lo is w`` (max(2 d, w) returns 2 d's object on a tie)."""
+    from chainid.chain.spec import ChainSpec
+
+    with pytest.raises(ValueError, match=r"ChainSpec.pitch = 28.0 is invalid: valid range is max\(2 d, width\) = "
+                                         r"28 < pitch <= 20 d = 280 mm"):
+        ChainSpec(d=14.0, pitch=28.0, width=28.0, n=16)
+    with pytest.raises(ValueError, match=r"ChainSpec.pitch = 27.0 is invalid: valid range is max\(2 d, width\) = "
+                                         r"28 <= pitch <= 20 d = 280 mm"):
+        ChainSpec(d=14.0, pitch=27.0, width=20.0, n=16)
