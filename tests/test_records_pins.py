@@ -176,3 +176,81 @@ def test_band_random_wander_lines_are_below_a_quarter_of_the_band():
     P = np.abs(np.fft.rfft(d)) ** 2
     assert P[11:].sum() < 1e-20 * P[1:11].sum() and (P[1:11] > 0).all()
     assert float(np.std(d)) == pytest.approx(0.2, rel=1e-9)
+
+
+# --- own-seed (702) mutation survivors -------------------------------------------------------------------------
+def test_aliasing_warning_states_samples_per_cycle():
+    """A 10 Hz sine sampled at 30 Hz (12 s): 3 samples per cycle, under the 4 that the check asks; the warning
+    names 30 Hz, 3 samples per cycle and the 10 Hz main frequency.  Bug caught: ``fs / f`` → ``fs | f``."""
+    from chainid.records.plausible import sampling_warnings
+    from chainid.records.record import Record
+
+    t = np.arange(360) / 30.0
+    x = 2.0 + np.sin(2 * np.pi * 10.0 * t + 0.3)
+    w = sampling_warnings([Record("a", t, x, 100.0 * x)])
+    assert len(w) == 1
+    assert w[0].startswith("test 'a': 30 Hz sampling gives 3 samples per cycle of the main frequency 10 Hz")
+
+
+def test_startup_ramp_must_end_inside_the_record():
+    """start-up steps: 0 < t_ramp < record length T = n/fs (strict): t_ramp = T is refused with the range, just
+    under T is accepted.  Bug caught: ``t_ramp < T`` → ``<=``."""
+    from chainid.records.excitation import startup_steps
+
+    n, fs = 200, 20.0  # T = 10 s
+    with pytest.raises(ValueError, match=r"t_ramp = 10.0 s, .* valid range 0 < t_ramp < record length 10 s"):
+        startup_steps(n, fs, [1.0], 10.0, 1.0, 1.0, 0.5)
+    m = startup_steps(n, fs, [1.0], 9.5, 1.0, 1.0, 0.5)
+    assert m.t.size == n
+
+
+def test_band_random_lines_fill_the_band_flat_and_scale_to_the_rms():
+    """``band_random``: equal-amplitude lines at k/T on [f_lo, f_hi] (FFT bins 40..200 for 1–5 Hz over 40 s),
+    nothing outside; scaled to the RMS about x0; the Motion's amplitude A = √2·rms (a sine of that RMS).  Bugs
+    caught: the lines ``k / T`` → ``k // T``; ``√2·rms`` → ``√2 / rms``."""
+    from chainid.records.excitation import band_random
+
+    n, fs, rms = 4000, 100.0, 2.0
+    m = band_random(n, fs, 1.0, 5.0, rms, 3.0, np.random.default_rng(5))
+    X = np.abs(np.fft.rfft(m.x - 3.0))
+    inside = X[40:201]
+    np.testing.assert_allclose(inside, inside.mean(), rtol=1e-8)
+    assert X[:40].max() < 1e-8 * inside.mean() and X[201:].max() < 1e-8 * inside.mean()
+    assert float(np.std(m.x)) == pytest.approx(rms, rel=1e-12) and float(np.mean(m.x)) == pytest.approx(3.0, abs=1e-9)
+    assert m.A == pytest.approx(math.sqrt(2) * rms, rel=1e-15) and m.kind == "random" and m.f_max == 5.0
+
+
+def test_too_few_cycles_message_states_the_period():
+    """A clean sine of period 0.5 s over 4 periods, asked for 5: the message gives the period 0.5 s (2π/ω).
+    Bug caught: ``2π / ω`` → ``2π ** ω`` (equal only for ω = 1, the other tests' case)."""
+    from chainid.records.record import Record
+    from chainid.records.validate import validate_record
+
+    t = np.linspace(0, 2.0, 800, endpoint=False)
+    x = 2 + 0.3 * np.sin(4 * np.pi * t)
+    with pytest.raises(ValueError, match=r"fewer than 5 full cycles .* spans 4 periods of 0\.5 s and has 4 "):
+        validate_record(Record("a", t, x, 1000 * x), min_cycles=5)
+
+
+def test_ragged_row_message_shows_one_field_more_than_the_header(tmp_path):
+    """A row with more fields than the header: the message shows the row's first nf + 1 fields (enough to see
+    the extra one): a header of 4 fields and a row of 7 (decimal commas) show 'a,0.1,2,5,0'.  Bug caught: ``row[:nf + 1]`` → ``row[:nf // 1]``."""
+    from chainid.records.textcanon import read_csv_strict
+
+    p = tmp_path / "r.csv"
+    p.write_text("test,t,x,F\na,0,1,2\na,0.1,2,5,0,7,8\n")
+    with pytest.raises(ValueError, match=r"line 3: 7 fields but the header has 4 \(test,t,x,F\); .* "
+                                         r"\(row starts 'a,0.1,2,5,0'\)"):
+        read_csv_strict(p)
+
+
+def test_memory_refusal_states_the_limit_in_gib():
+    """Two tests of 6 × 200 samples need 297 600 B (by hand, see test_estimate_memory_by_hand); with a limit of
+    2¹⁷ B the message says 0.000277 GiB needed, over the limit of 0.000122 GiB.  Bug caught: the limit's
+    ``/ 1024**3`` → ``/ 1024 + 3``."""
+    from chainid.records.simulate import TestSpec, simulate
+
+    plan = [TestSpec("a", 2.0, 2.0, 0.2), TestSpec("b", 5.0, 2.0, 0.2)]
+    with pytest.raises(ValueError, match=r"would need about 0\.000277 GiB \(2400 samples; largest: test 'a', "
+                                         r"omega = 2 rad/s, 1200 samples\), over the limit of 0\.000122 GiB"):
+        simulate(plan, None, 1.0, max_memory=2**17, n_cycles=6, samples_per_cycle=200)
