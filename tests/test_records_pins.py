@@ -254,3 +254,76 @@ def test_memory_refusal_states_the_limit_in_gib():
     with pytest.raises(ValueError, match=r"would need about 0\.000277 GiB \(2400 samples; largest: test 'a', "
                                          r"omega = 2 rad/s, 1200 samples\), over the limit of 0\.000122 GiB"):
         simulate(plan, None, 1.0, max_memory=2**17, n_cycles=6, samples_per_cycle=200)
+
+
+# --- plausibility of the sampling, and the table's row messages (contracts no test stated) ----------------------
+def _sine_record(test, f, fs, cycles):
+    from chainid.records.record import Record
+
+    t = np.arange(int(round(cycles * fs / f))) / fs
+    x = 2.0 + 0.5 * np.sin(2 * np.pi * f * t)
+    return Record(test, t, x, 1000.0 * x)
+
+
+@pytest.mark.parametrize("f,fs,words", [
+    (0.005, 1.0, "the main frequency 0.005 Hz (a cycle of 200 s) is implausibly slow"),
+    (2000.0, 20000.0, "the main frequency 2000 Hz is implausibly fast for a chain test"),
+    (0.02, 1.0, None), (500.0, 20000.0, None), (1.0, 4.0, None),  # inside 0.01–1000 Hz; 4 samples a cycle is enough
+])
+def test_sampling_warnings_for_implausible_main_frequencies(f, fs, words):
+    """The main frequency of a record (a sine on an FFT bin, 10 cycles) is plausible in 0.01–1000 Hz; outside,
+    one warning names the test, the frequency (and for a slow one its cycle, 1/f) and the likely unit slip."""
+    from chainid.records.plausible import sampling_warnings
+
+    w = sampling_warnings([_sine_record("s", f, fs, 10)])
+    if words is None:
+        assert w == []
+    else:
+        assert len(w) == 1 and w[0].startswith(f"test 's': {words}"), w
+
+
+def test_sampling_above_a_megahertz_is_a_unit_slip():
+    """A time step of 1e-7 s (10 MHz, over the 1 MHz limit): one warning naming the step and the rate; a step of
+    2 µs (500 kHz) is not warned about."""
+    from chainid.records.plausible import sampling_warnings
+    from chainid.records.record import Record
+
+    t = np.arange(400) * 1e-7
+    x = 2.0 + np.sin(2 * np.pi * 250_000.0 * t)
+    w = sampling_warnings([Record("u", t, x, x)])
+    assert w == ["test 'u': time step 1e-07 s implies sampling at 1e+07 Hz, above 1e+06 Hz: is t in s while "
+                 "declared ms or us (--units t=...)?"]
+    t = np.arange(400) * 2e-6
+    assert not any("above 1e+06 Hz" in m for m in sampling_warnings([Record("v", t, x, x)]))
+
+
+def _table(**cols):
+    from chainid.records.table import RawTable
+
+    return RawTable("src.csv", {k: np.asarray(v) for k, v in cols.items()}, None, False, None)
+
+
+def test_table_rows_of_a_test_must_be_contiguous_and_named():
+    """Rows 1–2 of test a, 3 of b, 4 of a again: 'row 4: test 'a': rows are not contiguous'; a blank id on row 3:
+    'row 3: empty test id' (rows 1-based); contiguous ids give one record per test in file order."""
+    from chainid.records.spec import ReaderSpec
+    from chainid.records.table import records_from_table
+
+    num = dict(t=[0.0, 0.1, 0.0, 0.2], x=[1.0, 2.0, 3.0, 4.0], F=[5.0, 6.0, 7.0, 8.0])
+    with pytest.raises(ValueError, match=r"^src.csv: row 4: test 'a': rows are not contiguous"):
+        records_from_table(_table(test=["a", "a", "b", "a"], **num), ReaderSpec(), "f")
+    with pytest.raises(ValueError, match=r"^src.csv: row 3: empty test id$"):
+        records_from_table(_table(test=["a", "a", " ", "c"], **num), ReaderSpec(), "f")
+    recs = records_from_table(_table(test=["b", "b", " a", "a "], **num), ReaderSpec(), "f")
+    assert [r.test for r in recs] == ["b", "a"] and recs[1].x.tolist() == [3.0, 4.0]
+
+
+def test_table_names_the_first_non_finite_value_its_row_and_the_count():
+    """x = [1, nan, 2, inf]: 'column 'x' (x) value nan at row 2 (of 4) is not finite (2 such value(s))'."""
+    from chainid.records.spec import ReaderSpec
+    from chainid.records.table import records_from_table
+
+    tab = _table(t=[0.0, 0.1, 0.2, 0.3], x=[1.0, np.nan, 2.0, np.inf], F=[1.0, 2.0, 3.0, 4.0])
+    with pytest.raises(ValueError, match=r"^src.csv: column 'x' \(x\) value nan at row 2 \(of 4\) is not finite "
+                                         r"\(2 such value\(s\)\)$"):
+        records_from_table(tab, ReaderSpec(), "f")
