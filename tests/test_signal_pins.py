@@ -164,3 +164,20 @@ def test_scatter_is_the_robust_sd_of_second_differences_over_the_plateau():
     expected = max(robust(amps), robust(means)) / np.median(amps)
     assert 0.003 < expected < 0.03
     assert _scatter(amps, means) == pytest.approx(expected, rel=1e-12)
+
+
+def test_adaptive_tolerance_widens_by_half_until_a_cycle_is_kept():
+    """Eight cycles of amplitude 1.00, 1.05, …, 1.35 mm (a clean staircase: the second differences vanish, the
+    tolerance starts at the 3 % floor).  At 3 % no two neighbours agree (5/1.35 = 3.7 % at best), the single-cycle
+    run loses its first cycle and none is kept; ×1.5 gives 4.5 %, where 1.25, 1.30, 1.35 agree with 1.30 (within
+    0.0585 mm): plateau 1.30 mm, run 5–7, cycles 6 and 7 kept after the first is dropped.  The reason says so."""
+    w = 2 * math.pi
+    amps = 1.0 + 0.05 * np.arange(8)
+    t = np.linspace(0.0, 8.0, 8 * 64, endpoint=False)
+    x = 3.0 + amps[np.minimum(t.astype(int), 7)] * np.sin(w * t)
+    win = select_steady(t, x, w, 0.0, rel_tol=None)
+    assert win.n_cycles_start == 0 and win.cycles_kept == [6, 7]
+    assert win.rel_tol == pytest.approx(0.045, rel=1e-12) and win.plateau_A == pytest.approx(1.30, rel=1e-9)
+    assert win.reason.startswith("widened to 4.5 %: no steady cycle within 3 % (floor 3 % (4 x cycle-to-cycle "
+                                 "scatter ")
+    assert win.t_start == pytest.approx(6.0, abs=1e-9) and win.t_end == pytest.approx(8.0, abs=1e-9)
