@@ -77,3 +77,34 @@ def test_pitch_message_is_strict_when_the_width_sets_the_lower_bound():
     with pytest.raises(ValueError, match=r"ChainSpec.pitch = 27.0 is invalid: valid range is max\(2 d, width\) = "
                                          r"28 <= pitch <= 20 d = 280 mm"):
         ChainSpec(d=14.0, pitch=27.0, width=20.0, n=16)
+
+
+@pytest.mark.parametrize("name,message", [
+    ("studless:76:n", r"^preset 'studless:76:n': option 'n' is invalid; use key=value with keys "
+                      r"\['E', 'grade', 'n', 'nu'\]$"),
+    ("studless:76:E=abc", r"^preset 'studless:76:E=abc': option E = 'abc' is not a number$"),
+    ("studless:76:m=3", r"^preset 'studless:76:m=3': unknown option 'm'; valid options are \['E', 'grade', 'n', 'nu'\]$"),
+    ("chain:76", r"^preset name 'chain:76' is invalid: use one of \['din22252:SIZE', 'studless:SIZE', "
+                 r"'studlink:SIZE'\]"),
+    ("studless:", r"^preset name 'studless:' is invalid"),
+    ("studless:15.9", r"^preset 'studless:15.9': nominal diameter d = 15.9 mm is invalid: valid range is "
+                      r"16 <= d <= 220 mm$"),
+])
+def test_preset_option_errors_name_the_option_and_the_valid_keys(name, message):
+    """Each malformed preset name is one ValueError naming the name, the option or size and what is valid (the
+    catalogue's keys n, E, nu, grade; studless d from 16 to 220 mm)."""
+    with pytest.raises(ValueError, match=message):
+        catalogue.dimensions(name)
+
+
+def test_preset_options_any_case_integral_n_and_inclusive_diameters():
+    """Option keys are case-insensitive (N=32, e=, NU=, Grade=); n = 32.0 is the integer 32 (E stays a float);
+    the diameter bounds 16 and 220 mm are inclusive; the canonical name drops the options and writes 76.0 as 76."""
+    e = catalogue.dimensions("StudLess:76.0:N=32.0:e=200000:NU=0.29:Grade=r4s")
+    f = e["fields"]
+    assert e["name"] == "studless:76" and e["grade"] == "R4S" and f["grade"] == "R4S"
+    assert f["n"] == 32 and type(f["n"]) is int and f["E"] == 200000.0 and f["nu"] == 0.29
+    assert catalogue.dimensions("studless:16")["fields"]["d"] == 16.0
+    assert catalogue.dimensions("studless:220")["fields"]["d"] == 220.0
+    assert catalogue.dimensions("studless:76", n=5)["fields"]["n"] == 5  # the argument wins over the default 16
+    assert catalogue.dimensions("studless:76")["fields"]["n"] == 16
