@@ -127,3 +127,80 @@ def test_commit_without_hard_links_still_refuses_to_overwrite(tmp_path, monkeypa
             fh.write("ours\n")
             q.write_text("appeared meanwhile\n")  # another process wrote the target while we were writing
     assert q.read_text() == "appeared meanwhile\n" and sorted(os.listdir(tmp_path)) == ["a.txt", "b.txt"]
+
+
+# --- the scheduler probe's address rules (the documented contract of probe_scheduler) -------------------------
+@pytest.mark.parametrize("address", ["tcp://nohost", "tcp://host:", "tcp://:8786", "host:port", "tcp://h:87a6"])
+def test_probe_refuses_an_address_without_host_and_numeric_port(address):
+    """``tcp://host:port`` or ``host:port`` only: the message names the address, 'expected host:port' and the
+    valid values (no connection is tried)."""
+    from chainid.infra.parallel import probe_scheduler
+
+    with pytest.raises(ValueError, match=rf"^scheduler = {re.escape(repr(address))} is invalid: expected "
+                                         r"host:port; valid values are None, \['local', 'processes', 'serial'\] or "):
+        probe_scheduler(address, timeout=0.5)
+
+
+@pytest.mark.parametrize("address", ["tls://10.255.255.1:8786", "ucx://10.255.255.1:8786", "inproc://x/1/2"])
+def test_probe_leaves_other_schemes_alone(address):
+    """Other schemes than tcp:// are not probed: no connection, no error, at once."""
+    import time
+
+    from chainid.infra.parallel import probe_scheduler
+
+    t0 = time.monotonic()
+    assert probe_scheduler(address, timeout=5.0) is None
+    assert time.monotonic() - t0 < 1.0
+
+
+def test_probe_a_server_that_closes_without_a_word_and_an_ipv6_address():
+    """A listener that accepts and closes at once: 'closed the connection without a dask handshake', well before
+    the timeout.  An IPv6 address in brackets is parsed (the refusal is the connection's, not the format's)."""
+    import socket
+    import time
+
+    from chainid.infra.parallel import probe_scheduler
+    from tests.fake_servers import greeting_listener
+
+    with greeting_listener(lambda: b"") as address:
+        t0 = time.monotonic()
+        with pytest.raises(ValueError, match="the server there closed the connection without a dask handshake"):
+            probe_scheduler(address, timeout=4.0)
+        assert time.monotonic() - t0 < 3.0
+    s = socket.socket(socket.AF_INET6) if socket.has_ipv6 else None
+    if s is None:
+        pytest.skip("no IPv6")
+    try:
+        s.bind(("::1", 0))
+    except OSError:
+        s.close()
+        pytest.skip("no IPv6 loopback")
+    port = s.getsockname()[1]
+    s.close()
+    with pytest.raises(ValueError, match="no dask scheduler answers at that address"):
+        probe_scheduler(f"tcp://[::1]:{port}", timeout=1.0)
+
+
+@pytest.mark.parametrize("kw,message", [
+    ({"n_workers": 0}, r"^n_workers = 0 is invalid: valid values are None or an int >= 1 \(capped at {M}\)$"),
+    ({"n_workers": True}, r"^n_workers = True is invalid: valid values are None or an int >= 1"),
+    ({"n_workers": 2.0}, r"^n_workers = 2.0 is invalid"),
+    ({"scheduler": "  "}, r"^scheduler = '  ' is invalid: valid values are None, \['local', 'processes', 'serial'\]"),
+    ({"scheduler": 3}, r"^scheduler = 3 is invalid"),
+    ({"fn": 3}, r"^fn = 3 is invalid: valid values are callables"),
+])
+def test_run_cases_refuses_bad_arguments_naming_field_value_and_range(kw, message):
+    """Each bad argument is one ValueError naming the field, the value and the valid values (MAX_WORKERS in the
+    n_workers message), before any case runs; the checks come before the empty-cases shortcut."""
+    from chainid.infra.parallel import MAX_WORKERS
+
+    args = {"fn": abs, **kw}
+    fn = args.pop("fn")
+    for cases in ([1, -2], []):
+        with pytest.raises(ValueError, match=message.replace("{M}", str(MAX_WORKERS))):
+            run_cases(fn, cases, progress=False, **args)
+
+
+def test_run_cases_smallest_valid_arguments():
+    """n_workers = 1 is valid (the bound is inclusive); a scheduler name with spaces around it is that name."""
+    assert run_cases(abs, [1, -2, 3], scheduler=" serial ", n_workers=1, progress=False) == [1, 2, 3]

@@ -81,3 +81,103 @@ def test_mean_and_drift_noise_allowances_four_standard_errors():
     assert kept(drifts=[0, 0, 0, 0.50, 0, 0, 0]) == 3
     assert kept(means=[0, 0, 0, 0.155, 0, 0, 0]) == 7
     assert kept(means=[0, 0, 0, 0.168, 0, 0, 0]) == 3
+
+
+# --- seed-22 mutation survivors (issue 20 §5) ------------------------------------------------------------------
+def test_fft_peak_removes_a_linear_trend_first():
+    """x = 100·t + sin(2π·5 t) over 10 s (a ramp of 1000 mm under a 1 mm oscillation): the documented linear
+    trend removal leaves the 5 Hz line as the peak (within 0.1 %).  Bug caught: the least-squares line's centre
+    ``tu − mid`` → ``tu + mid`` (an uncentred regressor leaves most of the ramp: its leakage wins)."""
+    from chainid.signal.harmonic import _fft_peak_omega
+
+    t = np.linspace(0.0, 10.0, 2001)
+    assert _fft_peak_omega(t, 100.0 * t + np.sin(2 * np.pi * 5.0 * t)) == pytest.approx(2 * np.pi * 5.0, rel=1e-3)
+    t = t + 3.0  # the same on a record that does not start at 0
+    assert _fft_peak_omega(t, 100.0 * t + np.sin(2 * np.pi * 5.0 * t)) == pytest.approx(2 * np.pi * 5.0, rel=1e-3)
+
+
+def test_fft_peak_ignores_lines_below_one_and_a_half_cycles():
+    """x = 2 sin(2π·0.1 t) + sin(2π·0.8 t) over 10 s: one cycle of the larger line, eight of the smaller.  Bins
+    below 1.5 cycles in the record (0.15 Hz) are ignored, so the peak is the 0.8 Hz line (within 0.5 %).  Bug
+    caught: the cut ``1.5 / span`` → ``1.5 − span`` (negative for a 10 s record: nothing ignored)."""
+    from chainid.signal.harmonic import _fft_peak_omega
+
+    t = np.linspace(0.0, 10.0, 2001)
+    x = 2.0 * np.sin(2 * np.pi * 0.1 * t) + np.sin(2 * np.pi * 0.8 * t)
+    assert _fft_peak_omega(t, x) == pytest.approx(2 * np.pi * 0.8, rel=5e-3)
+
+
+def test_adaptive_tolerance_at_the_floor_says_so():
+    """A clean sine (noise 0.1 % of the amplitude): 4 × the cycle-to-cycle scatter is far below the 3 % floor,
+    so the tolerance is the floor and the reason says 'floor 3 % (… is smaller)'.  Bug caught: the reason's
+    number ``100 * TOL_FLOOR`` → ``100 - TOL_FLOOR`` (99.97 %)."""
+    w = 2 * math.pi
+    rng = np.random.default_rng(1)
+    t = np.linspace(0.0, 12.0, 12 * 64, endpoint=False)
+    x = 5.0 + 2.0 * np.sin(w * t) + 0.002 * rng.standard_normal(t.size)
+    win = select_steady(t, x, w, 0.0, rel_tol=None)
+    assert 4 * win.scatter < 0.03 and win.rel_tol == pytest.approx(0.03, rel=1e-12)
+    assert win.reason.startswith("tolerance from the record: floor 3 % (4 x cycle-to-cycle scatter ")
+    assert win.reason.endswith(" % is smaller)")
+
+
+# --- own-seed (701) mutation survivors -------------------------------------------------------------------------
+def test_drift_bound_is_inclusive():
+    """A cycle whose drift equals the bound tol·plateau (+ the 1e-12 slack the code adds for rounding) is kept:
+    the bound is inclusive, as the mean's.  Bug caught: ``drifts <= bound`` → ``<``."""
+    t = np.arange(8.0)
+    bound = 0.05 * 2.0 + 1e-12
+    win = _select_with_tol(t, _stats([2.0] * 7, [0, 0, 0, bound, 0, 0, 0]), 0.05, False, None)
+    assert win.n_cycles == 7
+    win = _select_with_tol(t, _stats([2.0] * 7, [0, 0, 0, 0.1 + 1e-9, 0, 0, 0]), 0.05, False, None)
+    assert win.n_cycles == 3
+
+
+@pytest.mark.parametrize("T,dt,off,whole", [(10.0, 0.01, 5e-4, 6), (10.0, 0.01, 0.05, 5),
+                                            (0.1, 1e-3, 5e-4, 6), (0.1, 1e-3, 0.05, 5)])
+def test_a_sample_within_a_thousandth_step_of_a_boundary_is_on_it(T, dt, off, whole):
+    """Six periods sampled from t = 0, with the first boundary ``off`` sampling steps before the first sample:
+    within 1e-3 of a step (5e-4) the first sample is on the boundary and the record holds 6 whole cycles; at
+    0.05 steps it is not (5), for a period of 10 s as for 0.1 s.  Bug caught: the tolerance in cycles
+    ``eps_t / T`` → ``eps_t * T`` (right only for T = 1 s)."""
+    w = 2 * math.pi / T
+    t = np.arange(0, round(6 * T / dt) + 1) * dt
+    theta = w * off * dt
+    win = select_steady(t, 3.0 + np.sin(w * t + theta), w, theta, rel_tol=0.03, drop_first=False)
+    assert win.n_cycles_total == whole
+
+
+def test_scatter_is_the_robust_sd_of_second_differences_over_the_plateau():
+    """Cycle amplitudes 2 mm ± 1 % and means ± 0.5 % of it (15 cycles): the scatter is the larger of
+    1.4826·MAD(d)/√6 / plateau over amplitudes and means, d the second differences (the docstring's formula,
+    computed here with numpy's median; plateau = the median amplitude).  Bug caught: ``/ ref`` → ``** ref``."""
+    from chainid.signal.steady import _scatter
+
+    rng = np.random.default_rng(3)
+    amps = 2.0 + 0.02 * rng.standard_normal(15)
+    means = 0.5 + 0.01 * rng.standard_normal(15)
+
+    def robust(v):
+        d = v[2:] - 2 * v[1:-1] + v[:-2]
+        return 1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(6.0)
+
+    expected = max(robust(amps), robust(means)) / np.median(amps)
+    assert 0.003 < expected < 0.03
+    assert _scatter(amps, means) == pytest.approx(expected, rel=1e-12)
+
+
+def test_adaptive_tolerance_widens_by_half_until_a_cycle_is_kept():
+    """Eight cycles of amplitude 1.00, 1.05, …, 1.35 mm (a clean staircase: the second differences vanish, the
+    tolerance starts at the 3 % floor).  At 3 % no two neighbours agree (5/1.35 = 3.7 % at best), the single-cycle
+    run loses its first cycle and none is kept; ×1.5 gives 4.5 %, where 1.25, 1.30, 1.35 agree with 1.30 (within
+    0.0585 mm): plateau 1.30 mm, run 5–7, cycles 6 and 7 kept after the first is dropped.  The reason says so."""
+    w = 2 * math.pi
+    amps = 1.0 + 0.05 * np.arange(8)
+    t = np.linspace(0.0, 8.0, 8 * 64, endpoint=False)
+    x = 3.0 + amps[np.minimum(t.astype(int), 7)] * np.sin(w * t)
+    win = select_steady(t, x, w, 0.0, rel_tol=None)
+    assert win.n_cycles_start == 0 and win.cycles_kept == [6, 7]
+    assert win.rel_tol == pytest.approx(0.045, rel=1e-12) and win.plateau_A == pytest.approx(1.30, rel=1e-9)
+    assert win.reason.startswith("widened to 4.5 %: no steady cycle within 3 % (floor 3 % (4 x cycle-to-cycle "
+                                 "scatter ")
+    assert win.t_start == pytest.approx(6.0, abs=1e-9) and win.t_end == pytest.approx(8.0, abs=1e-9)

@@ -97,8 +97,8 @@ def _numeric(a: np.ndarray, source: str, name: str, role: str) -> np.ndarray:
     bad = np.flatnonzero(~np.isfinite(v))
     if bad.size:
         i = int(bad[0])
-        raise ValueError(f"{source}: column {name!r} ({role}) value {v[i]!r} at row {i + 1} (of {v.size}) is not "
-                         f"finite ({bad.size} such value(s))")
+        raise ValueError(f"{source}: column {name!r} ({role}) value {float(v[i])!r} at row {i + 1} (of {v.size}) "
+                         f"is not finite ({bad.size} such value(s))")
     return v if v.flags.writeable else v.copy()  # zero-copy Arrow/HDF5 views are read-only
 
 
