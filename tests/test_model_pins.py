@@ -214,3 +214,22 @@ def test_cycle_parts_total_mass_closed_form():
     Fn, v = m.cycle_parts(d)
     np.testing.assert_allclose(Fn, 100.0 * (x - 1.0) + 3.0 * xdd * 1e-3, rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(v, xd, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["viscous_excess", "sensor_delay", "friction"])
+def test_modify_model_refuses_an_effect_that_is_not_stiffness_side(name):
+    """Only the four stiffness-side effects change the chain model; any other name is refused with the list
+    (names after "slack" in the alphabet included: a comparison instead of equality would take them for slack).
+    A stiffness-side effect changes only its own field: slack adds s, compliance adds c."""
+    from chainid.chain.spec import default_chain
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import modify_model
+
+    m = ChainModel(default_chain())
+    with pytest.raises(ValueError, match=rf"effect '{name}' is not a stiffness-side effect; those are: "
+                                         "stiffness_level, contact_law, slack, machine_compliance"):
+        modify_model(name, {"s": 0.5}, m)
+    s = modify_model("slack", {"s": 0.5}, m)
+    assert (s.slack, s.compliance, s.ea_scale) == (m.slack + 0.5, m.compliance, m.ea_scale)
+    c = modify_model("machine_compliance", {"c": 1e-4}, m)
+    assert (c.slack, c.compliance) == (m.slack, m.compliance + 1e-4)

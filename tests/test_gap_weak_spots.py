@@ -1,0 +1,125 @@
+"""Issue 20 §5: behaviours of the gap package that the mutation runs found unpinned (seed 22 and own seeds).
+
+Each test checks a documented behaviour against a hand computation or the documented contract; the expensive
+parts (simulation, diagnosis) are replaced by recorders where the test is about what the benchmark hands them.
+Units: mm, N, s.
+"""
+from __future__ import annotations
+
+import math
+import sys
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from chainid.model.base import LinearModel
+
+
+class _Stop(Exception):
+    """Raised by a recorder to end a benchmark case once its call was seen."""
+
+
+def _motion(n: int, fs: float, f: float) -> SimpleNamespace:
+    t = np.arange(n) / fs
+    w = 2 * np.pi * f
+    return SimpleNamespace(t=t, x=2.0 + 0.1 * np.sin(w * t), xd=0.1 * w * np.cos(w * t),
+                           xdd=-0.1 * w * w * np.sin(w * t))
+
+
+def test_effect_snr_is_the_rms_added_force_over_the_pooled_noise_by_hand():
+    from chainid.gap.benchmark_time import effect_snr
+
+    # two records of whole periods (Σ ẋ = 0): a constant force C has no part along ẋ, so it counts in full;
+    # a force proportional to ẋ is all along ẋ (the fitted viscous c absorbs it): 0
+    m1, m2 = _motion(400, 100.0, 1.0), _motion(600, 200.0, 2.0)
+    C, s1, s2 = 3.0, 2.0, 5.0
+
+    def offset(t, x, xd, xdd, F):  # noqa: ANN001
+        return F + C
+
+    def viscous(t, x, xd, xdd, F):  # noqa: ANN001
+        return F + 7.0 * xd
+
+    snr = effect_snr([m1, m2], LinearModel(k=100.0, x_ref=0.0), [offset, viscous], 0.5, [s1, s2])
+    want = math.sqrt((400 * C ** 2 + 600 * C ** 2) / (400 * s1 ** 2 + 600 * s2 ** 2))
+    assert snr[0] == pytest.approx(want, rel=1e-9)
+    assert snr[1] == pytest.approx(0.0, abs=1e-9)
+    # no noise at all: 0, not a division by zero
+    assert effect_snr([m1], LinearModel(k=100.0, x_ref=0.0), [offset], 0.5, [0.0]) == [0.0]
+
+
+@pytest.mark.parametrize("direction", ["harmonic>random", "random>harmonic"])
+def test_transfer_case_fits_on_one_set_and_scores_the_other(monkeypatch, direction):
+    """The module docstring: ``harmonic>random`` fits on the 11 harmonic tests (3 held out) and scores on the
+    random records; ``random>harmonic`` fits on the random records (one held out) and scores the harmonic set."""
+    from chainid.gap.benchmark_time import run_case_transfer, time_grid
+
+    seen = {}
+
+    def recorder(records, holdout, model, **kw):  # noqa: ANN001
+        seen.update(train=[r.test for r in records], holdout=list(holdout), validate=[r.test for r in kw["validate"]])
+        raise _Stop
+
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", recorder)
+    case = next(c for c in time_grid(small=True) if c["excitation"] == "transfer") | {"direction": direction}
+    row = run_case_transfer(case)
+    assert row["verdict"].startswith("error: _Stop")
+    harm, rand = [f"h{i}" for i in range(1, 12)], ["r1", "r2", "r3", "r4"]
+    if direction == "harmonic>random":
+        assert seen == {"train": harm, "holdout": ["h3", "h6", "h11"], "validate": rand}
+    else:
+        assert seen == {"train": rand, "holdout": [case["hold"]], "validate": harm}
+
+
+def _harmonic_case(**kw):
+    case = {"excitation": "harmonic", "family": "single", "truth": ["friction"], "effects": ["friction"],
+            "levels": [2.0], "noise": 0.02, "chain": "14x50", "plan": "grid3x3", "seed": 5}
+    return case | kw
+
+
+def test_harmonic_case_noise_damping_and_holdout_by_hand(monkeypatch):
+    """``run_case`` (harmonic): noise σ = noise × S with S the plan's median dynamic force k(x0)·A, the viscous
+    loss ~2 % of k at the top frequency (Eq. 21's α5 = 0.02·k/ω_max), the friction level 0.1·level·S
+    (``effect_spec``), three held-out tests (the 3rd, the middle one and the last)."""
+    from chainid.chain.spec import default_chain
+    from chainid.gap.benchmark import run_case
+    from chainid.model.base import ChainModel
+    from chainid.records import simulate as simulate_module
+
+    nominal = ChainModel(default_chain())
+    # grid3x3: ω ∈ {1, 2, 4} × A ∈ {0.1, 0.2, 0.3} at x0 = 2, plus (3, 2.2, 0.15) and (1.5, 1.8, 0.25)
+    kx = {x0: float(nominal.stiffness(np.array([x0]))[0]) for x0 in (1.8, 2.0, 2.2)}
+    dyn = sorted([kx[2.0] * A for A in (0.1, 0.2, 0.3) for _ in range(3)] + [kx[2.2] * 0.15, kx[1.8] * 0.25])
+    S = dyn[5]  # the median of 11
+    k = kx[2.0]  # median stiffness: 9 of the 11 tests are at x0 = 2
+    seen = {}
+
+    def sim(plan, model, law, **kw):  # noqa: ANN001
+        seen.update(kw, law=law, plan=[p.test for p in plan])
+        x = np.linspace(1.9, 2.1, 5)
+        seen["added"] = kw["force_fn"](x, x, np.ones(5), 0 * x, np.zeros(5))  # sliding forward: + F_c
+        raise _Stop
+
+    monkeypatch.setattr(simulate_module, "simulate", sim)
+    with pytest.raises(_Stop):
+        run_case(_harmonic_case())
+    assert seen["noise_F"] == pytest.approx(0.02 * S, rel=1e-12)
+    assert seen["seed"] == 5 and seen["n_cycles"] == 8 and seen["samples_per_cycle"] == 256
+    assert list(seen["law"].params) == pytest.approx([0, 0, 0, 0, 0.02 * k / 4.0], rel=1e-12)
+    assert seen["added"] == pytest.approx(np.full(5, 0.1 * 2.0 * S), rel=1e-5)  # F_c = 0.1·level·S (6 digits)
+
+    held = {}
+
+    def sim2(plan, model, law, **kw):  # noqa: ANN001
+        return [SimpleNamespace(test=p.test) for p in plan]
+
+    def diag(records, holdout, model, **kw):  # noqa: ANN001
+        held["ids"] = list(holdout)
+        raise ValueError("boom")
+
+    monkeypatch.setattr(simulate_module, "simulate", sim2)
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", diag)
+    row = run_case(_harmonic_case())
+    assert held["ids"] == ["a3", "a6", "a11"]
+    assert row["verdict"] == "error: ValueError: boom" and row["snr"] == math.inf and row["steps"] == []
