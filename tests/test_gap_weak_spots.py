@@ -123,3 +123,84 @@ def test_harmonic_case_noise_damping_and_holdout_by_hand(monkeypatch):
     row = run_case(_harmonic_case())
     assert held["ids"] == ["a3", "a6", "a11"]
     assert row["verdict"] == "error: ValueError: boom" and row["snr"] == math.inf and row["steps"] == []
+
+
+# ---------------------------------------------------------------- stationarity: the pooling rule by hand
+
+def _cycles(slope: float, n: int = 10) -> dict[str, np.ndarray]:
+    t = np.arange(n, dtype=float)  # one cycle a second
+    return {"t": t, "mean": slope * t, "a": np.zeros(n), "b": np.zeros(n), "xm": np.full(n, 2.0),
+            "xa": np.full(n, 0.1)}
+
+
+def _tests(slopes):
+    return [SimpleNamespace(test=f"T{i}", sigma=1.0, cycles=_cycles(s)) for i, s in enumerate(slopes)]
+
+
+def test_stationarity_a_trend_in_a_quarter_of_the_tests_by_hand():
+    """Noise-free lines: the scatter is 0, so the standard error is the floor σ·sqrt(1/n) = 1 N (no cycle counts
+    given: n = 1) over sqrt(Σ(t − t̄)²) = sqrt(82.5) for t = 0 … 9 s; slope 5 N/s: z = 5·sqrt(82.5) = 45.4,
+    change 5·9 = 45 N.  One trending test in 4 is a quarter (non-stationary), one in 5 is not."""
+    from chainid.gap import stationarity
+
+    z = 5.0 * math.sqrt(82.5)
+    res = stationarity.check(_tests([5.0, 0.0, 0.0, 0.0]))
+    assert res["stationary"] is False
+    assert res["z"] == pytest.approx(z, rel=1e-9)
+    q = res["by_quantity"]["mean"]
+    assert q["n_tests"] == 1 and q["max_z"] == pytest.approx(z, rel=1e-9)
+    assert q["change_N"] == pytest.approx(math.sqrt(45.0 ** 2 / 4), rel=1e-9)  # RMS over the 4 tests: 22.5 N
+    assert res["trend_change_N"] == pytest.approx(22.5, rel=1e-9)  # a and b flat: only the mean counts
+    assert res["by_quantity"]["a"] == {"max_z": 0.0, "change_N": 0.0, "n_tests": 0}
+    assert res["finding"].startswith(
+        "non-stationary: the mean force trends over the cycles in 1 of 4 tests (change over the window 22.5 N "
+        "RMS over tests, up to 45.4 standard errors)")
+    assert [r["n_cycles"] for r in res["tests"]] == [10] * 4
+    res5 = stationarity.check(_tests([5.0, 0.0, 0.0, 0.0, 0.0]))
+    assert res5["stationary"] is True and res5["finding"].startswith("the force is stationary")
+    assert res5["by_quantity"]["mean"]["change_N"] == pytest.approx(45.0 / math.sqrt(5), rel=1e-9)
+    # two in 5 (ceil(0.25 · 5) = 2) is enough again
+    assert stationarity.check(_tests([5.0, -5.0, 0.0, 0.0, 0.0]))["stationary"] is False
+
+
+@pytest.mark.parametrize("z,stationary", [(3.9, True), (4.1, False)])
+def test_stationarity_threshold_is_four_standard_errors(z, stationary):
+    from chainid.gap import stationarity
+
+    res = stationarity.check(_tests([z / math.sqrt(82.5)]))
+    assert res["z"] == pytest.approx(z, rel=1e-9)
+    assert res["stationary"] is stationary
+    assert res["trend_change_N"] == pytest.approx(0.0 if stationary else 9 * z / math.sqrt(82.5), rel=1e-9)
+
+
+def test_stationarity_floor_of_a_harmonic_amplitude_uses_the_cycle_counts():
+    """A harmonic amplitude's floor is σ·sqrt(2/n) with n the mean samples per cycle: σ = 2 N, n = 50 →
+    0.4 N; a slope 0.1 N/s of b over t = 0 … 9: z = 0.1·sqrt(82.5)/0.4."""
+    from chainid.gap import stationarity
+
+    cy = _cycles(0.0) | {"b": 0.1 * np.arange(10.0), "n": np.full(10, 50.0)}
+    res = stationarity.check([SimpleNamespace(test="T", sigma=2.0, cycles=cy)])
+    assert res["tests"][0]["b"]["z"] == pytest.approx(0.1 * math.sqrt(82.5) / 0.4, rel=1e-9)
+    assert res["tests"][0]["b"]["change_N"] == pytest.approx(0.9, rel=1e-9)
+
+
+def test_trend_uses_the_covariate_from_six_cycles_on():
+    """y = 3·t + 10·cov exactly: with ≥ 6 cycles the covariate is fitted and the slope is 3 N/s exactly; with 5
+    it is not (too few cycles for three coefficients and a scatter), and the slope is the plain line's."""
+    from chainid.gap import stationarity
+
+    cov = np.array([0.3, -0.1, 0.7, 0.2, -0.4, 0.5])
+    for n in (5, 6):
+        t, c = np.arange(n, dtype=float), cov[:n]
+        y = 3.0 * t + 10.0 * c
+        sl, se, chg = stationarity.trend(t, y, c)
+        plain = float(np.polyfit(t, y, 1)[0])
+        assert sl == pytest.approx(3.0 if n == 6 else plain, rel=1e-9, abs=1e-12)
+        assert chg == pytest.approx(abs(sl) * (n - 1), rel=1e-12)
+        if n == 5:
+            assert plain != pytest.approx(3.0, rel=1e-3)  # the two readings differ
+    assert stationarity.trend(np.arange(2.0), np.arange(2.0)) == (0.0, math.inf, 0.0)  # fewer than 3 cycles
+    assert stationarity.trend(np.zeros(4), np.arange(4.0)) == (0.0, math.inf, 0.0)  # no time span
+    none = stationarity.check(_tests([]) + [SimpleNamespace(test="S", sigma=1.0, cycles=_cycles(1.0, n=3))])
+    assert none["stationary"] is None
+    assert none["finding"] == "stationarity not checked: no test has >= 4 whole steady cycles"
