@@ -204,3 +204,78 @@ def test_trend_uses_the_covariate_from_six_cycles_on():
     none = stationarity.check(_tests([]) + [SimpleNamespace(test="S", sigma=1.0, cycles=_cycles(1.0, n=3))])
     assert none["stationary"] is None
     assert none["finding"] == "stationarity not checked: no test has >= 4 whole steady cycles"
+
+
+# ---------------------------------------------------------------- damping law choice
+
+def test_law_choice_leave_one_out_errors_and_ties_by_hand():
+    """c_e = 0.5 + noise-free scatter d_i: the viscous law's LOO prediction of test i is the mean of the others,
+    so its error is n/(n − 1)·(c_i − c̄) and its LOO RMS n/(n − 1)·std(c).  A Coulomb-exact set
+    c = 4·F_f/(π·ω·A) is fitted with zero error by coulomb and by viscous+coulomb: the tie goes to the law with
+    fewer coefficients."""
+    from chainid.gap.law_choice import choose
+
+    w = np.array([1.0, 2.0, 4.0, 1.0, 2.0, 4.0, 3.0])
+    A = np.array([0.1, 0.1, 0.1, 0.3, 0.3, 0.3, 0.2])
+    ke = np.full(7, 5000.0)
+    c = 0.5 + np.array([0.01, -0.02, 0.03, 0.0, -0.01, 0.02, -0.03])
+    best, errs = choose(w, A, ke, c, ["viscous"])
+    assert best == "viscous" and errs["viscous"] == pytest.approx(7 / 6 * np.std(c), rel=1e-9)
+    cc = 4 * 20.0 / (np.pi * w * A)
+    best, errs = choose(w, A, ke, cc, ["viscous+coulomb", "viscous", "coulomb", "hysteretic"])
+    assert best == "coulomb" and errs["coulomb"] < 1e-9 and errs["viscous+coulomb"] < 1e-9
+    assert errs["viscous"] > 10 and errs["hysteretic"] > 1  # c spans 21 … 255 N·s/mm
+    ch = 0.02 * ke / w  # structural, eta = 0.02
+    assert choose(w, A, ke, ch, ["viscous", "coulomb", "hysteretic", "viscous+hysteretic"])[0] == "hysteretic"
+    with pytest.raises(ValueError, match="no damping law has fewer coefficients than the training tests"):
+        choose(w, A, ke, c, [])
+
+
+# ---------------------------------------------------------------- verdict: drift and bounds (module docstring)
+
+def _nonstat(change):
+    return {"stationary": False, "trend_change_N": change, "finding": "non-stationary: X"}
+
+
+def test_verdict_a_drift_of_a_quarter_of_the_residual_is_unexplained():
+    """`unexplained` when what is left drifts by at least NONSTAT_FRACTION = 1/4 of the baseline's systematic
+    residual (8 N here: 2 N is the limit); a smaller drift keeps the named chain with a warning; the finding goes
+    first in `where`."""
+    from chainid.gap import verdict as vd
+
+    final = SimpleNamespace(names=("friction",), shrinkage=0.8, at_bound=())
+    for change, want in ((2.0, "unexplained"), (1.99, "friction")):
+        where, warn = [{"finding": "old"}], []
+        v = vd.decide(False, final, _nonstat(change), 8.0, [None, final], {"stop": "S"}, where, warn)
+        assert v == want
+        assert where[0] == {"finding": "non-stationary: X", "kind": "nonstationary", "trend_change_N": change,
+                            "score": change} and where[1] == {"finding": "old"}
+        msg = ("non-stationary: X; the static effects friction absorb part of it, but what is left drifts with "
+               "time")
+        if want == "unexplained":
+            msg += " (trend change 2 N over the window vs systematic residual 8 N: no confident name)"
+        assert warn == [msg]
+    # no chain: the drift is all there is
+    warn = []
+    assert vd.decide(False, None, _nonstat(0.1), 8.0, [None], {"stop": "S"}, [], warn) == "unexplained"
+    assert warn == ["non-stationary: X; no static effect can explain it"]
+    # the baseline at the noise floor: `none`, no drift warning (the finding is still listed)
+    warn, where = [], []
+    assert vd.decide(True, final, _nonstat(5.0), 8.0, [None, final], {"stop": "S"}, where, warn) == "none"
+    assert warn == [] and where[0]["kind"] == "nonstationary"
+
+
+def test_verdict_warns_of_each_step_with_a_parameter_at_its_bound():
+    from chainid.gap import verdict as vd
+
+    s1 = SimpleNamespace(name="friction", at_bound=("friction.x_s",))
+    s2 = SimpleNamespace(name="slack", at_bound=())
+    s3 = SimpleNamespace(name="backlash", at_bound=("backlash.b", "backlash.k"), names=("friction", "slack",
+                         "backlash"), shrinkage=0.9)
+    warn = []
+    stat = {"stationary": True, "trend_change_N": 0.0, "finding": ""}
+    assert vd.decide(False, s3, stat, 1.0, [s1, s1, s2, s3], {"stop": "S"}, [], warn) == "friction+slack+backlash"
+    tail = ("at the bound of their physical range; the effect's form may not match the data there (read the value "
+            "as a limit, not an estimate)")
+    # path[0] is the baseline: not warned about even if it had a bound
+    assert warn == [f"friction: parameter(s) friction.x_s {tail}", f"backlash: parameter(s) backlash.b, backlash.k {tail}"]
