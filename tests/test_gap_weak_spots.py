@@ -514,3 +514,29 @@ def test_transfer_refit_removes_offset_stiffness_and_viscous_terms():
     Fm = np.linspace(0, 1, n)
     np.testing.assert_allclose(tr._refit(Fm + 3 + 2 * x - 0.5 * v + e, Fm, x, v), e, atol=1e-12)
     np.testing.assert_allclose(tr._refit(Fm + 3 + 2 * x - 0.5 * v + e, Fm, x, v, np.ones(n)), e, atol=1e-12)
+
+
+# ---------------------------------------------------------------- problem: parameter keys and bounds
+
+def test_problem_keys_spring_bounds_and_no_damping_law_parameters_by_hand():
+    """A linear baseline re-fits its spring: k in [0, max(10·k0, 10·F_scale/x_scale)], x_ref within ± 2·x_scale;
+    ``damping_law`` has no fitted effect parameters (its law coefficients are the damping fit's), also when its
+    name is a string built at run time (read from a command line), not the interned literal."""
+    from chainid.gap.problem import Problem
+    from chainid.model.effects import EFFECT_NAMES, make_effect
+
+    effects = {n: make_effect(n, 100.0, 0.5, 10.0) for n in EFFECT_NAMES}
+    fake = SimpleNamespace(_spring_start=lambda: {"spring.k": 30.0, "spring.x_ref": 1.0}, x_scale=0.5,
+                           F_scale=100.0, effects=effects)
+    law = "".join(["damping", "_law"])
+    keys, lo, hi, x0 = Problem._keys(fake, [law, "friction"])
+    fr = effects["friction"]
+    assert keys == ["spring.k", "spring.x_ref"] + [f"friction.{k}" for k in fr.param_names]
+    # 10·k0 = 300 < 10·F/x = 2000
+    assert lo[:2] == [0.0, 1.0 - 2 * 0.5] and hi[:2] == [2000.0, 1.0 + 2 * 0.5] and x0[:2] == [30.0, 1.0]
+    assert lo[2:] == [b[0] for b in fr.bounds] and hi[2:] == [b[1] for b in fr.bounds]
+    assert x0[2:] == list(fr.x0_guess)
+    fake.effects, fake.F_scale = effects, 1.0  # 10·k0 = 300 > 10·1/0.5 = 20
+    assert Problem._keys(fake, [])[2] == [300.0, 2.0]
+    fake._spring_start = lambda: {}  # a chain baseline: no spring parameters
+    assert Problem._keys(fake, [law]) == ([], [], [], [])
