@@ -540,3 +540,111 @@ def test_problem_keys_spring_bounds_and_no_damping_law_parameters_by_hand():
     assert Problem._keys(fake, [])[2] == [300.0, 2.0]
     fake._spring_start = lambda: {}  # a chain baseline: no spring parameters
     assert Problem._keys(fake, [law]) == ([], [], [], [])
+
+
+# ---------------------------------------------------------------- benchmark report: transfer and non-harmonic texts
+
+def _trow(direction, verdict, sh, shr, ok, truth=("friction",)):
+    return {"excitation": "transfer", "family": "transfer", "direction": direction, "truth": list(truth),
+            "verdict": verdict, "transfer_shrinkage": sh, "transfer_shrinkage_refit": shr, "transfers": ok,
+            "transfer_chain": verdict, "seed": 1, "snr": 9.0, "shrinkage": 0.9, "seconds": 1.0}
+
+
+def test_transfer_rates_by_hand():
+    from chainid.gap.benchmark_report import transfer_rates
+
+    rows = [_trow("harmonic>random", "friction", 0.8, 0.6, True), _trow("harmonic>random", "hysteresis", 0.2, None, False),
+            _trow("random>harmonic", "friction", None, None, False),
+            _trow("random>harmonic", "machine_compliance", 0.9, 0.7, True, truth=("stiffness_level",))]
+    t = transfer_rates(rows)
+    assert t["n"] == 4
+    assert t["median_shrinkage"] == pytest.approx(0.8)  # of 0.8, 0.2, 0.9 (None left out)
+    assert t["median_shrinkage_refit"] == pytest.approx(0.65)  # of 0.6, 0.7
+    assert t["transfers_rate"] == 0.5
+    assert t["fit_right_rate"] == 0.75  # machine_compliance reads as stiffness_level
+    h, r = t["by_direction"]["harmonic>random"], t["by_direction"]["random>harmonic"]
+    assert (h["n"], h["median_shrinkage"], h["median_shrinkage_refit"], h["transfers_rate"]) == (2, 0.5, 0.6, 0.5)
+    assert (r["n"], r["median_shrinkage"], r["fit_right_rate"]) == (2, 0.9, 1.0)
+    assert list(t["by_direction"]) == ["harmonic>random", "random>harmonic"]
+    assert t["rows"][2] == {"direction": "random>harmonic", "truth": ["friction"], "verdict": "friction",
+                            "transfer_chain": "friction", "transfer_shrinkage": None,
+                            "transfer_shrinkage_refit": None, "transfers": False, "seed": 1}
+    empty = transfer_rates([])
+    assert empty["n"] == 0 and empty["median_shrinkage"] is None and empty["transfers_rate"] is None
+
+
+def _row(exc, family, truth, verdict, snr=9.0, **kw):
+    return {"excitation": exc, "family": family, "truth": truth, "verdict": verdict, "snr": snr, "shrinkage": 0.8,
+            "seconds": 2.0, "chain": "c", "plan": exc, "noise": 0.01, "levels": [1.0], "seed": 7} | kw
+
+
+def test_summarise_splits_excitations_and_formats_the_non_harmonic_lines():
+    """Harmonic rows at the top level; each non-harmonic excitation apart and pooled; transfer apart; the
+    terminal lines say each rate with its n, PASS/MISS against issue 18's targets and the misses."""
+    from chainid.gap.benchmark_report import format_summary, summarise
+
+    rows = [_row("harmonic", "single", ["friction"], "friction"),
+            _row("random", "single", ["friction"], "friction"), _row("random", "single", ["slack"], "backlash"),
+            _row("sweep", "single", ["friction"], "friction"), _row("sweep", "control", [], "none", snr=0.5),
+            _row("sweep", "outside", ["chatter"], "friction", truth_named=["friction"], chatter=True),
+            _trow("harmonic>random", "friction", 0.8, 0.6, True)]
+    s = summarise(rows)
+    assert (s["n_cases"], s["harmonic_n"]) == (7, 1)
+    assert s["single_right_rate"] == 1.0 and s["single_n"] == 1  # the harmonic one only
+    assert sorted(s["by_excitation"]) == ["random", "sweep"]
+    assert s["by_excitation"]["random"]["single_right_rate"] == 0.5
+    nh = s["nonharmonic"]
+    assert (nh["single_right_rate"], nh["single_n"], nh["control_none_rate"]) == (2 / 3, 3, 1.0)
+    assert s["transfer"]["n"] == 1 and s["rows"] is rows
+    txt = format_summary(s | {"wall_seconds": 12.4})
+    lines = txt.splitlines()
+    assert "non-harmonic excitations (residual >= 3x noise; n in brackets):" in lines
+    i = lines.index("non-harmonic excitations (residual >= 3x noise; n in brackets):")
+    assert lines[i + 2] == (f"{'random':<12}{'50.0 % (2)':>14}{'n/a (0)':>14}{'n/a (0)':>14}{'n/a (0)':>14}"
+                            f"{'n/a (0)':>14}{'n/a':>10}")
+    assert lines[i + 3].startswith("sweep") and lines[i + 3].endswith(f"{'100.0 %':>10}")
+    assert lines[i + 4].startswith(f"{'pooled':<12}{'66.7 % (3)':>14}")
+    assert ("  MISS: non-harmonic single_right_rate = 66.7 % (target >= 90 %)") in lines
+    assert ("  PASS: non-harmonic control_none_rate = 100.0 % (target >= 95 %)") in lines
+    assert "  MISS: non-harmonic compound_both_named_rate = n/a (target >= 80 %)" in lines
+    assert "  1 non-harmonic miss(es), e.g.:" in lines
+    assert "    random single: truth slack -> backlash (snr 9.0, seed 7)" in lines
+    assert ("transfer (1 cases): median pooled shrinkage on the other set 80.0 % (target >= 70 %: PASS); after a "
+            "per-record refit of offset, spring and dashpot 60.0 %; verdict 'transfers' 100.0 %; true effect named "
+            "on the fitting set 100.0 %") in lines
+    assert "  harmonic>random: 1 cases, median shrinkage 80.0 %, after refit 60.0 %, transfers 100.0 %" in lines
+    assert "median diagnosis time 2.00 s over 7 cases; wall 12 s" in lines
+    assert "  PASS: single_right_rate = 100.0 % (target >= 92 %)" in lines
+    assert "  MISS: compound_both_named_rate = n/a (target >= 85 %)" in lines
+
+
+def test_format_summary_without_harmonic_rows_and_with_errors():
+    from chainid.gap.benchmark_report import format_summary, summarise
+
+    rows = [_row("quake", "single", ["friction"], "error: ValueError: boom"),
+            _row("quake", "single", ["friction"], "friction")]
+    txt = format_summary(summarise(rows) | {"wall_seconds": 3.0})
+    lines = txt.splitlines()
+    assert lines[0] == "2 cases; wall 3 s"
+    assert "harmonic families:" not in txt
+    assert lines[-1] == "1 case(s) raised an error (counted as misses), e.g. error: ValueError: boom"
+    assert format_summary(summarise(rows)).splitlines()[0] == "2 cases"
+
+
+def test_format_summary_confusion_matrix_and_misses():
+    from chainid.gap.benchmark_report import format_summary, summarise
+
+    rows = [_row("harmonic", "single", ["friction"], "friction"),
+            _row("harmonic", "single", ["machine_compliance"], "hysteresis+slack"),
+            _row("harmonic", "control", [], "none", snr=0.1),
+            _row("harmonic", "single", ["backlash"], "error: RuntimeError: x")]
+    lines = format_summary(summarise(rows)).splitlines()
+    i = lines.index("confusion (rows: truth of single / mismatch / control cases; columns: verdict)")
+    cols = ["(combination)", "error: RuntimeError: x", "friction", "none"]
+    w = len("error: RuntimeError: x") + 1  # the widest column label + 1 (>= 8)
+    assert lines[i + 1] == " " * 22 + "".join(f"{c[:w - 1]:>{w}}" for c in cols)
+    assert lines[i + 2] == f"{'backlash':<22}" + "".join(f"{n:>{w}}" for n in (0, 1, 0, 0))
+    assert lines[i + 4] == f"{'machine_compliance':<22}" + "".join(f"{n:>{w}}" for n in (1, 0, 0, 0))
+    assert "1 case(s) raised an error (counted as misses), e.g. error: RuntimeError: x" in "\n".join(lines)
+    assert "2 miss(es), e.g.:" in lines
+    assert "  single: truth machine_compliance -> hysteresis+slack (snr 9.0, c, harmonic, noise 0.01)" in lines
