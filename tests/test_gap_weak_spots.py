@@ -648,3 +648,68 @@ def test_format_summary_confusion_matrix_and_misses():
     assert "1 case(s) raised an error (counted as misses), e.g. error: RuntimeError: x" in "\n".join(lines)
     assert "2 miss(es), e.g.:" in lines
     assert "  single: truth machine_compliance -> hysteresis+slack (snr 9.0, c, harmonic, noise 0.01)" in lines
+
+
+# ---------------------------------------------------------------- the benchmark grid against its documentation
+
+def test_benchmark_grid_is_the_documented_one():
+    """README (Sim-to-real gap; the gap on any excitation): 480 cases, 328 harmonic, 140 non-harmonic, 12 transfer;
+    every library effect alone at 3 strengths × 2 noise levels × 2 chains × 2 plans; 24 controls; mismatch
+    EA × 0.7–1.4, Hertz compliance × 0.5–2; non-harmonic strengths log-uniform 0.5–3×, noise 0.5–3 %; transfer
+    both directions, six effects; case seeds seed + 100000 + 1000·k + i (module docstring of time_grid)."""
+    from chainid.gap.benchmark import ALL_EXCITATIONS, grid
+    from chainid.gap.benchmark_time import EXCITATIONS
+    from chainid.model.effects import EFFECT_NAMES
+
+    g = grid(seed=3)
+    ex = [c["excitation"] for c in g]
+    assert (len(g), ex.count("harmonic"), ex.count("transfer")) == (480, 328, 12)
+    harm = [c for c in g if c["excitation"] == "harmonic"]
+    singles = [c for c in harm if c["family"] == "single"]
+    for e in EFFECT_NAMES:
+        mine = [c for c in singles if c["effects"] == [e]]
+        assert len(mine) == 3 * 2 * 2 * 2
+        assert len({(c["levels"][0], c["noise"], c["chain"], c["plan"]) for c in mine}) == 24
+    assert sum(c["family"] == "control" for c in harm) == 24
+    mism = [c for c in harm if c["family"] == "mismatch"]
+    ea = sorted({c["ea_scale"] for c in mism if "ea_scale" in c})
+    hz = sorted({c["hertz_scale"] for c in mism if "hertz_scale" in c})
+    assert (ea[0], ea[-1], hz[0], hz[-1]) == (0.7, 1.4, 0.5, 2.0)
+    assert [c["seed"] for c in harm] == list(range(4, 4 + 328))  # seed + 1, + 2, …: one per case
+    order = EXCITATIONS + ("transfer",)
+    for e in order:
+        mine = [c for c in g if c["excitation"] == e]
+        assert [c["seed"] for c in mine] == [3 + 100000 + 1000 * order.index(e) + i for i in range(len(mine))]
+    timed = [c for c in g if c["excitation"] in EXCITATIONS]
+    assert all(0.5 <= lv <= 3.0 for c in timed for lv in c["levels"])
+    assert all(0.005 <= c["noise"] <= 0.03 for c in timed)
+    assert all(c["hold"] in ("r1", "r2", "r3", "r4") for c in timed)
+    tr = [c for c in g if c["excitation"] == "transfer"]
+    assert sorted((c["effects"][0], c["direction"]) for c in tr) == sorted(
+        (e, d) for e in ("friction", "hysteresis", "backlash", "stiffness_level", "slack", "sensor_delay")
+        for d in ("harmonic>random", "random>harmonic"))
+    # a case is the same whichever excitations run
+    assert grid(seed=3, excitations=("sweep",)) == [c for c in g if c["excitation"] == "sweep"]
+    assert grid(seed=3, excitations=("harmonic",)) == harm
+    assert tuple(ALL_EXCITATIONS) == ("harmonic",) + order
+    with pytest.raises(ValueError, match=r"--excitations 'harmonic,wind': unknown \['wind'\]; valid: "
+                                         "harmonic,random,sweep,startup,quake,transfer"):
+        grid(excitations=("harmonic", "wind"))
+    with pytest.raises(ValueError, match=r"--excitations '': unknown empty"):
+        grid(excitations=())
+
+
+def test_small_grids_one_case_per_family():
+    """The small subset (tests): harmonic — friction and stiffness_level alone, a control, a mismatch, a mismatch
+    plus friction and one pair; non-harmonic — one single-effect case per family, one control, one transfer."""
+    from chainid.gap.benchmark import grid
+
+    g = grid(small=True)
+    fam = [(c["excitation"], c["family"], tuple(c["effects"])) for c in g]
+    assert fam[:6] == [("harmonic", "single", ("friction",)), ("harmonic", "single", ("stiffness_level",)),
+                       ("harmonic", "control", ()), ("harmonic", "mismatch", ()),
+                       ("harmonic", "mismatch+", ("friction",)),
+                       ("harmonic", "pair", ("friction", "sensor_delay"))]
+    assert fam[6:] == [("random", "single", ("friction",)), ("sweep", "single", ("hysteresis",)),
+                       ("startup", "single", ("backlash",)), ("quake", "single", ("stiffness_level",)),
+                       ("random", "control", ()), ("transfer", "transfer", ("hysteresis",))]
