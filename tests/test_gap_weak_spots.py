@@ -713,3 +713,56 @@ def test_small_grids_one_case_per_family():
     assert fam[6:] == [("random", "single", ("friction",)), ("sweep", "single", ("hysteresis",)),
                        ("startup", "single", ("backlash",)), ("quake", "single", ("stiffness_level",)),
                        ("random", "control", ()), ("transfer", "transfer", ("hysteresis",))]
+
+
+# ---------------------------------------------------------------- modelio.predict by hand (time-domain records)
+
+def test_predict_time_domain_nrmse_and_pooling_by_hand():
+    """Two ramps (not harmonic tests: predicted in the time domain), F = 100·x + e measured; the model is the
+    100 N/mm spring, its baseline an 80 N/mm one (no damping, no mass).  NRMSE = sqrt(SSE/Σ(F − F̄)²) per test,
+    pooled over the tests' sums; shrinkage 1 − model/baseline."""
+    from chainid.gap.modelio import predict
+    from chainid.model.augmented import AugmentedModel
+    from chainid.model.timedamping import Damping
+    from chainid.records.record import Record
+
+    rng = np.random.default_rng(4)
+    recs, want = [], {}
+    for name, slope in (("A", 1.0), ("B", 2.0)):
+        t = np.linspace(0.0, 1.0, 400)
+        x = slope * t
+        e = 0.5 * rng.normal(size=t.size)
+        F = 100.0 * x + e
+        recs.append(Record(name, t, x, F))
+        var = float(np.sum((F - F.mean()) ** 2))
+        want[name] = (float(np.sum((20.0 * x + e) ** 2)), float(np.sum(e * e)), var)
+    model = AugmentedModel(LinearModel(100.0, 0.0), [], Damping("none"), 0.0)
+    model.baseline = AugmentedModel(LinearModel(80.0, 0.0), [], Damping("none"), 0.0)
+    out = predict(model, recs)
+    for row in out["tests"]:
+        sb, sm, var = want[row["test"]]
+        assert row["mode"] == "time-domain"
+        assert row["nrmse_baseline"] == pytest.approx(math.sqrt(sb / var), rel=1e-9)
+        assert row["nrmse_model"] == pytest.approx(math.sqrt(sm / var), rel=1e-9)
+        assert row["shrinkage"] == pytest.approx(1 - math.sqrt(sm / sb), rel=1e-9)
+    sb, sm, var = (sum(v[i] for v in want.values()) for i in range(3))
+    p = out["pooled"]
+    assert (p["nrmse_baseline"], p["nrmse_model"]) == (pytest.approx(math.sqrt(sb / var), rel=1e-9),
+                                                       pytest.approx(math.sqrt(sm / var), rel=1e-9))
+    assert p["shrinkage"] == pytest.approx(1 - math.sqrt(sm / sb), rel=1e-9)
+    assert out["damping_used"] == "law" and "_series" not in out
+    one = predict(model, recs, tests=["B"], fitted=True, keep=True)
+    assert [r["test"] for r in one["tests"]] == ["B"] and one["damping_used"] == "per-test fitted c_e"
+    np.testing.assert_allclose(one["_series"]["B"][3], 100.0 * recs[1].x, rtol=1e-12)  # the model's force
+    np.testing.assert_allclose(one["_series"]["B"][4], 80.0 * recs[1].x, rtol=1e-12)  # the baseline's
+    assert one["pooled"]["nrmse_model"] == pytest.approx(math.sqrt(want["B"][1] / want["B"][2]), rel=1e-9)
+    with pytest.raises(ValueError, match=r"--tests: test id\(s\) \['C'\] not in the data; valid ids: A, B"):
+        predict(model, recs, tests=["A", "C"])
+    with pytest.raises(ValueError, match="no records to predict"):
+        predict(model, [])
+    # no baseline: the model is its own, shrinkage 0; a constant force has no variance: None, not a NaN
+    own = AugmentedModel(LinearModel(100.0, 0.0), [], Damping("none"), 0.0)
+    assert predict(own, recs)["pooled"]["shrinkage"] == pytest.approx(0.0, abs=1e-12)
+    flat = Record("F", recs[0].t, recs[0].x, np.full(400, 7.0))
+    row = predict(own, [flat])["tests"][0]
+    assert row["nrmse_model"] is None and row["shrinkage"] is None
