@@ -849,3 +849,113 @@ def test_jackknife_sd_by_hand():
     sd = _jackknife(prob, cand)
     assert sd == {"friction.F_c": pytest.approx(math.sqrt(2 / 3 * 42 / 9), rel=1e-12)}
     assert [s[0] for s in seen] == [["B", "C"], ["A", "C"], ["A", "B"]] and all(s[1] for s in seen)
+
+
+# ---------------------------------------------------------------- selection: the step rule on a table of fits
+
+def _world(monkeypatch, table, floor=()):
+    """Fits looked up in ``table`` (sorted effect names → (LOTO NRMSE, LOTO SSE per test A, B, C, at_bound,
+    n_params)); ``floor``: effect sets whose training residual is at the noise floor."""
+    from chainid.gap import selection as sel
+    from chainid.gap.problem import Candidate
+
+    calls = []
+
+    def fit_score(prob, names, start, base_hold):  # noqa: ANN001
+        key = tuple(sorted(names))
+        calls.append(key)
+        loto, sse, bound, k = table[key]
+        c = Candidate("+".join(names), {f"{n}.p": 1.0 for n in names}, k, at_bound=list(bound))
+        c.nrmse_loto, c.loto_num, c.bic = loto, dict(zip("ABC", sse)), 10.0 * k
+        return c
+
+    monkeypatch.setattr(sel, "_fit_score", fit_score)
+    monkeypatch.setattr(sel, "train_floor", lambda prob, c: tuple(sorted(c.names)) in floor)
+    base = Candidate("baseline", {}, 0)
+    base.nrmse_loto, base.loto_num = 1.0, {"A": 100.0, "B": 100.0, "C": 100.0}
+    return sel, base, calls
+
+
+TABLE = {("friction",): (0.5, (25.0, 25.0, 16.0), (), 1),
+         ("slack",): (0.95, (90.0, 90.0, 90.0), (), 1),
+         ("friction", "slack"): (0.48, (24.0, 24.0, 15.0), (), 2)}
+
+
+def test_forward_selection_stops_on_an_immaterial_step_by_hand(monkeypatch):
+    """Step 1: friction lowers the LOTO NRMSE by 50 % with g_i = ½ln(100/25), ½ln(100/25), ½ln(100/16) (all > 0,
+    mean far above 2 SE): kept; slack (5 %) is not material.  Step 2: slack on top lowers it by 4 %: the chain
+    stops, and the stop text gives the numbers of the rule."""
+    sel, base, calls = _world(monkeypatch, TABLE)
+    out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
+    assert [c.names for c in out["path"]] == [[], ["friction"]]
+    assert sorted(c.name for c in out["singles"]) == ["friction", "slack"]
+    g = 0.5 * np.log(np.array([25.0, 25.0, 16.0]) / [24.0, 24.0, 15.0])
+    se = float(np.std(g, ddof=1)) / math.sqrt(3)
+    assert out["stop"] == (f"no significant improvement: best next effect slack lowers the LOTO NRMSE by 4.0 % (mean "
+                           f"log error ratio over tests {g.mean():.3g}, jack-knife SE {se:.2g}; needs > 2 SE and >= "
+                           "10 %)")
+    st = out["path"][1].step_test
+    g1 = 0.5 * np.log(100.0 / np.array([25.0, 25.0, 16.0]))
+    assert st["delta_loto"] == pytest.approx(g1.mean(), rel=1e-12)
+    assert st["se_jackknife"] == pytest.approx(np.std(g1, ddof=1) / math.sqrt(3), rel=1e-12)
+    assert st["relative_gain"] == pytest.approx(0.5, rel=1e-12)
+    assert out["confounded"] == [] and out["dropped"] == [] and out["swapped"] == []
+
+
+def test_forward_selection_stop_reasons(monkeypatch):
+    sel, base, _ = _world(monkeypatch, TABLE)
+    out = sel.forward_select(None, ["friction", "slack"], base, 1.0, max_effects=1)
+    assert out["stop"] == "the chain has the maximum of 1 effects" and len(out["path"]) == 2
+    out = sel.forward_select(None, ["friction"], base, 1.0)
+    assert out["stop"] == "no library effect left" and len(out["path"]) == 2
+    sel, base, _ = _world(monkeypatch, TABLE, floor={("friction",)})
+    out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
+    assert out["stop"] == "the training residual is at the noise floor" and len(out["path"]) == 2
+    pinned = dict(TABLE) | {("friction",): (0.5, (25.0, 25.0, 16.0), ("friction.p",), 1),
+                            ("slack",): (0.95, (90.0, 90.0, 90.0), ("slack.p",), 1)}
+    sel, base, _ = _world(monkeypatch, pinned)
+    out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
+    assert out["stop"] == ("the best next effect friction needs parameters at the bounds of their physical range: "
+                           "its form does not fit what is left")
+    assert len(out["path"]) == 1 and len(out["singles"]) == 2
+
+
+def test_forward_selection_near_tie_is_confounded_and_look_ahead_takes_the_runner_up(monkeypatch):
+    """Hysteresis (2 parameters) within TIE = 5 % of friction (1): friction is chosen, the pair is reported as
+    confounded.  The runner-up is within LOOKAHEAD = 30 %; its best extension (hysteresis+slack) must beat the
+    choice's best (friction+slack, 0.48) by more than TIE to be taken: 0.47 is not (> 0.95·0.48 = 0.456), 0.40 is."""
+    base_table = dict(TABLE) | {("hysteresis",): (0.51, (26.0, 26.0, 17.0), (), 2),
+                                ("friction", "hysteresis"): (0.49, (24.5, 24.5, 15.5), (), 3)}
+    sel, base, _ = _world(monkeypatch, base_table | {("hysteresis", "slack"): (0.47, (24.0, 24.0, 15.0), (), 3)})
+    out = sel.forward_select(None, ["friction", "slack", "hysteresis"], base, 1.0)
+    assert out["path"][1].names == ["friction"]
+    assert out["confounded"][0] == {"step": 1, "pair": ["friction", "hysteresis"], "loto": [0.5, 0.51]}
+    sel, base, _ = _world(monkeypatch, base_table | {("hysteresis", "slack"): (0.40, (10.0, 10.0, 6.0), (), 3)})
+    out = sel.forward_select(None, ["friction", "slack", "hysteresis"], base, 1.0, max_effects=2)
+    assert [c.names for c in out["path"]][1:] == [["hysteresis"], ["hysteresis", "slack"]]
+
+
+def test_step_rule_boundaries():
+    """Rule 2: mean log ratio > Z = 2 jack-knife SE (strict); rule 3: relative gain >= MIN_GAIN = 10 %."""
+    from chainid.gap.problem import Candidate
+    from chainid.gap.selection import loto_jackknife, passes, step_test
+
+    assert passes({"delta_loto": 2.0, "se_jackknife": 1.0, "relative_gain": 0.5}) is False
+    assert passes({"delta_loto": 2.001, "se_jackknife": 1.0, "relative_gain": 0.5}) is True
+    assert passes({"delta_loto": 3.0, "se_jackknife": 1.0, "relative_gain": 0.1}) is True
+    assert passes({"delta_loto": 3.0, "se_jackknife": 1.0, "relative_gain": 0.0999}) is False
+
+    def cand(loto, sse):
+        c = Candidate("x", {}, 1)
+        c.nrmse_loto, c.loto_num = loto, sse
+        return c
+
+    one = loto_jackknife(cand(1.0, {"A": 4.0}), cand(0.5, {"A": 1.0}))
+    assert one == (pytest.approx(0.5 * math.log(4.0)), math.inf)  # one test: no spread to judge by
+    assert loto_jackknife(cand(1.0, {}), cand(1.0, {})) == (0.0, math.inf)
+    st = step_test(cand(0.0, {"A": 1.0, "B": 1.0}), cand(0.0, {"A": 1.0, "B": 1.0}))
+    assert st["relative_gain"] == 0.0 and st["z"] == math.inf  # no error before: no gain; se 0: z infinite
+    st = step_test(cand(2.0, {"A": 4.0, "B": 9.0}), cand(1.5, {"A": 1.0, "B": 1.0}))
+    g = [0.5 * math.log(4.0), 0.5 * math.log(9.0)]
+    se = abs(g[1] - g[0]) / math.sqrt(2) / math.sqrt(2)  # sd (ddof 1) of two values = |a − b|/√2
+    assert st["z"] == pytest.approx(sum(g) / 2 / se, rel=1e-12) and st["relative_gain"] == pytest.approx(0.25)
