@@ -959,3 +959,49 @@ def test_step_rule_boundaries():
     g = [0.5 * math.log(4.0), 0.5 * math.log(9.0)]
     se = abs(g[1] - g[0]) / math.sqrt(2) / math.sqrt(2)  # sd (ddof 1) of two values = |a − b|/√2
     assert st["z"] == pytest.approx(sum(g) / 2 / se, rel=1e-12) and st["relative_gain"] == pytest.approx(0.25)
+
+
+def test_no_look_ahead_beyond_the_maximum_chain(monkeypatch):
+    """At the last allowed step (two effects chosen, at most three) the look-ahead would fit four effects: it
+    is not run (only effect sets of up to ``max_effects`` are ever fitted), and the near-tie is reported."""
+    table = dict(TABLE) | {
+        ("friction", "slack"): (0.3, (9.0, 9.0, 6.0), (), 2),
+        ("hysteresis",): (0.9, (80.0, 80.0, 81.0), (), 2), ("backlash",): (0.92, (85.0, 85.0, 84.0), (), 1),
+        ("friction", "hysteresis"): (0.45, (20.0, 20.0, 14.0), (), 3),
+        ("backlash", "friction"): (0.46, (21.0, 21.0, 14.0), (), 2),
+        ("friction", "hysteresis", "slack"): (0.2, (4.0, 4.0, 3.0), (), 3),
+        ("backlash", "friction", "slack"): (0.21, (4.2, 4.2, 3.1), (), 4),
+        ("hysteresis", "slack"): (0.6, (30.0, 30.0, 20.0), (), 3)}
+    sel, base, calls = _world(monkeypatch, table)
+    out = sel.forward_select(None, ["friction", "slack", "hysteresis", "backlash"], base, 1.0, max_effects=3)
+    assert [c.names for c in out["path"]][1:] == [["friction"], ["friction", "slack"],
+                                                  ["friction", "slack", "hysteresis"]]
+    assert max(len(k) for k in calls) == 3
+    assert out["stop"] == "the chain has the maximum of 3 effects"
+    assert {"step": 3, "pair": ["hysteresis", "backlash"], "loto": [0.2, 0.21]} in out["confounded"]
+    assert out["dropped"] == []
+
+
+def test_quake_records_half_with_a_near_fault_pulse(monkeypatch):
+    """README (non-harmonic families): quake records are Kanai–Tajimi noise under an envelope, half of them with
+    a near-fault pulse (0.5–1.5), some with a permanent offset (|offset| <= 0.3 mm)."""
+    from chainid.gap.benchmark_time import motion
+    from chainid.records import excitation as ex
+
+    seen = []
+
+    def quake(n, fs, A, x0, rng, **kw):  # noqa: ANN001
+        seen.append(kw)
+        raise _Stop
+
+    monkeypatch.setattr(ex, "earthquake", quake)
+    rng = np.random.default_rng(11)
+    for _ in range(400):
+        with pytest.raises(_Stop):
+            motion("quake", rng)
+    pulses = np.array([k["pulse"] for k in seen])
+    # binomial(400, 1/2): 200 ± 10 (1σ); ± 50 is 5σ
+    assert 150 <= np.count_nonzero(pulses) <= 250
+    assert pulses[pulses > 0].min() >= 0.5 and pulses.max() <= 1.5
+    offs = np.array([k["offset"] for k in seen])
+    assert 0 < np.count_nonzero(offs) < 400 and np.abs(offs).max() <= 0.3
