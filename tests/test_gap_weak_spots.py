@@ -1005,3 +1005,28 @@ def test_quake_records_half_with_a_near_fault_pulse(monkeypatch):
     assert pulses[pulses > 0].min() >= 0.5 and pulses.max() <= 1.5
     offs = np.array([k["offset"] for k in seen])
     assert 0 < np.count_nonzero(offs) < 400 and np.abs(offs).max() <= 0.3
+
+
+# ---------------------------------------------------------------- the time-domain route is free of the force unit
+
+def test_time_domain_diagnosis_is_invariant_to_the_force_unit():
+    """NRMSE is dimensionless and every fitted force scales with F: the same records with F × 1e-7 (a force
+    channel in other units; each record's Σ(F − F̄)² then far below 1 N²) give the same per-test NRMSE, the same
+    verdict and F_c × 1e-7 (the records: tests/transient_forms.py, friction F_c = 60 N on a random x)."""
+    from chainid.gap import diagnose
+    from chainid.records.record import Record
+    from transient_forms import chain_set
+
+    _, recs = chain_set("friction", {"F_c": 60.0}, n=1500)
+    out = []
+    for s in (1.0, 1e-7):
+        rr = [Record(r.test, r.t, r.x, r.F * s) for r in recs]
+        out.append(diagnose(rr, ["r2"], None, quiet=True, uncertainty=False, max_combo=1, effects=["friction"]))
+    a, b = out
+    assert a["route"] == b["route"] == "time" and a["verdict"] == b["verdict"] == "friction"
+    for ta, tb in zip(a["tests"], b["tests"]):
+        assert tb["nrmse_before"] == pytest.approx(ta["nrmse_before"], rel=1e-9)
+        assert tb["nrmse_after"] == pytest.approx(ta["nrmse_after"], rel=1e-4)
+    assert b["steps"][-1]["params"]["friction.F_c"] == pytest.approx(1e-7 * a["steps"][-1]["params"]["friction.F_c"],
+                                                                      rel=1e-4)
+    assert b["steps"][-1]["shrinkage"] == pytest.approx(a["steps"][-1]["shrinkage"], rel=1e-4)
