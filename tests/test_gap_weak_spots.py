@@ -1030,3 +1030,35 @@ def test_time_domain_diagnosis_is_invariant_to_the_force_unit():
     assert b["steps"][-1]["params"]["friction.F_c"] == pytest.approx(1e-7 * a["steps"][-1]["params"]["friction.F_c"],
                                                                       rel=1e-4)
     assert b["steps"][-1]["shrinkage"] == pytest.approx(a["steps"][-1]["shrinkage"], rel=1e-4)
+
+
+def test_harmonic_diagnosis_baseline_is_invariant_to_the_force_unit():
+    """The phase-bin route on 11 steady tests (friction F_c = 150 N, 20 N noise) with F × 1e-7: the baseline
+    (linear spring, Eq. 21, per-test NRMSE, dB over noise) is the same to round-off, the noise σ scales by 1e-7,
+    the verdict is the same.  (The friction fit itself lands within 2 % of the unscaled one: the optimiser's
+    path is not exactly scale-free, so it is held to a looser tolerance.)"""
+    from chainid.gap import diagnose
+    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import parse_effect
+    from chainid.model.laws import PolynomialLaw
+    from chainid.records.record import Record
+    from chainid.records.simulate import simulate
+
+    m = ChainModel()
+    recs = simulate(grid3x3_plan(prefix=""), m, PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0]), n_cycles=6,
+                    samples_per_cycle=64, noise_F=20.0, seed=2, force_fn=parse_effect("friction:F_c=150", m))
+    a, b = (diagnose([Record(r.test, r.t, r.x, r.F * s) for r in recs], ["3", "7"], None, quiet=True,
+                     uncertainty=False, max_combo=1, effects=["friction", "slack"]) for s in (1.0, 1e-7))
+    assert a["verdict"] == b["verdict"] == "friction"
+    assert b["baseline"]["damping_law"] == a["baseline"]["damping_law"]
+    for k in ("nrmse_train", "nrmse_holdout", "db_over_noise", "nrmse_loto"):
+        assert b["baseline"][k] == pytest.approx(a["baseline"][k], rel=1e-9), k
+    for k in ("noise_sigma_N", "excess_rms_N"):
+        assert b["baseline"][k] == pytest.approx(1e-7 * a["baseline"][k], rel=1e-9), k
+    for ta, tb in zip(a["tests"], b["tests"]):
+        assert tb["nrmse_before"] == pytest.approx(ta["nrmse_before"], rel=1e-9)
+        assert tb["sigma_N"] == pytest.approx(1e-7 * ta["sigma_N"], rel=1e-9)
+        assert tb["nrmse_after"] == pytest.approx(ta["nrmse_after"], rel=0.02)
+    assert b["steps"][-1]["params"]["friction.F_c"] == pytest.approx(1e-7 * a["steps"][-1]["params"]["friction.F_c"],
+                                                                      rel=0.03)
