@@ -1062,3 +1062,58 @@ def test_harmonic_diagnosis_baseline_is_invariant_to_the_force_unit():
         assert tb["nrmse_after"] == pytest.approx(ta["nrmse_after"], rel=0.02)
     assert b["steps"][-1]["params"]["friction.F_c"] == pytest.approx(1e-7 * a["steps"][-1]["params"]["friction.F_c"],
                                                                       rel=0.03)
+
+
+# ---------------------------------------------------------------- the phase-route figures show the result's numbers
+
+def test_phase_route_figures_show_the_results_numbers(tmp_path, monkeypatch):
+    """heatmap: each square's colour and label are the test's NRMSE before/after of the JSON ``tests`` (2
+    digits), colour scale 0 … the largest baseline NRMSE, held-out squares edged red; residual surface: every
+    test's bins on a circle of radius A/A_max; residual vs phase: held-out lines thick (1.5), the others thin;
+    loops: model loops closed (last point = first)."""
+    import chainid.infra.fileio
+    from chainid.gap import diagnose
+    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.gap.plots import make_plots
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import parse_effect
+    from chainid.model.laws import PolynomialLaw
+    from chainid.records.simulate import simulate
+
+    figs = {}
+    orig = chainid.infra.fileio.save_figure
+
+    def spy(fig, path, *a, **k):  # noqa: ANN001
+        figs[path.name] = fig
+        return orig(fig, path, *a, **k)
+
+    monkeypatch.setattr(chainid.infra.fileio, "save_figure", spy)
+    m = ChainModel()
+    recs = simulate(grid3x3_plan(prefix=""), m, PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0]), n_cycles=6,
+                    samples_per_cycle=64, noise_F=20.0, seed=2, force_fn=parse_effect("friction:F_c=150", m))
+    res = diagnose(recs, ["3", "7"], m, quiet=True, uncertainty=False, max_combo=1, effects=["friction"])
+    make_plots(res, tmp_path / "p")
+    tests = {t["test"]: t for t in res["tests"]}
+    vmax = max(t["nrmse_before"] for t in tests.values())
+    ax0, ax1 = figs["heatmap.png"].axes[:2]
+    for ax, key in ((ax0, "nrmse_before"), (ax1, "nrmse_after")):
+        sc = ax.collections[0]
+        want = [tests[t][key] for t in tests]  # the problem's data order is the records' order
+        np.testing.assert_allclose(sc.get_array(), want, rtol=1e-12)
+        assert sc.norm.vmin == 0 and sc.norm.vmax == pytest.approx(vmax, rel=1e-12)
+        assert [a.get_text() for a in ax.texts] == [f"{v:.2g}" for v in want]
+        red = [tuple(c) for c in sc.get_edgecolors()]
+        assert sum(c[:3] == (1.0, 0.0, 0.0) for c in red) == 2  # the two held-out tests
+    assert ax1.get_title() == "with friction (red edge: held-out)"
+    Amax = max(t["A"] for t in tests.values())
+    surf = figs["residual_surface.png"].axes[0]
+    for coll, t in zip(surf.collections, tests.values()):
+        xy = coll.get_offsets()
+        np.testing.assert_allclose(np.hypot(xy[:, 0], xy[:, 1]), t["A"] / Amax, rtol=1e-12)
+    ph = figs["residual_phase.png"].axes[0]
+    widths = {ln.get_label(): ln.get_linewidth() for ln in ph.lines[:-1]}
+    assert widths["3"] == widths["7"] == 1.5 and sorted(widths.values()).count(0.7) == len(tests) - 2
+    for ax in figs["loops.png"].axes:
+        for ln in ax.lines[1:]:
+            y = ln.get_ydata()
+            assert y[0] == y[-1] and ln.get_xdata()[0] == ln.get_xdata()[-1]
