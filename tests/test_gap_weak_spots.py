@@ -1156,3 +1156,41 @@ def test_build_problem_routes_harmonic_tests_by_the_documented_rule(monkeypatch)
     warn.clear()
     dt.build_problem(recs[4:], [], [recs[4]], ["r1"], 0, "M", "auto", warn)
     assert made["hprob"] is None and warn == [] and made["tdata"] == [("r1", 4)]
+
+
+# ---------------------------------------------------------------- where_time.drift: block-mean trend by hand
+
+def _trec(name, slope, n=640, sigma=32.0 ** 0.5):
+    t = np.arange(n) / 64.0
+    return SimpleNamespace(test=name, t=t, x=np.full(n, 2.0), sigma=sigma), slope * t
+
+
+def test_time_drift_rule_by_hand():
+    """640 samples (10 s) in N_DRIFT = 20 blocks of 32: block mid-times 0.5 s apart, Σ(t − t̄)² = 0.25·665; the
+    floor σ/sqrt(32) = 1 N (σ = sqrt 32); a noise-free residual slope of 2 N/s: z = 2·sqrt(166.25), change
+    2·9.5 = 19 N.  Non-stationary when at least a quarter of the records drift (1 of 4, not 1 of 5)."""
+    from chainid.gap.where_time import drift
+
+    def run(slopes):
+        recs = [_trec(f"r{i}", s) for i, s in enumerate(slopes)]
+        return drift([d for d, _ in recs], {d.test: r for d, r in recs})
+
+    out = run([2.0, 0.0, 0.0, 0.0])
+    z = 2.0 * math.sqrt(166.25)
+    assert out["stationary"] is False and out["z"] == pytest.approx(z, rel=1e-9)
+    assert out["tests"][0]["change_N"] == pytest.approx(19.0, rel=1e-9)
+    assert out["trend_change_N"] == pytest.approx(math.sqrt(19.0 ** 2 / 4), rel=1e-9)
+    assert out["finding"].startswith(f"non-stationary: the residual drifts with time in 1 of 4 records (change 9.5 N "
+                                      f"RMS over records, up to {z:.1f} standard errors)")
+    five = run([2.0, 0.0, 0.0, 0.0, 0.0])
+    assert five["stationary"] is True and five["finding"].startswith("the residual is stationary over each record")
+    # the z threshold (Z_TREND = 4): slope 3.9/sqrt(166.25) is not a drift, 4.1/… is
+    assert run([3.9 / math.sqrt(166.25)])["stationary"] is True
+    assert run([4.1 / math.sqrt(166.25)])["stationary"] is False
+    # fewer than 6 blocks of 32 samples: not checked
+    short = [_trec("s", 1.0, n=191)]
+    res = drift([short[0][0]], {"s": short[0][1]})
+    assert res == {"stationary": None, "trend_change_N": 0.0, "z": 0.0, "tests": [],
+                   "finding": "stationarity not checked: records too short for the drift test"}
+    ok = _trec("s", 1.0, n=192)
+    assert len(drift([ok[0]], {"s": ok[1]})["tests"]) == 1  # 6 blocks of 32
