@@ -1194,3 +1194,29 @@ def test_time_drift_rule_by_hand():
                    "finding": "stationarity not checked: records too short for the drift test"}
     ok = _trec("s", 1.0, n=192)
     assert len(drift([ok[0]], {"s": ok[1]})["tests"]) == 1  # 6 blocks of 32
+
+
+def test_state_map_threshold_by_hand():
+    """A residual ±a split at the median of x: 16 quantile bins of x with means ±a, between-bin variance a²;
+    pure noise of σ would give σ²·16/N; z = (a² − σ²·16/N)/(σ²·16/N · sqrt(2/15)); reported from z = 5 on, with
+    the bin means' range and the share of the residual's variance (100 %)."""
+    from chainid.gap.where_time import state_maps
+
+    n, sig = 1600, 1.0
+    x = np.linspace(1.0, 3.0, n)
+    noise = sig ** 2 * 16 / n
+
+    def maps(z):
+        a = math.sqrt(noise * (1 + z * math.sqrt(2 / 15)))
+        d = SimpleNamespace(test="r", t=np.arange(n) / 100.0, x=x, xd=np.zeros(n), sigma=sig)
+        out = state_maps([d], {"r": np.where(x < 2.0, a, -a)}, {"r": np.zeros(n)})
+        return a, {f["variable"]: f for f in out}
+
+    a, got = maps(5.1)
+    f = got["x"]
+    assert f["share"] == pytest.approx(1.0, rel=1e-9) and len(f["bin_means_N"]) == 16
+    assert f["finding"] == (f"residual follows the displacement x: bin means from {-a:+.3g} to {a:+.3g} N carry "
+                            "100 % of its variance (→ stiffness side (level, contact law, offset))")
+    assert f["score"] == pytest.approx(a, rel=1e-9)
+    assert "load" not in got  # a constant model force has no bins
+    assert "x" not in maps(4.9)[1]
