@@ -1220,3 +1220,23 @@ def test_state_map_threshold_by_hand():
     assert f["score"] == pytest.approx(a, rel=1e-9)
     assert "load" not in got  # a constant model force has no bins
     assert "x" not in maps(4.9)[1]
+
+
+def test_spectrum_outside_the_band_by_hand():
+    """A 40 Hz sine of amplitude a in the residual, band 2 Hz (cut 4× = 8 Hz), fs = 100 Hz, σ = 1 N: the high
+    pass keeps the sine, RMS² a²/2 against white noise over 8 … 50 Hz, σ²·(1 − 8/50): ratio sqrt(a²/2/0.84);
+    above 1.5 it is called content outside the band, else noise.  A band whose cut reaches 0.45·fs is skipped."""
+    from chainid.gap.where_time import spectrum_outside
+
+    n, fs = 4000, 100.0
+    t = np.arange(n) / fs
+    d = SimpleNamespace(test="r", t=t, fs=fs, f_band=2.0, sigma=1.0)
+    for a, tail in ((1.0, " (noise)"), (3.0, " (content outside the excitation's band: ringing, impacts, chatter or "
+                                           "a sensor resonance)")):
+        out = spectrum_outside([d], {"r": a * np.sin(2 * np.pi * 40.0 * t)})
+        want = math.sqrt(a * a / 2 / 0.84)
+        assert out["ratio_to_noise"] == pytest.approx(want, rel=2e-3)
+        assert out["finding"] == (f"residual above 4× the excitation band: RMS {out['ratio_to_noise']:.2f}× white "
+                                  "noise of the records' σ over that bandwidth" + tail)
+    wide = SimpleNamespace(test="r", t=t, fs=fs, f_band=11.25, sigma=1.0)  # 4 · 11.25 = 45 Hz = 0.45 fs
+    assert spectrum_outside([wide], {"r": np.sin(2 * np.pi * 40.0 * t)}) == {}
