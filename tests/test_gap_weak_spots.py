@@ -1009,20 +1009,27 @@ def test_quake_records_half_with_a_near_fault_pulse(monkeypatch):
 
 # ---------------------------------------------------------------- the time-domain route is free of the force unit
 
-def test_time_domain_diagnosis_is_invariant_to_the_force_unit():
-    """NRMSE is dimensionless and every fitted force scales with F: the same records with F × 1e-7 (a force
-    channel in other units; each record's Σ(F − F̄)² then far below 1 N²) give the same per-test NRMSE, the same
-    verdict and F_c × 1e-7 (the records: tests/transient_forms.py, friction F_c = 60 N on a random x)."""
+def _time_diag(scale):
     from chainid.gap import diagnose
     from chainid.records.record import Record
     from transient_forms import chain_set
 
     _, recs = chain_set("friction", {"F_c": 60.0}, n=1500)
-    out = []
-    for s in (1.0, 1e-7):
-        rr = [Record(r.test, r.t, r.x, r.F * s) for r in recs]
-        out.append(diagnose(rr, ["r2"], None, quiet=True, uncertainty=False, max_combo=1, effects=["friction"]))
-    a, b = out
+    rr = [Record(r.test, r.t, r.x, r.F * scale) for r in recs]
+    return diagnose(rr, ["r2"], None, quiet=True, uncertainty=False, max_combo=1, effects=["friction"])
+
+
+@pytest.fixture(scope="module")
+def time_friction():
+    """A time-domain diagnosis of 3 random records with friction F_c = 60 N (tests/transient_forms.py)."""
+    return _time_diag(1.0)
+
+
+def test_time_domain_diagnosis_is_invariant_to_the_force_unit(time_friction):
+    """NRMSE is dimensionless and every fitted force scales with F: the same records with F × 1e-7 (a force
+    channel in other units; each record's Σ(F − F̄)² then far below 1 N²) give the same per-test NRMSE, the same
+    verdict and F_c × 1e-7 (the records: tests/transient_forms.py, friction F_c = 60 N on a random x)."""
+    a, b = time_friction, _time_diag(1e-7)
     assert a["route"] == b["route"] == "time" and a["verdict"] == b["verdict"] == "friction"
     for ta, tb in zip(a["tests"], b["tests"]):
         assert tb["nrmse_before"] == pytest.approx(ta["nrmse_before"], rel=1e-9)
@@ -1240,3 +1247,50 @@ def test_spectrum_outside_the_band_by_hand():
                                   "noise of the records' σ over that bandwidth" + tail)
     wide = SimpleNamespace(test="r", t=t, fs=fs, f_band=11.25, sigma=1.0)  # 4 · 11.25 = 45 Hz = 0.45 fs
     assert spectrum_outside([wide], {"r": np.sin(2 * np.pi * 40.0 * t)}) == {}
+
+
+def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, monkeypatch):
+    """heatmap.png: one pair of bars per record at x ∓ 0.2 (width 0.4), heights the JSON ``tests`` NRMSE before
+    and after; loops.png: the held-out record's held-out samples only (measured F over x); residual_phase.png:
+    the held-out time span shaded; residual_surface.png: the baseline residual over (x, ẋ), colour scale ± its
+    99th percentile of |r|."""
+    import chainid.infra.fileio
+    from chainid.gap.plots import make_plots
+
+    figs = {}
+    orig = chainid.infra.fileio.save_figure
+
+    def spy(fig, path, *a, **k):  # noqa: ANN001
+        figs[path.name] = fig
+        return orig(fig, path, *a, **k)
+
+    monkeypatch.setattr(chainid.infra.fileio, "save_figure", spy)
+    res = time_friction
+    make_plots(res, tmp_path / "p")
+    tests = res["tests"]
+    ax = figs["heatmap.png"].axes[0]
+    bars = ax.patches
+    assert len(bars) == 2 * len(tests)
+    for i, t in enumerate(tests):
+        b, a = bars[i], bars[len(tests) + i]
+        assert (b.get_x(), b.get_width(), a.get_x()) == (pytest.approx(i - 0.4), pytest.approx(0.4), pytest.approx(i))
+        assert b.get_height() == pytest.approx(t["nrmse_before"], rel=1e-12)
+        assert a.get_height() == pytest.approx(t["nrmse_after"], rel=1e-12)
+    assert [tl.get_text() for tl in ax.get_xticklabels()] == [t["test"] for t in tests]
+    prob = res["_problem"]
+    data = {d.test: d for d in prob.tdata}
+    loops = {a.get_title().split(" ")[0]: a for a in figs["loops.png"].axes}
+    d = data["r2"]
+    held = ~prob.train_mask("r2")
+    assert loops["r2"].get_title() == "r2 (held-out samples)" and loops["r0"].get_title() == "r0 (training)"
+    np.testing.assert_array_equal(loops["r2"].lines[0].get_ydata(), d.F[held])
+    np.testing.assert_array_equal(loops["r0"].lines[0].get_ydata(), data["r0"].F)
+    spans = figs["residual_phase.png"].axes[2].patches
+    assert len(spans) == 1 and not figs["residual_phase.png"].axes[0].patches
+    sp = spans[0]  # a Rectangle (matplotlib >= 3.9) or a Polygon (older)
+    xs = [sp.get_x(), sp.get_x() + sp.get_width()] if hasattr(sp, "get_width") else np.asarray(sp.get_xy())[:, 0]
+    assert (min(xs), max(xs)) == (pytest.approx(d.t[held].min()), pytest.approx(d.t[held].max()))
+    sc = figs["residual_surface.png"].axes[0].collections[0]
+    r = np.concatenate([res["_path"][0]._ev["time"]["res"][dd.test] for dd in prob.tdata])
+    np.testing.assert_allclose(sc.get_array(), r, rtol=1e-12)
+    assert sc.norm.vmax == pytest.approx(np.quantile(np.abs(r), 0.99), rel=1e-12) and sc.norm.vmin == -sc.norm.vmax
