@@ -1294,3 +1294,51 @@ def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, mo
     r = np.concatenate([res["_path"][0]._ev["time"]["res"][dd.test] for dd in prob.tdata])
     np.testing.assert_allclose(sc.get_array(), r, rtol=1e-12)
     assert sc.norm.vmax == pytest.approx(np.quantile(np.abs(r), 0.99), rel=1e-12) and sc.norm.vmin == -sc.norm.vmax
+
+
+# ---------------------------------------------------------------- modelio: a step as a model file, provenance
+
+def test_model_of_step_carries_effects_delay_law_and_training_ce():
+    """Effects other than sensor_delay/damping_law become force terms with their own parameters; the delay is
+    sensor_delay.tau; the law's per-test c_e only for training tests; k_e of a linear baseline is its k (a
+    chain's: None, from the chain at x0)."""
+    from chainid.gap.modelio import model_of_step, step_fields
+    from chainid.model.base import ChainModel
+
+    lin = LinearModel(100.0, 0.5)
+    prob = SimpleNamespace(train=[SimpleNamespace(test="1"), SimpleNamespace(test="2")], is_chain=False, model=lin,
+                           model_for=lambda p: LinearModel(p.get("spring.k", 100.0), p.get("spring.x_ref", 0.5)))
+    cand = SimpleNamespace(names=["friction", "sensor_delay"], law="viscous", law_params=[0.25],
+                           params={"spring.k": 90.0, "spring.x_ref": 0.4, "friction.F_c": 30.0, "sensor_delay.tau": 0.01},
+                           _ev={"c_e": {"1": 0.2, "2": 0.3, "H": 9.0}})
+    m = model_of_step(prob, cand, {"note": "x"})
+    assert [n for n, _ in m.effects] == ["friction"] and m.effects[0][1]["F_c"] == 30.0
+    assert m.delay_s == 0.01 and (m.base.k, m.base.x_ref) == (90.0, 0.4)
+    assert (m.damping.law, m.damping.coefficients, m.damping.k_e) == ("viscous", [0.25], 100.0)
+    assert m.damping.per_test == {"1": 0.2, "2": 0.3} and m.info == {"note": "x"}
+    no_delay = SimpleNamespace(names=["friction"], law="viscous", law_params=[0.25],
+                               params={"friction.F_c": 30.0, "sensor_delay.tau": 0.5})
+    assert model_of_step(prob, no_delay).delay_s == 0.0  # a stale key of another step is not this step's delay
+    chain = SimpleNamespace(train=[], is_chain=True, model=ChainModel(), model_for=lambda p: ChainModel())
+    assert model_of_step(chain, no_delay).damping.k_e is None
+    f = step_fields(prob, cand)
+    assert f["law_params"] == [0.25] and f["delay_s"] == 0.01 and f["mass_kg"] == 0.0
+
+
+def test_provenance_of_a_model_file(tmp_path):
+    import datetime as dt
+    import hashlib
+
+    from chainid import __version__
+    from chainid.gap.modelio import provenance
+
+    data = tmp_path / "d.csv"
+    blob = bytes(range(256)) * 5000  # 1.28 MB: more than one 1 MiB chunk
+    data.write_bytes(blob)
+    p = provenance(data, "chainid diagnose d.csv")
+    assert p["data_sha256"] == hashlib.sha256(blob).hexdigest() and p["data_file"] == str(data)
+    assert p["command"] == "chainid diagnose d.csv" and p["chainid_version"] == __version__
+    when = dt.datetime.fromisoformat(p["date"])
+    assert when.utcoffset() == dt.timedelta(0) and abs(dt.datetime.now(dt.timezone.utc) - when).total_seconds() < 60
+    assert provenance(None, "c")["data_file"] is None and provenance(None, "c")["data_sha256"] is None
+    assert provenance(tmp_path / "gone.csv", "c")["data_sha256"] is None
