@@ -1342,3 +1342,92 @@ def test_provenance_of_a_model_file(tmp_path):
     assert when.utcoffset() == dt.timedelta(0) and abs(dt.datetime.now(dt.timezone.utc) - when).total_seconds() < 60
     assert provenance(None, "c")["data_file"] is None and provenance(None, "c")["data_sha256"] is None
     assert provenance(tmp_path / "gone.csv", "c")["data_sha256"] is None
+
+
+# ---------------------------------------------------------------- benchmark rows from a hand-made diagnosis
+
+def _fake_result(steps=("baseline", "friction", "slack"), **kw):
+    res = {"verdict": "friction+slack", "baseline": {"excess_rms_N": 30.0, "noise_sigma_N": 4.0},
+           "steps": [{"effect": e, "shrinkage": 0.1 * i, "params": {"p": i}} for i, e in enumerate(steps)],
+           "best": {"shrinkage": 0.77}, "confounded": [{"pair": ["slack", "contact_law"]}],
+           "residual": {"stationary": True, "where": [{"kind": "chatter"}]}, "where": [{"kind": "level"}],
+           "ranking": [{"effect": "hysteresis"}, {"effect": "friction"}],
+           "transfer": {"pooled": {"shrinkage": 0.8, "shrinkage_refit": 0.6}, "transfers": True, "chain": "friction"}}
+    return res | kw
+
+
+def test_time_and_transfer_rows_by_hand(monkeypatch):
+    """The row of a non-harmonic case: snr = excess/noise (30/4), the last step's shrinkage when the chain has an
+    effect (else the best's), the steps after the baseline, the first of the ranking, chatter found in `where`
+    or in the residual's `where`; a transfer case adds the pooled shrinkages and the transfer verdict."""
+    from chainid.gap.benchmark_time import run_case_time, run_case_transfer, time_grid
+
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", lambda *a, **k: _fake_result())
+    cases = time_grid(small=True)
+    row = run_case_time(cases[0])
+    assert row["snr"] == 7.5 and row["verdict"] == "friction+slack"
+    assert row["shrinkage"] == pytest.approx(0.2) and row["steps"] == ["friction", "slack"] and row["params"] == {"p": 2}
+    assert row["confounded"] == [["slack", "contact_law"]] and row["stationary"] is True
+    assert row["ranked_first"] == "hysteresis" and row["chatter"] is True
+    assert len(row["effect_snr"]) == 1 and row["effect_snr"][0] > 0 and row["seconds"] >= 0
+    assert {k: row[k] for k in cases[0]} == cases[0]
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", lambda *a, **k: _fake_result(
+        steps=("baseline",), residual={"stationary": False}, where=[], ranking=[]))
+    row = run_case_time(cases[0])
+    assert row["shrinkage"] == 0.77 and row["steps"] == [] and row["params"] == {"p": 0}
+    assert row["chatter"] is False and row["ranked_first"] is None and row["stationary"] is False
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", lambda *a, **k: _fake_result())
+    tr = run_case_transfer(cases[-1])
+    assert (tr["transfer_shrinkage"], tr["transfer_shrinkage_refit"], tr["transfers"], tr["transfer_chain"]) == \
+        (0.8, 0.6, True, "friction")
+
+    def boom(*a, **k):  # noqa: ANN001
+        raise RuntimeError("no")
+
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", boom)
+    err = run_case_time(cases[0])
+    assert err["verdict"] == "error: RuntimeError: no" and err["snr"] == math.inf and err["chatter"] is False
+    assert err["transfer_shrinkage"] is None and err["confounded"] == [] and err["stationary"] is None
+
+
+def test_run_case_dispatches_by_excitation(monkeypatch):
+    from chainid.gap import benchmark_time as bt
+    from chainid.gap.benchmark import run_case
+
+    monkeypatch.setattr(bt, "run_case_time", lambda c: ("time", c["excitation"]))
+    monkeypatch.setattr(bt, "run_case_transfer", lambda c: ("transfer", c["excitation"]))
+    assert run_case({"excitation": "quake"}) == ("time", "quake")
+    assert run_case({"excitation": "transfer"}) == ("transfer", "transfer")
+
+
+def test_outside_library_hooks_by_hand(monkeypatch):
+    """Harmonic cases: a drift adds 0.05·level·S·t/t_end; a relaxation takes off 0.1·level·S·(1 − exp(−3 t/t_end)).
+    Non-harmonic records: the same from the record's first sample, (t − t0)/(t_end − t0)."""
+    from chainid.gap.benchmark import run_case
+    from chainid.gap.benchmark_time import _outside
+    from chainid.records import simulate as simulate_module
+
+    t = np.linspace(0.0, 4.0, 9)
+    z = np.zeros(9)
+    # S of the plan (see test_harmonic_case_noise_damping_and_holdout_by_hand), via the noise σ = noise·S
+    seen = {}
+
+    def sim_s(plan, model, law, **kw):  # noqa: ANN001
+        seen.update(kw)
+        raise _Stop
+
+    monkeypatch.setattr(simulate_module, "simulate", sim_s)
+    with pytest.raises(_Stop):
+        run_case(_harmonic_case(effects=["drift"], truth=["drift"], levels=[2.0], noise=1.0))
+    S = seen["noise_F"]
+    np.testing.assert_allclose(seen["force_fn"](t, z, z, z, z), 0.05 * 2.0 * S * t / 4.0, rtol=1e-12)
+    with pytest.raises(_Stop):
+        run_case(_harmonic_case(effects=["relaxation"], truth=["relaxation"], levels=[0.5], noise=1.0))
+    np.testing.assert_allclose(seen["force_fn"](t, z, z, z, 10 + z), 10 - 0.1 * 0.5 * S * (1 - np.exp(-3 * t / 4.0)),
+                               rtol=1e-12)
+    rng = np.random.default_rng(0)
+    t2 = 3.0 + t  # a record that starts at 3 s
+    np.testing.assert_allclose(_outside("drift", 2.0, 100.0, 0.0, rng)(t2, z, z, z, z), 0.05 * 2 * 100 * t / 4.0,
+                               rtol=1e-12)
+    np.testing.assert_allclose(_outside("relaxation", 1.0, 100.0, 0.0, rng)(t2, z, z, z, z),
+                               -0.1 * 100 * (1 - np.exp(-3 * t / 4.0)), rtol=1e-12)
