@@ -1431,3 +1431,28 @@ def test_outside_library_hooks_by_hand(monkeypatch):
                                rtol=1e-12)
     np.testing.assert_allclose(_outside("relaxation", 1.0, 100.0, 0.0, rng)(t2, z, z, z, z),
                                -0.1 * 100 * (1 - np.exp(-3 * t / 4.0)), rtol=1e-12)
+
+
+def test_exchange_swaps_within_a_family_and_backward_pass_drops_a_redundant_effect(monkeypatch):
+    """Exchange: after friction then slack, hysteresis (friction's family) refitted with slack is better by more
+    than TIE (0.2 < 0.95·0.3): swapped, the chain rebuilt greedily (hysteresis first: 0.9 < 0.95 alone) — unless a
+    hysteresis parameter sits at a bound (rule 4).  Backward: slack alone (pinned at step 1, so friction came
+    first) is within 3 % of friction+slack: dropping friction is not significantly worse, so it is dropped."""
+    table = dict(TABLE) | {("friction", "slack"): (0.3, (9.0, 9.0, 6.0), (), 2),
+                           ("hysteresis",): (0.9, (80.0, 80.0, 81.0), (), 2),
+                           ("friction", "hysteresis"): (0.45, (20.0, 20.0, 14.0), (), 3),
+                           ("hysteresis", "slack"): (0.2, (4.0, 4.0, 3.0), (), 3)}
+    sel, base, _ = _world(monkeypatch, table)
+    out = sel.forward_select(None, ["friction", "slack", "hysteresis"], base, 1.0, max_effects=2)
+    assert out["swapped"] == ["friction -> hysteresis"]
+    assert [c.names for c in out["path"]][1:] == [["hysteresis"], ["hysteresis", "slack"]]
+    assert out["dropped"] == []
+    pinned = table | {("hysteresis", "slack"): (0.2, (4.0, 4.0, 3.0), ("hysteresis.p",), 3)}
+    sel, base, _ = _world(monkeypatch, pinned)
+    out = sel.forward_select(None, ["friction", "slack", "hysteresis"], base, 1.0, max_effects=2)
+    assert out["swapped"] == [] and out["path"][-1].names == ["friction", "slack"]
+    redundant = dict(TABLE) | {("slack",): (0.31, (9.5, 9.5, 6.2), ("slack.p",), 1),
+                               ("friction", "slack"): (0.3, (9.0, 9.0, 6.0), (), 2)}
+    sel, base, _ = _world(monkeypatch, redundant)
+    out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
+    assert out["dropped"] == ["friction"] and [c.names for c in out["path"]] == [[], ["slack"]]
