@@ -1456,3 +1456,61 @@ def test_exchange_swaps_within_a_family_and_backward_pass_drops_a_redundant_effe
     sel, base, _ = _world(monkeypatch, redundant)
     out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
     assert out["dropped"] == ["friction"] and [c.names for c in out["path"]] == [[], ["slack"]]
+
+
+# ---------------------------------------------------------------- edge cases with a documented answer
+
+def test_noise_edge_cases():
+    """Fewer than 8 spectral lines or a displacement with no variation: the band is the Nyquist frequency and
+    the record is not called broadband."""
+    from chainid.gap import noise
+
+    t = np.arange(12) / 100.0
+    assert noise.excitation_band(t, np.sin(t)) == pytest.approx(50.0, rel=1e-9)  # 7 lines
+    assert noise.is_broadband(t, np.sin(t)) is False
+    t = np.arange(200) / 100.0
+    assert noise.excitation_band(t, np.full(200, 2.0)) == pytest.approx(50.0, rel=1e-9)  # no variation at all
+    assert noise.force_quantum(np.array([1.0, 1.0, 2.0, 2.0, 3.0, 3.0])) == 1.0
+    assert noise.force_quantum(np.array([1.0, 2.0, 3.0, 4.0])) == 0.0  # as many values as samples: not quantised
+
+
+def test_problem_holdout_errors():
+    from chainid.gap.problem import Problem
+
+    data = [SimpleNamespace(test=s) for s in ("a", "b", "c", "d")]
+    with pytest.raises(ValueError, match=r"--holdout: test id\(s\) \['z'\] not in the usable data; usable ids: a, b, "
+                                         "c, d"):
+        Problem(data, None, ["a", "z"])
+    with pytest.raises(ValueError, match="--holdout: no test held out; give at least one test id"):
+        Problem(data, None, [])
+    with pytest.raises(ValueError, match=r"--holdout leaves 2 usable training test\(s\); at least 3 are needed"):
+        Problem(data, None, ["a", "b"])
+
+
+def test_every_held_out_test_excluded_is_an_error_with_the_reasons():
+    from chainid.gap import diagnose
+    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.model.base import ChainModel
+    from chainid.records.record import Record
+    from chainid.records.simulate import simulate
+
+    recs = simulate(grid3x3_plan(prefix=""), ChainModel(), 50.0, n_cycles=6, samples_per_cycle=64, noise_F=5.0,
+                    seed=1)
+    t = np.arange(20) / 100.0  # 20 samples: no steady cycle, too short for the time-domain route
+    recs[2] = Record("3", t, 2.0 + 0.1 * np.sin(8 * t), 1000.0 + 10 * np.sin(8 * t))
+    with pytest.raises(ValueError, match=r"--holdout: every held-out test was excluded \(3\); reasons: "):
+        diagnose(recs, ["3"], ChainModel(), quiet=True, uncertainty=False, max_combo=1)
+    with pytest.raises(ValueError, match=r"test '3' cannot be used \(--strict\): "):
+        diagnose(recs, ["7"], ChainModel(), quiet=True, uncertainty=False, max_combo=1, strict=True)
+
+
+def test_validate_record_too_short_for_the_time_domain(monkeypatch):
+    from chainid.gap.timedomain import MIN_SAMPLES
+    from chainid.records.record import Record
+
+    tr, base, final, _ = _fake_scores(monkeypatch, {"r1": 1.0, "r2": 1.0})
+    monkeypatch.undo()
+    t = np.arange(20) / 100.0
+    short = Record("v", t, 2.0 + 0.1 * np.sin(8 * t), 1000.0 + 10 * np.sin(8 * t))
+    with pytest.raises(ValueError, match=rf"--validate: test 'v' has 20 samples; need >= {MIN_SAMPLES}"):
+        tr.transfer({"_problem": None, "_path": [base, final]}, [short])
