@@ -1469,7 +1469,7 @@ def test_noise_edge_cases():
     assert noise.excitation_band(t, np.sin(t)) == pytest.approx(50.0, rel=1e-9)  # 7 lines
     assert noise.is_broadband(t, np.sin(t)) is False
     t = np.arange(200) / 100.0
-    assert noise.excitation_band(t, np.full(200, 2.0)) == pytest.approx(50.0, rel=1e-9)  # no variation at all
+    assert noise.excitation_band(t, np.zeros(200)) == pytest.approx(50.0, rel=1e-9)  # no variation at all
     assert noise.force_quantum(np.array([1.0, 1.0, 2.0, 2.0, 3.0, 3.0])) == 1.0
     assert noise.force_quantum(np.array([1.0, 2.0, 3.0, 4.0])) == 0.0  # as many values as samples: not quantised
 
