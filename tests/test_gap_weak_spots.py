@@ -1514,3 +1514,42 @@ def test_validate_record_too_short_for_the_time_domain(monkeypatch):
     short = Record("v", t, 2.0 + 0.1 * np.sin(8 * t), 1000.0 + 10 * np.sin(8 * t))
     with pytest.raises(ValueError, match=rf"--validate: test 'v' has 20 samples; need >= {MIN_SAMPLES}"):
         tr.transfer({"_problem": None, "_path": [base, final]}, [short])
+
+
+# ---------------------------------------------------------------- fitgrid: the documented start points
+
+def test_fit_start_points_follow_their_documentation():
+    """``starts``: the default start first; a delay gets a grid over its whole range (± half the shortest period)
+    at 1/40 of a period, i.e. the 40 midpoints (i + ½)/40; a scale or delay also starts around its neutral value
+    (below and above it); a parameter whose range straddles 0 starts close to 0 on both sides; the linear spring
+    of a --model linear baseline may soften a lot: every start again with k × 0.1 and × 0.01; parameters of
+    effects already fitted (fixed) keep their value in every start; everything inside the unit box."""
+    from chainid.gap.fitgrid import DELAY_GRID, starts
+
+    ug = np.array([0.5])
+    out = starts(["sensor_delay.tau"], ["sensor_delay"], ug, np.zeros(1, bool), np.array([-0.1]), np.array([0.1]))
+    u = sorted({round(float(v[0]), 12) for v in out})
+    assert np.allclose(out[0], ug)
+    mids = [(i + 0.5) / DELAY_GRID for i in range(DELAY_GRID)]
+    assert DELAY_GRID == 40 and all(any(abs(m - v) < 1e-12 for v in u) for m in mids)
+    assert any(0.5 < v < 0.5 + 1e-2 for v in u) and any(0.5 - 1e-2 < v < 0.5 for v in u)  # close to τ = 0, both sides
+    sc = starts(["stiffness_level.scale"], ["stiffness_level"], np.array([0.4]), np.zeros(1, bool), np.array([0.5]),
+                np.array([1.75]))
+    vals = [float(v[0]) for v in sc]
+    assert any(0.2 <= v < 0.4 for v in vals) and any(0.4 < v <= 1.0 for v in vals)  # around the neutral 0.4
+    assert min(vals) == 0.0 and all(0.0 <= v <= 1.0 for v in vals)
+    # a linear spring and one fixed parameter of an earlier effect (slack.s = 0.3 of its range)
+    keys = ["spring.k", "spring.x_ref", "slack.s", "friction.F_c", "friction.mu", "friction.x_s"]
+    ug = np.array([0.4, 0.5, 0.3, 0.01, 0.0, 0.0])
+    fixed = np.array([False, False, True, False, False, False])
+    lo, hi = np.zeros(6), np.ones(6)
+    out = starts(keys, ["slack", "friction"], ug, fixed, lo, hi)
+    assert all(v[2] == 0.3 and v[1] == 0.5 for v in out)
+    assert all(np.all((v >= 0) & (v <= 1)) for v in out)
+    n = len(out) // 3  # the starts, then each with k × 0.1, then with k × 0.01
+    assert len(out) == 3 * n
+    for i in range(n):
+        base = out[i]
+        for j, f in ((1, 0.1), (2, 0.01)):
+            np.testing.assert_allclose(out[j * n + i], np.concatenate([[base[0] * f], base[1:]]), rtol=1e-12)
+    assert len({tuple(np.round(v[3:], 9)) for v in out}) > 10  # a grid over the new effect's parameters
