@@ -1487,7 +1487,7 @@ def test_problem_holdout_errors():
         Problem(data, None, ["a", "b"])
 
 
-def test_every_held_out_test_excluded_is_an_error_with_the_reasons():
+def test_every_held_out_test_excluded_is_an_error_with_the_reasons(capsys):
     from chainid.gap import diagnose
     from chainid.gap.benchmark import grid3x3_plan
     from chainid.model.base import ChainModel
@@ -1499,7 +1499,9 @@ def test_every_held_out_test_excluded_is_an_error_with_the_reasons():
     t = np.arange(20) / 100.0  # 20 samples: no steady cycle, too short for the time-domain route
     recs[2] = Record("3", t, 2.0 + 0.1 * np.sin(8 * t), 1000.0 + 10 * np.sin(8 * t))
     with pytest.raises(ValueError, match=r"--holdout: every held-out test was excluded \(3\); reasons: "):
-        diagnose(recs, ["3"], ChainModel(), quiet=True, uncertainty=False, max_combo=1)
+        diagnose(recs, ["3"], ChainModel(), quiet=False, uncertainty=False, max_combo=1)
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("chainid diagnose: test 3 excluded: ")
     with pytest.raises(ValueError, match=r"test '3' cannot be used \(--strict\): "):
         diagnose(recs, ["7"], ChainModel(), quiet=True, uncertainty=False, max_combo=1, strict=True)
 
