@@ -1555,3 +1555,41 @@ def test_fit_start_points_follow_their_documentation():
         for j, f in ((1, 0.1), (2, 0.01)):
             np.testing.assert_allclose(out[j * n + i], np.concatenate([[base[0] * f], base[1:]]), rtol=1e-12)
     assert len({tuple(np.round(v[3:], 9)) for v in out}) > 10  # a grid over the new effect's parameters
+
+
+def test_time_domain_record_checks_and_split_errors():
+    """The time-domain route's input checks name the test and the valid range: >= 64 samples, finite values,
+    t strictly increasing, blocks 1 … n // 16; a split needs something held out and >= 3 training units."""
+    from chainid.gap.timedomain import MIN_SAMPLES, prepare_time
+    from chainid.gap.timeproblem import AnyProblem
+    from chainid.records.record import Record
+
+    n = 160
+    t = np.arange(n) / 100.0
+    x = 2.0 + 0.1 * np.sin(2 * np.pi * 1.3 * t) + 0.05 * np.sin(2 * np.pi * 3.1 * t)
+    F = 1000.0 * x
+
+    def rec(name="r", tt=t, xx=x, FF=F):
+        return Record(name, tt, xx, FF)
+
+    with pytest.raises(ValueError, match=rf"test 'r': 63 samples; the time-domain route needs >= {MIN_SAMPLES}"):
+        prepare_time(rec(tt=t[:63], xx=x[:63], FF=F[:63]), 1)
+    bad = F.copy()
+    bad[5] = np.nan
+    with pytest.raises(ValueError, match="test 'r': non-finite t, x or F"):
+        prepare_time(SimpleNamespace(test="r", t=t, x=x, F=bad), 1)  # (a Record refuses NaN itself)
+    tt = t.copy()
+    tt[10] = tt[9]
+    with pytest.raises(ValueError, match="test 'r': t must be strictly increasing"):
+        prepare_time(SimpleNamespace(test="r", t=tt, x=x, F=F), 1)
+    for nb in (0, 11):
+        with pytest.raises(ValueError, match=rf"blocks per record = {nb} is out of range for test 'r'; valid range "
+                                             r"1 to 10"):
+            prepare_time(rec(), nb)
+    assert prepare_time(rec(), 10).n_blocks == 10
+    data = [prepare_time(rec(f"r{i}"), 1) for i in range(3)]
+    with pytest.raises(ValueError, match="nothing is held out: give --holdout IDS"):
+        AnyProblem(data, LinearModel(1000.0, 0.0), [], 0)
+    with pytest.raises(ValueError, match=r"the split leaves 2 training unit\(s\) \(time blocks \+ harmonic tests\); "
+                                         "at least 3 are needed"):
+        AnyProblem(data, LinearModel(1000.0, 0.0), ["r0"], 0)
