@@ -1593,3 +1593,35 @@ def test_time_domain_record_checks_and_split_errors():
     with pytest.raises(ValueError, match=r"the split leaves 2 training unit\(s\) \(time blocks \+ harmonic tests\); "
                                          "at least 3 are needed"):
         AnyProblem(data, LinearModel(1000.0, 0.0), ["r0"], 0)
+
+
+def test_library_drops_aliases_and_restricts_to_the_given_effects():
+    """machine_compliance is the same physics as stiffness_level for the diagnosis (ALIASES): considered only
+    when stiffness_level is not; ``effects`` restricts the library."""
+    from chainid.gap.selection import library
+
+    prob = SimpleNamespace(applicable=lambda: ["friction", "machine_compliance", "stiffness_level", "slack"])
+    assert library(prob, None) == ["friction", "stiffness_level", "slack"]
+    assert library(prob, ["machine_compliance", "slack"]) == ["machine_compliance", "slack"]
+    assert library(prob, ["backlash"]) == []
+
+
+def test_baseline_candidate_of_a_chain_and_of_a_linear_spring():
+    """The chain model as given (no parameters) or the linear spring re-fitted; scored with shrinkage 0."""
+    from chainid.gap.problem import Candidate
+    from chainid.gap.selection import baseline_candidate
+
+    scored = []
+
+    def score(c, names, base_hold):  # noqa: ANN001
+        scored.append((c.name, list(names), base_hold))
+        c.shrinkage = 0.3
+        return c
+
+    chain = SimpleNamespace(is_chain=True, score=score, fit=lambda names: pytest.fail("a chain is not re-fitted"))
+    c = baseline_candidate(chain)
+    assert (c.name, c.params, c.shrinkage) == ("baseline", {}, 0.0) and scored == [("baseline", [], 1.0)]
+    lin = SimpleNamespace(is_chain=False, score=score,
+                          fit=lambda names: Candidate("", {"spring.k": 5.0, "spring.x_ref": 0.1}, 2))
+    c = baseline_candidate(lin)
+    assert (c.name, c.params["spring.k"], c.shrinkage) == ("baseline", 5.0, 0.0)
