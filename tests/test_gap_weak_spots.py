@@ -1625,3 +1625,33 @@ def test_baseline_candidate_of_a_chain_and_of_a_linear_spring():
                           fit=lambda names: Candidate("", {"spring.k": 5.0, "spring.x_ref": 0.1}, 2))
     c = baseline_candidate(lin)
     assert (c.name, c.params["spring.k"], c.shrinkage) == ("baseline", 5.0, 0.0)
+
+
+def test_bin_noise_is_the_pooled_scatter_after_a_per_bin_linear_fit():
+    """σ = sqrt(Σ RSS_b / Σ(n_b − 3)) with RSS_b of a least-squares fit of F on (1, ψ, t) within each bin
+    (computed here by numpy.linalg.lstsq per bin; the code uses running moments); bins with fewer than 5
+    samples do not count; with none left, σ is the plain standard deviation of F."""
+    from chainid.gap.prepare import _bin_noise
+
+    rng = np.random.default_rng(5)
+    B, n = 4, 200
+    t = np.sort(rng.uniform(0, 10, n))
+    psi = rng.uniform(0, 2 * np.pi, n)
+    bins = np.minimum((psi / (2 * np.pi) * B).astype(int), B - 1)
+    F = 3.0 * psi - 0.5 * t + rng.normal(0, 2.0, n)
+    keep = np.ones(n, bool)
+    keep[np.flatnonzero(bins == 3)[4:]] = False  # bin 3 keeps 4 samples: left out of the pool
+    t, psi, bins, F = t[keep], psi[keep], bins[keep], F[keep]
+    rss = dof = 0.0
+    for b in range(B):
+        m = bins == b
+        if m.sum() < 5:
+            continue
+        X = np.column_stack([np.ones(m.sum()), psi[m], t[m]])
+        r = F[m] - X @ np.linalg.lstsq(X, F[m], rcond=None)[0]
+        rss += float(r @ r)
+        dof += m.sum() - 3
+    assert _bin_noise(t, F, psi, bins, B) == pytest.approx(math.sqrt(rss / dof), rel=1e-9)
+    few = np.arange(8) % 4  # 2 samples per bin
+    y = np.arange(8.0) ** 2
+    assert _bin_noise(np.arange(8.0), y, np.linspace(0, 6, 8), few, 4) == pytest.approx(float(np.std(y)), rel=1e-12)
