@@ -1655,3 +1655,25 @@ def test_bin_noise_is_the_pooled_scatter_after_a_per_bin_linear_fit():
     few = np.arange(8) % 4  # 2 samples per bin
     y = np.arange(8.0) ** 2
     assert _bin_noise(np.arange(8.0), y, np.linspace(0, 6, 8), few, 4) == pytest.approx(float(np.std(y)), rel=1e-12)
+
+
+def test_ce_projection_and_candidate_contract():
+    """c_e of a test = the count-weighted projection of F̄ − F_n on v (Eq. 27 on the cycle-mean loop): with
+    F̄ − F_n = 2.5·v exactly it is 2.5; Candidate names split on '+', the baseline has none; its JSON turns
+    non-finite numbers into null."""
+    from chainid.gap.problem import Candidate, _ce
+
+    v = np.array([1.0, -2.0, 0.5, 3.0])
+    d = SimpleNamespace(counts=np.array([4.0, 1.0, 2.0, 3.0]), Fbar=10.0 + 2.5 * v)
+    assert _ce(d, np.full(4, 10.0), v) == pytest.approx(2.5, rel=1e-12)
+    w = d.counts
+    Fn = np.array([9.0, 11.0, 10.0, 10.5])
+    assert _ce(d, Fn, v) == pytest.approx(float(np.sum(w * (d.Fbar - Fn) * v) / np.sum(w * v * v)), rel=1e-12)
+    assert Candidate("baseline", {}, 0).names == [] and Candidate("", {}, 0).names == []
+    c = Candidate("friction+slack", {"friction.F_c": np.float64(3.0)}, 2, nrmse_holdout=float("nan"),
+                  param_sd={"friction.F_c": float("inf")}, at_bound=("slack.s",))
+    assert c.names == ["friction", "slack"]
+    dct = c.to_dict()
+    assert dct["effect"] == "friction+slack" and dct["params"] == {"friction.F_c": 3.0}
+    assert dct["params_sd"] == {"friction.F_c": None} and dct["nrmse_holdout"] is None
+    assert dct["at_bound"] == ["slack.s"] and dct["n_params"] == 2 and dct["damping_law"] == "polynomial"
