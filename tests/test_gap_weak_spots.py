@@ -1677,3 +1677,28 @@ def test_ce_projection_and_candidate_contract():
     assert dct["effect"] == "friction+slack" and dct["params"] == {"friction.F_c": 3.0}
     assert dct["params_sd"] == {"friction.F_c": None} and dct["nrmse_holdout"] is None
     assert dct["at_bound"] == ["slack.s"] and dct["n_params"] == 2 and dct["damping_law"] == "polynomial"
+
+
+def test_laws_for_and_a_given_baseline_law():
+    """A candidate is scored with the baseline's law, and viscous too once it has an effect; the damping_law
+    effect tries the other forms that n_train − 1 coefficients allow.  A given law is refused when unknown or
+    when it has more coefficients than n_train − 1 (the messages name the value and the valid choices)."""
+    from chainid.gap.law_choice import ALT_LAWS
+    from chainid.gap.problem import Problem
+
+    p = SimpleNamespace(train=[0] * 4, law="coulomb")
+    assert Problem.laws_for(p, []) == ["coulomb"] and Problem.laws_for(p, ["friction"]) == ["coulomb", "viscous"]
+    assert Problem.laws_for(SimpleNamespace(train=[0] * 4, law="viscous"), ["friction"]) == ["viscous"]
+    assert Problem.laws_for(p, ["damping_law"]) == [k for k in ALT_LAWS if k != "coulomb"]  # <= 3 coefficients
+    p2 = SimpleNamespace(train=[0] * 2, law="viscous")
+    assert Problem.laws_for(p2, ["damping_law"]) == ["coulomb", "hysteretic"]  # 1 coefficient <= 2 − 1
+    assert Problem.laws_for(SimpleNamespace(train=[0], law="viscous"), ["damping_law"]) == ["viscous"]
+    fake = SimpleNamespace(train=[0] * 4)
+    assert Problem._baseline_law(fake, "viscous+coulomb") == ("viscous+coulomb", "given")
+    with pytest.raises(ValueError, match=r"--damping-law = 'cubic' is unknown; valid: auto, polynomial, viscous, "
+                                         r"coulomb, viscous\+coulomb, hysteretic"):
+        Problem._baseline_law(fake, "cubic")
+    with pytest.raises(ValueError, match=r"--damping-law polynomial has 5 coefficients; with 4 training tests at most "
+                                         "3 can be scored leave-one-out"):
+        Problem._baseline_law(fake, "polynomial")
+    assert Problem._baseline_law(SimpleNamespace(train=[0] * 6), "polynomial") == ("polynomial", "given")
