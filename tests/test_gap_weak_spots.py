@@ -1702,3 +1702,31 @@ def test_laws_for_and_a_given_baseline_law():
                                          "3 can be scored leave-one-out"):
         Problem._baseline_law(fake, "polynomial")
     assert Problem._baseline_law(SimpleNamespace(train=[0] * 6), "polynomial") == ("polynomial", "given")
+
+
+def test_run_benchmark_checks_its_output_before_the_work_and_writes_the_summary(tmp_path, monkeypatch, capsys):
+    """An existing --json target is refused before any case runs (files are sacred); with overwrite the summary
+    is written (strict JSON) and printed; the rows are the run's, one per case of the grid."""
+    import json
+
+    import chainid.infra.parallel
+    from chainid.gap import benchmark as bm
+
+    ran = []
+
+    def run_cases(fn, cases, **kw):  # noqa: ANN001
+        ran.append(len(cases))
+        return [c | {"verdict": "none", "snr": 0.0, "shrinkage": None, "seconds": 1.0} for c in cases]
+
+    monkeypatch.setattr(chainid.infra.parallel, "run_cases", run_cases)
+    out = tmp_path / "b.json"
+    out.write_text("mine")
+    with pytest.raises(Exception, match="--json"):
+        bm.run_benchmark(small=True, json_path=str(out), excitations=("harmonic",), progress=False)
+    assert ran == [] and out.read_text() == "mine"
+    s = bm.run_benchmark(small=True, json_path=str(out), overwrite=True, excitations=("harmonic",), progress=False)
+    n = len(bm.grid(small=True, excitations=("harmonic",)))
+    assert ran == [n] and s["n_cases"] == n and s["control_none_rate"] == 1.0
+    doc = json.loads(out.read_text())
+    assert doc["n_cases"] == n and len(doc["rows"]) == n and doc["wall_seconds"] >= 0
+    assert "control gives none: 100.0 % of 1 (target >= 95 %)" in capsys.readouterr().out
