@@ -1863,3 +1863,41 @@ def test_localise_names_a_force_channel_lag():
                                     "(slope -5 ms, R² 1.000")
     assert "delay" not in _localise(C=0.0, tau=0.0015)[0]  # ωτ_max = 0.045 < 0.05
     assert "delay" in _localise(C=0.0, tau=0.0017)[0]  # 0.051
+
+
+def test_contract_ranking_best_and_chain_text_by_hand():
+    """The JSON contract: ranking = the single effects and the chain's multi-effect steps, by LOTO NRMSE; best
+    = the chain's last step (else the best single); left NRMSE = the last step's (else the baseline's);
+    chain_text = the step texts joined by arrows and the dB left; private keys carry the objects."""
+    from chainid.gap.problem import Candidate
+    from chainid.gap.verdict import contract
+
+    def cand(name, loto, hold, params=None):
+        c = Candidate(name, params or {}, len(params or {}), nrmse_loto=loto, nrmse_holdout=hold)
+        return c
+
+    base = cand("baseline", 0.9, 0.8)
+    f = cand("friction", 0.4, 0.3, {"friction.F_c": 12.0})
+    s = cand("slack", 0.5, 0.6, {"slack.s": 0.1})
+    fs = cand("friction+slack", 0.2, 0.1, {"friction.F_c": 11.0, "slack.s": 0.05})
+    prob = SimpleNamespace(law="viscous", law_reason="given")
+    model = SimpleNamespace(name="chain")
+    fwd = {"path": [base, f, fs], "singles": [s, f], "stop": "S", "dropped": []}
+    out = contract(prob, model, base, {"noise_sigma_N": 2.0}, fwd, "friction+slack", "", {"db_over_noise": 1.26},
+                   [], [], [], [], ["h"], [])
+    assert [r["effect"] for r in out["ranking"]] == ["friction+slack", "friction", "slack"]
+    assert out["best"]["effect"] == "friction+slack" and out["left_nrmse_holdout"] == 0.1
+    assert [st["effect"] for st in out["steps"]] == ["baseline", "friction", "slack"]
+    # each step names its newest effect with that effect's parameters at the step's fit
+    assert out["chain_text"] == ("baseline [held-out NRMSE 0.8] → friction F_c = 12 N [held-out NRMSE 0.3] → "
+                                 "slack s = 0.05 mm [held-out NRMSE 0.1] → residual 1.3 dB over noise")
+    assert out["baseline"]["model"] == "chain" and out["baseline"]["damping_law"] == "viscous"
+    assert out["baseline"]["noise_sigma_N"] == 2.0 and out["mechanism"] == "friction+displacement offset"
+    assert out["_best"] is fs and out["_path"] == [base, f, fs] and out["_problem"] is prob
+    none = contract(prob, model, base, {}, {"path": [base], "singles": [s, f], "stop": "S", "dropped": []}, "none",
+                    "", {"db_over_noise": 0.0}, [], [], [], [], ["h"], [])
+    assert none["best"]["effect"] == "friction" and none["left_nrmse_holdout"] == 0.8
+    assert none["steps"][0]["effect"] == "baseline" and len(none["steps"]) == 1
+    empty = contract(prob, model, base, {}, {"path": [base], "singles": [], "stop": "S", "dropped": []}, "none",
+                     "", {"db_over_noise": 0.0}, [], [], [], [], ["h"], [])
+    assert empty["best"] is None and empty["_best"] is None
