@@ -214,3 +214,70 @@ def test_cycle_parts_total_mass_closed_form():
     Fn, v = m.cycle_parts(d)
     np.testing.assert_allclose(Fn, 100.0 * (x - 1.0) + 3.0 * xdd * 1e-3, rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(v, xd, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["viscous_excess", "sensor_delay", "friction"])
+def test_modify_model_refuses_an_effect_that_is_not_stiffness_side(name):
+    """Only the four stiffness-side effects change the chain model; any other name is refused with the list
+    (names after "slack" in the alphabet included: a comparison instead of equality would take them for slack).
+    A stiffness-side effect changes only its own field: slack adds s, compliance adds c."""
+    from chainid.chain.spec import default_chain
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import modify_model
+
+    m = ChainModel(default_chain())
+    with pytest.raises(ValueError, match=rf"effect '{name}' is not a stiffness-side effect; those are: "
+                                         "stiffness_level, contact_law, slack, machine_compliance"):
+        modify_model(name, {"s": 0.5}, m)
+    s = modify_model("slack", {"s": 0.5}, m)
+    assert (s.slack, s.compliance, s.ea_scale) == (m.slack + 0.5, m.compliance, m.ea_scale)
+    c = modify_model("machine_compliance", {"c": 1e-4}, m)
+    assert (c.slack, c.compliance) == (m.slack, m.compliance + 1e-4)
+
+
+@pytest.mark.parametrize("beta", [0.5, 0.8, 1.2])
+def test_contact_power_law_meets_hertz_at_the_reference_force(beta):
+    """ChainModel docstring: with β set, c is chosen so that the approach equals the variant's Hertz approach
+    (times hertz_scale) at contact_ref_force; so both springs reach F_ref at the same elongation (root finding
+    on each force, not the kernels' inverse), and a different β only bends the curve away from it."""
+    from scipy.optimize import brentq
+
+    from chainid.model.base import ChainModel
+
+    kw = {"hertz_scale": 1.3, "contact_ref_force": 5e3, "ea_scale": 0.9, "compliance": 1e-6}
+    hertz, power = ChainModel(**kw), ChainModel(contact_exponent=beta, **kw)
+
+    def x_at(m, F):
+        return brentq(lambda x: float(m.force(np.array([x]))[0]) - F, 1e-9, 50.0, xtol=1e-14, rtol=1e-14)
+
+    assert x_at(power, 5e3) == pytest.approx(x_at(hertz, 5e3), rel=1e-9)
+    assert x_at(power, 2e4) != pytest.approx(x_at(hertz, 2e4), rel=1e-4)
+    c_lin, c_h = hertz.coefficients
+    assert power.coefficients == pytest.approx((c_lin, c_h * 5e3 ** (2 / 3 - beta), beta), rel=1e-12)
+    base = ChainModel()
+    assert c_lin == pytest.approx(base.coefficients[0] / 0.9 + 1e-6, rel=1e-12)
+    assert c_h == pytest.approx(base.coefficients[1] * 1.3, rel=1e-12)
+    # x = +inf: F = inf; the tangent tends to 1/c_lin (β < 1), 1/(c_lin + c) (β = 1) or 0 (β > 1)
+    k_inf = {0.5: 1 / c_lin, 0.8: 1 / c_lin, 1.2: 0.0}[beta]
+    assert power.force(np.array([np.inf]))[0] == np.inf
+    assert power.stiffness(np.array([np.inf]))[0] == pytest.approx(k_inf, rel=1e-12)
+    one = ChainModel(contact_exponent=1.0, **kw)
+    assert one.stiffness(np.array([np.inf]))[0] == pytest.approx(1 / sum(one.coefficients[:2]), rel=1e-12)
+
+
+@pytest.mark.parametrize("field,ok,bad,msg", [
+    ("contact_exponent", (0.2, 1.5), (0.19, 1.51), "valid range 0.2 to 1.5"),
+    ("ea_scale", (1e-3, 1e3), (0.99e-3, 1.01e3, float("nan")), "valid range 0.001 to 1000"),
+    ("hertz_scale", (1e-9,), (0.0, -1.0, float("inf")), "valid range > 0"),
+    ("compliance", (0.0,), (-1e-9, float("nan")), "valid range >= 0 mm/N"),
+    ("contact_ref_force", (1e-9,), (0.0, float("inf")), "valid range > 0 N"),
+    ("slack", (-0.5, 0.0), (float("nan"),), "must be a finite number of mm"),
+])
+def test_chain_model_fields_ranges_inclusive_and_named(field, ok, bad, msg):
+    from chainid.model.base import ChainModel
+
+    for v in ok:
+        ChainModel(**{field: v})
+    for v in bad:
+        with pytest.raises(ValueError, match=rf"ChainModel\.{field} = .* is invalid: {msg}"):
+            ChainModel(**{field: v})

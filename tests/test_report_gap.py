@@ -284,18 +284,28 @@ def test_data_too_few_tests_is_skipped(tmp_path):
     assert not _images(md)
 
 
-def test_data_not_a_chain_uses_linear_spring(tmp_path):
+@pytest.mark.parametrize("x_ref,reason", [(0.0, "outside a factor 3"),
+                                          (2.0, "the median measured force is ≤ 0 N, and a chain carries only "
+                                                "tension")])
+def test_data_not_a_chain_uses_linear_spring(tmp_path, x_ref, reason):
+    """A spring of 200 N/mm about x = 1 mm: F ≈ +200 N (x_ref 0; the chain's F_k there is far more than 3× that) or
+    F ≈ −200 N (x_ref 2 mm; compression, which a chain does not carry): the diagnosis uses a linear spring and
+    says which of the two reasons holds, with the numbers of the chain check."""
     from chainid.model.effects import parse_effect
 
-    spring = LinearModel(k=200.0)
+    spring = LinearModel(k=200.0, x_ref=x_ref)
     recs = simulate(_plan(8, x0=1.0), spring, 5.0, n_cycles=6, samples_per_cycle=128, noise_F=0.5, seed=3,
                     force_fn=parse_effect("friction:F_c=10", spring))
     data = write_records(tmp_path / "lin.csv", recs)
     md = report_steps.report_section(tmp_path / "rep", MODEL, data, lambda s: None)
     doc = json.loads((tmp_path / "rep" / "json" / "gap_data.json").read_text())
-    assert doc["data"]["chain_check"]["is_chain"] is False
+    chk = doc["data"]["chain_check"]
+    assert chk["is_chain"] is False
     assert doc["data"]["baseline_model"] == "linear" and doc["baseline"]["model"] == "linear"
-    assert "linear spring" in md
+    assert (f"Baseline stiffness: a linear spring fitted on the training tests — the chain model does not describe "
+            f"these records (F_k at the median x = {chk['median_x_mm']:.4g} mm is {chk['F_k_at_median_x_N']:.4g} N "
+            f"against a median measured force of {chk['median_F_N']:.4g} N: {reason}).") in md
+    assert (chk["median_F_N"] > 0) == (x_ref == 0.0)
     assert doc["verdict"] == "friction"
 
 

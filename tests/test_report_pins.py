@@ -376,6 +376,17 @@ def test_diagnosis_markdown_verdicts_none_and_unexplained():
     assert "- finding 5\n" in md and "finding 6" not in md and "extrapolation" not in md
 
 
+def test_diagnosis_markdown_verdict_of_an_effect_named_after_unexplained():
+    """A verdict is "none", "unexplained" or the named effect chain; an effect whose name sorts after
+    "unexplained" (viscous_excess) is a named verdict with its parameters, not the unexplained text."""
+    best = {"effect": "viscous_excess", "params": {"viscous_excess.c": 0.25}, "nrmse_holdout": 0.02,
+            "shrinkage": 0.6673}
+    md = diagnosis_markdown(_res("viscous_excess", best=best), "f", "j")
+    assert ("**Verdict: viscous_excess** (viscous_excess.c = 0.25) — held-out NRMSE 0.06012 → 0.02 (shrinkage "
+            "67 %).") in md
+    assert "Verdict: unexplained" not in md
+
+
 def test_chain_check_by_hand():
     class Rec:
         def __init__(self, x, F):
