@@ -215,3 +215,47 @@ def test_slack_substeps_and_fallbacks_are_counted_apart():
     assert res.slack_substeps > 0 and res.explicit_fallbacks == 0
     s = res.summary()
     assert s["slack_substeps"] == res.slack_substeps and s["explicit_fallback_substeps"] == 0
+
+
+@pytest.mark.parametrize("z", [3, 6, 11])
+def test_drive_max_speed_closed_form_and_sampled(z):
+    """Largest drive speed [mm/s]: a polygon of z teeth at mean speed v̄ moves its chain at R·θ̇·cos φ with
+    R = p/(2 sin(π/z)), θ̇ = 2π v̄/(z p), so at most v̄·(π/z)/sin(π/z) (z = 6: π/3 / ½ = 2.0944 v̄); a sine at A·ω,
+    a ramp at v.  Checked against the closed form and against the drive's own motion sampled over one tooth
+    period after the ramp (another method).  Polygon period p/v̄ [s], inf at v̄ = 0.
+    Bugs caught: the polygon's sin(π/z) argument, the sine's A·ω, the ramp's v."""
+    from chainid.dynamics.drives import drive_motion
+
+    v, pitch = 1000.0, 50.0
+    d = Drive(law="polygon", v=v, t_ramp=0.0, z=z)
+    hand = v * (np.pi / z) / np.sin(np.pi / z)
+    assert d.max_speed(pitch) == pytest.approx(hand, rel=1e-12)
+    period = d.polygon_period(pitch)
+    assert period == pytest.approx(pitch / v, rel=1e-12)
+    t = np.linspace(2.0 * period, 3.0 * period, 4001)
+    _, speed, _ = drive_motion(d, t, pitch)
+    assert speed.max() == pytest.approx(hand, rel=1e-6)
+    assert Drive(law="polygon", v=0.0, z=z).polygon_period(pitch) == np.inf
+    assert Drive(law="polygon", v=v, z=z, pitch=20.0).polygon_period(pitch) == pytest.approx(0.02, rel=1e-12)
+    assert Drive(law="sine", A=3.0, omega=7.0).max_speed(pitch) == pytest.approx(21.0, rel=1e-12)
+    assert Drive(law="ramp", v=250.0, t_ramp=1.0).max_speed(pitch) == 250.0
+
+
+def test_benchmark_floor_springs_by_hand():
+    """The benchmark floors of the segment law (``kind`` 1: T = cbrt(e)/c_lin, ``kind`` 2: T = e/c_lin, both 0
+    for e <= 0; e_j = e_pre,j + u_j − u_{j+1}) against hand numbers on three segments.
+    Bugs caught: a wrong neighbour node in e, the slack branch, the cube root."""
+    from chainid.dynamics.segments import tensions
+
+    u = np.array([0.0, -8.0, -9.0, -2.0])
+    epre = np.array([0.0, 0.0, 0.0])  # e = 8, 1, −7 mm
+    cl = np.array([2.0, 0.5, 1.0])
+    n = 3
+    empty = np.zeros((n, 0))
+    for kind, hand in ((1, [2.0 / 2.0, 1.0 / 0.5, 0.0]), (2, [8.0 / 2.0, 1.0 / 0.5, 0.0])):
+        T, Fk, dv = np.zeros(n), np.zeros(n), np.zeros(n)
+        _, peak, low = tensions(u, np.zeros(4), u, epre, cl, cl, np.zeros(n), empty, empty,
+                                np.zeros((n, 0), dtype=np.int64), empty, np.zeros(n), empty.copy(), dv, T, Fk,
+                                np.zeros(n), np.zeros(n), kind, False)
+        np.testing.assert_allclose(T, hand, rtol=1e-12, atol=0)
+        assert (peak, low) == (max(hand), 0.0)
