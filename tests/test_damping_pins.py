@@ -271,3 +271,55 @@ def test_finding_d_minimum_of_eq21_in_omega():
     w_min = -EQ28_PAPER[1] / (2 * EQ28_PAPER[0])
     assert f["numbers"]["omega_of_minimum_c_e_column_unit"] == pytest.approx(w_min, rel=1e-3)
     assert f"the minimum of Eq. 21 in omega is at {w_min:.2f} column units, outside the tested 1-10." in f["summary"]
+
+
+def test_finding_a_column_as_omega_ratio_per_test_by_hand():
+    """Finding (a)'s c_e computed with the column used as ω, over the tabulated c_e, per test: F_ac/(col·A)/c_e from
+    the paper's Table 1 typed in here (test 2: 1100/(4·0.25)/3503.2 = 0.31400; test 4: 1465/(8·0.25)/2332.8 = 0.31400).
+    Bug caught: a floor division in F_ac/(col·A)."""
+    col = [1, 4, 6, 8, 10, 6, 6, 6, 6]
+    A = [0.25, 0.25, 0.25, 0.25, 0.25, 0.2, 0.3, 0.35, 0.4]
+    F_ac = [8000, 1100, 1335, 1465, 1542, 985, 1643, 2017, 2329]
+    c_e = [5095.5, 3503.2, 2834.4, 2332.8, 1964.3, 2614.1, 2906.9, 3058.8, 3090.5]
+    hand = [f / (w * a) / c for f, w, a, c in zip(F_ac, col, A, c_e)]
+    f = {x["id"]: x for x in audit(Lin())["findings"]}["a"]["numbers"]
+    np.testing.assert_allclose(f["ce_from_Fac_with_column_as_omega_over_table_ce"], hand, rtol=1e-12)
+    assert hand[1] == pytest.approx(0.31400, abs=1e-5) and hand[3] == pytest.approx(0.31400, abs=1e-5)
+
+
+def test_audit_data_text_numbers_alpha1_to_alpha5():
+    """``format_audit_data``: one row per Eq. 21 coefficient, named alpha1 … alpha5 in order, each with the fitted
+    value; fed with nine hand-made tests whose c_e follow c_e = 100 ω² − 300 ω + 2000 A² − 500 A + 3000 exactly
+    (F_ac = c_e ω A, W = π c_e ω A²), so each row's lstsq value is the law's α to 6 digits.
+    Bug caught: the row label's index (i + 1)."""
+    from chainid.damping.audit_data import audit_results, format_audit_data
+    from chainid.damping.identify import TestResult
+
+    alpha = (100.0, -300.0, 2000.0, -500.0, 3000.0)
+    tests = []
+    for n, (w, A) in enumerate([(1.0, 0.2), (2.0, 0.2), (3.0, 0.2), (1.0, 0.3), (2.0, 0.3), (3.0, 0.3),
+                                (1.0, 0.4), (2.0, 0.4), (3.0, 0.4)]):
+        c = alpha[0] * w * w + alpha[1] * w + alpha[2] * A * A + alpha[3] * A + alpha[4]
+        tests.append(TestResult(test=str(n + 1), omega=w, x0=2.2, A=A, F0=20000.0, FA=8000.0 * A, phi=0.1, r2=1.0,
+                                F_ac=c * w * A, c_e=c, W=math.pi * c * w * A * A))
+    rep = audit_results(tests, Lin())
+    rep["excluded"] = []
+    rows = [ln.split() for ln in format_audit_data(rep).splitlines() if ln.strip().startswith("alpha")]
+    assert [r[0] for r in rows] == ["alpha1", "alpha2", "alpha3", "alpha4", "alpha5"]
+    np.testing.assert_allclose([float(r[1]) for r in rows], alpha, rtol=1e-5)
+
+
+def test_test_result_theta_in_the_records_own_time():
+    """``TestResult.to_dict`` gives θ for t itself: x = x0 + A sin(ω(t − t0) + θ) = x0 + A sin(ωt + θ − ω t0), so
+    θ_json = θ − ω·t0 wrapped to (−π, π] (ω = 2, θ = 0.5, t0 = 3: 0.5 − 6 + 2π = 0.78319); t0 = 0 leaves θ as is;
+    t_origin is not in the JSON.  Bug caught: the shift ω·t0 garbled."""
+    from chainid.damping.identify import TestResult
+
+    r = TestResult(test="1", omega=2.0, x0=2.2, A=0.3, F0=1.0, FA=1.0, phi=0.0, r2=1.0, F_ac=1.0, c_e=1.0, W=1.0,
+                   theta=0.5, t_origin=3.0)
+    d = r.to_dict()
+    assert d["theta"] == pytest.approx(0.5 - 6.0 + 2 * math.pi, abs=1e-12) and "t_origin" not in d
+    t = np.linspace(3.0, 6.0, 7)
+    np.testing.assert_allclose(np.sin(2.0 * t + d["theta"]), np.sin(2.0 * (t - 3.0) + 0.5), atol=1e-12)
+    r.t_origin = 0.0
+    assert r.to_dict()["theta"] == 0.5
