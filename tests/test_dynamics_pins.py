@@ -285,3 +285,42 @@ def test_sweep_case_ripple_is_over_the_last_quarter_and_the_table_is_in_key_orde
     for name in ("pretensions", "speeds", "n_masses"):
         with pytest.raises(ValueError, match=f"{name} = \\[\\] is invalid"):
             sweep_cases(line, drive, 0.04, **{name: []})
+
+
+def test_unconverged_peak_warning_quotes_the_run_at_twice_the_step():
+    """With ``refine = 1`` a slack polygon drive (undamped, P = 500 N, z = 6) whose peak is not converged stops
+    after one halving, and its warning quotes the final peak at dt and the peak of the run at 2·dt, which is
+    checked here against a separate run at that step without refinement (another run, not the refined one's
+    state); the change is |p(dt) − p(2dt)| / p(dt).
+    Bugs caught: the refinement loop running past its last attempt (the "twice that step" peak became the final
+    one)."""
+    import re
+    import warnings
+
+    line = ChainLine(n_links=200, n_masses=20, pretension_N=500.0)
+    d = Drive("polygon", v=1500.0, t_ramp=0.2, z=6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = simulate(line, d, 0.5, refine=1)
+        coarse = simulate(line, d, 0.5, dt=2.0 * res.dt, refine=0)
+    assert res.refinements == 1
+    msg = next(m for m in res.warnings if m.startswith("peak tension not converged"))
+    got = re.search(r": (\S+) N at dt = (\S+) s vs (\S+) N at twice that step \((\S+) % > 2 %\)", msg)
+    assert got, msg
+    p1, h, p0, pct = (float(g) for g in got.groups())
+    assert p1 == pytest.approx(res.peak_tension, rel=1e-5) and h == pytest.approx(res.dt, rel=1e-2)
+    assert p0 == pytest.approx(coarse.peak_tension, rel=1e-5) and abs(p0 - p1) > 0.02 * p1
+    assert pct == pytest.approx(100 * abs(coarse.peak_tension - res.peak_tension) / res.peak_tension, rel=1e-2)
+
+
+def test_energy_balance_of_a_non_finite_run_reports_the_final_changes():
+    """A run whose energies turn non-finite still reports the final work and the final changes of the stored
+    energies (kinetic 1 → 3 → 6: +5 N·mm; elastic 2 → 2 → 7: +5), with nan for the worst residual and its scale.
+    Bug caught: the kinetic change read at the second-to-last output."""
+    from chainid.dynamics.energy import balance
+
+    eb = balance(np.array([0.0, 1.0, np.inf]), np.array([1.0, 3.0, 6.0]), np.array([2.0, 2.0, 7.0]),
+                 np.array([0.0, 1.0, 2.0]), np.array([0.0, 0.1, 0.2]))
+    assert eb["finite"] is False and eb["work_in"] == np.inf
+    assert (eb["kinetic"], eb["elastic"], eb["dissipated"]) == (5.0, 5.0, 2.0)
+    assert all(np.isnan(eb[k]) for k in ("worst_residual", "worst_t_s", "relative_error", "scale"))
