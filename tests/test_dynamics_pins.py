@@ -324,3 +324,15 @@ def test_energy_balance_of_a_non_finite_run_reports_the_final_changes():
     assert eb["finite"] is False and eb["work_in"] == np.inf
     assert (eb["kinetic"], eb["elastic"], eb["dissipated"]) == (5.0, 5.0, 2.0)
     assert all(np.isnan(eb[k]) for k in ("worst_residual", "worst_t_s", "relative_error", "scale"))
+
+
+def test_modes_of_a_line_without_a_free_node_are_empty():
+    """One segment with a fixed far end has no free node: every array of the modes is empty (the documented
+    "empty arrays when no node is free"), for any n_modes."""
+    from chainid.dynamics.modes import modes
+
+    line = ChainLine(n_links=10, n_masses=1, pretension_N=1_000.0, far_end="fixed")
+    for n in (None, 3):
+        md = modes(line, n_modes=n)
+        assert md.omega.shape == (0,) and md.frequency_hz.shape == (0,) and md.shapes.shape == (0, 0)
+        assert md.nodes.shape == (0,) and md.positions.shape == (0,)
