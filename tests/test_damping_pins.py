@@ -323,3 +323,39 @@ def test_test_result_theta_in_the_records_own_time():
     np.testing.assert_allclose(np.sin(2.0 * t + d["theta"]), np.sin(2.0 * (t - 3.0) + 0.5), atol=1e-12)
     r.t_origin = 0.0
     assert r.to_dict()["theta"] == 0.5
+
+
+def test_finding_d_and_e_remaining_numbers_by_hand():
+    """The validation case's other numbers by hand from the printed Eq. 28 (ω = 7 Hz·2π = 14π rad/s, A = 0.32 mm):
+    the table's unit of 14π is 14π/(π/10) = 140; the tests span column 1–10 = π/10–π rad/s; F_ac of c_e(7) at the
+    true velocity c·14π·0.32; the rad/s refit evaluated at 14π equals Eq. 28 at column 140 (ω_col = 10ω/π);
+    finding (e)'s W = π·A·F_A·sin φ = π·0.25·19522.1·sin(−0.835); the text's rad/s row α1·(10/π)², α2·10/π, α3..α5.
+    Bugs caught: any of these constants or conversions garbled."""
+    from chainid.damping.audit import EQ28_PAPER, format_audit
+
+    a = EQ28_PAPER
+
+    def c(w, A):
+        return a[0] * w * w + a[1] * w + a[2] * A * A + a[3] * A + a[4]
+
+    rep = audit(Lin())
+    f = {x["id"]: x for x in rep["findings"]}
+    d = f["d"]["numbers"]
+    w = 14 * math.pi
+    assert d["omega_in_table_column_unit"] == pytest.approx(140.0, rel=1e-12)
+    assert d["table_column_range"] == [1.0, 10.0]
+    assert d["table_omega_range_rad_s"] == pytest.approx([math.pi / 10, math.pi], rel=1e-12)
+    assert d["F_ac_omega_7_times_true_velocity_N"] == pytest.approx(c(7.0, 0.32) * w * 0.32, rel=1e-3)
+    assert d["ratio_14pi_over_7"] == pytest.approx(c(w, 0.32) / c(7.0, 0.32), rel=1e-3)
+    assert d["c_e_rad_s_refit_at_14pi"] == pytest.approx(c(140.0, 0.32), rel=1e-3)
+    assert d["omega_of_minimum_c_e_column_unit"] == pytest.approx(651.57 / (2 * 28.02), rel=1e-3)
+    e = f["e"]["numbers"]
+    assert e["W_per_cycle_Nmm"] == pytest.approx(math.pi * 0.25 * 19522.1 * math.sin(-0.835), rel=1e-12)
+    assert e["F_ac_eq27"] == 1335.0
+    text = format_audit(rep)
+    assert "matches the paper to 4 significant figures: yes" in text
+    row = next(ln for ln in text.splitlines() if "same fit with omega in rad/s (pi/10 x column): " in ln)
+    vals = [float(v) for v in row.split(": ")[1].split(", ")]
+    s = 10 / math.pi
+    np.testing.assert_allclose(vals, [a[0] * s * s, a[1] * s, a[2], a[3], a[4]], rtol=1e-3)
+    assert rep["eq28_alpha_4sf"] == pytest.approx([28.02, -651.6, -8386.0, 7395.0, 4379.0], rel=1e-12)
