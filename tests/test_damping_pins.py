@@ -359,3 +359,40 @@ def test_finding_d_and_e_remaining_numbers_by_hand():
     s = 10 / math.pi
     np.testing.assert_allclose(vals, [a[0] * s * s, a[1] * s, a[2], a[3], a[4]], rtol=1e-3)
     assert rep["eq28_alpha_4sf"] == pytest.approx([28.02, -651.6, -8386.0, 7395.0, 4379.0], rel=1e-12)
+
+
+def test_identify_records_leaves_out_a_non_finite_or_failed_estimate_and_checks_the_mass():
+    """identify_records (three noise-free viscous tests, c = 300 N·s/mm on the spring 1e4 N/mm): a stiffness model
+    whose force is NaN gives a non-finite c_e, and one that raises ValueError a failed estimate; each test is then
+    left out with that reason (``strict`` raises it); ``progress`` is called (i, n, test) before each test; the mass
+    must be a finite number >= 0 kg (0 accepted; the inertia is in phase with x, so c_e does not depend on it).
+    Bugs caught: the finiteness check inverted, the failed-estimate branch dropped, the mass bound made > 0."""
+    from chainid.damping.identify import identify_records
+    from chainid.model.laws import ViscousLaw
+    from chainid.records.simulate import TestSpec, simulate
+
+    plan = [TestSpec(f"T{i}", w, 2.2, 0.2) for i, w in enumerate((1.0, 2.0, 3.0))]
+    recs = simulate(plan, Lin(), ViscousLaw([300.0]), n_cycles=4, samples_per_cycle=100, ramp_rate=None)
+
+    class NaNForce(LinearSpring):
+        def force(self, x):
+            return np.full(np.shape(x), np.nan)
+
+    class Broken(LinearSpring):
+        def force(self, x):
+            raise ValueError("stand-in model refuses x")
+
+    calls = []
+    good = identify_records(recs, Lin(), mass_kg=0.0, progress=lambda i, n, t: calls.append((i, n, t)))
+    assert calls == [(0, 3, "T0"), (1, 3, "T1"), (2, 3, "T2")]
+    np.testing.assert_allclose([r.c_e for r in good], 300.0, rtol=1e-3)
+    res = identify_records(recs, NaNForce(1e4))
+    assert list(res) == []
+    assert [x["reason"] for x in res.excluded] == ["damping estimate is not finite (c_e = nan N.s/mm)"] * 3
+    res = identify_records(recs, Broken(1e4))
+    assert [x["reason"] for x in res.excluded] == ["damping estimate failed: stand-in model refuses x"] * 3
+    with pytest.raises(ValueError, match="test 'T0': damping estimate failed: stand-in model refuses x"):
+        identify_records(recs, Broken(1e4), strict=True)
+    for bad in (-1e-9, math.nan, math.inf, True):
+        with pytest.raises(ValueError, match=r"mass_kg = .* is invalid: valid range >= 0 kg \(finite\)"):
+            identify_records(recs, Lin(), mass_kg=bad)
