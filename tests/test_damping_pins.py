@@ -396,3 +396,33 @@ def test_identify_records_leaves_out_a_non_finite_or_failed_estimate_and_checks_
     for bad in (-1e-9, math.nan, math.inf, True):
         with pytest.raises(ValueError, match=r"mass_kg = .* is invalid: valid range >= 0 kg \(finite\)"):
             identify_records(recs, Lin(), mass_kg=bad)
+
+
+def test_plot_all_writes_one_loop_per_test_and_the_surface_only_for_a_fitted_law(tmp_path):
+    """``plot_all``: ``loop_<id>.png`` per identified test in result order, plus ``damping_surface.png`` only when
+    the law has fitted parameters (``plot_names`` gives the same names); without ``force`` an existing target is
+    refused before any figure is drawn (the other test's file is not written).
+    Bugs caught: the surface drawn for an unfitted law or dropped for a fitted one, the up-front check skipped."""
+    from chainid.damping.identify import identify_records
+    from chainid.damping.plots import plot_all, plot_names
+    from chainid.model.laws import ViscousLaw
+    from chainid.records.simulate import TestSpec, simulate
+
+    plan = [TestSpec(t, w, 2.2, 0.2) for t, w in (("B", 2.0), ("A", 1.0))]
+    recs = simulate(plan, Lin(), ViscousLaw([300.0]), n_cycles=3, samples_per_cycle=60, ramp_rate=None)
+    res = identify_records(recs, Lin())
+    assert plot_names(["B", "A"]) == ["loop_B.png", "loop_A.png", "damping_surface.png"]
+    assert plot_names(["B", "A"], surface=False) == ["loop_B.png", "loop_A.png"]
+    out = plot_all(recs, res, Lin(), tmp_path / "none")
+    assert [p.name for p in out] == ["loop_B.png", "loop_A.png"]
+    assert sorted(p.name for p in (tmp_path / "none").iterdir()) == ["loop_A.png", "loop_B.png"]
+    out = plot_all(recs, res, Lin(), tmp_path / "unfitted", law=ViscousLaw())
+    assert [p.name for p in out] == ["loop_B.png", "loop_A.png"]
+    out = plot_all(recs, res, Lin(), tmp_path / "fitted", law=ViscousLaw([300.0]))
+    assert [p.name for p in out] == ["loop_B.png", "loop_A.png", "damping_surface.png"]
+    d = tmp_path / "kept"
+    d.mkdir()
+    (d / "loop_A.png").write_bytes(b"mine")
+    with pytest.raises(ValueError, match="loop_A.png"):
+        plot_all(recs, res, Lin(), d, force=False)
+    assert sorted(p.name for p in d.iterdir()) == ["loop_A.png"] and (d / "loop_A.png").read_bytes() == b"mine"
