@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from chainid.dynamics.integrators import _external, _resist
-from chainid.dynamics import ChainLine, Drive, simulate
+from chainid.dynamics import ChainLine, Drive, LoadStep, simulate
 
 
 def test_external_resistance_viscous_below_eps_coulomb_above():
@@ -336,3 +336,69 @@ def test_modes_of_a_line_without_a_free_node_are_empty():
         md = modes(line, n_modes=n)
         assert md.omega.shape == (0,) and md.frequency_hz.shape == (0,) and md.shapes.shape == (0, 0)
         assert md.nodes.shape == (0,) and md.positions.shape == (0,)
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(n_masses=True), "n_masses = True is invalid: valid range an int >= 1"),
+    (dict(n_links=True), "n_links = True is invalid: valid range an int >= 1"),
+    (dict(n_masses=11), "n_masses = 11 is invalid: valid range 1 .. n_links = 10 (a segment holds >= 1 link)"),
+    (dict(tensioner_stiffness=-1e-9), "tensioner_stiffness = -1e-09 is invalid: valid range >= 0 (finite)"),
+    (dict(tail_mass_kg=float("inf")), "tail_mass_kg = inf is invalid: valid range >= 0 (finite)"),
+    (dict(damping=-1.0), "damping = -1.0 is invalid: valid range >= 0 (finite)"),
+    (dict(resistance_N=float("nan")), "resistance_N = nan is invalid: valid range >= 0 (finite)"),
+    (dict(resistance_v_eps=0.0), "resistance_v_eps = 0.0 is invalid: valid range > 0 mm/s"),
+    (dict(lumping="tail"), "lumping = 'tail' is invalid: valid range one of ['half', 'drive']"),
+    (dict(damping_ref_links=0), "damping_ref_links = 0 is invalid: valid range an int >= 1"),
+    (dict(dahl=((10.0, 0.0),)), "dahl = (10.0, 0.0) is invalid: valid range pairs (F_h > 0 N, x_h > 0 mm)"),
+    (dict(coulomb_N=True), "coulomb_N = True is invalid: valid range >= 0 N (finite)"),
+    (dict(loads=(LoadStep(0, 10.0, 0.0),)), "loads.node = 0 is invalid: valid range 1 .. n_masses = 2"),
+    (dict(loads=(LoadStep(3, 10.0, 0.0),)), "loads.node = 3 is invalid: valid range 1 .. n_masses = 2"),
+    (dict(loads=(LoadStep(2, 10.0, -0.1),)), "valid range finite force_N [N] and t_on >= 0 s"),
+    (dict(loads=(LoadStep(2, float("nan"), 0.0),)), "valid range finite force_N [N] and t_on >= 0 s"),
+    (dict(lumping="drive"), "tail_mass_kg = 0.0 is invalid: valid range > 0 kg with lumping='drive' and a "
+                            "tensioner far end"),
+])
+def test_chain_line_refuses_each_field_at_its_bound(kw, message):
+    """Each field of ChainLine outside its documented range is refused with the field, the value and the range
+    (n_links = 10, n_masses = 2 unless given); the bound itself is accepted (see the next test)."""
+    args = dict(n_links=10, n_masses=2) | kw
+    with pytest.raises(ValueError) as exc:
+        ChainLine(**args)
+    assert message in str(exc.value)
+
+
+def test_chain_line_accepts_its_bounds_and_its_derived_numbers_by_hand():
+    """The bounds themselves are valid (n_masses = n_links, zeros, loads on node N at t_on = 0, one reference
+    link, drive lumping with a tail mass or a fixed end); a massless chain is refused; from_length rounds to
+    whole links of the 50 mm pitch, at least one; the steady-running drive tension is pretension + resistance
+    with a tensioner end and the pretension with a fixed end."""
+    ChainLine(n_links=10, n_masses=10, tensioner_stiffness=0.0, tail_mass_kg=0.0, damping=0.0, resistance_N=0.0,
+              damping_ref_links=1, loads=(LoadStep(10, 5.0, 0.0),), coulomb_N=0.0)
+    ChainLine(n_links=10, n_masses=2, lumping="drive", tail_mass_kg=1e-3)
+    ChainLine(n_links=10, n_masses=2, lumping="drive", far_end="fixed")
+    line = ChainLine(n_links=10, n_masses=2)
+    with pytest.raises(ValueError, match=r"chain.mass_per_m = 0.0 is invalid: valid range > 0 kg/m"):
+        ChainLine(n_links=10, n_masses=2, chain=line.chain.replace(mass_per_m=0.0))
+    assert ChainLine.from_length(20.0, 1).n_links == 1  # 0.4 links -> at least one
+    assert ChainLine.from_length(1_030.0, 2).n_links == 21 and ChainLine.from_length(1_070.0, 2).n_links == 21
+    t = ChainLine(n_links=10, n_masses=2, pretension_N=800.0, resistance_N=150.0)
+    assert t.static_tension_at_speed() == 950.0
+    f = ChainLine(n_links=10, n_masses=2, pretension_N=800.0, resistance_N=150.0, far_end="fixed")
+    assert f.static_tension_at_speed() == 800.0
+
+
+def test_viscous_equivalent_refuses_an_operating_point_outside_its_range():
+    """ω > 0 rad/s, A > 0 mm, x0 >= 0 mm (x0 = 0 accepted; a zero c_e is valid), each refusal naming the field,
+    the value and the range."""
+    from chainid.dynamics.model import viscous_equivalent
+
+    assert viscous_equivalent(0.0, 1e-9, 1e-9, 0.0) == 0.0
+    for args, message in (((0.0, 0.5, 2.0), "omega = 0.0 is invalid: valid range > 0 rad/s"),
+                          ((float("inf"), 0.5, 2.0), "omega = inf is invalid: valid range > 0 rad/s"),
+                          ((10.0, 0.0, 2.0), "A = 0.0 is invalid: valid range > 0 mm"),
+                          ((10.0, 0.5, -1e-9), "x0 = -1e-09 is invalid: valid range >= 0 mm")):
+        with pytest.raises(ValueError) as exc:
+            viscous_equivalent(5.0, *args)
+        assert str(exc.value) == message
+    with pytest.raises(ValueError, match=r"c_e = -1.0 is invalid: valid range >= 0 N·s/mm"):
+        viscous_equivalent(-1.0, 10.0, 0.5, 2.0)
