@@ -6,6 +6,8 @@ Units: mm, mm/s, N, kg, s.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -402,3 +404,34 @@ def test_viscous_equivalent_refuses_an_operating_point_outside_its_range():
         assert str(exc.value) == message
     with pytest.raises(ValueError, match=r"c_e = -1.0 is invalid: valid range >= 0 N·s/mm"):
         viscous_equivalent(-1.0, 10.0, 0.5, 2.0)
+
+
+def test_stable_step_with_peak_force_damping_dahl_and_tensioner_spring_by_hand():
+    """Two segments of two links, tensioner end with k_t = 500 N/mm, c_e = 30 N·s/mm of the 16-link specimen, one
+    Dahl element (F_h = 40 N, x_h = 0.08 mm), peak 5 kN: by hand, segment tangent k_j = 1/(c_lin,j + ⅔·c_h,j·F^(-1/3))
+    plus the Dahl element at a reversal 2F_h/(x_h·2/16); dampers c_j = 30·16/2; node 1: ω² = 2e3(k_1 + k_2)/m_1,
+    2e3(c_1 + c_2)/m_1; node 2 (the tensioner): 2e3(k_2 + k_t/2)/m_2, 2e3·c_2/m_2; with the largest of each,
+    ζ = λ_c/(2ω) and dt = (2/ω)(√(1+ζ²) − ζ).  A fixed end drops node 2.
+    Bugs caught: the peak-force tangent, the Dahl factor 2, the tensioner's k_t/2, the damping's ζ."""
+    from chainid.dynamics import stable_step
+
+    line = ChainLine(n_links=4, n_masses=2, pretension_N=1_000.0, tensioner_stiffness=500.0, damping=30.0,
+                     dahl=((40.0, 0.08),))
+    cl, ch = line.segment_coefficients()
+    F = 5_000.0
+    k = 1.0 / (cl + (2.0 / 3.0) * ch * F ** (-1.0 / 3.0)) + 2.0 * 40.0 / (0.08 * 2 / 16)
+    c = np.full(2, 30.0 * 16 / 2)
+    m = line.node_masses()
+
+    def dt_of(nodes):
+        w2 = max(2e3 * (k[i - 1] + (k[i] if i < 2 else 250.0)) / m[i] for i in nodes)
+        lam = max(2e3 * (c[i - 1] + (c[i] if i < 2 else 0.0)) / m[i] for i in nodes)
+        w = math.sqrt(w2)
+        z = lam / (2 * w)
+        return 2 / w * (math.sqrt(1 + z * z) - z)
+
+    assert stable_step(line, peak_force=F) == pytest.approx(dt_of((1, 2)), rel=1e-12)
+    fixed = ChainLine(n_links=4, n_masses=2, pretension_N=1_000.0, far_end="fixed", damping=30.0,
+                      dahl=((40.0, 0.08),))
+    assert stable_step(fixed, peak_force=F) == pytest.approx(dt_of((1,)), rel=1e-12)
+    assert stable_step(ChainLine(n_links=4, n_masses=1, far_end="fixed")) == math.inf
