@@ -435,3 +435,48 @@ def test_stable_step_with_peak_force_damping_dahl_and_tensioner_spring_by_hand()
                       dahl=((40.0, 0.08),))
     assert stable_step(fixed, peak_force=F) == pytest.approx(dt_of((1,)), rel=1e-12)
     assert stable_step(ChainLine(n_links=4, n_masses=1, far_end="fixed")) == math.inf
+
+
+def test_ramp_and_sine_drive_motion_closed_forms():
+    """The start-up ramp (cosine speed ramp over t_r): u = ½v(t − sin(πt/t_r)/(π/t_r)), u̇ = ½v(1 − cos(πt/t_r)),
+    ü = ½v(π/t_r)·sin(πt/t_r) for 0 < t < t_r; then u = v(t − t_r/2), u̇ = v, ü = 0; nothing before t = 0; with
+    t_r = 0 a step to v.  The sine: u = A sin ωt, u̇ = Aω cos ωt, ü = −Aω² sin ωt.  "none" holds still.
+    Bugs caught: the ramp's phase boundaries (t <= 0, t < t_r), its half factor, the sine's derivatives."""
+    from chainid.dynamics.drives import drive_motion
+
+    v, tr = 400.0, 0.5
+    w = math.pi / tr
+    t = np.array([-0.1, 0.0, 0.1, 0.25, 0.5, 0.8])
+    u, ud, udd = drive_motion(Drive("ramp", v=v, t_ramp=tr), t, 50.0)
+    hu = [0.0, 0.0] + [0.5 * v * (s - math.sin(w * s) / w) for s in (0.1, 0.25)] + [v * (s - tr / 2) for s in (0.5, 0.8)]
+    hv = [0.0, 0.0] + [0.5 * v * (1 - math.cos(w * s)) for s in (0.1, 0.25)] + [v, v]
+    ha = [0.0, 0.0] + [0.5 * v * w * math.sin(w * s) for s in (0.1, 0.25)] + [0.0, 0.0]
+    np.testing.assert_allclose(u, hu, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(ud, hv, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(udd, ha, rtol=1e-12, atol=1e-9)
+    u, ud, udd = drive_motion(Drive("ramp", v=v, t_ramp=0.0), np.array([0.0, 0.3]), 50.0)
+    np.testing.assert_allclose(np.c_[u, ud, udd], [[0.0, 0.0, 0.0], [120.0, v, 0.0]], atol=1e-12)
+    A, om = 2.0, 30.0
+    t = np.array([0.0, 0.01, 0.07])
+    u, ud, udd = drive_motion(Drive("sine", A=A, omega=om), t, 50.0)
+    np.testing.assert_allclose(u, A * np.sin(om * t), atol=1e-12)
+    np.testing.assert_allclose(ud, A * om * np.cos(om * t), atol=1e-9)
+    np.testing.assert_allclose(udd, -A * om * om * np.sin(om * t), atol=1e-9)
+    assert np.all(np.c_[drive_motion(Drive("none", v=5.0), t, 50.0)] == 0.0)
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(v=-1.0), "drive v = -1.0 is invalid: valid range >= 0 mm/s"),
+    (dict(t_ramp=float("nan")), "drive t_ramp = nan is invalid: valid range >= 0 s"),
+    (dict(A=-0.1), "drive A = -0.1 is invalid: valid range >= 0 mm"),
+    (dict(omega=0.0), "drive omega = 0.0 is invalid: valid range > 0 rad/s"),
+    (dict(z=2), "drive z = 2 is invalid: valid range an int >= 3 teeth"),
+    (dict(z=3.5), "drive z = 3.5 is invalid: valid range an int >= 3 teeth"),
+    (dict(pitch=0.0), "drive pitch = 0.0 is invalid: valid range > 0 mm"),
+])
+def test_drive_refuses_each_field_at_its_bound(kw, message):
+    """Each Drive field outside its range is refused naming field, value and range; the bounds pass."""
+    Drive("polygon", v=0.0, t_ramp=0.0, A=0.0, omega=1e-9, z=3, pitch=1e-9)
+    with pytest.raises(ValueError) as exc:
+        Drive("polygon", **kw)
+    assert str(exc.value) == message
