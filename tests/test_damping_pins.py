@@ -287,22 +287,29 @@ def test_finding_a_column_as_omega_ratio_per_test_by_hand():
     assert hand[1] == pytest.approx(0.31400, abs=1e-5) and hand[3] == pytest.approx(0.31400, abs=1e-5)
 
 
-def test_audit_data_text_numbers_alpha1_to_alpha5():
-    """``format_audit_data``: one row per Eq. 21 coefficient, named alpha1 … alpha5 in order, each with the fitted
-    value; fed with nine hand-made tests whose c_e follow c_e = 100 ω² − 300 ω + 2000 A² − 500 A + 3000 exactly
-    (F_ac = c_e ω A, W = π c_e ω A²), so each row's lstsq value is the law's α to 6 digits.
-    Bug caught: the row label's index (i + 1)."""
-    from chainid.damping.audit_data import audit_results, format_audit_data
+def _exact_law_tests(alpha):
+    """Nine hand-made identified tests (ω 1–3 rad/s × A 0.2–0.4 mm) whose c_e follow Eq. 21 with ``alpha`` exactly
+    (F_ac = c_e ω A, W = π c_e ω A²)."""
     from chainid.damping.identify import TestResult
 
-    alpha = (100.0, -300.0, 2000.0, -500.0, 3000.0)
     tests = []
     for n, (w, A) in enumerate([(1.0, 0.2), (2.0, 0.2), (3.0, 0.2), (1.0, 0.3), (2.0, 0.3), (3.0, 0.3),
                                 (1.0, 0.4), (2.0, 0.4), (3.0, 0.4)]):
         c = alpha[0] * w * w + alpha[1] * w + alpha[2] * A * A + alpha[3] * A + alpha[4]
         tests.append(TestResult(test=str(n + 1), omega=w, x0=2.2, A=A, F0=20000.0, FA=8000.0 * A, phi=0.1, r2=1.0,
                                 F_ac=c * w * A, c_e=c, W=math.pi * c * w * A * A))
-    rep = audit_results(tests, Lin())
+    return tests
+
+
+def test_audit_data_text_numbers_alpha1_to_alpha5():
+    """``format_audit_data``: one row per Eq. 21 coefficient, named alpha1 … alpha5 in order, each with the fitted
+    value; fed with nine hand-made tests whose c_e follow c_e = 100 ω² − 300 ω + 2000 A² − 500 A + 3000 exactly,
+    so each row's lstsq value is the law's α to 6 digits.
+    Bug caught: the row label's index (i + 1)."""
+    from chainid.damping.audit_data import audit_results, format_audit_data
+
+    alpha = (100.0, -300.0, 2000.0, -500.0, 3000.0)
+    rep = audit_results(_exact_law_tests(alpha), Lin())
     rep["excluded"] = []
     rows = [ln.split() for ln in format_audit_data(rep).splitlines() if ln.strip().startswith("alpha")]
     assert [r[0] for r in rows] == ["alpha1", "alpha2", "alpha3", "alpha4", "alpha5"]
@@ -426,3 +433,26 @@ def test_plot_all_writes_one_loop_per_test_and_the_surface_only_for_a_fitted_law
     with pytest.raises(ValueError, match="loop_A.png"):
         plot_all(recs, res, Lin(), d, force=False)
     assert sorted(p.name for p in d.iterdir()) == ["loop_A.png"] and (d / "loop_A.png").read_bytes() == b"mine"
+
+
+def test_audit_data_finding_f_is_eq21_and_d_flags_a_negative_damping():
+    """On tests that follow an Eq. 21 law exactly, finding (f) reports the polynomial law's own leave-one-out error,
+    which is ~0 (every other law misses the law's curvature by far more: > 1 N·s/mm here), and its summary quotes
+    it; finding (d) flags a fitted c_e <= 0 over the tested box as unphysical (c = 100 ω² − 400 ω + 350 is −50 at
+    ω = 2 inside the box) and is silent for a positive one (the law of the previous test: 2755 at ω = 1.5, A = 0.2 by hand).
+    Bugs caught: (f) quoting another law's error, the unphysical note inverted or dropped."""
+    from chainid.damping.audit_data import audit_results
+
+    rep = audit_results(_exact_law_tests((100.0, -300.0, 2000.0, -500.0, 3000.0)), Lin())
+    f = {x["id"]: x for x in rep["findings"]}
+    loo = f["f"]["numbers"]["polynomial_loo_rmse"]
+    assert f["f"]["numbers"]["best_law"] == "polynomial" and loo < 1e-6
+    others = [r["loo_rmse"] for r in rep["ranking"] if r["law"] != "polynomial"]
+    assert others and min(others) > 1.0
+    assert f"Eq. 21 (polynomial) {loo:.4g} N s/mm against {loo:.4g}." in f["f"]["summary"]
+    assert "unphysical" not in f["d"]["summary"] 
+    assert f["d"]["numbers"]["min_c_e_fit_in_range"] == pytest.approx(2755.0, abs=1e-6)
+    rep = audit_results(_exact_law_tests((100.0, -400.0, 0.0, 0.0, 350.0)), Lin())
+    d = {x["id"]: x for x in rep["findings"]}["d"]
+    assert d["numbers"]["min_c_e_fit_in_range"] == pytest.approx(-50.0, abs=1e-6)
+    assert "minimum over the tested range is -50 N s/mm <= 0: unphysical." in d["summary"]
