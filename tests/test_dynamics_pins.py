@@ -557,3 +557,44 @@ def test_segment_model_effects_and_time_domain_forms_by_hand(tmp_path):
     p, seg = _segment_model(tmp_path, '[damping]\nform = "viscous"\n[damping.params]\nc = -1.0\n')
     with pytest.raises(ValueError, match=r"c = -1 N·s/mm is invalid: valid range >= 0"):
         seg(p)
+
+
+def test_simulate_step_grid_defaults_static_reference_and_bounds():
+    """simulate's documented step and output grid, by hand: dt = 3e-4 s for t_end = 0.01 s is 33.3 steps → 34,
+    stored every ceil(34/10) = 4th step with n_out = 10, so 36 steps of 0.01/36 s and 10 samples ending at t_end;
+    default dt 0.9·dt_stable (explicit) or min(10·dt_stable, t_end/1000) (implicit), at most t_end/n_out; the static
+    reference is the running tension for ramp/polygon drives and the pretension otherwise (dynamic factor nan at 0);
+    bounds of safety, n_out, substep_levels, refine and the initial state's shape.
+    Bugs caught: the grid's rounding, the defaults' constants, the static rule, the bounds."""
+    import warnings
+
+    from chainid.dynamics import stable_step
+
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=1_000.0, resistance_N=200.0)
+    ramp = Drive("ramp", v=50.0, t_ramp=0.005)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a coarse step: the balance warning is not under test
+        res = simulate(line, ramp, 0.01, dt=3e-4, n_out=10, peak_force=3_000.0)
+    assert res.n_steps == 36 and res.dt == pytest.approx(0.01 / 36, rel=1e-12)
+    np.testing.assert_allclose(res.t, np.arange(10) * 4 * 0.01 / 36, rtol=1e-12, atol=1e-15)
+    assert res.static_tension == 1_200.0 and res.dynamic_factor == pytest.approx(res.peak_tension / 1_200.0)
+    dts = stable_step(line)
+    res = simulate(line, ramp, 0.05, n_out=2)  # 0.9·dts is below 0.05/2
+    assert res.dt == pytest.approx(0.05 / math.ceil(0.05 / (0.9 * dts) - 1e-9), rel=1e-12)
+    res = simulate(line, ramp, 0.01, n_out=20, scheme="implicit")
+    assert res.dt == pytest.approx(min(10 * dts, 0.01 / 1000), rel=1e-9)
+    res = simulate(line, ramp, 0.05, n_out=2, safety=0.5)
+    assert res.dt == pytest.approx(0.05 / math.ceil(0.05 / (0.5 * dts) - 1e-9), rel=1e-12)
+    sine = simulate(line, Drive("sine", A=0.01, omega=100.0), 0.005, n_out=5)
+    assert sine.static_tension == 1_000.0
+    slack = simulate(ChainLine(n_links=40, n_masses=4), Drive("sine", A=0.01, omega=100.0), 0.005, n_out=5)
+    assert slack.static_tension == 0.0 and math.isnan(slack.dynamic_factor)
+    for kw, message in ((dict(safety=1.0001), "safety = 1.0001 is invalid: valid range 0 < safety <= 1"),
+                        (dict(n_out=1), "n_out = 1 is invalid: valid range an int >= 2"),
+                        (dict(substep_levels=21), "substep_levels = 21 is invalid: valid range an int 0 .. 20"),
+                        (dict(refine=11), "refine = 11 is invalid: valid range an int 0 .. 10"),
+                        (dict(initial_u=np.zeros(4)), "initial_u = 'array of shape (4,)' is invalid: valid range "
+                                                      "finite values, shape (5,) (one per node)")):
+        with pytest.raises(ValueError) as exc:
+            simulate(line, ramp, 0.01, **kw)
+        assert str(exc.value) == message
