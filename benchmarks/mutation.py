@@ -62,7 +62,8 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "records": ("tests/test_records_pins.py", "tests/test_records_contracts.py", "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
                 "tests/test_readers.py", "tests/test_readers_readme.py", "tests/test_gap_benchmark_time.py::test_excitation_closed_forms",
                 "tests/test_gap_benchmark_time.py::test_excitation_derivatives_are_exact"),
-    "damping": ("tests/test_damping_pins.py", "tests/test_identify.py", "tests/test_identify_excluded.py", "tests/test_audit.py"),
+    "damping": ("tests/test_damping_pins.py", "tests/test_identify.py", "tests/test_identify_excluded.py", "tests/test_audit.py",
+                "tests/test_audit_data.py"),
     "gap": ("tests/test_gap_pins.py", "tests/test_gap_diagnose.py::test_control_gives_none",
             "tests/test_gap_diagnose.py::test_coulomb_equivalent_damping_recovered",
             "tests/test_gap_diagnose.py::test_effect_recovered", "tests/test_gap_diagnose.py::test_bad_input",
@@ -91,6 +92,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_cli_pins.py", "tests/test_grade.py", "tests/test_kernels.py::test_cli_stiffness_json",
             "tests/test_identify_excluded.py", "tests/test_cli_input_checks.py", "tests/test_json_stdout.py",
             "tests/test_cli_contracts.py", "tests/test_cli_bounds.py", "tests/test_files_ours.py", "tests/test_presets.py",
+            "tests/test_audit_data.py",
             # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
             # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
             "--deselect=tests/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output"),

@@ -359,3 +359,77 @@ def test_default_generated_dir_is_the_packages_generated_folder():
     # the folder the import system loads the kernels from (the repository's generated/ in an editable install,
     # site-packages/chainid/generated in a plain one, as CI installs it)
     assert d == Path(kernels.__file__).parent and (d / "stiffness_paper.py").is_file()
+
+
+def test_benchmark_gap_seed_defaults_to_the_librarys():
+    """``benchmark-gap`` without ``--seed`` runs :func:`chainid.gap.benchmark.run_benchmark`'s default seed 0 (the
+    README's quoted runs give no ``--seed``), and its help says so."""
+    import inspect
+
+    from chainid.cli.parser import build_parser
+    from chainid.gap.benchmark import run_benchmark
+
+    args = build_parser().parse_args(["benchmark-gap"])
+    assert args.seed == 0 == inspect.signature(run_benchmark).parameters["seed"].default
+
+
+@pytest.mark.parametrize("first, second", [("-o", "--out"), ("--out", "-o")])
+def test_an_option_repeated_under_its_other_spelling_names_both(first, second, capsys):
+    """The parser's repeat guard (every single-valued option given once) on an option with two spellings: the
+    error names the spelling given second and, in brackets, the first, in either order; the same spelling twice
+    has no bracket.  (chainid's own options have one spelling each, so the guard is tried on a small parser.)"""
+    import argparse
+
+    from chainid.cli import parser as cli_parser
+
+    p = argparse.ArgumentParser(prog="t")
+    p.add_argument("-o", "--out")
+    cli_parser._refuse_repeats(p)
+    for argv, msg in (([first, "a", second, "b"], f"error: {second} given twice (also as {first}); give it once"),
+                      ([second, "a", second, "b"], f"error: {second} given twice; give it once")):
+        with pytest.raises(SystemExit) as exc:
+            p.parse_args(argv)
+        assert exc.value.code == 2
+        assert capsys.readouterr().err.strip().splitlines()[-1] == f"t: {msg}"
+
+
+def test_generate_check_on_fresh_files_exits_0(tmp_path, capsys, monkeypatch):
+    """``generate --check`` exits 0 and says "fresh" with the source hash when every generated file is unchanged
+    (the documented exit codes: 0 fresh, 1 stale, 2 a SymPy mismatch).  The emitter is stubbed: the CLI's exit code
+    is under test."""
+    from chainid.derive import emit
+
+    out = tmp_path / "gen"
+    out.mkdir()
+    monkeypatch.setattr(emit, "generate", lambda o, check=False: {"a.py": "unchanged", "b.py": "unchanged"})
+    monkeypatch.setattr(emit, "source_hash", lambda: "abc123")
+    assert main(["generate", "--check", "--out", str(out)]) == 0
+    cap = capsys.readouterr()
+    assert cap.out.strip().splitlines()[-1] == "generated/ is fresh (source hash abc123)" and cap.err == ""
+
+
+def test_audit_data_with_a_fitted_linear_spring_names_each_excluded_test(tmp_path, capsys):
+    """``audit --data R --model linear`` without ``--k`` fits the spring on the records (as ``identify`` does) and
+    audits Eq. 21 on the c_e identified through it: nine tests of a spring 200 N/mm and the law c_e = 2 ω² − 3 ω +
+    50 A² − 10 A + 20 [N·s/mm] give the law's α back (rtol 1e-3); a tenth test with no oscillation is left out, one
+    ``excluded test ID: reason`` line on stderr and in the JSON's ``excluded``.
+    Bugs caught: the linear spring not fitted, the exclusion lines dropped, the data path not in the report."""
+    from chainid.model.laws import PolynomialLaw
+    from chainid.records.files import Record
+
+    alpha = [2.0, -3.0, 50.0, -10.0, 20.0]
+    plan = [TestSpec(f"T{i}", w, 2.0, A) for i, (w, A) in enumerate(
+        [(w, A) for w in (1.0, 2.0, 4.0) for A in (0.1, 0.2, 0.3)])]
+    recs = simulate(plan, SPRING, PolynomialLaw(alpha), n_cycles=4, samples_per_cycle=100, ramp_rate=None)
+    t = np.linspace(0.0, 20.0, 2000)
+    x = 2.0 + np.random.default_rng(4).normal(0.0, 1e-3, t.size)
+    recs.append(Record("FLAT", t, x, 200.0 * x))
+    data = write_records(tmp_path / "d.csv", recs)
+    out = tmp_path / "a.json"
+    assert main(["audit", "--data", str(data), "--model", "linear", "--mass", "0", "--json", str(out), "--quiet"]) == 0
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("excluded test")]
+    assert len(err) == 1 and err[0].startswith("excluded test FLAT: ")
+    doc = json.loads(out.read_text())
+    assert [e["test"] for e in doc["excluded"]] == ["FLAT"] and len(doc["tests"]) == 9
+    assert doc["data"] == str(data)
+    np.testing.assert_allclose(doc["eq28_alpha"], alpha, rtol=1e-3)

@@ -271,3 +271,188 @@ def test_finding_d_minimum_of_eq21_in_omega():
     w_min = -EQ28_PAPER[1] / (2 * EQ28_PAPER[0])
     assert f["numbers"]["omega_of_minimum_c_e_column_unit"] == pytest.approx(w_min, rel=1e-3)
     assert f"the minimum of Eq. 21 in omega is at {w_min:.2f} column units, outside the tested 1-10." in f["summary"]
+
+
+def test_finding_a_column_as_omega_ratio_per_test_by_hand():
+    """Finding (a)'s c_e computed with the column used as ω, over the tabulated c_e, per test: F_ac/(col·A)/c_e from
+    the paper's Table 1 typed in here (test 2: 1100/(4·0.25)/3503.2 = 0.31400; test 4: 1465/(8·0.25)/2332.8 = 0.31400).
+    Bug caught: a floor division in F_ac/(col·A)."""
+    col = [1, 4, 6, 8, 10, 6, 6, 6, 6]
+    A = [0.25, 0.25, 0.25, 0.25, 0.25, 0.2, 0.3, 0.35, 0.4]
+    F_ac = [8000, 1100, 1335, 1465, 1542, 985, 1643, 2017, 2329]
+    c_e = [5095.5, 3503.2, 2834.4, 2332.8, 1964.3, 2614.1, 2906.9, 3058.8, 3090.5]
+    hand = [f / (w * a) / c for f, w, a, c in zip(F_ac, col, A, c_e)]
+    f = {x["id"]: x for x in audit(Lin())["findings"]}["a"]["numbers"]
+    np.testing.assert_allclose(f["ce_from_Fac_with_column_as_omega_over_table_ce"], hand, rtol=1e-12)
+    assert hand[1] == pytest.approx(0.31400, abs=1e-5) and hand[3] == pytest.approx(0.31400, abs=1e-5)
+
+
+def _exact_law_tests(alpha):
+    """Nine hand-made identified tests (ω 1–3 rad/s × A 0.2–0.4 mm) whose c_e follow Eq. 21 with ``alpha`` exactly
+    (F_ac = c_e ω A, W = π c_e ω A²)."""
+    from chainid.damping.identify import TestResult
+
+    tests = []
+    for n, (w, A) in enumerate([(1.0, 0.2), (2.0, 0.2), (3.0, 0.2), (1.0, 0.3), (2.0, 0.3), (3.0, 0.3),
+                                (1.0, 0.4), (2.0, 0.4), (3.0, 0.4)]):
+        c = alpha[0] * w * w + alpha[1] * w + alpha[2] * A * A + alpha[3] * A + alpha[4]
+        tests.append(TestResult(test=str(n + 1), omega=w, x0=2.2, A=A, F0=20000.0, FA=8000.0 * A, phi=0.1, r2=1.0,
+                                F_ac=c * w * A, c_e=c, W=math.pi * c * w * A * A))
+    return tests
+
+
+def test_audit_data_text_numbers_alpha1_to_alpha5():
+    """``format_audit_data``: one row per Eq. 21 coefficient, named alpha1 … alpha5 in order, each with the fitted
+    value; fed with nine hand-made tests whose c_e follow c_e = 100 ω² − 300 ω + 2000 A² − 500 A + 3000 exactly,
+    so each row's lstsq value is the law's α to 6 digits.
+    Bug caught: the row label's index (i + 1)."""
+    from chainid.damping.audit_data import audit_results, format_audit_data
+
+    alpha = (100.0, -300.0, 2000.0, -500.0, 3000.0)
+    rep = audit_results(_exact_law_tests(alpha), Lin())
+    rep["excluded"] = []
+    rows = [ln.split() for ln in format_audit_data(rep).splitlines() if ln.strip().startswith("alpha")]
+    assert [r[0] for r in rows] == ["alpha1", "alpha2", "alpha3", "alpha4", "alpha5"]
+    np.testing.assert_allclose([float(r[1]) for r in rows], alpha, rtol=1e-5)
+
+
+def test_test_result_theta_in_the_records_own_time():
+    """``TestResult.to_dict`` gives θ for t itself: x = x0 + A sin(ω(t − t0) + θ) = x0 + A sin(ωt + θ − ω t0), so
+    θ_json = θ − ω·t0 wrapped to (−π, π] (ω = 2, θ = 0.5, t0 = 3: 0.5 − 6 + 2π = 0.78319); t0 = 0 leaves θ as is;
+    t_origin is not in the JSON.  Bug caught: the shift ω·t0 garbled."""
+    from chainid.damping.identify import TestResult
+
+    r = TestResult(test="1", omega=2.0, x0=2.2, A=0.3, F0=1.0, FA=1.0, phi=0.0, r2=1.0, F_ac=1.0, c_e=1.0, W=1.0,
+                   theta=0.5, t_origin=3.0)
+    d = r.to_dict()
+    assert d["theta"] == pytest.approx(0.5 - 6.0 + 2 * math.pi, abs=1e-12) and "t_origin" not in d
+    t = np.linspace(3.0, 6.0, 7)
+    np.testing.assert_allclose(np.sin(2.0 * t + d["theta"]), np.sin(2.0 * (t - 3.0) + 0.5), atol=1e-12)
+    r.t_origin = 0.0
+    assert r.to_dict()["theta"] == 0.5
+
+
+def test_finding_d_and_e_remaining_numbers_by_hand():
+    """The validation case's other numbers by hand from the printed Eq. 28 (ω = 7 Hz·2π = 14π rad/s, A = 0.32 mm):
+    the table's unit of 14π is 14π/(π/10) = 140; the tests span column 1–10 = π/10–π rad/s; F_ac of c_e(7) at the
+    true velocity c·14π·0.32; the rad/s refit evaluated at 14π equals Eq. 28 at column 140 (ω_col = 10ω/π);
+    finding (e)'s W = π·A·F_A·sin φ = π·0.25·19522.1·sin(−0.835); the text's rad/s row α1·(10/π)², α2·10/π, α3..α5.
+    Bugs caught: any of these constants or conversions garbled."""
+    from chainid.damping.audit import EQ28_PAPER, format_audit
+
+    a = EQ28_PAPER
+
+    def c(w, A):
+        return a[0] * w * w + a[1] * w + a[2] * A * A + a[3] * A + a[4]
+
+    rep = audit(Lin())
+    f = {x["id"]: x for x in rep["findings"]}
+    d = f["d"]["numbers"]
+    w = 14 * math.pi
+    assert d["omega_in_table_column_unit"] == pytest.approx(140.0, rel=1e-12)
+    assert d["table_column_range"] == [1.0, 10.0]
+    assert d["table_omega_range_rad_s"] == pytest.approx([math.pi / 10, math.pi], rel=1e-12)
+    assert d["F_ac_omega_7_times_true_velocity_N"] == pytest.approx(c(7.0, 0.32) * w * 0.32, rel=1e-3)
+    assert d["ratio_14pi_over_7"] == pytest.approx(c(w, 0.32) / c(7.0, 0.32), rel=1e-3)
+    assert d["c_e_rad_s_refit_at_14pi"] == pytest.approx(c(140.0, 0.32), rel=1e-3)
+    assert d["omega_of_minimum_c_e_column_unit"] == pytest.approx(651.57 / (2 * 28.02), rel=1e-3)
+    e = f["e"]["numbers"]
+    assert e["W_per_cycle_Nmm"] == pytest.approx(math.pi * 0.25 * 19522.1 * math.sin(-0.835), rel=1e-12)
+    assert e["F_ac_eq27"] == 1335.0
+    text = format_audit(rep)
+    assert "matches the paper to 4 significant figures: yes" in text
+    row = next(ln for ln in text.splitlines() if "same fit with omega in rad/s (pi/10 x column): " in ln)
+    vals = [float(v) for v in row.split(": ")[1].split(", ")]
+    s = 10 / math.pi
+    np.testing.assert_allclose(vals, [a[0] * s * s, a[1] * s, a[2], a[3], a[4]], rtol=1e-3)
+    assert rep["eq28_alpha_4sf"] == pytest.approx([28.02, -651.6, -8386.0, 7395.0, 4379.0], rel=1e-12)
+
+
+def test_identify_records_leaves_out_a_non_finite_or_failed_estimate_and_checks_the_mass():
+    """identify_records (three noise-free viscous tests, c = 300 N·s/mm on the spring 1e4 N/mm): a stiffness model
+    whose force is NaN gives a non-finite c_e, and one that raises ValueError a failed estimate; each test is then
+    left out with that reason (``strict`` raises it); ``progress`` is called (i, n, test) before each test; the mass
+    must be a finite number >= 0 kg (0 accepted; the inertia is in phase with x, so c_e does not depend on it).
+    Bugs caught: the finiteness check inverted, the failed-estimate branch dropped, the mass bound made > 0."""
+    from chainid.damping.identify import identify_records
+    from chainid.model.laws import ViscousLaw
+    from chainid.records.simulate import TestSpec, simulate
+
+    plan = [TestSpec(f"T{i}", w, 2.2, 0.2) for i, w in enumerate((1.0, 2.0, 3.0))]
+    recs = simulate(plan, Lin(), ViscousLaw([300.0]), n_cycles=4, samples_per_cycle=100, ramp_rate=None)
+
+    class NaNForce(LinearSpring):
+        def force(self, x):
+            return np.full(np.shape(x), np.nan)
+
+    class Broken(LinearSpring):
+        def force(self, x):
+            raise ValueError("stand-in model refuses x")
+
+    calls = []
+    good = identify_records(recs, Lin(), mass_kg=0.0, progress=lambda i, n, t: calls.append((i, n, t)))
+    assert calls == [(0, 3, "T0"), (1, 3, "T1"), (2, 3, "T2")]
+    np.testing.assert_allclose([r.c_e for r in good], 300.0, rtol=1e-3)
+    res = identify_records(recs, NaNForce(1e4))
+    assert list(res) == []
+    assert [x["reason"] for x in res.excluded] == ["damping estimate is not finite (c_e = nan N.s/mm)"] * 3
+    res = identify_records(recs, Broken(1e4))
+    assert [x["reason"] for x in res.excluded] == ["damping estimate failed: stand-in model refuses x"] * 3
+    with pytest.raises(ValueError, match="test 'T0': damping estimate failed: stand-in model refuses x"):
+        identify_records(recs, Broken(1e4), strict=True)
+    for bad in (-1e-9, math.nan, math.inf, True):
+        with pytest.raises(ValueError, match=r"mass_kg = .* is invalid: valid range >= 0 kg \(finite\)"):
+            identify_records(recs, Lin(), mass_kg=bad)
+
+
+def test_plot_all_writes_one_loop_per_test_and_the_surface_only_for_a_fitted_law(tmp_path):
+    """``plot_all``: ``loop_<id>.png`` per identified test in result order, plus ``damping_surface.png`` only when
+    the law has fitted parameters (``plot_names`` gives the same names); without ``force`` an existing target is
+    refused before any figure is drawn (the other test's file is not written).
+    Bugs caught: the surface drawn for an unfitted law or dropped for a fitted one, the up-front check skipped."""
+    from chainid.damping.identify import identify_records
+    from chainid.damping.plots import plot_all, plot_names
+    from chainid.model.laws import ViscousLaw
+    from chainid.records.simulate import TestSpec, simulate
+
+    plan = [TestSpec(t, w, 2.2, 0.2) for t, w in (("B", 2.0), ("A", 1.0))]
+    recs = simulate(plan, Lin(), ViscousLaw([300.0]), n_cycles=3, samples_per_cycle=60, ramp_rate=None)
+    res = identify_records(recs, Lin())
+    assert plot_names(["B", "A"]) == ["loop_B.png", "loop_A.png", "damping_surface.png"]
+    assert plot_names(["B", "A"], surface=False) == ["loop_B.png", "loop_A.png"]
+    out = plot_all(recs, res, Lin(), tmp_path / "none")
+    assert [p.name for p in out] == ["loop_B.png", "loop_A.png"]
+    assert sorted(p.name for p in (tmp_path / "none").iterdir()) == ["loop_A.png", "loop_B.png"]
+    out = plot_all(recs, res, Lin(), tmp_path / "unfitted", law=ViscousLaw())
+    assert [p.name for p in out] == ["loop_B.png", "loop_A.png"]
+    out = plot_all(recs, res, Lin(), tmp_path / "fitted", law=ViscousLaw([300.0]))
+    assert [p.name for p in out] == ["loop_B.png", "loop_A.png", "damping_surface.png"]
+    d = tmp_path / "kept"
+    d.mkdir()
+    (d / "loop_A.png").write_bytes(b"mine")
+    with pytest.raises(ValueError, match="loop_A.png"):
+        plot_all(recs, res, Lin(), d, force=False)
+    assert sorted(p.name for p in d.iterdir()) == ["loop_A.png"] and (d / "loop_A.png").read_bytes() == b"mine"
+
+
+def test_audit_data_finding_f_is_eq21_and_d_flags_a_negative_damping():
+    """On tests that follow an Eq. 21 law exactly, finding (f) reports the polynomial law's own leave-one-out error,
+    which is ~0 (every other law misses the law's curvature by far more: > 1 N·s/mm here), and its summary quotes
+    it; finding (d) flags a fitted c_e <= 0 over the tested box as unphysical (c = 100 ω² − 400 ω + 350 is −50 at
+    ω = 2 inside the box) and is silent for a positive one (the law of the previous test: 2755 at ω = 1.5, A = 0.2 by hand).
+    Bugs caught: (f) quoting another law's error, the unphysical note inverted or dropped."""
+    from chainid.damping.audit_data import audit_results
+
+    rep = audit_results(_exact_law_tests((100.0, -300.0, 2000.0, -500.0, 3000.0)), Lin())
+    f = {x["id"]: x for x in rep["findings"]}
+    loo = f["f"]["numbers"]["polynomial_loo_rmse"]
+    assert f["f"]["numbers"]["best_law"] == "polynomial" and loo < 1e-6
+    others = [r["loo_rmse"] for r in rep["ranking"] if r["law"] != "polynomial"]
+    assert others and min(others) > 1.0
+    assert f"Eq. 21 (polynomial) {loo:.4g} N s/mm against {loo:.4g}." in f["f"]["summary"]
+    assert "unphysical" not in f["d"]["summary"] 
+    assert f["d"]["numbers"]["min_c_e_fit_in_range"] == pytest.approx(2755.0, abs=1e-6)
+    rep = audit_results(_exact_law_tests((100.0, -400.0, 0.0, 0.0, 350.0)), Lin())
+    d = {x["id"]: x for x in rep["findings"]}["d"]
+    assert d["numbers"]["min_c_e_fit_in_range"] == pytest.approx(-50.0, abs=1e-6)
+    assert "minimum over the tested range is -50 N s/mm <= 0: unphysical." in d["summary"]

@@ -6,11 +6,13 @@ Units: mm, mm/s, N, kg, s.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 from chainid.dynamics.integrators import _external, _resist
-from chainid.dynamics import ChainLine, Drive, simulate
+from chainid.dynamics import ChainLine, Drive, LoadStep, simulate
 
 
 def test_external_resistance_viscous_below_eps_coulomb_above():
@@ -215,3 +217,384 @@ def test_slack_substeps_and_fallbacks_are_counted_apart():
     assert res.slack_substeps > 0 and res.explicit_fallbacks == 0
     s = res.summary()
     assert s["slack_substeps"] == res.slack_substeps and s["explicit_fallback_substeps"] == 0
+
+
+@pytest.mark.parametrize("z", [3, 6, 11])
+def test_drive_max_speed_closed_form_and_sampled(z):
+    """Largest drive speed [mm/s]: a polygon of z teeth at mean speed v̄ moves its chain at R·θ̇·cos φ with
+    R = p/(2 sin(π/z)), θ̇ = 2π v̄/(z p), so at most v̄·(π/z)/sin(π/z) (z = 6: π/3 / ½ = 2.0944 v̄); a sine at A·ω,
+    a ramp at v.  Checked against the closed form and against the drive's own motion sampled over one tooth
+    period after the ramp (another method).  Polygon period p/v̄ [s], inf at v̄ = 0.
+    Bugs caught: the polygon's sin(π/z) argument, the sine's A·ω, the ramp's v."""
+    from chainid.dynamics.drives import drive_motion
+
+    v, pitch = 1000.0, 50.0
+    d = Drive(law="polygon", v=v, t_ramp=0.0, z=z)
+    hand = v * (np.pi / z) / np.sin(np.pi / z)
+    assert d.max_speed(pitch) == pytest.approx(hand, rel=1e-12)
+    period = d.polygon_period(pitch)
+    assert period == pytest.approx(pitch / v, rel=1e-12)
+    t = np.linspace(2.0 * period, 3.0 * period, 4001)
+    _, speed, _ = drive_motion(d, t, pitch)
+    assert speed.max() == pytest.approx(hand, rel=1e-6)
+    assert Drive(law="polygon", v=0.0, z=z).polygon_period(pitch) == np.inf
+    assert Drive(law="polygon", v=v, z=z, pitch=20.0).polygon_period(pitch) == pytest.approx(0.02, rel=1e-12)
+    assert Drive(law="sine", A=3.0, omega=7.0).max_speed(pitch) == pytest.approx(21.0, rel=1e-12)
+    assert Drive(law="ramp", v=250.0, t_ramp=1.0).max_speed(pitch) == 250.0
+
+
+def test_benchmark_floor_springs_by_hand():
+    """The benchmark floors of the segment law (``kind`` 1: T = cbrt(e)/c_lin, ``kind`` 2: T = e/c_lin, both 0
+    for e <= 0; e_j = e_pre,j + u_j − u_{j+1}) against hand numbers on three segments.
+    Bugs caught: a wrong neighbour node in e, the slack branch, the cube root."""
+    from chainid.dynamics.segments import tensions
+
+    u = np.array([0.0, -8.0, -9.0, -2.0])
+    epre = np.array([0.0, 0.0, 0.0])  # e = 8, 1, −7 mm
+    cl = np.array([2.0, 0.5, 1.0])
+    n = 3
+    empty = np.zeros((n, 0))
+    for kind, hand in ((1, [2.0 / 2.0, 1.0 / 0.5, 0.0]), (2, [8.0 / 2.0, 1.0 / 0.5, 0.0])):
+        T, Fk, dv = np.zeros(n), np.zeros(n), np.zeros(n)
+        _, peak, low = tensions(u, np.zeros(4), u, epre, cl, cl, np.zeros(n), empty, empty,
+                                np.zeros((n, 0), dtype=np.int64), empty, np.zeros(n), empty.copy(), dv, T, Fk,
+                                np.zeros(n), np.zeros(n), kind, False)
+        np.testing.assert_allclose(T, hand, rtol=1e-12, atol=0)
+        assert (peak, low) == (max(hand), 0.0)
+
+
+def test_sweep_case_ripple_is_over_the_last_quarter_and_the_table_is_in_key_order():
+    """A sweep case's drive-end ripple [N] and mean [N] are those of the last quarter of the run (the documented
+    t >= 0.75·t_end), computed here from a direct :func:`simulate` of the same line; ``as_table`` gives the rows
+    in key order; an empty swept list is refused by name.
+    Bugs caught: the quarter's bound, ripple as min − max, the table's keys or rows swapped."""
+    from chainid.dynamics.sweeps import as_table, run_case, sweep_cases
+
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=1_000.0)
+    drive = Drive("sine", A=0.5, omega=300.0)
+    cases = sweep_cases(line, drive, 0.04, pretensions=[1_500.0], peak_force=4_000.0)
+    assert len(cases) == 1 and cases[0]["n_masses"] == 4 and cases[0]["v"] == 0.0
+    row = run_case(cases[0])
+    res = simulate(ChainLine(n_links=40, n_masses=4, pretension_N=1_500.0), drive, 0.04, peak_force=4_000.0)
+    T0 = res.tension[:, 0]
+    tail = T0[res.t >= 0.03 - 1e-12]
+    assert tail.size < T0.size // 3  # the quarter, not the whole run
+    assert row["drive_tension_ripple_N"] == pytest.approx(tail.max() - tail.min(), rel=1e-12)
+    assert row["drive_tension_ripple_N"] > 0 and row["drive_tension_ripple_N"] < T0.max() - T0.min()
+    assert row["drive_tension_mean_N"] == pytest.approx(tail.mean(), rel=1e-12)
+    tab = as_table([row, dict(row, pretension_N=2.0)], keys=("pretension_N", "n_masses"))
+    np.testing.assert_array_equal(tab, [[1_500.0, 4.0], [2.0, 4.0]])
+    for name in ("pretensions", "speeds", "n_masses"):
+        with pytest.raises(ValueError, match=f"{name} = \\[\\] is invalid"):
+            sweep_cases(line, drive, 0.04, **{name: []})
+
+
+def test_unconverged_peak_warning_quotes_the_run_at_twice_the_step():
+    """With ``refine = 1`` a slack polygon drive (undamped, P = 500 N, z = 6) whose peak is not converged stops
+    after one halving, and its warning quotes the final peak at dt and the peak of the run at 2·dt, which is
+    checked here against a separate run at that step without refinement (another run, not the refined one's
+    state); the change is |p(dt) − p(2dt)| / p(dt).
+    Bugs caught: the refinement loop running past its last attempt (the "twice that step" peak became the final
+    one)."""
+    import re
+    import warnings
+
+    line = ChainLine(n_links=200, n_masses=20, pretension_N=500.0)
+    d = Drive("polygon", v=1500.0, t_ramp=0.2, z=6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = simulate(line, d, 0.5, refine=1)
+        coarse = simulate(line, d, 0.5, dt=2.0 * res.dt, refine=0)
+    assert res.refinements == 1
+    msg = next(m for m in res.warnings if m.startswith("peak tension not converged"))
+    got = re.search(r": (\S+) N at dt = (\S+) s vs (\S+) N at twice that step \((\S+) % > 2 %\)", msg)
+    assert got, msg
+    p1, h, p0, pct = (float(g) for g in got.groups())
+    assert p1 == pytest.approx(res.peak_tension, rel=1e-5) and h == pytest.approx(res.dt, rel=1e-2)
+    assert p0 == pytest.approx(coarse.peak_tension, rel=1e-5) and abs(p0 - p1) > 0.02 * p1
+    assert pct == pytest.approx(100 * abs(coarse.peak_tension - res.peak_tension) / res.peak_tension, rel=1e-2)
+
+
+def test_energy_balance_of_a_non_finite_run_reports_the_final_changes():
+    """A run whose energies turn non-finite still reports the final work and the final changes of the stored
+    energies (kinetic 1 → 3 → 6: +5 N·mm; elastic 2 → 2 → 7: +5), with nan for the worst residual and its scale.
+    Bug caught: the kinetic change read at the second-to-last output."""
+    from chainid.dynamics.energy import balance
+
+    eb = balance(np.array([0.0, 1.0, np.inf]), np.array([1.0, 3.0, 6.0]), np.array([2.0, 2.0, 7.0]),
+                 np.array([0.0, 1.0, 2.0]), np.array([0.0, 0.1, 0.2]))
+    assert eb["finite"] is False and eb["work_in"] == np.inf
+    assert (eb["kinetic"], eb["elastic"], eb["dissipated"]) == (5.0, 5.0, 2.0)
+    assert all(np.isnan(eb[k]) for k in ("worst_residual", "worst_t_s", "relative_error", "scale"))
+
+
+def test_modes_of_a_line_without_a_free_node_are_empty():
+    """One segment with a fixed far end has no free node: every array of the modes is empty (the documented
+    "empty arrays when no node is free"), for any n_modes."""
+    from chainid.dynamics.modes import modes
+
+    line = ChainLine(n_links=10, n_masses=1, pretension_N=1_000.0, far_end="fixed")
+    for n in (None, 3):
+        md = modes(line, n_modes=n)
+        assert md.omega.shape == (0,) and md.frequency_hz.shape == (0,) and md.shapes.shape == (0, 0)
+        assert md.nodes.shape == (0,) and md.positions.shape == (0,)
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(n_masses=True), "n_masses = True is invalid: valid range an int >= 1"),
+    (dict(n_links=True), "n_links = True is invalid: valid range an int >= 1"),
+    (dict(n_masses=11), "n_masses = 11 is invalid: valid range 1 .. n_links = 10 (a segment holds >= 1 link)"),
+    (dict(tensioner_stiffness=-1e-9), "tensioner_stiffness = -1e-09 is invalid: valid range >= 0 (finite)"),
+    (dict(tail_mass_kg=float("inf")), "tail_mass_kg = inf is invalid: valid range >= 0 (finite)"),
+    (dict(damping=-1.0), "damping = -1.0 is invalid: valid range >= 0 (finite)"),
+    (dict(resistance_N=float("nan")), "resistance_N = nan is invalid: valid range >= 0 (finite)"),
+    (dict(resistance_v_eps=0.0), "resistance_v_eps = 0.0 is invalid: valid range > 0 mm/s"),
+    (dict(lumping="tail"), "lumping = 'tail' is invalid: valid range one of ['half', 'drive']"),
+    (dict(damping_ref_links=0), "damping_ref_links = 0 is invalid: valid range an int >= 1"),
+    (dict(dahl=((10.0, 0.0),)), "dahl = (10.0, 0.0) is invalid: valid range pairs (F_h > 0 N, x_h > 0 mm)"),
+    (dict(coulomb_N=True), "coulomb_N = True is invalid: valid range >= 0 N (finite)"),
+    (dict(loads=(LoadStep(0, 10.0, 0.0),)), "loads.node = 0 is invalid: valid range 1 .. n_masses = 2"),
+    (dict(loads=(LoadStep(3, 10.0, 0.0),)), "loads.node = 3 is invalid: valid range 1 .. n_masses = 2"),
+    (dict(loads=(LoadStep(2, 10.0, -0.1),)), "valid range finite force_N [N] and t_on >= 0 s"),
+    (dict(loads=(LoadStep(2, float("nan"), 0.0),)), "valid range finite force_N [N] and t_on >= 0 s"),
+    (dict(lumping="drive"), "tail_mass_kg = 0.0 is invalid: valid range > 0 kg with lumping='drive' and a "
+                            "tensioner far end"),
+])
+def test_chain_line_refuses_each_field_at_its_bound(kw, message):
+    """Each field of ChainLine outside its documented range is refused with the field, the value and the range
+    (n_links = 10, n_masses = 2 unless given); the bound itself is accepted (see the next test)."""
+    args = dict(n_links=10, n_masses=2) | kw
+    with pytest.raises(ValueError) as exc:
+        ChainLine(**args)
+    assert message in str(exc.value)
+
+
+def test_chain_line_accepts_its_bounds_and_its_derived_numbers_by_hand():
+    """The bounds themselves are valid (n_masses = n_links, zeros, loads on node N at t_on = 0, one reference
+    link, drive lumping with a tail mass or a fixed end); a massless chain is refused; from_length rounds to
+    whole links of the 50 mm pitch, at least one; the steady-running drive tension is pretension + resistance
+    with a tensioner end and the pretension with a fixed end."""
+    ChainLine(n_links=10, n_masses=10, tensioner_stiffness=0.0, tail_mass_kg=0.0, damping=0.0, resistance_N=0.0,
+              damping_ref_links=1, loads=(LoadStep(10, 5.0, 0.0),), coulomb_N=0.0)
+    ChainLine(n_links=10, n_masses=2, lumping="drive", tail_mass_kg=1e-3)
+    ChainLine(n_links=10, n_masses=2, lumping="drive", far_end="fixed")
+    line = ChainLine(n_links=10, n_masses=2)
+    with pytest.raises(ValueError, match=r"chain.mass_per_m = 0.0 is invalid: valid range > 0 kg/m"):
+        ChainLine(n_links=10, n_masses=2, chain=line.chain.replace(mass_per_m=0.0))
+    assert ChainLine.from_length(20.0, 1).n_links == 1  # 0.4 links -> at least one
+    assert ChainLine.from_length(1_030.0, 2).n_links == 21 and ChainLine.from_length(1_070.0, 2).n_links == 21
+    t = ChainLine(n_links=10, n_masses=2, pretension_N=800.0, resistance_N=150.0)
+    assert t.static_tension_at_speed() == 950.0
+    f = ChainLine(n_links=10, n_masses=2, pretension_N=800.0, resistance_N=150.0, far_end="fixed")
+    assert f.static_tension_at_speed() == 800.0
+
+
+def test_viscous_equivalent_refuses_an_operating_point_outside_its_range():
+    """ω > 0 rad/s, A > 0 mm, x0 >= 0 mm (x0 = 0 accepted; a zero c_e is valid), each refusal naming the field,
+    the value and the range."""
+    from chainid.dynamics.model import viscous_equivalent
+
+    assert viscous_equivalent(0.0, 1e-9, 1e-9, 0.0) == 0.0
+    for args, message in (((0.0, 0.5, 2.0), "omega = 0.0 is invalid: valid range > 0 rad/s"),
+                          ((float("inf"), 0.5, 2.0), "omega = inf is invalid: valid range > 0 rad/s"),
+                          ((10.0, 0.0, 2.0), "A = 0.0 is invalid: valid range > 0 mm"),
+                          ((10.0, 0.5, -1e-9), "x0 = -1e-09 is invalid: valid range >= 0 mm")):
+        with pytest.raises(ValueError) as exc:
+            viscous_equivalent(5.0, *args)
+        assert str(exc.value) == message
+    with pytest.raises(ValueError, match=r"c_e = -1.0 is invalid: valid range >= 0 N·s/mm"):
+        viscous_equivalent(-1.0, 10.0, 0.5, 2.0)
+
+
+def test_stable_step_with_peak_force_damping_dahl_and_tensioner_spring_by_hand():
+    """Two segments of two links, tensioner end with k_t = 500 N/mm, c_e = 30 N·s/mm of the 16-link specimen, one
+    Dahl element (F_h = 40 N, x_h = 0.08 mm), peak 5 kN: by hand, segment tangent k_j = 1/(c_lin,j + ⅔·c_h,j·F^(-1/3))
+    plus the Dahl element at a reversal 2F_h/(x_h·2/16); dampers c_j = 30·16/2; node 1: ω² = 2e3(k_1 + k_2)/m_1,
+    2e3(c_1 + c_2)/m_1; node 2 (the tensioner): 2e3(k_2 + k_t/2)/m_2, 2e3·c_2/m_2; with the largest of each,
+    ζ = λ_c/(2ω) and dt = (2/ω)(√(1+ζ²) − ζ).  A fixed end drops node 2.
+    Bugs caught: the peak-force tangent, the Dahl factor 2, the tensioner's k_t/2, the damping's ζ."""
+    from chainid.dynamics import stable_step
+
+    line = ChainLine(n_links=4, n_masses=2, pretension_N=1_000.0, tensioner_stiffness=500.0, damping=30.0,
+                     dahl=((40.0, 0.08),))
+    cl, ch = line.segment_coefficients()
+    F = 5_000.0
+    k = 1.0 / (cl + (2.0 / 3.0) * ch * F ** (-1.0 / 3.0)) + 2.0 * 40.0 / (0.08 * 2 / 16)
+    c = np.full(2, 30.0 * 16 / 2)
+    m = line.node_masses()
+
+    def dt_of(nodes):
+        w2 = max(2e3 * (k[i - 1] + (k[i] if i < 2 else 250.0)) / m[i] for i in nodes)
+        lam = max(2e3 * (c[i - 1] + (c[i] if i < 2 else 0.0)) / m[i] for i in nodes)
+        w = math.sqrt(w2)
+        z = lam / (2 * w)
+        return 2 / w * (math.sqrt(1 + z * z) - z)
+
+    assert stable_step(line, peak_force=F) == pytest.approx(dt_of((1, 2)), rel=1e-12)
+    fixed = ChainLine(n_links=4, n_masses=2, pretension_N=1_000.0, far_end="fixed", damping=30.0,
+                      dahl=((40.0, 0.08),))
+    assert stable_step(fixed, peak_force=F) == pytest.approx(dt_of((1,)), rel=1e-12)
+    assert stable_step(ChainLine(n_links=4, n_masses=1, far_end="fixed")) == math.inf
+
+
+def test_ramp_and_sine_drive_motion_closed_forms():
+    """The start-up ramp (cosine speed ramp over t_r): u = ½v(t − sin(πt/t_r)/(π/t_r)), u̇ = ½v(1 − cos(πt/t_r)),
+    ü = ½v(π/t_r)·sin(πt/t_r) for 0 < t < t_r; then u = v(t − t_r/2), u̇ = v, ü = 0; nothing before t = 0; with
+    t_r = 0 a step to v.  The sine: u = A sin ωt, u̇ = Aω cos ωt, ü = −Aω² sin ωt.  "none" holds still.
+    Bugs caught: the ramp's phase boundaries (t <= 0, t < t_r), its half factor, the sine's derivatives."""
+    from chainid.dynamics.drives import drive_motion
+
+    v, tr = 400.0, 0.5
+    w = math.pi / tr
+    t = np.array([-0.1, 0.0, 0.1, 0.25, 0.5, 0.8])
+    u, ud, udd = drive_motion(Drive("ramp", v=v, t_ramp=tr), t, 50.0)
+    hu = [0.0, 0.0] + [0.5 * v * (s - math.sin(w * s) / w) for s in (0.1, 0.25)] + [v * (s - tr / 2) for s in (0.5, 0.8)]
+    hv = [0.0, 0.0] + [0.5 * v * (1 - math.cos(w * s)) for s in (0.1, 0.25)] + [v, v]
+    ha = [0.0, 0.0] + [0.5 * v * w * math.sin(w * s) for s in (0.1, 0.25)] + [0.0, 0.0]
+    np.testing.assert_allclose(u, hu, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(ud, hv, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(udd, ha, rtol=1e-12, atol=1e-9)
+    u, ud, udd = drive_motion(Drive("ramp", v=v, t_ramp=0.0), np.array([0.0, 0.3]), 50.0)
+    np.testing.assert_allclose(np.c_[u, ud, udd], [[0.0, 0.0, 0.0], [120.0, v, 0.0]], atol=1e-12)
+    A, om = 2.0, 30.0
+    t = np.array([0.0, 0.01, 0.07])
+    u, ud, udd = drive_motion(Drive("sine", A=A, omega=om), t, 50.0)
+    np.testing.assert_allclose(u, A * np.sin(om * t), atol=1e-12)
+    np.testing.assert_allclose(ud, A * om * np.cos(om * t), atol=1e-9)
+    np.testing.assert_allclose(udd, -A * om * om * np.sin(om * t), atol=1e-9)
+    assert np.all(np.c_[drive_motion(Drive("none", v=5.0), t, 50.0)] == 0.0)
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(v=-1.0), "drive v = -1.0 is invalid: valid range >= 0 mm/s"),
+    (dict(t_ramp=float("nan")), "drive t_ramp = nan is invalid: valid range >= 0 s"),
+    (dict(A=-0.1), "drive A = -0.1 is invalid: valid range >= 0 mm"),
+    (dict(omega=0.0), "drive omega = 0.0 is invalid: valid range > 0 rad/s"),
+    (dict(z=2), "drive z = 2 is invalid: valid range an int >= 3 teeth"),
+    (dict(z=3.5), "drive z = 3.5 is invalid: valid range an int >= 3 teeth"),
+    (dict(pitch=0.0), "drive pitch = 0.0 is invalid: valid range > 0 mm"),
+])
+def test_drive_refuses_each_field_at_its_bound(kw, message):
+    """Each Drive field outside its range is refused naming field, value and range; the bounds pass."""
+    Drive("polygon", v=0.0, t_ramp=0.0, A=0.0, omega=1e-9, z=3, pitch=1e-9)
+    with pytest.raises(ValueError) as exc:
+        Drive("polygon", **kw)
+    assert str(exc.value) == message
+
+
+_SPECIMEN = """format_version = 1
+kind = "chainid-augmented-model"
+mass_kg = 3.2
+delay_s = 0.0
+[units]
+length = "mm"
+force = "N"
+time = "s"
+mass = "kg"
+[base]
+model = "chain"
+variant = "paper"
+[base.chain]
+d = 14.0
+pitch = 50.0
+width = 17.0
+n = 16
+E = 210000.0
+nu = 0.3
+mass_per_m = 4.0
+"""
+
+
+def _segment_model(tmp_path, text, name="m.toml"):
+    from chainid.dynamics.segment_model import segment_kwargs
+
+    p = tmp_path / name
+    p.write_text(_SPECIMEN + text)
+    return p, segment_kwargs
+
+
+def test_segment_model_effects_and_time_domain_forms_by_hand(tmp_path):
+    """A model file's effects and damping forms as segment elements (the module's table), by hand:
+    friction F_c = 100 N, x_s = 0.05 mm, mu = 0.01 at 2000 N pretension → a Jenkins element of slip force
+    100 + 0.01·2000 = 120 N and stiffness 120/0.05 = 2400 N/mm (below the 16-link specimen's link stiffness
+    1/c_lin, Eq. 15 typed in tests/paper_forms.py), with a note; a hysteresis effect → a Dahl element (F_h, x_h),
+    x_h 0.05 mm by default, none for F_h = 0; damping dahl (F_h, x_h), viscous c, none; a stick stiffer than the
+    link → the Coulomb element with a note; a second such stick is refused; an unsupported effect or a negative c
+    is refused naming it.
+    Bugs caught: mu·pretension dropped, the stiffness bound inverted, defaults changed, branches swapped."""
+    import paper_forms
+
+    k_link = 1.0 / paper_forms.coefficients()[0]
+    assert 2400.0 < k_link
+    fr = '[[effects]]\nname = "friction"\n[effects.params]\nF_c = {F_c}\nx_s = {x_s}\nmu = {mu}\n'
+    dahl = '[[effects]]\nname = "hysteresis"\n[effects.params]\nF_h = {F_h}\n'
+    p, seg = _segment_model(tmp_path, fr.format(F_c=100.0, x_s=0.05, mu=0.01) + dahl.format(F_h=30.0) + dahl.format(F_h=0.0)
+                            + '[damping]\nform = "dahl"\n[damping.params]\nF_h = 20.0\nx_h = 0.5\n')
+    kw, notes = seg(p, pretension_N=2000.0)
+    assert kw["hysteresis"] == ((2400.0, 120.0),) and kw["dahl"] == ((30.0, 0.05), (20.0, 0.5))
+    assert kw["coulomb_N"] == 0.0 and kw["damping"] == 0.0 and kw["damping_ref_links"] == 16
+    assert len(notes) == 1 and "mu = 0.01" in notes[0] and "slip force 120 N" in notes[0]
+    p, seg = _segment_model(tmp_path, fr.format(F_c=50.0, x_s=50.0 / k_link * 1.001, mu=0.0)
+                            + '[damping]\nform = "viscous"\n[damping.params]\nc = 7.5\n')
+    kw, notes = seg(p)
+    (k, f), = kw["hysteresis"]  # just below the link stiffness: a Jenkins element
+    assert k == pytest.approx(k_link / 1.001, rel=1e-9) and f == 50.0 and kw["coulomb_N"] == 0.0
+    assert kw["damping"] == 7.5 and notes == []
+    p, seg = _segment_model(tmp_path, fr.format(F_c=50.0, x_s=50.0 / k_link * 0.999, mu=0.0)
+                            + '[damping]\nform = "none"\n')
+    kw, notes = seg(p)
+    assert kw["hysteresis"] == () and kw["coulomb_N"] == 50.0 and kw["damping"] == 0.0
+    assert len(notes) == 1 and "stiffer than the link" in notes[0] and "Coulomb friction 50 N" in notes[0]
+    p, seg = _segment_model(tmp_path, fr.format(F_c=50.0, x_s=0.0, mu=0.0)
+                            + '[damping]\nform = "coulomb"\n[damping.params]\nF_c = 20.0\nx_s = 0.0\n')
+    with pytest.raises(ValueError, match="a second Coulomb element with a \\(near-\\)rigid stick; valid: one"):
+        seg(p)
+    p, seg = _segment_model(tmp_path, '[[effects]]\nname = "backlash"\n[effects.params]\nb = 0.02\n'
+                            '[damping]\nform = "none"\n')
+    with pytest.raises(ValueError, match="effect 'backlash' is not supported by dynamics segments; valid: friction, "
+                                         "hysteresis"):
+        seg(p)
+    p, seg = _segment_model(tmp_path, '[damping]\nform = "viscous"\n[damping.params]\nc = -1.0\n')
+    with pytest.raises(ValueError, match=r"c = -1 N·s/mm is invalid: valid range >= 0"):
+        seg(p)
+
+
+def test_simulate_step_grid_defaults_static_reference_and_bounds():
+    """simulate's documented step and output grid, by hand: dt = 3e-4 s for t_end = 0.01 s is 33.3 steps → 34,
+    stored every ceil(34/10) = 4th step with n_out = 10, so 36 steps of 0.01/36 s and 10 samples ending at t_end;
+    default dt 0.9·dt_stable (explicit) or min(10·dt_stable, t_end/1000) (implicit), at most t_end/n_out; the static
+    reference is the running tension for ramp/polygon drives and the pretension otherwise (dynamic factor nan at 0);
+    bounds of safety, n_out, substep_levels, refine and the initial state's shape.
+    Bugs caught: the grid's rounding, the defaults' constants, the static rule, the bounds."""
+    import warnings
+
+    from chainid.dynamics import stable_step
+
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=1_000.0, resistance_N=200.0)
+    ramp = Drive("ramp", v=50.0, t_ramp=0.005)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a coarse step: the balance warning is not under test
+        res = simulate(line, ramp, 0.01, dt=3e-4, n_out=10, peak_force=3_000.0)
+    assert res.n_steps == 36 and res.dt == pytest.approx(0.01 / 36, rel=1e-12)
+    np.testing.assert_allclose(res.t, np.arange(10) * 4 * 0.01 / 36, rtol=1e-12, atol=1e-15)
+    assert res.static_tension == 1_200.0 and res.dynamic_factor == pytest.approx(res.peak_tension / 1_200.0)
+    dts = stable_step(line)
+    res = simulate(line, ramp, 0.05, n_out=2)  # 0.9·dts is below 0.05/2
+    assert res.dt == pytest.approx(0.05 / math.ceil(0.05 / (0.9 * dts) - 1e-9), rel=1e-12)
+    res = simulate(line, ramp, 0.01, n_out=20, scheme="implicit")
+    assert res.dt == pytest.approx(min(10 * dts, 0.01 / 1000), rel=1e-9)
+    res = simulate(line, ramp, 0.05, n_out=2, safety=0.5)
+    assert res.dt == pytest.approx(0.05 / math.ceil(0.05 / (0.5 * dts) - 1e-9), rel=1e-12)
+    sine = simulate(line, Drive("sine", A=0.01, omega=100.0), 0.005, n_out=5)
+    assert sine.static_tension == 1_000.0
+    slack = simulate(ChainLine(n_links=40, n_masses=4), Drive("sine", A=0.01, omega=100.0), 0.005, n_out=5)
+    assert slack.static_tension == 0.0 and math.isnan(slack.dynamic_factor)
+    for kw, message in ((dict(safety=1.0001), "safety = 1.0001 is invalid: valid range 0 < safety <= 1"),
+                        (dict(n_out=1), "n_out = 1 is invalid: valid range an int >= 2"),
+                        (dict(substep_levels=21), "substep_levels = 21 is invalid: valid range an int 0 .. 20"),
+                        (dict(refine=11), "refine = 11 is invalid: valid range an int 0 .. 10"),
+                        (dict(initial_u=np.zeros(4)), "initial_u = 'array of shape (4,)' is invalid: valid range "
+                                                      "finite values, shape (5,) (one per node)")):
+        with pytest.raises(ValueError) as exc:
+            simulate(line, ramp, 0.01, **kw)
+        assert str(exc.value) == message

@@ -144,7 +144,8 @@ def add_subparsers(subparsers: Any) -> None:
     b = subparsers.add_parser("benchmark-gap", help="blind benchmark of the diagnosis on simulated effects")
     b.add_argument("--small", action="store_true", help="a small, fast grid")
     b.add_argument("--json", metavar="FILE", help="write the JSON summary")
-    b.add_argument("--seed", type=int, default=0)
+    b.add_argument("--seed", type=int, default=0,
+                   help="seed of the benchmark's random effects, noise and plans (default 0, the README's runs)")
     b.add_argument("--excitations", default="harmonic,random,sweep,startup,quake,transfer", metavar="LIST",
                    help="which excitations run, comma separated: harmonic (steady test plans), random, sweep, "
                         "startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, score "
