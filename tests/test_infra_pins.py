@@ -160,7 +160,7 @@ def test_probe_a_server_that_closes_without_a_word_and_an_ipv6_address():
     import time
 
     from chainid.infra.parallel import probe_scheduler
-    from tests.fake_servers import greeting_listener
+    from fake_servers import greeting_listener
 
     with greeting_listener(lambda: b"") as address:
         t0 = time.monotonic()

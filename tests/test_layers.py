@@ -121,6 +121,18 @@ def test_no_private_name_imported_across_modules():
     assert bad == []
 
 
+def test_tests_import_their_helpers_by_module_name():
+    """The README's test command is a bare ``pytest -q``, which puts ``tests/`` (not the checkout) on sys.path:
+    a test that imports ``tests.x`` passes under ``python -m pytest`` and fails in CI (it did, twice)."""
+    bad = []
+    for f in (ROOT / "tests").glob("*.py"):
+        for node in ast.walk(ast.parse(f.read_text())):
+            mods = ([node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else
+                    [a.name for a in node.names] if isinstance(node, ast.Import) else [])
+            bad += [f"{f.name}: {m}" for m in mods if m == "tests" or m.startswith("tests.")]
+    assert bad == []
+
+
 def test_rooms_small():
     big = [f"{f.relative_to(ROOT)}: {n}" for f in PKG.rglob("*.py")
            if (n := len(f.read_text().splitlines())) > 500]

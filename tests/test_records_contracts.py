@@ -13,15 +13,7 @@ from chainid.records.excitation import earthquake
 from chainid.records.files import read_records
 from chainid.records.record import Record
 from chainid.records.validate import validate_record
-
-
-def _kt_cp_displacement(f, f_g=2.0, zeta_g=0.5, f_c=0.2):
-    """Displacement amplitude of the textbook Kanai–Tajimi ground acceleration filtered by the Clough–Penzien
-    high-pass (ζ_c = 0.7): sqrt(|H_KT|²·|H_CP|²)/ω², typed from the standard forms."""
-    w, wg, wc = 2 * np.pi * f, 2 * np.pi * f_g, 2 * np.pi * f_c
-    hkt = (wg**4 + 4 * zeta_g**2 * wg**2 * w**2) / ((wg**2 - w**2) ** 2 + 4 * zeta_g**2 * wg**2 * w**2)
-    hcp = w**4 / ((wc**2 - w**2) ** 2 + 4 * 0.7**2 * wc**2 * w**2)
-    return np.sqrt(hkt * hcp) / w**2
+from spectral_forms import kt_cp_displacement
 
 
 def test_earthquake_spectrum_slope_is_kanai_tajimi_clough_penzien():
@@ -38,7 +30,7 @@ def test_earthquake_spectrum_slope_is_kanai_tajimi_clough_penzien():
     f = np.fft.rfftfreq(n, 1 / fs)
     sel = (f >= band[0]) & (f <= band[1])
     slope = np.polyfit(np.log(f[sel]), np.log(X[sel]), 1)[0]
-    ref = np.polyfit(np.log(f[sel]), np.log(_kt_cp_displacement(f[sel])), 1)[0]
+    ref = np.polyfit(np.log(f[sel]), np.log(kt_cp_displacement(f[sel])), 1)[0]
     assert slope == pytest.approx(ref, abs=0.25)
     assert float(np.max(np.abs(m.x))) == pytest.approx(10.0, rel=1e-9)  # scaled to the peak
 
@@ -250,7 +242,7 @@ def test_earthquake_clough_penzien_corner_by_band_power():
         X = np.abs(np.fft.rfft(earthquake(n, fs, 10.0, 0.0, np.random.default_rng(seed), f_hi=3.0).x)) ** 2
         P += X / X.sum()
     b1, b2 = (f >= 0.15) & (f <= 0.35), (f >= 0.8) & (f <= 1.6)
-    ref = (_kt_cp_displacement(f[b1]) ** 2).sum() / (_kt_cp_displacement(f[b2]) ** 2).sum()
+    ref = (kt_cp_displacement(f[b1]) ** 2).sum() / (kt_cp_displacement(f[b2]) ** 2).sum()
     assert P[b1].sum() / P[b2].sum() / ref == pytest.approx(1.0, abs=0.6)
 
 

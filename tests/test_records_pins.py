@@ -97,7 +97,7 @@ def test_earthquake_above_the_ground_frequency_keeps_the_kanai_tajimi_numerator(
     against the same ratio of the textbook KT × CP form, within a factor 1.6 (measured over seeds 0–47 in
     groups of six: 0.89–1.28).  Bug caught: ``4ζ²·r`` → ``4ζ² % r`` in the numerator (the ratio drops ~5×)."""
     from chainid.records.excitation import earthquake
-    from tests.test_records_contracts import _kt_cp_displacement
+    from spectral_forms import kt_cp_displacement
 
     fs, T = 24.0, 120.0
     n = int(fs * T)
@@ -107,7 +107,7 @@ def test_earthquake_above_the_ground_frequency_keeps_the_kanai_tajimi_numerator(
         X = np.abs(np.fft.rfft(earthquake(n, fs, 10.0, 0.0, np.random.default_rng(seed), f_hi=10.0).x)) ** 2
         P += X / X.sum()
     b1, b2 = (f >= 0.8) & (f <= 1.6), (f >= 4.0) & (f <= 8.0)
-    ref = (_kt_cp_displacement(f[b2]) ** 2).sum() / (_kt_cp_displacement(f[b1]) ** 2).sum()
+    ref = (kt_cp_displacement(f[b2]) ** 2).sum() / (kt_cp_displacement(f[b1]) ** 2).sum()
     assert P[b2].sum() / P[b1].sum() / ref == pytest.approx(1.0, abs=0.6)
 
 
