@@ -223,3 +223,28 @@ def test_cycles_with_fewer_than_six_samples_are_incomplete():
     t = np.arange(0, 10 * 8) / 8.0 + 0.1
     win = select_steady(t, np.sin(w * t), w, 0.0, rel_tol=0.03)
     assert win.cycle_amplitudes == pytest.approx([1.0] * win.n_cycles_total, abs=1e-12)
+
+
+# --- seed 811 survivors ----------------------------------------------------------------------------------------
+def test_fft_peak_cut_is_one_and_a_half_cycles_of_the_records_own_span():
+    """The low-bin cut is 1.5 cycles of the record's span, wherever the record starts: x = 2 sin(2π·0.1 t) +
+    sin(2π·0.8 t) on t ∈ [10, 20] s (one cycle of the larger line) peaks at the 0.8 Hz line (within 0.5 %).  Bug
+    caught: ``1.5 / (t_end − t_start)`` → ``1.5 / (t_end + t_start)`` (0.075 Hz from t = 10 s: the 0.1 Hz line
+    is no longer cut and wins)."""
+    t = np.linspace(10.0, 20.0, 2001)
+    x = 2.0 * np.sin(2 * np.pi * 0.1 * t) + np.sin(2 * np.pi * 0.8 * t)
+    assert _fft_peak_omega(t, x) == pytest.approx(2 * np.pi * 0.8, rel=5e-3)
+
+
+def test_a_large_start_transient_does_not_hide_the_test_in_the_last_half():
+    """First 10 s: a settling motion of 5 mm at 0.5 Hz; last 10 s: the test, 0.5 mm at 2 Hz about 3 mm.  The
+    whole record's velocity peak is the transient's (15.7 vs 6.3 mm/s over equal spans); the candidates from the
+    last half and third (the docstring's step 1) find 2 Hz, whose steady window (19 cycles after the first is
+    dropped, from t = 10.5 s) beats the transient's 4.  Bug caught: the candidate segments ``t[0] + f·span`` →
+    ``t[0] − f·span`` (every candidate from the whole record)."""
+    t = np.arange(0.0, 20.0, 1 / 200.0)
+    x = 3.0 + np.where(t < 10.0, 5.0 * np.sin(2 * np.pi * 0.5 * t), 0.5 * np.sin(2 * np.pi * 2.0 * (t - 10.0)))
+    est = estimate_harmonic(t, x)
+    assert est.omega == pytest.approx(4 * np.pi, rel=1e-9)
+    assert (est.A, est.x0) == pytest.approx((0.5, 3.0), abs=1e-9)
+    assert est.window.n_cycles == 19 and est.window.t_start == pytest.approx(10.5, abs=1e-9)
