@@ -248,3 +248,23 @@ def test_a_large_start_transient_does_not_hide_the_test_in_the_last_half():
     assert est.omega == pytest.approx(4 * np.pi, rel=1e-9)
     assert (est.A, est.x0) == pytest.approx((0.5, 3.0), abs=1e-9)
     assert est.window.n_cycles == 19 and est.window.t_start == pytest.approx(10.5, abs=1e-9)
+
+
+def test_fft_candidates_only_from_segments_of_sixteen_samples_or_more(monkeypatch):
+    """The candidate search's FFT runs on the whole record, its last half and its last third, but only on a
+    segment of ≥ 16 samples (the record's own minimum): a 40-sample record gives one candidate search (the half
+    and the third hold 20 and 13 samples → whole and half only).  Bug caught: ``seg.sum() < 16`` → ``== 16``
+    (a 13-sample third searched: on short noisy records a different candidate may win)."""
+    import chainid.signal.harmonic as H
+
+    sizes = []
+    real = H._fft_peak_omega
+
+    def spy(t, x):
+        sizes.append(t.size)
+        return real(t, x)
+
+    monkeypatch.setattr(H, "_fft_peak_omega", spy)
+    t = np.arange(40) / 10.0
+    H.estimate_harmonic(t, 2.0 + np.sin(2 * np.pi * t))
+    assert sizes == [40, 20]
