@@ -80,3 +80,93 @@ def test_compressive_force_names_the_minimum_and_its_time():
         check_data(Record("c", t, np.ones(6), F))
     check_data(Record("c", t, np.ones(6), F), allow_compression=True)
     check_data(Record("z", t, np.ones(6), np.zeros(6)))
+
+
+# --- seed 812 survivors ----------------------------------------------------------------------------------------
+def test_under_one_cycle_of_a_given_estimate_states_the_records_own_span():
+    """A record from t = 100 s to 100.8 s checked against a given estimate of 1 Hz (a side file): 0.8 periods, so
+    "the record (0.8 s) spans 0.8 period(s) of 1 s; at least 2 whole cycles are needed".  Bug caught: the span
+    ``t[-1] − t[0]`` → ``t[-1] + t[0]`` in the message (200.8 s)."""
+    from chainid.signal.harmonic import HarmonicEstimate
+    from chainid.records.validate import validate_record
+
+    t = 100.0 + np.linspace(0.0, 0.8, 81)
+    r = Record("u", t, 2.0 + np.sin(2 * np.pi * t), np.full(81, 10.0))
+    est = HarmonicEstimate(omega=2 * np.pi, x0=2.0, A=1.0, theta=0.0, noise=0.01, t_origin=100.0)
+    with pytest.raises(ValueError, match=r"^test 'u': less than one whole cycle: the record \(0\.8 s\) spans 0\.8 "
+                                         r"period\(s\) of 1 s; at least 2 whole cycles are needed$"):
+        validate_record(r, estimate=est)
+
+
+@pytest.mark.parametrize("ratio,text", [
+    (1000.0, "x in m read as mm"), (1e-3, "F in kN read as N"), (25.4, "x in inches declared mm?"),
+    (1 / 25.4, "x declared inches while in mm"), (1 / 4448.2, "F in kip read as N"),
+    (1 / 4.448, "F in lbf read as N (--units F=lbf)"), (1 / 4.448 * 2.9, "F in lbf read as N"),
+    (0.75, "a unit slip of x or F?"),  # 3.34 x the lbf ratio 0.2248: outside every slip's factor-3 window
+    (8.0, "a unit slip of x or F?"),  # 25.4 / 8 = 3.2: outside the inches window too
+])
+def test_stiffness_ratio_names_the_slip_within_a_factor_three(ratio, text):
+    """The stiffness-ratio check names the known slip nearest (in log) to the record's k over the chain's, when
+    it is within a factor 3: m/mm or kN/N (1000), inches (25.4), kip (4448.2 N) and lbf (4.448 N) per unit; else
+    the generic question.  Bug caught: the lbf factor 4.448 garbled (3.448: 0.75 would be named lbf)."""
+    from chainid.records.plausible import _slip
+
+    assert text in _slip(ratio)
+
+
+def test_random_phases_are_uniform_on_zero_two_pi(monkeypatch):
+    """The band-limited random and earthquake programs sum lines with random phases, uniform on [0, 2π) (the
+    module docstring): every phase drawn lies in [0, 2π) and their circular mean |mean e^{iφ}| is below 4/√N (N
+    lines; a uniform phase gives 1/√N on average).  Bug caught: ``uniform(0, 2π)`` → ``uniform(0, 2**π)`` (phases
+    up to 8.8 rad, a mean resultant of 0.22)."""
+    import chainid.records.excitation as ex
+
+    phases = []
+    real = ex._fourier
+
+    def spy(t, f, amp, ph):
+        phases.append(np.asarray(ph, float))
+        return real(t, f, amp, ph)
+
+    monkeypatch.setattr(ex, "_fourier", spy)
+    rng = np.random.default_rng(11)
+    ex.earthquake(20_000, 200.0, 0.3, 2.0, rng)
+    ex.band_random(20_000, 200.0, 0.5, 20.0, 0.1, 2.0, rng, wander=0.05)
+    assert len(phases) == 3
+    for ph in phases[:2]:  # the quake's and the band's lines (the wander has only a few)
+        assert ph.size >= 1000
+        assert ph.min() >= 0.0 and ph.max() < 2 * np.pi
+        assert abs(np.mean(np.exp(1j * ph))) < 4 / np.sqrt(ph.size)
+
+
+@pytest.mark.parametrize("arrow", [True, False])
+def test_writer_without_the_kernel_round_trips_over_several_blocks(tmp_path, monkeypatch, arrow):
+    """With the numba kernel off (``NUMBA_DISABLE_JIT=1``) the CSV is written by pyarrow in blocks of rows, or
+    without pyarrow by ``%.17g``: 2 507 and 10 rows in blocks of 1 000 read back bit-exact, in order, under the
+    header ``test,t,x,F``.  Bug caught: the block end ``i + rows`` → ``i / rows`` (the pyarrow path had no test:
+    the other round-trip tests run with the kernel)."""
+    import sys
+
+    import chainid.infra.floattext as ft
+    import chainid.records.writer as w
+
+    monkeypatch.setattr(ft, "jit_enabled", lambda: False)
+    monkeypatch.setattr(w, "_ROWS_PER_WRITE", 1000)
+    monkeypatch.setattr(w, "_BLOCK", 1000)
+    if not arrow:
+        monkeypatch.setitem(sys.modules, "pyarrow", None)
+        monkeypatch.setitem(sys.modules, "pyarrow.csv", None)
+    rng = np.random.default_rng(2)
+    n = 2507
+    t = np.cumsum(rng.uniform(1e-4, 2e-3, n))
+    a = Record("A", t, rng.normal(2.2, 0.3, n) * np.pi, rng.normal(1e4, 3e3, n) / 3.0)
+    b = Record("B2", t[:10].copy(), np.full(10, 1 / 3), np.full(10, 2 / 3))
+    p = w.write_canonical(tmp_path / "o.csv", [a, b])
+    lines = p.read_text(encoding="ascii").splitlines()
+    assert lines[0] == "test,t,x,F" and len(lines) == 1 + n + 10
+    rows = [ln.split(",") for ln in lines[1:]]
+    assert [r[0] for r in rows] == ["A"] * n + ["B2"] * 10
+    for k, col in (("t", 1), ("x", 2), ("F", 3)):
+        vals = np.array([float(r[col]) for r in rows])
+        np.testing.assert_array_equal(vals[:n], getattr(a, k))
+        np.testing.assert_array_equal(vals[n:], getattr(b, k))
