@@ -268,3 +268,28 @@ def test_fft_candidates_only_from_segments_of_sixteen_samples_or_more(monkeypatc
     t = np.arange(40) / 10.0
     H.estimate_harmonic(t, 2.0 + np.sin(2 * np.pi * t))
     assert sizes == [40, 20]
+
+
+def test_a_cycle_is_whole_when_its_last_sample_one_step_before_the_boundary_is_there():
+    """1 Hz sampled at 100 Hz from t = 0: a record ending at 2.99 s holds the last sample of cycle 2 (one step
+    before the boundary at 3 s): 3 whole cycles; ending at 2.98 s, cycle 2 lacks its last sample: 2 (the rule
+    of ``_cycle_stats``: "a cycle is whole if its last sample (one step before the boundary) is present")."""
+    w = 2 * np.pi
+    for last, whole in ((299, 3), (298, 2)):
+        t = np.arange(last + 1) * 0.01
+        assert select_steady(t, 3 + np.sin(w * t), w, 0.0, rel_tol=0.03, drop_first=False).n_cycles_total == whole
+
+
+def test_a_cycle_that_misses_samples_at_its_start_is_incomplete():
+    """Four cycles of 1 Hz at 100 Hz; one sample missing at the start of cycle 1 (a step of jitter) leaves it
+    whole (amplitude 1); three missing (a gap) make it incomplete: amplitude 0 and mean NaN (the docstring's
+    values for an incomplete cycle), while the other cycles keep amplitude 1."""
+    w = 2 * np.pi
+    t = np.arange(400) * 0.01
+    for k, amp1 in ((1, 1.0), (3, 0.0)):
+        m = np.ones(400, bool)
+        m[100:100 + k] = False
+        win = select_steady(t[m], 3 + np.sin(w * t[m]), w, 0.0, rel_tol=0.03, drop_first=False)
+        assert win.n_cycles_total == 4
+        assert win.cycle_amplitudes == pytest.approx([1.0, amp1, 1.0, 1.0], abs=1e-9)
+        assert math.isnan(win.cycle_means[1]) == (amp1 == 0.0)
