@@ -293,3 +293,26 @@ def test_a_cycle_that_misses_samples_at_its_start_is_incomplete():
         assert win.n_cycles_total == 4
         assert win.cycle_amplitudes == pytest.approx([1.0, amp1, 1.0, 1.0], abs=1e-9)
         assert math.isnan(win.cycle_means[1]) == (amp1 == 0.0)
+
+
+def test_widening_stops_at_the_fifteen_per_cent_cap():
+    """Eight cycles of amplitude 1.14^k mm (k = 0..7: 14 % steps, no second differences' scatter): 3, 4.5,
+    6.75 and 10.125 % hold no two neighbours; the next widening, 15.19 %, is capped at TOL_MAX = 15 %, where
+    a_{k±1} agree with a_k: plateau a_6 = 1.14⁶ = 2.195 mm (ties → the larger), run 5–7, cycles 6 and 7 kept."""
+    w = 2 * np.pi
+    amps = 1.14 ** np.arange(8)
+    t = np.linspace(0.0, 8.0, 8 * 64, endpoint=False)
+    win = select_steady(t, 3.0 + amps[np.minimum(t.astype(int), 7)] * np.sin(w * t), w, 0.0, rel_tol=None)
+    assert win.rel_tol == 0.15 and win.cycles_kept == [6, 7] and win.n_cycles_start == 0
+    assert win.plateau_A == pytest.approx(1.14**6, rel=1e-9)
+    assert win.reason.startswith("widened to 15 %: no steady cycle within 3 % (floor 3 % (too few cycles")
+
+
+def test_amplitude_floor_is_four_standard_errors_of_the_median_residual():
+    """``_amp_floor``: 4·median(residual SD)·sqrt(2/n) per cycle (NaN residuals ignored, n at least 1): median
+    of 0.1, 0.3, 0.1 mm is 0.1 mm: n = 8 → 0.2 mm, n = 2 → 0.4 mm, n = 0 → 4·0.1·√2 mm; no finite residual → 0."""
+    from chainid.signal.steady import _amp_floor
+
+    got = _amp_floor(np.array([0.1, np.nan, 0.3, 0.1]), np.array([8, 8, 2, 0]))
+    assert got == pytest.approx([0.2, 0.2, 0.4, 0.4 * math.sqrt(2.0)], rel=1e-12)
+    assert _amp_floor(np.array([np.nan, np.nan]), np.array([8, 8])).tolist() == [0.0, 0.0]
