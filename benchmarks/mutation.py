@@ -83,7 +83,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_checks.py", "tests/test_dynamics_damping.py",
                  "tests/test_dynamics.py", "tests/test_cli_dynamics.py", "tests/test_dynamics_waves.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
-    "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
+    "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_infra_pins2.py", "tests/test_parallel.py",
               "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py",
               "tests/test_infra_contracts.py", "tests/test_floattext.py",
               # timing-dependent under load (a SIGINT sent 1.5 s after the workers appear, while they may still be
