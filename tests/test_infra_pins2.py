@@ -14,3 +14,92 @@ def test_a_loaded_kernel_module_is_returned_without_probing_the_cache_again(monk
     monkeypatch.setattr(nc, "_choose_cache", lambda py_file: calls.append(py_file) or "default")
     assert nc.load_kernel_module("contact_power") is first
     assert calls == [] and first._chainid_cache_mode == nc.cache_mode()
+
+
+# --- weak spots of fileio.py: the documented messages and branches --------------------------------------------
+import os  # noqa: E402
+import threading  # noqa: E402
+
+import pytest  # noqa: E402
+
+from chainid.infra import fileio  # noqa: E402
+from chainid.infra.fileio import OutputError  # noqa: E402
+
+
+def test_output_checks_name_the_option_and_the_path(tmp_path):
+    """Each refusal is one line naming the option (``what``) and the path, as the module docstring promises."""
+    d = tmp_path / "d"
+    d.mkdir()
+    with pytest.raises(OutputError, match=rf"^--json '{d}' is a directory; give a file name$"):
+        fileio.check_output_file(d, what="--json")
+    f = tmp_path / "f.json"
+    f.write_text("{}")
+    with pytest.raises(OutputError, match=rf"^--json file '{f}' already exists; refusing to overwrite it "
+                                          r"\(use --force\)$"):
+        fileio.check_output_file(f, what="--json")
+    assert fileio.check_output_file(f, force=True, what="--json") == f
+    assert str(fileio.check_output_file("-")) == "-"  # stdout: nothing to check
+    with pytest.raises(OutputError, match=rf"^--plots '{f}' is a file; give a folder$"):
+        fileio.check_output_dir(f, "--plots")
+    with pytest.raises(OutputError, match=r"^--plots: two outputs would share the file name\(s\) \['a.png', "
+                                          r"'b.png'\]$"):
+        fileio.check_output_dir(d, "--plots", ["b.png", "a.png", "b.png", "a.png", "c.png"])
+    with pytest.raises(OutputError, match=rf"^--out '{f}/x.csv': '{f}' is not a directory$"):
+        fileio.check_output_file(f / "x.csv", what="--out")
+    assert fileio.check_output_dir(tmp_path / "new" / "deeper", "--plots", ["a.png"]) == tmp_path / "new" / "deeper"
+
+
+def test_atomic_open_takes_text_or_binary_only(tmp_path):
+    """``mode`` is "w" or "wb"; "a" (append: not atomic) is refused naming the value; "wb" writes bytes."""
+    with pytest.raises(ValueError, match=r"^mode = 'a' is invalid: valid values 'w', 'wb'$"):
+        with fileio.atomic_open(tmp_path / "a.txt", "a"):
+            pass
+    assert not (tmp_path / "a.txt").exists()
+    with fileio.atomic_open(tmp_path / "b.bin", "wb") as fh:
+        fh.write(b"\x00\x01")
+    assert (tmp_path / "b.bin").read_bytes() == b"\x00\x01"
+
+
+def test_write_json_targets(tmp_path, capsys):
+    """``write_json``: None writes nothing and returns None; "-" prints the strict JSON and a newline to stdout and
+    returns None; a path is written atomically and returned."""
+    assert fileio.write_json({"a": 1}, None) is None
+    assert fileio.write_json({"a": float("nan")}, "-") is None
+    assert capsys.readouterr().out == '{\n  "a": null\n}\n'
+    p = fileio.write_json([1, 2], tmp_path / "o.json")
+    assert p == tmp_path / "o.json" and p.read_text() == "[\n  1,\n  2\n]\n"
+    assert os.listdir(tmp_path) == ["o.json"]
+
+
+def test_replace_file_renames_onto_a_regular_file_and_refuses_a_fifo(tmp_path):
+    """``replace_file`` renames a finished file over a regular one; a special target (a FIFO) is refused naming
+    it, and both files stay."""
+    src, dst = tmp_path / "new", tmp_path / "old"
+    src.write_text("new")
+    dst.write_text("old")
+    fileio.replace_file(src, dst)
+    assert dst.read_text() == "new" and not src.exists()
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    src.write_text("x")
+    with pytest.raises(OutputError, match=rf"^report '{fifo}' is a FIFO, not a regular file; refusing to replace"):
+        fileio.replace_file(src, fifo, what="report")
+    assert src.read_text() == "x" and fileio._special_kind(fifo) == "FIFO"
+
+
+def test_deferred_sigint_outside_the_main_thread_is_a_no_op():
+    """Python delivers signals to the main thread only, and ``signal.signal`` raises elsewhere: in another thread
+    the block just runs (no error)."""
+    out = []
+
+    def work():
+        try:
+            with fileio.deferred_sigint():
+                out.append("ran")
+        except Exception as exc:  # pragma: no cover - the bug
+            out.append(repr(exc))
+
+    th = threading.Thread(target=work)
+    th.start()
+    th.join()
+    assert out == ["ran"]
