@@ -103,3 +103,22 @@ def test_deferred_sigint_outside_the_main_thread_is_a_no_op():
     th.start()
     th.join()
     assert out == ["ran"]
+
+
+def test_private_temp_cache_folder_is_the_users_own_or_a_fresh_one(tmp_path, monkeypatch):
+    """The fallback numba cache folder is ``<tmp>/chainid-numba-<uid>``, created with mode 0700; a folder of that
+    name that others may write (mode 0777) is not trusted: a fresh ``mkdtemp`` folder is used instead."""
+    import stat
+    import tempfile
+
+    import chainid.infra.numba_cache as nc
+
+    monkeypatch.setattr(tempfile, "gettempdir", lambda: str(tmp_path))
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    own = tmp_path / f"chainid-numba-{os.getuid()}"
+    assert nc._private_temp_dir() == str(own)
+    assert stat.S_IMODE(os.stat(own).st_mode) & 0o077 == 0
+    os.chmod(own, 0o777)
+    other = nc._private_temp_dir()
+    assert other != str(own) and os.path.basename(other).startswith("chainid-numba-")
+    assert os.path.dirname(other) == str(tmp_path) and stat.S_IMODE(os.stat(other).st_mode) == 0o700
