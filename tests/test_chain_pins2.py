@@ -78,3 +78,14 @@ def test_family_and_grade_defaults_and_the_dict_keys():
     assert r.n == 40 and r.length_mm == 2000.0
     with pytest.raises(ValueError, match="ChainSpec.n = 0"):
         ChainSpec(**GOOD).replace(n=0)
+
+
+@pytest.mark.parametrize("width,pitch", [(40.0, 35.0), (30.0, float("30"))])
+def test_pitch_must_exceed_a_width_above_two_d(width, pitch):
+    """d = 14 mm with an inner width above 2 d = 28 mm: the pitch must exceed the width (the straight part
+    L = (pitch − width)/2 > 0), even when it is above 2 d: width 40, pitch 35 and width 30, pitch 30 (a separate
+    float object) are refused with "max(2 d, width) = W < pitch".  Bug caught: ``p > w`` → ``p is not w``."""
+    with pytest.raises(ValueError) as info:
+        ChainSpec(**(GOOD | dict(width=width, pitch=pitch)))
+    assert f"ChainSpec.pitch = {pitch!r} is invalid: valid range is max(2 d, width) = {width:g} < pitch" \
+        in str(info.value)
