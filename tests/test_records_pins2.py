@@ -170,3 +170,76 @@ def test_writer_without_the_kernel_round_trips_over_several_blocks(tmp_path, mon
         vals = np.array([float(r[col]) for r in rows])
         np.testing.assert_array_equal(vals[:n], getattr(a, k))
         np.testing.assert_array_equal(vals[n:], getattr(b, k))
+
+
+# --- weak spots of excitation.py: closed forms ------------------------------------------------------------------
+def test_smoothstep_values_and_derivatives_by_hand():
+    """s(u) = 10u³ − 15u⁴ + 6u⁵ clipped to [0, 1], u = (t − t_i)/T with T = 2 s: s(0.25) = 0.103515625,
+    s(0.5) = 0.5, ds/dt(0.5) = 30·u²(1 − u)²/T = 0.9375 /s, d²s/dt²(0.25) = 60u(1 − u)(1 − 2u)/T² = 1.40625 /s²;
+    beyond the ends s is 0 or 1 with zero derivatives."""
+    from chainid.records.excitation import smoothstep
+
+    s, ds, dds = smoothstep(np.array([-0.5, 0.0, 0.25, 0.5, 1.0, 1.5]), 2.0)
+    assert s == pytest.approx([0.0, 0.0, 0.103515625, 0.5, 1.0, 1.0], abs=1e-15)
+    assert ds == pytest.approx([0.0, 0.0, 30 * 0.0625 * 0.5625 / 2, 0.9375, 0.0, 0.0], abs=1e-15)
+    assert dds == pytest.approx([0.0, 0.0, 1.40625, 0.0, 0.0, 0.0], abs=1e-15)
+
+
+def test_motion_sum_and_dominant_frequency_default():
+    """A Motion's dominant frequency defaults to its band edge f_max; the sum of two motions adds x, ẋ, ẍ, keeps
+    the larger f_max and f_dom, and the first one's A and kind."""
+    from chainid.records.excitation import Motion
+
+    t = np.arange(3.0)
+    a = Motion(t, np.ones(3), np.full(3, 2.0), np.full(3, 3.0), 4.0, 0.5, "sweep")
+    b = Motion(t, np.full(3, 10.0), np.full(3, 20.0), np.full(3, 30.0), 2.0, 9.0, "random", f_dom=7.0)
+    assert a.f_dom == 4.0 and b.f_dom == 7.0
+    c = a + b
+    assert (c.x.tolist(), c.xd.tolist(), c.xdd.tolist()) == ([11.0] * 3, [22.0] * 3, [33.0] * 3)
+    assert (c.f_max, c.A, c.kind, c.f_dom) == (4.0, 0.5, "sweep", 7.0)
+
+
+@pytest.mark.parametrize("log,crossings", [(False, 90), (True, 67)])
+def test_sweep_cycles_over_the_record_by_hand(log, crossings):
+    """A sweep 0.5 → 4 Hz over 20 s runs ∫f dt cycles: linear (0.5 + 4)/2·20 = 45, exponential
+    (4 − 0.5)·20/ln 8 = 33.66; x − x0 crosses zero twice a cycle (within 2)."""
+    from chainid.records.excitation import sweep
+
+    m = sweep(20_000, 1000.0, 0.5, 4.0, 0.2, 2.0, log=log)
+    y = m.x - 2.0
+    assert abs(int(np.sum(np.diff(np.sign(y)) != 0)) - crossings) <= 2
+    assert m.f_max == 4.0 and m.A == 0.2 and m.kind == "sweep"
+
+
+def test_startup_levels_step_times_and_running_phase_by_hand():
+    """Levels 1, 2, 1.5 mm from x_start = 0 over a 2 s ramp in a 20 s record: the steps (0.5 s each) start at
+    2 + (i + 1)·18/3 = 8 and 14 s.  Without vibration (A = 0) x is the mean: 0.5 at 1 s (half the quintic),
+    1 before 8 s, 2 after 8.5 s, 1.5 after 14.5 s.  With A = 0.1 mm at 3 Hz, after the ramp
+    x − mean = A sin(2π·3·(t − 1 s)) (the phase ∫ of the run-up, half the ramp)."""
+    from chainid.records.excitation import startup_steps
+
+    m = startup_steps(20_000, 1000.0, [1.0, 2.0, 1.5], 2.0, 0.5, 3.0, 0.0)
+    t = m.t
+    at = (lambda s: float(m.x[int(round(s * 1000))]))
+    assert (at(1.0), at(7.99), at(8.5), at(13.99), at(14.5), at(19.0)) == pytest.approx(
+        (0.5, 1.0, 2.0, 2.0, 1.5, 1.5), abs=1e-12)
+    v = startup_steps(20_000, 1000.0, [1.0, 2.0, 1.5], 2.0, 0.5, 3.0, 0.1)
+    sel = (t > 2.0) & (t < 7.9)
+    np.testing.assert_allclose(v.x[sel] - 1.0, 0.1 * np.sin(2 * np.pi * 3.0 * (t[sel] - 1.0)), atol=1e-9)
+
+
+def test_envelope_rests_before_the_lead_and_tapers_to_the_mean():
+    """``with_envelope``: before the lead-in (1 s) the motion rests at its first value with ẋ = ẍ = 0; with a
+    taper of 2 s it starts and ends at the record's mean and is untouched between the tapers."""
+    from chainid.records.excitation import sweep, with_envelope
+
+    base = sweep(8000, 400.0, 0.5, 2.0, 0.2, 2.0)
+    led = with_envelope(base, lead=1.0)
+    pre = base.t < 1.0
+    assert np.all(led.x[pre] == base.x[0]) and np.all(led.xd[pre] == 0.0) and np.all(led.xdd[pre] == 0.0)
+    tap = with_envelope(base, taper=2.0)
+    xm = float(np.mean(base.x))
+    assert tap.x[0] == pytest.approx(xm, abs=1e-12) and tap.x[-1] == pytest.approx(xm, abs=1e-12)
+    mid = (base.t > 2.0) & (base.t < base.t[-1] - 2.0)
+    np.testing.assert_allclose(tap.x[mid], base.x[mid], atol=1e-12)
+    np.testing.assert_allclose(tap.xd[mid], base.xd[mid], atol=1e-12)
