@@ -243,3 +243,65 @@ def test_envelope_rests_before_the_lead_and_tapers_to_the_mean():
     mid = (base.t > 2.0) & (base.t < base.t[-1] - 2.0)
     np.testing.assert_allclose(tap.x[mid], base.x[mid], atol=1e-12)
     np.testing.assert_allclose(tap.xd[mid], base.xd[mid], atol=1e-12)
+
+
+# --- weak spots of simulate.py: the start at rest and the messages ----------------------------------------------
+def test_a_test_without_ramp_starts_at_rest_at_the_mean():
+    """No ramp: the first sample (t = 0) is at x0 with ẋ = ẍ = 0, so F(0) = k·x0 = 20000·2.2 N exactly; the next
+    sample follows x0 + A sin(ωt)."""
+    from stand_ins import LinearSpring
+
+    from chainid.records.simulate import TestSpec, simulate_test
+
+    r = simulate_test(TestSpec("a", 2.0, 2.2, 0.25), LinearSpring(20000.0), 500.0, n_cycles=1, samples_per_cycle=16)
+    assert r.x[0] == 2.2 and r.F[0] == 20000.0 * 2.2
+    assert r.x[1] == pytest.approx(2.2 + 0.25 * math.sin(2.0 * r.t[1]), abs=1e-15)
+
+
+def test_simulation_messages_name_the_test_the_value_and_the_range():
+    """A non-finite damping, a non-finite force from the hook (its first sample named), a repeated test id, a bad
+    memory limit: each one ValueError naming what and where; a compressive force is accepted for a part that is
+    not a chain (a linear spring)."""
+    from stand_ins import LinearSpring
+
+    from chainid.records.simulate import TestSpec, simulate, simulate_test
+
+    sp = TestSpec("a", 2.0, 2.2, 0.25)
+    with pytest.raises(ValueError, match=r"^test 'a': the damping law gives c_e = inf N·s/mm at omega = 2 rad/s, "
+                                         r"A = 0\.25 mm, x0 = 2\.2 mm: valid range finite"):
+        simulate_test(sp, LinearSpring(20000.0), float("inf"))
+
+    def hook(t, x, xd, xdd, F):
+        F = F.copy()
+        F[5:] = np.nan
+        return F
+
+    r = simulate_test(sp, LinearSpring(20000.0), 0.0, n_cycles=1, samples_per_cycle=16)
+    with pytest.raises(ValueError, match=rf"^test 'a': the simulated force is nan N at t = {r.t[5]:.6g} s "
+                                         rf"\(x = {r.x[5]:.6g} mm\): valid range finite"):
+        simulate_test(sp, LinearSpring(20000.0), 0.0, n_cycles=1, samples_per_cycle=16, force_fn=hook)
+    with pytest.raises(ValueError, match=r"^plan: test id 'a' is repeated; test ids must be unique$"):
+        simulate([sp, TestSpec("a", 3.0, 2.2, 0.25)], LinearSpring(20000.0), 0.0)
+    for bad in (0, -1.0, float("nan"), "1"):
+        with pytest.raises(ValueError, match=rf"^max_memory = {bad!r} bytes is invalid: valid range > 0 \(or None\)$"):
+            simulate([sp], LinearSpring(20000.0), 0.0, max_memory=bad)
+    deep = simulate([TestSpec("c", 2.0, 0.1, 0.25)], LinearSpring(20000.0), 0.0, max_memory=None, n_cycles=1)
+    assert deep[0].F.min() == pytest.approx(20000.0 * (0.1 - 0.25), rel=1e-3)
+
+
+def test_a_non_finite_motion_force_is_named_as_a_plain_number():
+    """``simulate_motion`` with a hook that returns inf from sample 3: "the simulated force is inf N at t = 0.03 s"
+    (a plain number, not numpy's ``np.float64(inf)`` repr)."""
+    from stand_ins import LinearSpring
+
+    from chainid.records.excitation import simulate_motion, sweep
+
+    m = sweep(200, 100.0, 1.0, 3.0, 0.2, 2.0)
+
+    def hook(t, x, xd, xdd, F):
+        F = F.copy()
+        F[3:] = np.inf
+        return F
+
+    with pytest.raises(ValueError, match=r"^test 'm': the simulated force is inf N at t = 0\.03 s: valid range finite$"):
+        simulate_motion("m", m, LinearSpring(20000.0), 0.0, force_fn=hook)
