@@ -305,3 +305,37 @@ def test_a_non_finite_motion_force_is_named_as_a_plain_number():
 
     with pytest.raises(ValueError, match=r"^test 'm': the simulated force is inf N at t = 0\.03 s: valid range finite$"):
         simulate_motion("m", m, LinearSpring(20000.0), 0.0, force_fn=hook)
+
+
+# --- weak spots of spec.py: profiles and overrides ---------------------------------------------------------------
+def test_reader_profile_errors_and_role_by_role_overrides(tmp_path):
+    """A ``--reader`` profile: a missing file, a file that is not TOML, an unknown key and a bad value are each one
+    error naming the option and the file; command-line options replace the profile's roles one by one
+    (``--units x=m`` keeps its t and F units), None keeps the profile's value, and ``parse_assignments`` reads
+    ``--columns`` digits as 1-based positions and ``--scale`` values as numbers."""
+    from chainid.records.spec import ReaderSpec, load_profile, parse_assignments, spec_from_options
+
+    missing = tmp_path / "none.toml"
+    with pytest.raises(ValueError, match=rf"^--reader '{missing}': no such profile file$"):
+        load_profile(missing)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("fs = = 3\n", encoding="utf-8")
+    with pytest.raises(ValueError, match=rf"^--reader '{bad}': not a TOML file \("):
+        load_profile(bad)
+    bad.write_text("fs = 100\nrate = 3\n", encoding="utf-8")
+    with pytest.raises(ValueError, match=rf"^--reader '{bad}': unknown key\(s\) \['rate'\]; valid keys are "):
+        load_profile(bad)
+    bad.write_text("fs = -1\n", encoding="utf-8")
+    with pytest.raises(ValueError, match=rf"^--reader '{bad}': reader fs = -1 Hz is invalid; valid range fs > 0 Hz$"):
+        load_profile(bad)
+    prof = tmp_path / "rig.toml"
+    prof.write_text('fs = 100\nskip_rows = 2\n[units]\nt = "ms"\nx = "in"\nF = "kN"\n[columns]\nx = "Disp"\n',
+                    encoding="utf-8")
+    s = spec_from_options(prof, units="x=m", columns="F=3", skip_rows=None)
+    assert s.units == {"t": "ms", "x": "m", "F": "kN"} and s.columns == {"x": "Disp", "F": 3}
+    assert s.fs == 100.0 and s.skip_rows == 2
+    assert parse_assignments("x=2, F=Load", "--columns") == {"x": 2, "F": "Load"}
+    assert parse_assignments("x=-1", "--scale", numeric=True) == {"x": -1.0}
+    assert parse_assignments(None, "--units") == {}
+    assert ReaderSpec().is_default and not ReaderSpec(fs=10.0).is_default
+    assert ReaderSpec(fs=10.0).merged(fs=None, units={}).fs == 10.0
