@@ -316,3 +316,17 @@ def test_amplitude_floor_is_four_standard_errors_of_the_median_residual():
     got = _amp_floor(np.array([0.1, np.nan, 0.3, 0.1]), np.array([8, 8, 2, 0]))
     assert got == pytest.approx([0.2, 0.2, 0.4, 0.4 * math.sqrt(2.0)], rel=1e-12)
     assert _amp_floor(np.array([np.nan, np.nan]), np.array([8, 8])).tolist() == [0.0, 0.0]
+
+
+def test_adaptive_reason_states_the_scatter_in_per_cent():
+    """Cycle amplitudes jittering by 1 % (20 cycles): the reason states the measured scatter as a percentage,
+    "4 x cycle-to-cycle scatter S %" with S = 100 × ``win.scatter`` (the robust SD of second differences,
+    pinned to its formula by test_scatter_is_the_robust_sd_of_second_differences_over_the_plateau), between 0.5 and
+    2 % here.  Bug caught: ``100 * scatter`` → ``100 // scatter`` in the text."""
+    w = 2 * np.pi
+    rng = np.random.default_rng(4)
+    amps = 2.0 * (1.0 + 0.01 * rng.standard_normal(20))
+    t = np.linspace(0.0, 20.0, 20 * 64, endpoint=False)
+    win = select_steady(t, 1.0 + amps[np.minimum(t.astype(int), 19)] * np.sin(w * t), w, 0.0, rel_tol=None)
+    assert 0.005 < win.scatter < 0.02
+    assert f"4 x cycle-to-cycle scatter {100 * win.scatter:.3g} %" in win.reason
