@@ -330,3 +330,28 @@ def test_adaptive_reason_states_the_scatter_in_per_cent():
     win = select_steady(t, 1.0 + amps[np.minimum(t.astype(int), 19)] * np.sin(w * t), w, 0.0, rel_tol=None)
     assert 0.005 < win.scatter < 0.02
     assert f"4 x cycle-to-cycle scatter {100 * win.scatter:.3g} %" in win.reason
+
+
+def test_only_distinct_fft_peaks_become_candidates(monkeypatch):
+    """"Distinct peaks are all tried" (the docstring's step 1): a clean 2 Hz sine gives the same peak (within 1 %)
+    over the whole record, its last half and its last third, hence one candidate (one provisional window, the
+    lenient selection with no drift limit); the transient record of
+    test_a_large_start_transient_does_not_hide_the_test_in_the_last_half gives two (0.5 and 2 Hz)."""
+    import chainid.signal.harmonic as H
+
+    lenient = []
+    real = H.select_steady
+
+    def spy(*a, **k):
+        if k.get("drift_tol") == math.inf:
+            lenient.append(a[2])
+        return real(*a, **k)
+
+    monkeypatch.setattr(H, "select_steady", spy)
+    t = np.arange(0.0, 20.0, 1 / 200.0)
+    H.estimate_harmonic(t, 3.0 + 0.5 * np.sin(2 * np.pi * 2.0 * t))
+    assert len(lenient) == 1 and lenient[0] == pytest.approx(4 * np.pi, rel=1e-3)
+    lenient.clear()
+    x = 3.0 + np.where(t < 10.0, 5.0 * np.sin(2 * np.pi * 0.5 * t), 0.5 * np.sin(2 * np.pi * 2.0 * (t - 10.0)))
+    H.estimate_harmonic(t, x)
+    assert sorted(w / (2 * np.pi) for w in lenient) == pytest.approx([0.5, 2.0], rel=0.02)
