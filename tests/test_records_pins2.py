@@ -339,3 +339,14 @@ def test_reader_profile_errors_and_role_by_role_overrides(tmp_path):
     assert parse_assignments(None, "--units") == {}
     assert ReaderSpec().is_default and not ReaderSpec(fs=10.0).is_default
     assert ReaderSpec(fs=10.0).merged(fs=None, units={}).fs == 10.0
+
+
+def test_record_converts_to_float_arrays_and_refuses_ragged_or_two_dimensional_columns():
+    """A Record holds float arrays and a string id; columns of different lengths or of two dimensions are one
+    error naming the test and the lengths."""
+    r = Record(7, [0, 1, 2], [1, 2, 3], [4, 5, 6])
+    assert r.test == "7" and r.t.dtype == r.x.dtype == r.F.dtype == np.float64
+    with pytest.raises(ValueError, match=r"^test 'a': t, x and F must have the same length \(got 3, 2, 3\)$"):
+        Record("a", [0, 1, 2], [1, 2], [4, 5, 6])
+    with pytest.raises(ValueError, match=r"^test 'b': t, x and F must be one-dimensional arrays$"):
+        Record("b", np.zeros((2, 2)), np.zeros((2, 2)), np.zeros((2, 2)))
