@@ -350,3 +350,14 @@ def test_record_converts_to_float_arrays_and_refuses_ragged_or_two_dimensional_c
         Record("a", [0, 1, 2], [1, 2], [4, 5, 6])
     with pytest.raises(ValueError, match=r"^test 'b': t, x and F must be one-dimensional arrays$"):
         Record("b", np.zeros((2, 2)), np.zeros((2, 2)), np.zeros((2, 2)))
+
+
+def test_taper_of_a_two_second_period_by_hand():
+    """Linear taper of 1 period of T = 2 s in and out of 6 periods (12 s): e(τ) = min(τ/2, (12 − τ)/2, 1), so
+    e = 0.5, 1, 0.5, 0.25 at τ = 1, 6, 11, 11.5 s with slopes +1/2, 0, −1/2, −1/2 per s.  Bug caught: the ramp
+    down ``(T_tot − τ) / T_t`` → ``** T_t`` (the older test's T_t = 1 s, where both agree)."""
+    from chainid.records.simulate import _envelope
+
+    e, de = _envelope(np.array([1.0, 6.0, 11.0, 11.5]), 2.0, 6, 1.0)
+    np.testing.assert_allclose(e, [0.5, 1.0, 0.5, 0.25], rtol=1e-15)
+    np.testing.assert_allclose(de, [0.5, 0.0, -0.5, -0.5], rtol=1e-15)
