@@ -89,3 +89,25 @@ def test_pitch_must_exceed_a_width_above_two_d(width, pitch):
         ChainSpec(**(GOOD | dict(width=width, pitch=pitch)))
     assert f"ChainSpec.pitch = {pitch!r} is invalid: valid range is max(2 d, width) = {width:g} < pitch" \
         in str(info.value)
+
+
+def test_preset_name_recognition_and_size_text():
+    """``is_preset_name``: a family (any case) before a colon is a preset, anything else a file path;
+    ``format_size`` writes sizes as the names do (76, 76.5)."""
+    from chainid.chain.catalogue import format_size, is_preset_name
+
+    assert is_preset_name("din22252:14x50") and is_preset_name("StudLess:76") and is_preset_name("studlink:76:n=3")
+    assert not is_preset_name("studless") and not is_preset_name("chain.toml") and not is_preset_name("din:26x92")
+    assert not is_preset_name("C:/chains/studless.toml")
+    assert (format_size(76.0), format_size(76.5), format_size(120)) == ("76", "76.5", "120")
+
+
+def test_match_finds_a_mooring_preset_by_dimensions_only_inside_its_range():
+    """``match``: a chain with a studless chain's pitch (4 d) and inner width (3.35 d − 2 d) at d = 76 mm is
+    studless:76 (its n kept); the same proportions at d = 230 mm, beyond the catalogue's 220 mm, match nothing."""
+    from chainid.chain import presets
+
+    c = ChainSpec(d=76.0, pitch=4 * 76.0, width=(3.35 - 2.0) * 76.0, n=9)
+    p = presets.match(c)
+    assert p is not None and p.name == "studless:76" and p.chain.n == 9 and p.grade == "R3" and not p.studlink
+    assert presets.match(ChainSpec(d=230.0, pitch=4 * 230.0, width=(3.35 - 2.0) * 230.0, n=9)) is None
