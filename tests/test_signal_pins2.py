@@ -37,7 +37,8 @@ def test_a_record_shorter_than_one_cycle_has_no_cycle_and_no_scatter(tol):
 
 def test_a_run_of_one_cycle_is_kept_without_drop_first():
     """Seven cycles of amplitudes 1, 2, 3, 4.5, 6, 8, 10 mm: at 3 % each agrees with nobody but itself; the
-    plateau (ties → the larger) is 10 mm, only cycle 6 is steady: a run of one cycle, kept as [6] with drop_first=False and dropped (nothing kept) with drop_first=True.  With no steady
+    plateau (ties → the larger) is 10 mm, only cycle 6 is steady: a run of one cycle, kept as [6] with
+    drop_first=False and dropped (nothing kept) with drop_first=True.  With no steady
     cycle at all nothing is kept.  Bug caught: the longest run's start value ``(0, 0)`` → ``(-1, 0)`` (a one-cycle
     run no longer beats the empty start, and the empty window becomes cycle −1)."""
     t = np.arange(8.0)
