@@ -122,3 +122,42 @@ def test_private_temp_cache_folder_is_the_users_own_or_a_fresh_one(tmp_path, mon
     other = nc._private_temp_dir()
     assert other != str(own) and os.path.basename(other).startswith("chainid-numba-")
     assert os.path.dirname(other) == str(tmp_path) and stat.S_IMODE(os.stat(other).st_mode) == 0o700
+
+
+def test_cache_warnings_are_given_once_per_key_as_one_line():
+    """``_warn_once``: a NumbaCacheWarning (a RuntimeWarning) per key, the second call with the same key silent,
+    another key warned again; line 0 so no source line is printed under it."""
+    import warnings
+
+    import chainid.infra.numba_cache as nc
+
+    key = f"test-key-{os.getpid()}-{id(object())}"
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        nc._warn_once(key, "first")
+        nc._warn_once(key, "again")
+        nc._warn_once(key + "-2", "other")
+    assert [str(w.message) for w in got] == ["first", "other"]
+    assert all(issubclass(w.category, nc.NumbaCacheWarning) and w.lineno == 0 for w in got)
+    assert issubclass(nc.NumbaCacheWarning, RuntimeWarning)
+
+
+def test_njit_cached_gives_the_recovering_cache_with_and_without_options():
+    """``njit_cached`` as ``@njit_cached`` and as ``@njit_cached(**options)``: a compiled dispatcher whose disk
+    cache is the recovering one (an unreadable entry is a miss), computing the function."""
+    import chainid.infra.numba_cache as nc
+
+    if nc.cache_mode() == "nojit":  # pragma: no cover - NUMBA_DISABLE_JIT=1: plain functions
+        pytest.skip("numba JIT disabled")
+
+    @nc.njit_cached
+    def twice(v):
+        return 2.0 * v
+
+    @nc.njit_cached(fastmath=True)
+    def thrice(v):
+        return 3.0 * v
+
+    assert twice(1.5) == 3.0 and thrice(1.5) == 4.5
+    for disp in (twice, thrice):
+        assert type(disp._cache).__name__ in ("_RecoveringCache", "NullCache")
