@@ -361,3 +361,35 @@ def test_taper_of_a_two_second_period_by_hand():
     e, de = _envelope(np.array([1.0, 6.0, 11.0, 11.5]), 2.0, 6, 1.0)
     np.testing.assert_allclose(e, [0.5, 1.0, 0.5, 0.25], rtol=1e-15)
     np.testing.assert_allclose(de, [0.5, 0.0, -0.5, -0.5], rtol=1e-15)
+
+
+# --- weak spots of formats.py: where the tables of a container are and what they are called -------------------
+def test_container_tables_their_places_and_test_ids():
+    """A nested container (JSON-like dicts and lists) holds one table wherever an x and an F column sit side by
+    side: a list of tables gets ids ``<file id>_1, _2``; a dict of tables (keyed) its keys; a single table no id (the
+    file's); a scalar ``test`` beside the arrays names it; nested names ``group/name`` reach into groups.
+    Positions are refused, and a container without the columns names its top-level keys.  MATLAB's (1, N) and
+    (N, 1) vectors become (N,)."""
+    from chainid.records.formats import _squeeze, _tables
+    from chainid.records.spec import ReaderSpec
+
+    S = ReaderSpec()
+    a = {"t": [0, 1], "x": [1, 2], "F": [3, 4]}
+
+    def ids(obj, keyed=False, spec=S):
+        return [(tb.source, tb.test, list(tb.columns)) for tb in _tables(obj, "f.json", spec, "stem", keyed)]
+
+    assert ids([a, a]) == [("f.json[0]", "stem_1", ["t", "x", "F"]), ("f.json[1]", "stem_2", ["t", "x", "F"])]
+    assert ids({"A": a, "B": a}, keyed=True) == [("f.json/A", "A", ["t", "x", "F"]), ("f.json/B", "B", ["t", "x", "F"])]
+    assert ids(a) == [("f.json", None, ["t", "x", "F"])]
+    assert ids({"test": "T9", **a}) == [("f.json", "T9", ["t", "x", "F"])]
+    assert ids({"run": {"data": a}}) == [("f.json/run/data", None, ["t", "x", "F"])]
+    nested = ReaderSpec(columns={"x": "g/disp", "F": "g/load"})
+    assert _tables({"g": {"disp": [1, 2], "load": [3, 4]}}, "f.json", nested, "s", False)[0].columns == \
+        {"g/disp": [1, 2], "g/load": [3, 4]}
+    with pytest.raises(ValueError, match=r"^f\.json: no 'x' and 'F' columns found \(top level: \['q'\]\); name them "
+                                         r"with --columns x=NAME,F=NAME$"):
+        _tables({"q": 1}, "f.json", S, "stem", False)
+    with pytest.raises(ValueError, match=r"^f\.json: --columns x=2: positions are for headerless text files"):
+        _tables(a, "f.json", ReaderSpec(columns={"x": 2}), "stem", False)
+    assert [_squeeze(np.zeros(s)).shape for s in ((1, 3), (3, 1), (2, 3))] == [(3,), (3,), (2, 3)]
