@@ -50,8 +50,8 @@ REPO = Path(__file__).resolve().parents[1]
 #: targeted tests per package: the fast test files (or node ids) that exercise it; pytest arguments
 TARGETS: dict[str, tuple[str, ...]] = {
     "chain": ("tests/test_spec.py", "tests/test_spec_input.py", "tests/test_presets.py", "tests/test_grade.py",
-              "tests/test_chain_pins.py"),
-    "signal": ("tests/test_signal_pins.py", "tests/test_steady.py", "tests/test_records.py", "tests/test_time_origin.py"),
+              "tests/test_chain_pins.py", "tests/test_chain_pins2.py"),
+    "signal": ("tests/test_signal_pins.py", "tests/test_signal_pins2.py", "tests/test_steady.py", "tests/test_records.py", "tests/test_time_origin.py"),
     "model": ("tests/test_model_pins.py", "tests/test_kernels.py", "tests/test_operators.py", "tests/test_laws.py", "tests/test_practice.py",
               "tests/test_simulate.py", "tests/test_gap_pins.py", "tests/test_model_eq1_pins.py",
               "tests/test_augmented.py::test_memory_effects_run_forward_and_do_not_depend_on_the_sampling",
@@ -59,7 +59,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "tests/test_gap_diagnose.py::test_damping_law_effect_hook_by_hand",
               "tests/test_augmented.py::test_force_closed_form_linear_viscous_mass_delay_and_non_uniform_sampling",
               "tests/test_augmented.py::test_model_file_round_trip_and_errors"),
-    "records": ("tests/test_records_pins.py", "tests/test_plausible_grouped.py", "tests/test_records_contracts.py",
+    "records": ("tests/test_records_pins.py", "tests/test_records_pins2.py", "tests/test_plausible_grouped.py", "tests/test_records_contracts.py",
                 "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
                 "tests/test_readers.py", "tests/test_readers_readme.py", "tests/test_gap_benchmark_time.py::test_excitation_closed_forms",
                 "tests/test_gap_benchmark_time.py::test_excitation_derivatives_are_exact"),
@@ -83,7 +83,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_checks.py", "tests/test_dynamics_damping.py",
                  "tests/test_dynamics.py", "tests/test_cli_dynamics.py", "tests/test_dynamics_waves.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
-    "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
+    "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_infra_pins2.py", "tests/test_parallel.py",
               "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py",
               "tests/test_infra_contracts.py", "tests/test_floattext.py",
               # timing-dependent under load (a SIGINT sent 1.5 s after the workers appear, while they may still be

@@ -285,7 +285,8 @@ def simulate_motion(test: str, m: Motion, model: Any, c: float, *, force_fn: Cal
     bad = ~np.isfinite(F)
     if bad.any():
         i = int(np.argmax(bad))
-        raise ValueError(f"test {test!r}: the simulated force is {F[i]!r} N at t = {m.t[i]:.6g} s: valid range finite")
+        raise ValueError(f"test {test!r}: the simulated force is {float(F[i])!r} N at t = {m.t[i]:.6g} s: "
+                         "valid range finite")
     Fm = F + (rng.normal(0.0, noise_F, F.size) if noise_F > 0 else 0.0)
     if quantum_F > 0:
         Fm = quantum_F * np.round(Fm / quantum_F)

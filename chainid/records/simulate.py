@@ -324,7 +324,7 @@ def simulate_test(
     bad = ~np.isfinite(F)
     if bad.any():
         i = int(np.argmax(bad))
-        raise ValueError(f"test {spec.test!r}: the simulated force is {F[i]!r} N at t = {t[i]:.6g} s "
+        raise ValueError(f"test {spec.test!r}: the simulated force is {float(F[i])!r} N at t = {t[i]:.6g} s "
                          f"(x = {x[i]:.6g} mm): valid range finite (check the law parameters and the effect)")
     if allow_compression is None:
         allow_compression = not _is_chain(model)
