@@ -133,7 +133,13 @@ def motion(kind: str, rng: np.random.Generator) -> Any:
 
 
 def _outside(kind: str, level: float, S: float, F_c: float, rng: np.random.Generator) -> Any:
-    """Force hook of an effect outside the library (N): drift, relaxation or stick-slip chatter."""
+    """Force hook of an effect outside the library (N): drift, relaxation or stick-slip chatter.
+
+    ``drift`` adds 0.05·level·S·(t − t0)/(t_end − t0); ``relaxation`` takes off 0.1·level·S·(1 − exp(−3·(t − t0)/
+    (t_end − t0))); ``chatter`` is Coulomb friction F_c·sgn(ẋ) plus a tone of amplitude drawn from 0.3–0.8 F_c (random
+    phase) at max(12 Hz, fs/20), at most fs/5, while the contact slides faster than a fraction drawn from 0.1–0.25 of
+    the record's peak speed.
+    """
     if kind == "drift":
         rate = 0.05 * level * S
 

@@ -1,0 +1,182 @@
+"""Issue 20 §5, gap package: behaviours the own-seed mutation runs (mutG, seeds 620–659) found unpinned.
+
+Each test checks a documented behaviour (docstring, README, error text) against a hand computation, a closed form
+or the documented contract, never against today's output.  Fast: no diagnosis runs here.
+Units: mm, N, s.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from chainid.gap.problem import Candidate
+
+
+# ---------------------------------------------------------------- prepare: the time origin
+
+def test_prepared_time_is_from_the_records_first_sample():
+    """``TestData.t`` is the time from the record's first sample and ``t + t_origin`` the record's own time
+    (the docstring): a sine stamped from t = 1000 s gives t_origin = 1000 s, t inside [0, T], and
+    x = x0 + A sin(ω t + θ) on the relative time."""
+    from chainid.gap.prepare import prepare_test
+    from chainid.records.record import Record
+
+    fs, f, n = 200.0, 2.0, 1600  # 8 s, 16 cycles
+    tr = np.arange(n) / fs
+    rng = np.random.default_rng(0)
+    x = 2.0 + 0.3 * np.sin(2 * np.pi * f * tr + 0.4)
+    F = 500.0 * x + 3.0 * 0.3 * 2 * np.pi * f * np.cos(2 * np.pi * f * tr + 0.4) + rng.normal(0, 0.5, n)
+    rec = Record("T", tr + 1000.0, x, F)
+    d = prepare_test(rec)
+    assert d.t_origin == 1000.0
+    assert 0.0 <= d.t[0] and d.t[-1] <= tr[-1] + 1e-9
+    # every prepared sample is a record sample at its own time
+    i = np.searchsorted(rec.t, d.t + d.t_origin)
+    np.testing.assert_allclose(rec.t[i], d.t + d.t_origin, atol=1e-9)
+    np.testing.assert_array_equal(rec.x[i], d.x_meas)
+    np.testing.assert_allclose(d.x_meas, d.x0 + d.A * np.sin(d.omega * d.t + d.theta), atol=1e-3)
+    assert d.omega == pytest.approx(2 * np.pi * f, rel=1e-4)
+
+
+# ---------------------------------------------------------------- noise: the smallest record
+
+def test_force_noise_takes_five_samples_and_refuses_four():
+    """``force_noise`` needs >= 5 samples (docstring).  F = (0, 1, 3, 2, 7) N: Δ²F = (1, −3, 6), median 1,
+    |Δ²F − 1| = (0, 4, 5), MAD 4, σ = 1.4826·4/√6 (5 distinct values: no quantum)."""
+    from chainid.gap.noise import force_noise
+
+    assert force_noise(np.array([0.0, 1.0, 3.0, 2.0, 7.0])) == pytest.approx(1.4826 * 4 / math.sqrt(6), rel=1e-12)
+    with pytest.raises(ValueError, match=r"force_noise needs >= 5 samples; got 4"):
+        force_noise(np.array([0.0, 1.0, 3.0, 2.0]))
+
+
+# ---------------------------------------------------------------- benchmark_time: the chatter hook
+
+@pytest.mark.parametrize("fs, f_ch", [(100.0, 12.0), (1000.0, 50.0), (40.0, 8.0)])
+def test_chatter_hook_is_friction_plus_an_oscillation_while_sliding(fs, f_ch):
+    """The out-of-library chatter (``_outside``'s docstring): Coulomb friction F_c·sgn(ẋ) plus an oscillation of
+    amplitude 0.3–0.8 F_c at max(12 Hz, fs/20), at most fs/5, only while the contact slides faster than a fraction
+    0.1–0.25 of the peak speed.  The oscillation's amplitude is fitted by least squares at the known frequency on
+    the samples surely sliding (speed above 0.25 of the peak); it is exactly 0 below 0.1 of the peak."""
+    from chainid.gap.benchmark_time import _outside
+    from chainid.model.effects import stick_slip
+
+    t = np.arange(int(4 * fs)) / fs
+    x = 2.0 + 0.5 * np.sin(2 * np.pi * 0.5 * t)
+    xd = 0.5 * np.pi * np.cos(2 * np.pi * 0.5 * t)
+    z = np.zeros_like(t)
+    F_c = 40.0
+    amps = []
+    for seed in range(25):
+        hook = _outside("chatter", 1.0, 1000.0, F_c, np.random.default_rng(seed))
+        r = hook(t, x, xd, z, z) - F_c * stick_slip(x, xd, 0.0, periodic=False)
+        np.testing.assert_allclose(hook(t, x, xd, z, 7.0 + z) - 7.0, r + F_c * stick_slip(x, xd, 0.0, periodic=False),
+                                   atol=1e-12 * F_c)  # added to the force it is given
+        slow = np.abs(xd) < 0.1 * np.abs(xd).max()
+        assert np.all(r[slow] == 0.0)
+        fast = np.abs(xd) > 0.25 * np.abs(xd).max()
+        M = np.column_stack([np.sin(2 * np.pi * f_ch * t[fast]), np.cos(2 * np.pi * f_ch * t[fast])])
+        coef, *_ = np.linalg.lstsq(M, r[fast], rcond=None)
+        np.testing.assert_allclose(M @ coef, r[fast], atol=1e-9 * F_c)  # a pure tone at f_ch
+        amps.append(math.hypot(*coef))
+    assert 0.3 * F_c <= min(amps) and max(amps) <= 0.8 * F_c
+    assert max(amps) - min(amps) > 0.2 * F_c  # drawn, not fixed
+
+
+# ---------------------------------------------------------------- selection: two-for-one alternatives
+
+def test_two_for_one_reports_identified_pairs_within_the_tie(monkeypatch):
+    """``_two_for_one``: a stiffness-side effect of the final chain (contact_law) against every pair of the other
+    members of its family that are allowed and not in the chain; a pair is reported when its LOTO NRMSE is within
+    ``TIE`` (5 %) of the chain's and none of its parameters is at a bound (rule 4).  The pair is fitted with the
+    chain's other effects, warm-started from their parameters (the replaced effect's dropped)."""
+    from chainid.gap import selection as fw
+
+    full = Candidate("friction+contact_law", {"friction.F_c": 3.0, "contact_law.scale": 1.2,
+                                              "contact_law.exponent": 1.4}, 3)
+    full.nrmse_loto = 1.0
+    # (LOTO, at_bound) per pair: within the tie and free | within but pinned | free but 20 % worse
+    table = {("stiffness_level", "slack"): (1.04, []), ("stiffness_level", "machine_compliance"):
+             (1.04, ["machine_compliance.c"]), ("slack", "machine_compliance"): (1.2, [])}
+    seen = []
+
+    def fake(prob, names, start, base_hold):  # noqa: ANN001
+        seen.append((list(names), dict(start)))
+        loto, ab = table[tuple(names[1:])]
+        c = Candidate("+".join(names), {}, 2)
+        c.nrmse_loto, c.at_bound = loto, list(ab)
+        return c
+
+    monkeypatch.setattr(fw, "_fit_score", fake)
+    allowed = ["friction", "contact_law", "stiffness_level", "slack", "machine_compliance"]
+    out = fw._two_for_one(None, full, allowed, 1.0)
+    assert [o["report"] for o in out] == [{"step": 2, "pair": ["contact_law", "stiffness_level+slack"],
+                                           "loto": [1.0, 1.04]}]
+    assert out[0]["cand"].name == "friction+stiffness_level+slack"
+    assert [s[0] for s in seen] == [["friction", "stiffness_level", "slack"],
+                                    ["friction", "stiffness_level", "machine_compliance"],
+                                    ["friction", "slack", "machine_compliance"]]
+    assert all(s[1] == {"friction.F_c": 3.0} for s in seen)
+    # a member not allowed is not tried; an effect outside the family (friction) has no alternatives
+    seen.clear()
+    assert fw._two_for_one(None, full, ["friction", "contact_law", "stiffness_level", "slack"], 1.0)[0]["report"][
+        "pair"] == ["contact_law", "stiffness_level+slack"]
+    assert [s[0] for s in seen] == [["friction", "stiffness_level", "slack"]]
+    seen.clear()
+    only_friction = Candidate("friction", {"friction.F_c": 3.0}, 1)
+    assert fw._two_for_one(None, only_friction, allowed, 1.0) == [] and seen == []
+
+
+# ---------------------------------------------------------------- fitgrid: the documented start set
+
+def _set(out, cols=slice(None)):
+    return sorted(tuple(np.round(np.asarray(u, float)[cols], 12)) for u in out)
+
+
+def test_start_set_of_one_free_parameter_is_the_documented_one():
+    """``starts`` with one free parameter (its docstring): the default first, then GRID1, 0.5 − (0.01, 0.05, 0.2),
+    around 0 when the range straddles it, the 40 delay midpoints, and ug × (0.5 … 3) for a scale or delay."""
+    from chainid.gap.fitgrid import starts
+
+    grid1 = [0.0, 0.003, 0.01, 0.03, 0.1, 0.3, 0.6]
+    mid = [0.49, 0.45, 0.3]
+    one = lambda key, ug, lo, hi: starts([key], [key.split(".")[0]], np.array([ug]), np.zeros(1, bool),  # noqa: E731
+                                         np.array([lo]), np.array([hi]))
+    out = one("friction.F_c", 0.02, 0.0, 50.0)  # a range from 0: no start around 0, no scale starts
+    assert float(out[0][0]) == 0.02
+    assert _set(out) == _set([[v] for v in [0.02] + grid1 + mid])
+    z = 0.25  # range (−1, 3): 0 at u = 0.25
+    out = one("backlash.b", 0.6, -1.0, 3.0)
+    around = [z + s * g for g in (0.002, 0.01, 0.05, 0.15) for s in (-1, 1)]
+    assert _set(out) == _set([[v] for v in [0.6] + grid1 + mid + around])
+    out = one("stiffness_level.scale", 0.3, 0.5, 1.75)
+    scale = [0.3 * f for f in (0.5, 0.7, 0.85, 1.2, 1.5, 2.0, 3.0)]
+    assert _set(out) == _set([[v] for v in [0.3] + grid1 + mid + scale])
+    out = one("sensor_delay.tau", 0.5, -0.2, 0.2)
+    delay = [(i + 0.5) / 40 for i in range(40)]
+    around = [0.5 + s * g for g in (0.002, 0.01, 0.05, 0.15) for s in (-1, 1)]
+    scale = [min(0.5 * f, 1.0) for f in (0.5, 0.7, 0.85, 1.2, 1.5, 2.0, 3.0)]
+    assert _set(out) == _set([[v] for v in [0.5] + grid1 + mid + around + delay + scale])
+
+
+@pytest.mark.parametrize("effect, params, extra", [
+    ("friction", ("F_c", "mu", "x_s"), [(a, 0.0, c) for a in (0.03, 0.2) for c in (0.02, 0.1, 0.4)]),
+    ("contact_law", ("scale", "exponent"), [(a, b) for a in (0.05, 0.18, 0.4) for b in (0.2, 0.39, 0.6)]),
+    ("hysteresis", ("F_h", "x_h"), [(a, b) for a in (0.01, 0.05, 0.2) for b in (0.005, 0.01, 0.02)]),
+    ("backlash", ("b", "k2"), []),
+])
+def test_start_set_of_a_new_effect_with_several_parameters_is_the_documented_one(effect, params, extra):
+    """Two or more free parameters: GRID2 × GRID2 (0, 0.003, 0.03, 0.2) over the first two (the others at the
+    default), plus the effect's own documented starts (friction, contact law, hysteresis); the default first."""
+    from chainid.gap.fitgrid import starts
+
+    k = len(params)
+    ug = np.full(k, 0.77)
+    out = starts([f"{effect}.{p}" for p in params], [effect], ug, np.zeros(k, bool), np.zeros(k), np.ones(k))
+    g2 = (0.0, 0.003, 0.03, 0.2)
+    want = [tuple(ug)] + [(a, b) + (0.77,) * (k - 2) for a in g2 for b in g2]
+    want += [tuple(e) + (0.77,) * (k - len(e)) for e in extra]
+    assert np.array_equal(out[0], ug)
+    assert _set(out) == _set(want)
