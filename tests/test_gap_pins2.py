@@ -180,3 +180,136 @@ def test_start_set_of_a_new_effect_with_several_parameters_is_the_documented_one
     want += [tuple(e) + (0.77,) * (k - len(e)) for e in extra]
     assert np.array_equal(out[0], ug)
     assert _set(out) == _set(want)
+
+
+# ---------------------------------------------------------------- benchmark_time: the drawn motion programs
+
+def _draws(kind, n_draws, monkeypatch):
+    """Every argument ``motion`` hands the excitation constructors, over ``n_draws`` records (recorders: no
+    signal is built)."""
+    import inspect
+
+    from chainid.gap import benchmark_time as bt
+    from chainid.records import excitation as ex
+
+    calls = []
+    sigs = getattr(_draws, "sigs", None) or {n: inspect.signature(getattr(ex, n)) for n in
+                                              ("band_random", "sweep", "startup_steps", "earthquake", "with_envelope")}
+    _draws.sigs = sigs  # the constructors' own signatures (before any recorder is in place)
+
+    def recorder(name):
+        sig = sigs[name]
+
+        def rec(*a, **kw):  # noqa: ANN001
+            b = sig.bind(*a, **kw)
+            b.apply_defaults()
+            if name == "with_envelope":
+                env = calls[-1].setdefault("taper", []), calls[-1].setdefault("lead", [])
+                for lst, key in zip(env, ("taper", "lead")):
+                    if b.arguments[key] > 0:
+                        lst.append(b.arguments[key])
+                return b.arguments["m"]
+            calls[-1][name] = dict(b.arguments)
+            n, fs = b.arguments["n"], b.arguments["fs"]
+            t = np.arange(n) / fs
+            return ex.Motion(t, t, t, t, 1.0, 1.0, kind)
+        return rec
+
+    for name in ("band_random", "sweep", "startup_steps", "earthquake", "with_envelope"):
+        monkeypatch.setattr(ex, name, recorder(name))
+    rng = np.random.default_rng(5)
+    for _ in range(n_draws):
+        calls.append({})
+        bt.motion(kind, rng)
+    return calls
+
+
+def _spans(vals, lo, hi, frac=0.1):
+    """Inside [lo, hi] and reaching both ends (within ``frac`` of the width): the documented range, not a part."""
+    v = np.asarray(vals, float)
+    w = hi - lo
+    return bool(v.min() >= lo - 1e-12 and v.max() <= hi + 1e-12 and v.min() < lo + frac * w and v.max() > hi - frac * w)
+
+
+def _share(flags, p, n):
+    return abs(np.mean(flags) - p) < 4.5 * math.sqrt(p * (1 - p) / n)  # 4.5 binomial SE
+
+
+def _rate_ok(fs, f_edge, per):
+    ok = [f for f in (100.0, 200.0, 250.0, 500.0, 1000.0, 2000.0) if f >= per * f_edge]
+    return fs in ok[:3]
+
+
+N_DRAWS = 400
+
+
+def test_random_records_are_drawn_from_the_documented_ranges(monkeypatch):
+    """``motion("random")``: the ranges of its docstring (README: band edge 1–4 Hz, some with a wandering mean)."""
+    calls = _draws("random", N_DRAWS, monkeypatch)
+    a = [c["band_random"] for c in calls]
+    T = np.array([x["n"] / x["fs"] for x in a])
+    assert _spans([x["n"] for x in a], 2000, 4500, 0.02)
+    assert _spans([x["f_hi"] for x in a], 1.0, 4.0)
+    assert all(_rate_ok(x["fs"], x["f_hi"], 25.0) for x in a)
+    lo_rel = [x["f_lo"] / x["f_hi"] for x in a if x["f_lo"] > 2.5 * x["fs"] / x["n"] + 1e-12]
+    assert _spans(lo_rel, 0.02, 0.1) and all(x["f_lo"] >= 2.5 * x["fs"] / x["n"] - 1e-12 for x in a)
+    assert _spans([x["rms"] for x in a], 0.04, 0.11) and _spans([x["x0"] for x in a], 1.7, 2.3)
+    wander = [x["wander"] for x in a]
+    assert _share([w > 0 for w in wander], 0.3, N_DRAWS) and _spans([w for w in wander if w > 0], 0.02, 0.08, 0.2)
+    Te = np.array([(x["n"] - 1) / x["fs"] for x in a])  # the envelope's T: the last sample's time
+    taper = [v / t for c, t in zip(calls, Te) for v in c.get("taper", [])]
+    lead = [v / t for c, t in zip(calls, Te) for v in c.get("lead", [])]
+    assert _share([bool(c.get("taper")) for c in calls], 0.3, N_DRAWS) and _spans(taper, 0.05, 0.1, 0.2)
+    assert _share([bool(c.get("lead")) for c in calls], 0.25, N_DRAWS) and _spans(lead, 0.03, 0.1, 0.2)
+    assert max(len(c.get("taper", [])) + len(c.get("lead", [])) for c in calls) == 2  # both on some records
+
+
+def test_sweep_and_startup_records_are_drawn_from_the_documented_ranges(monkeypatch):
+    """``motion("sweep")`` (README: up or down, 0.2–0.5 ↔ 2–4 Hz) and ``motion("startup")`` (docstring ranges)."""
+    calls = _draws("sweep", N_DRAWS, monkeypatch)
+    a = [c["sweep"] for c in calls]
+    lo, hi = [min(x["f0"], x["f1"]) for x in a], [max(x["f0"], x["f1"]) for x in a]
+    assert _spans(lo, 0.2, 0.5) and _spans(hi, 2.0, 4.0)
+    assert _share([x["f0"] > x["f1"] for x in a], 0.3, N_DRAWS) and _share([x["log"] for x in a], 0.5, N_DRAWS)
+    assert all(_rate_ok(x["fs"], h, 25.0) for x, h in zip(a, hi))
+    assert all(x["n"] >= max(2000, int(3 * x["fs"] / l)) for x, l in zip(a, lo)) and max(x["n"] for x in a) > 4400
+    assert _spans([x["A"] for x in a], 0.06, 0.3) and _spans([x["x0"] for x in a], 1.8, 2.3)
+    assert _share([bool(c.get("taper")) for c in calls], 0.3, N_DRAWS)
+    assert _share([bool(c.get("lead")) for c in calls], 0.25, N_DRAWS)
+
+    calls = _draws("startup", N_DRAWS, monkeypatch)
+    a = [c["startup_steps"] for c in calls]
+    T = np.array([x["n"] / x["fs"] for x in a])
+    assert _spans([x["f_run"] for x in a], 1.0, 4.0) and all(_rate_ok(x["fs"], x["f_run"], 25.0) for x in a)
+    assert _spans([x["n"] for x in a], 2000, 4500, 0.02)
+    assert sorted({len(x["levels"]) for x in a}) == [2, 3, 4]
+    assert _spans([v for x in a for v in x["levels"]], 1.6, 2.5)
+    assert _spans([x["t_ramp"] / t for x, t in zip(a, T)], 0.15, 0.3) and _spans([x["t_step"] for x in a], 0.3, 1.5)
+    assert _spans([x["A"] for x in a], 0.04, 0.2) and _spans([x["x_start"] for x in a], 0.6, 1.2)
+    # no taper on a start-up record; a lead-in on a quarter
+    assert not any(c.get("taper") for c in calls)
+    assert _share([bool(c.get("lead")) for c in calls], 0.25, N_DRAWS)
+
+
+def test_quake_records_are_drawn_from_the_documented_ranges(monkeypatch):
+    """``motion("quake")``: the docstring's ranges (README: a near-fault pulse on half, an offset on some)."""
+    calls = _draws("quake", N_DRAWS, monkeypatch)
+    a = [c["earthquake"] for c in calls]
+    T = np.array([x["n"] / x["fs"] for x in a])
+    fg = np.array([x["f_g"] for x in a])
+    assert _spans(fg, 1.0, 3.0) and _spans([x["n"] for x in a], 3000, 6000, 0.02)
+    assert all(_rate_ok(x["fs"], 4 * x["f_g"], 20.0) for x in a)
+    assert {x["fs"] for x in a} == {100.0, 200.0, 250.0, 500.0, 1000.0}
+    assert _spans([x["peak"] for x in a], 0.15, 0.45) and _spans([x["x0"] for x in a], 1.9, 2.4)
+    assert _spans([x["zeta_g"] for x in a], 0.3, 0.7) and _spans([x["f_c"] / x["f_g"] for x in a], 0.05, 0.15)
+    np.testing.assert_allclose([x["f_hi"] for x in a], 4 * fg, rtol=1e-12)
+    assert _spans([x["t_rise"] / t for x, t in zip(a, T)], 0.08, 0.25)
+    assert _spans([x["decay"] * t for x, t in zip(a, T)], 3.0, 8.0)
+    pulse = [x["pulse"] for x in a]
+    assert _share([p > 0 for p in pulse], 0.5, N_DRAWS) and _spans([p for p in pulse if p > 0], 0.5, 1.5)
+    off = [x["offset"] for x in a]
+    assert _share([o != 0 for o in off], 0.3, N_DRAWS) and _spans([o for o in off if o != 0], -0.3, 0.3)
+    assert not any(c.get("taper") for c in calls)
+    assert _share([bool(c.get("lead")) for c in calls], 0.25, N_DRAWS)
+    with pytest.raises(ValueError, match=r"excitation = 'harmonic' is unknown; valid: random, sweep, startup, quake"):
+        _draws("harmonic", 1, monkeypatch)

@@ -89,7 +89,23 @@ def _fs(rng: np.random.Generator, f_max: float, per: float = 25.0) -> float:
 
 
 def motion(kind: str, rng: np.random.Generator) -> Any:
-    """One record's displacement program of family ``kind``, every property drawn from its range."""
+    """One record's displacement program of family ``kind``, every property drawn from its range.
+
+    Uniform draws (frequencies Hz, lengths mm, times s; n samples, T = n/fs the record's length):
+
+    * ``random``: n 2000–4500, band edge f_hi 1–4, f_lo = max(f_hi × 0.02–0.1, 2.5 fs/n), RMS 0.04–0.11, mean
+      1.7–2.3, a wandering mean 0.02–0.08 on 30 % of the records;
+    * ``sweep``: 0.2–0.5 → 2–4 (down on 30 %), n 2000–4500 but >= 3 periods of the slowest frequency, amplitude
+      0.06–0.3, mean 1.8–2.3, exponential on half;
+    * ``startup``: running frequency 1–4, n 2000–4500, 2–4 load levels 1.6–2.5, ramp 0.15–0.3 T, steps of
+      0.3–1.5, amplitude 0.04–0.2, start 0.6–1.2;
+    * ``quake``: ground frequency f_g 1–3, n 3000–6000, peak 0.15–0.45, mean 1.9–2.4, damping ratio 0.3–0.7,
+      high-pass f_c = f_g × 0.05–0.15, band edge 4 f_g, rise 0.08–0.25 T, decay rate (3–8)/T, a pulse 0.5–1.5 on
+      half, an offset −0.3–0.3 on 30 %;
+    * the sampling rate: one of the three lowest logger rates (100, 200, 250, 500, 1000, 2000) with >= 25 samples
+      per period of the band edge (quake: 20);
+    * a taper 0.05–0.1 T on 30 % of the random and sweep records, a rest lead-in 0.03–0.1 T on 25 % of all.
+    """
     from chainid.records import excitation as ex
 
     n = int(rng.integers(2000, 4501))
