@@ -1,0 +1,181 @@
+"""Issue 20 §5, gap package (mutG, own seeds 620–659), part 3: the benchmark's rows and records, the plateau rule.
+
+Each test checks a documented behaviour against a hand computation or the documented contract; the expensive
+parts (simulation, diagnosis) are replaced by recorders where the test is about what the code hands them.
+Units: mm, N, s.
+"""
+from __future__ import annotations
+
+import math
+import sys
+import time
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+
+# ---------------------------------------------------------------- benchmark.run_case: the harmonic row
+
+def _case(**kw):
+    return {"excitation": "harmonic", "family": "pair", "truth": ["friction", "slack"], "effects": ["friction"],
+            "levels": [1.0], "noise": 0.02, "chain": "14x50", "plan": "grid3x3", "seed": 3} | kw
+
+
+def _result(steps=("baseline", "friction", "friction+slack"), **kw):
+    return {"verdict": "friction+slack", "baseline": {"excess_rms_N": 30.0, "noise_sigma_N": 4.0},
+            "steps": [{"effect": e, "shrinkage": 0.1 * i, "params": {"p": i}} for i, e in enumerate(steps)],
+            "best": {"shrinkage": 0.77}, "confounded": [{"pair": ("slack", "contact_law"), "step": 2}],
+            "residual": {"stationary": False}} | kw
+
+
+def _run(monkeypatch, diag):
+    from chainid.gap.benchmark import run_case
+    from chainid.records import simulate as sim
+
+    monkeypatch.setattr(sim, "simulate", lambda *a, **k: [])
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", diag)
+    t0 = time.perf_counter()
+    row = run_case(_case())
+    return row, time.perf_counter() - t0
+
+
+def test_harmonic_row_by_hand(monkeypatch):
+    """``run_case`` (harmonic) from a hand-made diagnosis: the case's keys, the verdict, snr = excess/noise σ
+    (30/4), the last step's shrinkage and parameters when the chain has an effect (else the best's shrinkage),
+    the effects after the baseline, the confounded pairs as lists, the residual's stationarity; the seconds of
+    the diagnosis (between 0 and the call's own duration)."""
+    import chainid.gap.diagnose  # noqa: F401  (the module whose diagnose is replaced)
+
+    def slow(*a, **k):  # noqa: ANN001
+        time.sleep(0.05)
+        return _result()
+
+    row, wall = _run(monkeypatch, slow)
+    assert {k: row[k] for k in _case()} == _case()
+    assert row["verdict"] == "friction+slack" and row["snr"] == 7.5
+    assert row["shrinkage"] == pytest.approx(0.2) and row["params"] == {"p": 2}
+    assert row["steps"] == ["friction", "friction+slack"] and row["confounded"] == [["slack", "contact_law"]]
+    assert row["stationary"] is False
+    assert 0.05 <= row["seconds"] <= wall
+    row, _ = _run(monkeypatch, lambda *a, **k: _result(steps=("baseline",), confounded=[],
+                                                       baseline={"excess_rms_N": 2.0, "noise_sigma_N": 0.0}))
+    assert row["shrinkage"] == 0.77 and row["steps"] == [] and row["params"] == {"p": 0} and row["confounded"] == []
+    assert row["snr"] == 2.0 / 1e-300  # σ = 0 is floored, not a division by zero
+    row, _ = _run(monkeypatch, lambda *a, **k: _result(steps=(), best=None))
+    assert row["shrinkage"] is None and row["params"] is None and row["steps"] == []
+
+
+def test_harmonic_error_row_by_hand(monkeypatch):
+    """A diagnosis that raises is a miss to report: verdict ``error: <type>: <message>``, snr ∞, no shrinkage,
+    steps, parameters, stationarity or confounded pairs; its seconds between 0 and the call's duration."""
+    import chainid.gap.diagnose  # noqa: F401
+
+    def boom(*a, **k):  # noqa: ANN001
+        time.sleep(0.05)
+        raise ValueError("boom")
+
+    row, wall = _run(monkeypatch, boom)
+    assert row["verdict"] == "error: ValueError: boom" and row["snr"] == math.inf
+    assert (row["shrinkage"], row["steps"], row["params"], row["stationary"], row["confounded"]) == (
+        None, [], None, None, [])
+    assert 0.05 <= row["seconds"] <= wall and {k: row[k] for k in _case()} == _case()
+
+
+def test_time_rows_time_the_case(monkeypatch):
+    """``run_case_time``: the row's seconds are the case's own duration (simulation and diagnosis), for a
+    diagnosed case and for one whose diagnosis raises (the error row: verdict, snr ∞, no transfer numbers)."""
+    import chainid.gap.diagnose  # noqa: F401
+    from chainid.gap import benchmark_time as bt
+
+    monkeypatch.setattr(bt, "records", lambda case: (time.sleep(0.05), ([], {"nominal": None, "motions": [], "true": None, "hooks": [], "c": 0.0,
+                                                        "sigmas": []}))[1])
+
+    def boom(*a, **k):  # noqa: ANN001
+        raise RuntimeError("bad")
+
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", boom)
+    case = {"excitation": "random", "hold": "r2", "seed": 1}
+    t0 = time.perf_counter()
+    row = bt.run_case_time(case)
+    wall = time.perf_counter() - t0
+    assert row["verdict"] == "error: RuntimeError: bad" and 0.05 <= row["seconds"] <= wall
+    assert row["snr"] == math.inf and row["chatter"] is False and row["confounded"] == []
+    assert (row["transfer_shrinkage"], row["transfer_shrinkage_refit"], row["shrinkage"], row["params"],
+            row["stationary"], row["steps"]) == (None, None, None, None, None, [])
+    monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", lambda *a, **k: _result(
+        ranking=[], where=[], residual={"stationary": True, "where": []}))
+    monkeypatch.setattr(bt, "effect_snr", lambda *a: [1.0])
+    t0 = time.perf_counter()
+    row = bt.run_case_time(case)
+    assert 0.05 <= row["seconds"] <= time.perf_counter() - t0 and row["effect_snr"] == [1.0]
+
+
+# ---------------------------------------------------------------- benchmark_time.records: noise of each record
+
+def test_records_noise_and_quantisation_by_hand(monkeypatch):
+    """``records``: per record a force noise σ = noise·S × 0.8–1.25, a force quantum of 0.5–2 σ on about 30 % of the
+    records (README), displacement noise up to 0.003 A; the reported σ of a record is that of its noise plus its
+    quantisation error, √(σ² + q²/12) (a uniform error over one step has variance q²/12)."""
+    from chainid.gap import benchmark_time as bt
+    from chainid.records import excitation as ex
+
+    seen = []
+
+    def rec(test, m, model, c, **kw):  # noqa: ANN001
+        seen.append((test, m, kw))
+        return test
+
+    monkeypatch.setattr(ex, "simulate_motion", rec)
+    q_share, n_rec = [], 0
+    for seed in range(40):
+        case = {"excitation": "random", "chain": "14x50", "effects": [], "levels": [], "c_rel": 0.02,
+                "noise": 0.01, "seed": 1000 + seed}
+        seen.clear()
+        recs, dev = bt.records(case)
+        assert recs == ["r1", "r2", "r3", "r4"] and len(dev["sigmas"]) == 4
+        for (test, m, kw), sg in zip(seen, dev["sigmas"]):
+            s, q = kw["noise_F"], kw["quantum_F"]
+            assert 0.8 * 0.01 * dev["S"] <= s <= 1.25 * 0.01 * dev["S"]
+            assert q == 0.0 or 0.5 * s <= q <= 2.0 * s
+            assert sg == pytest.approx(math.sqrt(s * s + q * q / 12), rel=1e-12)
+            assert 0.0 <= kw["noise_x"] <= 0.003 * m.A
+            assert kw["force_fn"] is None  # no effect: no hook
+            q_share.append(q > 0)
+            n_rec += 1
+    assert abs(np.mean(q_share) - 0.3) < 4.5 * math.sqrt(0.21 / n_rec)
+
+
+# ---------------------------------------------------------------- prepare.other_plateau
+
+def _win(A, m, kept, plateau_A=1.0):
+    return SimpleNamespace(cycle_amplitudes=list(A), cycle_means=list(m), cycles_kept=list(kept), plateau_A=plateau_A)
+
+
+def test_other_plateau_rule_by_hand():
+    """``other_plateau``: a whole cycle *outside* the steady window at the plateau's amplitude (within 25 %) about
+    a mean more than half that amplitude from the kept cycles' median mean is a second steady state; ramp cycles
+    (smaller amplitude), cycles at the same mean, and the kept cycles themselves do not count."""
+    from chainid.gap.prepare import other_plateau
+
+    kept = [2, 3, 4, 5]
+    A = [0.3, 0.6, 1.0, 1.0, 1.0, 1.0, 1.2]
+    m = [5.0, 5.0, 5.0, 5.1, 4.9, 5.0, 5.0]
+    assert other_plateau(_win(A, m, kept)) == ""  # a ramp-in, the plateau, one more cycle at its mean
+    # cycle 6 at 1.2 A (within 25 %) about x = 5.6 (0.6 A away, > 0.5 A): another plateau
+    msg = other_plateau(_win(A, m[:6] + [5.6], kept))
+    assert msg == ("not one steady harmonic test: cycle 6 oscillates at the plateau amplitude (1.2 mm) about "
+                   "x = 5.6 mm, 0.6 mm from the steady window's mean (a load step or another plateau)")
+    assert other_plateau(_win(A, m[:6] + [5.45], kept)) == ""  # 0.45 A away: the same plateau
+    assert other_plateau(_win(A[:6] + [1.3], m[:6] + [5.6], kept)) == ""  # 1.3 A: not the plateau's amplitude
+    assert other_plateau(_win(A[:6] + [0.74], m[:6] + [4.0], kept)) == ""  # 0.74 A: a ramp cycle
+    assert other_plateau(_win(A[:6] + [0.76], m[:6] + [4.0], kept)).startswith("not one steady harmonic test: "
+                                                                                "cycle 6 ")
+    # the first such cycle is named; a kept cycle far from the others' median is not "outside"
+    assert "cycle 0 " in other_plateau(_win([1.0] + A[1:6] + [1.0], [3.0] + m[1:6] + [7.0], kept))
+    assert other_plateau(_win(A[:6], m[:5] + [6.0], kept)) == ""
+    # nothing to judge: no kept cycle, mismatched lists, no plateau amplitude
+    assert other_plateau(_win(A, m[:6] + [5.6], [])) == ""
+    assert other_plateau(_win(A, m[:6], kept)) == ""
+    assert other_plateau(_win(A, m[:6] + [5.6], kept, plateau_A=0.0)) == ""
+    assert other_plateau(_win(A, m[:6] + [5.6], kept + [9])) != ""  # an index beyond the cycles is ignored
