@@ -179,3 +179,35 @@ def test_other_plateau_rule_by_hand():
     assert other_plateau(_win(A, m[:6], kept)) == ""
     assert other_plateau(_win(A, m[:6] + [5.6], kept, plateau_A=0.0)) == ""
     assert other_plateau(_win(A, m[:6] + [5.6], kept + [9])) != ""  # an index beyond the cycles is ignored
+
+
+# ---------------------------------------------------------------- where_time.state_maps: share, z and the text
+
+def _maps(sigma2, n=1600):
+    from chainid.gap.where_time import state_maps
+
+    x = np.linspace(0.0, 8.0, n)  # a monotonic stroke: ẋ constant, travel since reversal = x
+    r = np.where(x > 4.0, 1.0, -1.0)  # a residual that is a step in x: ±1 N
+    load = np.random.default_rng(1).normal(0.0, 1.0, n)  # unrelated to r
+    d = SimpleNamespace(test="R", t=np.arange(n) * 0.01, x=x, xd=np.full(n, 8.0 / (n - 1) / 0.01),
+                        sigma=math.sqrt(sigma2))
+    return {m["variable"]: m for m in state_maps([d], {"R": r}, {"R": load})}
+
+
+def test_state_map_share_and_threshold_by_hand():
+    """``state_maps``: 16 quantile bins of each variable; a residual ±1 N stepping at the middle of x has bin means
+    ±1, between-bin variance 1 = its whole variance (share 100 %).  The noise's between-bin variance is ν = σ²·16/n
+    and z = (1 − ν)/(ν·√(2/15)) must reach Z_MAP = 5: ν < 1/(1 + 5·√(2/15)) = 0.35389, i.e. σ² < 35.389 for n =
+    1600.  ẋ is constant (two levels at most: skipped); travel since reversal equals x here (the same map); the
+    load is unrelated noise (no map)."""
+    maps = _maps(35.2)  # z = 5.04
+    assert sorted(maps) == ["travel", "x"]
+    m = maps["x"]
+    assert m["share"] == pytest.approx(1.0, rel=1e-12) and m["score"] == pytest.approx(1.0, rel=1e-12)
+    assert m["kind"] == "state" and m["bin_means_N"] == [-1.0] * 8 + [1.0] * 8
+    np.testing.assert_allclose(m["bin_centres"], 0.25 + 0.5 * np.arange(16), atol=1e-9)
+    assert m["finding"] == ("residual follows the displacement x: bin means from -1 to +1 N carry 100 % of its "
+                            "variance (→ stiffness side (level, contact law, offset))")
+    assert maps["travel"]["finding"].startswith("residual follows the travel since the last reversal: ")
+    assert maps["travel"]["finding"].endswith("(→ memory after reversals (stick, hysteresis, play))")
+    assert _maps(35.6) == {}  # z = 4.95
