@@ -211,3 +211,35 @@ def test_state_map_share_and_threshold_by_hand():
     assert maps["travel"]["finding"].startswith("residual follows the travel since the last reversal: ")
     assert maps["travel"]["finding"].endswith("(→ memory after reversals (stick, hysteresis, play))")
     assert _maps(35.6) == {}  # z = 4.95
+
+
+# ---------------------------------------------------------------- where_time.spectrum_outside by hand
+
+def _rec(name, fs, f_band, sigma, amp, n=4000, f=200.0):
+    t = np.arange(n) / fs
+    return SimpleNamespace(test=name, fs=fs, f_band=f_band, sigma=sigma, t=t), amp * np.sin(2 * np.pi * f * t)
+
+
+def test_spectrum_outside_the_band_by_hand():
+    """``spectrum_outside``: a residual tone at 200 Hz, far above the cut 4 × f_band = 20 Hz (a 4th-order low-pass
+    run twice takes off (20/200)^8 of it), against white noise of σ over the band above the cut (a fraction
+    1 − f_c/(fs/2) of the power): ratio = √(Σ n·a²/2 / Σ σ²·(1 − f_c/(fs/2))·n), pooled over records; above 1.5
+    the text names content outside the band; a record whose cut reaches 0.45 fs is skipped."""
+    from chainid.gap.where_time import spectrum_outside
+
+    d1, r1 = _rec("A", 1000.0, 5.0, 1.0, 3.0)  # cut 20 Hz: fraction 0.96
+    d2, r2 = _rec("B", 800.0, 10.0, 2.0, 1.0, n=3200)  # cut 40 Hz: fraction 0.9
+    got = spectrum_outside([d1, d2], {"A": r1, "B": r2})
+    want = math.sqrt((4000 * 9 / 2 + 3200 * 1 / 2) / (1.0 * 0.96 * 4000 + 4.0 * 0.9 * 3200))
+    assert got["ratio_to_noise"] == pytest.approx(want, rel=2e-3) and got["kind"] == "spectrum"
+    assert got["score"] == 0.0
+    assert got["finding"] == (f"residual above 4× the excitation band: RMS {want:.2f}× white noise of the records' σ "
+                              "over that bandwidth (noise)")  # 1.16 <= 1.5
+    got = spectrum_outside([d1], {"A": r1})
+    assert got["ratio_to_noise"] == pytest.approx(math.sqrt(4.5 / 0.96), rel=2e-3)
+    assert got["finding"].endswith("RMS 2.17× white noise of the records' σ over that bandwidth (content outside the "
+                                   "excitation's band: ringing, impacts, chatter or a sensor resonance)")
+    d3, r3 = _rec("C", 100.0, 11.25, 1.0, 3.0, f=30.0)  # cut 45 Hz = 0.45 fs: nothing above the band to judge
+    assert spectrum_outside([d3], {"C": r3}) == {}
+    d4, r4 = _rec("D", 100.0, 11.2, 1.0, 3.0, f=48.0)
+    assert spectrum_outside([d4], {"D": r4}) != {}
