@@ -243,3 +243,46 @@ def test_spectrum_outside_the_band_by_hand():
     assert spectrum_outside([d3], {"C": r3}) == {}
     d4, r4 = _rec("D", 100.0, 11.2, 1.0, 3.0, f=48.0)
     assert spectrum_outside([d4], {"D": r4}) != {}
+
+
+# ---------------------------------------------------------------- where_time.drift: the quarter rule by hand
+
+def _drift_recs(n_rec, n_drift, n=640, slope=0.5):
+    rng = np.random.default_rng(4)
+    data, res = [], {}
+    for i in range(n_rec):
+        t = np.arange(n) * 0.01
+        data.append(SimpleNamespace(test=f"r{i}", t=t, x=rng.normal(0.0, 1.0, n), sigma=0.1))
+        res[f"r{i}"] = slope * t if i < n_drift else np.zeros(n)
+    return data, res
+
+
+def test_drift_quarter_rule_change_and_text_by_hand():
+    """``drift``: per record min(20, n/32) blocks (n = 640: 20 blocks of 32 samples, block-mean times 0.155 …
+    6.235 s); a residual 0.5 N/s·t has slope 0.5 and change 0.5 × 6.08 = 3.04 N; non-stationary when the
+    significant records are at least a quarter, ceil(0.25·n_rec) (1 of 5 is not, 2 of 5 are); the change is the
+    RMS over records counting the others as 0: √(2·3.04²/5)."""
+    from chainid.gap.where_time import drift
+
+    data, res = _drift_recs(5, 1)
+    got = drift(data, res)
+    assert got["stationary"] is True and got["trend_change_N"] == pytest.approx(math.sqrt(3.04**2 / 5), rel=1e-9)
+    assert got["finding"] == "the residual is stationary over each record (no significant drift of its block means)"
+    rows = {r["test"]: r for r in got["tests"]}
+    assert rows["r0"]["slope_N_per_s"] == pytest.approx(0.5, rel=1e-9)
+    assert rows["r0"]["change_N"] == pytest.approx(3.04, rel=1e-9) and rows["r0"]["z"] > 100
+    assert rows["r1"]["z"] == pytest.approx(0.0, abs=1e-6) and got["z"] == rows["r0"]["z"]
+    data, res = _drift_recs(5, 2)
+    got = drift(data, res)
+    chg = math.sqrt(2 * 3.04**2 / 5)
+    assert got["stationary"] is False and got["trend_change_N"] == pytest.approx(chg, rel=1e-9)
+    assert got["finding"] == (f"non-stationary: the residual drifts with time in 2 of 5 records (change {chg:.3g} N "
+                              f"RMS over records, up to {got['z']:.1f} standard errors) beyond what x explains: drift, "
+                              "relaxation, heating or wear, which no static library effect explains")
+    assert drift(*_drift_recs(4, 1))["stationary"] is False  # 1 of 4 is a quarter
+    # 320 samples: 10 blocks of 32 (first and last block means 0.155 and 3.035 s); 191 samples: < 6 blocks, skipped
+    got = drift(*_drift_recs(1, 1, n=320))
+    assert got["tests"][0]["change_N"] == pytest.approx(0.5 * 2.88, rel=1e-9)
+    got = drift(*_drift_recs(2, 2, n=191))
+    assert got == {"stationary": None, "trend_change_N": 0.0, "z": 0.0, "tests": [],
+                   "finding": "stationarity not checked: records too short for the drift test"}
