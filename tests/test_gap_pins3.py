@@ -286,3 +286,44 @@ def test_drift_quarter_rule_change_and_text_by_hand():
     got = drift(*_drift_recs(2, 2, n=191))
     assert got == {"stationary": None, "trend_change_N": 0.0, "z": 0.0, "tests": [],
                    "finding": "stationarity not checked: records too short for the drift test"}
+
+
+# ---------------------------------------------------------------- where_time.backbone by hand
+
+def _triangle(g, n=2000, fs=500.0):
+    """x a triangle 0 … 2 mm at 1 mm/s (period 4 s), F = g(travel since the last turn) [N]."""
+    t = np.arange(n) / fs
+    ph = np.mod(t, 4.0)
+    x = np.where(ph < 2.0, ph, 4.0 - ph)
+    xd = np.where(ph < 2.0, 1.0, -1.0)
+    tr = np.where(ph < 2.0, ph, ph - 2.0)
+    return SimpleNamespace(test="R", t=t, x=x, xd=xd, F=g(tr))
+
+
+def test_backbone_kinds_by_hand():
+    """``backbone``: travel uniform on (0, 2] mm, so T25 = 0.5, T75 = 1.5 mm; k_small = |ΔF|(T25)/T25, k_large =
+    (|ΔF|(T75) − |ΔF|(T25))/(T75 − T25).  Play of 0.3 mm then 100 N/mm: 20/0.5 = 40 against 100 N/mm, ratio 0.4 <=
+    1/2: a dead band; 100 N/mm up to 0.5 mm then 20 N/mm: ratio 5 >= 2: stiff then soft; a linear backbone
+    (ratio 1): no finding; fewer than 200 samples with travel: not judged."""
+    from chainid.gap.where_time import backbone
+
+    (f,) = backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0))])
+    assert f["kind"] == "backbone" and f["test"] == "R" and f["score"] == 0.0
+    assert f["travel_T25_mm"] == pytest.approx(0.5, abs=0.01) and f["travel_T75_mm"] == pytest.approx(1.5, abs=0.01)
+    assert f["k_small_N_per_mm"] == pytest.approx(40.0, rel=0.02) and f["k_large_N_per_mm"] == pytest.approx(100.0,
+                                                                                                            rel=0.02)
+    assert f["ratio"] == pytest.approx(0.4, rel=0.03)
+    assert f["finding"] == (f"test R: the measured force after reversals shows a dead band then stiffening: "
+                            f"{f['k_small_N_per_mm']:.3g} N/mm over the first {f['travel_T25_mm']:.3g} mm of travel "
+                            f"after a reversal, {f['k_large_N_per_mm']:.3g} N/mm beyond (play closing onto a contact)")
+    (f,) = backbone([_triangle(lambda tr: np.where(tr < 0.5, 100.0 * tr, 50.0 + 20.0 * (tr - 0.5)))])
+    assert f["k_small_N_per_mm"] == pytest.approx(100.0, rel=0.02) and f["k_large_N_per_mm"] == pytest.approx(20.0,
+                                                                                                             rel=0.03)
+    assert f["finding"] == (f"test R: the measured force after reversals shows stiff at small travel then softer: "
+                            f"{f['k_small_N_per_mm']:.3g} N/mm up to {f['travel_T25_mm']:.3g} mm after a reversal, "
+                            f"{f['k_large_N_per_mm']:.3g} N/mm beyond (stick / pre-sliding, then sliding)")
+    assert backbone([_triangle(lambda tr: 70.0 * tr)]) == []
+    # ratio just inside each threshold: 0.55 (play 0.225 mm: 27.5/0.5 = 55 against 100) and 1.9 are no finding
+    assert backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.225, 0.0))]) == []
+    assert backbone([_triangle(lambda tr: np.where(tr < 0.5, 100.0 * tr, 50.0 + 52.6 * (tr - 0.5)))]) == []
+    assert backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0), n=199)]) == []
