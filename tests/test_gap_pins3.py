@@ -344,3 +344,36 @@ def test_leave_out_step_box_constrained_quadratic_by_hand():
     np.testing.assert_allclose(leave_out_step(A, np.array([3.0, 0.0]), lo, hi), [0.5, -0.25], atol=1e-9)
     np.testing.assert_allclose(leave_out_step(A, np.array([0.0, -3.0]), lo, hi), [0.25, -0.5], atol=1e-9)
     np.testing.assert_array_equal(leave_out_step(-np.eye(2), np.array([1.0, 0.0]), lo, hi), [0.0, 0.0])
+
+
+# ---------------------------------------------------------------- where.delay_signature: the fundamental's line
+
+def test_delay_signature_fundamental_phase_line_and_its_r2_by_hand():
+    """The fundamental's phase of F against x, φ₁ = atan2(b, a) of F = a sin ψ + b cos ψ + …: a lag τ = 2 ms and a
+    damping part q cos ψ give a = 500 cos ωτ, b = q − 500 sin ωτ.  The straight line through (ω, φ₁) and its
+    R² = 1 − SS_res/SS_tot are a least-squares fit by hand (phases small, SS_tot < 1 rad²)."""
+    from chainid.gap.where import delay_signature
+
+    B, tau = 64, 0.002
+    psi = (np.arange(B) + 0.5) * 2 * math.pi / B
+    ws, qs = (10.0, 20.0, 30.0, 40.0), (5.0, 0.0, 8.0, 2.0)
+    data, model = [], {}
+    for i, (w, q) in enumerate(zip(ws, qs)):
+        F = 500 * np.sin(psi - w * tau) + 100 * np.sin(2 * (psi - w * tau)) + q * np.cos(psi)
+        data.append(SimpleNamespace(test=f"T{i}", omega=w, sigma=0.1, counts=np.full(B, 10.0), Fbar=F))
+        model[f"T{i}"] = 500 * np.sin(psi) + 100 * np.sin(2 * psi)
+    w = np.array(ws)
+    p1 = np.arctan2(np.array(qs) - 500 * np.sin(w * tau), 500 * np.cos(w * tau))
+    X = np.column_stack([w, np.ones(4)])
+    (s, c0), *_ = np.linalg.lstsq(X, p1, rcond=None)
+    ss = float(np.sum((p1 - p1.mean()) ** 2))
+    r2 = 1 - float(np.sum((p1 - X @ [s, c0]) ** 2)) / ss
+    assert ss < 1 and 0.5 < r2 < 0.99
+    sig = delay_signature(data, model)
+    assert sig["phase1_slope_s"] == pytest.approx(s, rel=1e-9)
+    assert sig["phase1_intercept_rad"] == pytest.approx(c0, rel=1e-9, abs=1e-12)
+    assert sig["phase1_r2"] == pytest.approx(r2, rel=1e-9)
+    assert sig["n_points"] == 4 and sig["tau_harmonics_s"] == pytest.approx(tau, rel=1e-9)  # harmonic 2 only
+    # two distinct frequencies: no line (nan), no harmonic reading either below two frequencies
+    two = delay_signature(data[:2] + [SimpleNamespace(**(vars(data[1]) | {"test": "T9"}))], model | {"T9": model["T1"]})
+    assert math.isnan(two["phase1_slope_s"]) and math.isnan(two["phase1_r2"])
