@@ -377,3 +377,30 @@ def test_delay_signature_fundamental_phase_line_and_its_r2_by_hand():
     # two distinct frequencies: no line (nan), no harmonic reading either below two frequencies
     two = delay_signature(data[:2] + [SimpleNamespace(**(vars(data[1]) | {"test": "T9"}))], model | {"T9": model["T1"]})
     assert math.isnan(two["phase1_slope_s"]) and math.isnan(two["phase1_r2"])
+
+
+# ---------------------------------------------------------------- transfer: the noise floor of harmonic records
+
+def test_transfer_of_the_true_model_leaves_harmonic_records_at_their_noise_floor():
+    """``transfer`` on steady harmonic records: a bin mean of n samples carries noise σ²/n, so the model that
+    simulated the records (the paper's plan, viscous c_e) leaves them at 0 dB over their noise (within ± 1 dB over
+    9 × 64 bins) and at the noise floor; with no effect named the text says so."""
+    from chainid.gap.prepare import prepare_test
+    from chainid.gap.problem import Problem
+    from chainid.gap.selection import baseline_candidate
+    from chainid.gap.transfer import transfer
+    from chainid.model.base import ChainModel
+    from chainid.model.laws import ViscousLaw
+    from chainid.records.simulate import paper_plan, simulate
+
+    model = ChainModel()
+    kw = dict(n_cycles=6, samples_per_cycle=128, noise_F=30.0)
+    fit = simulate(paper_plan(), model, ViscousLaw([2834.4]), seed=1, **kw)
+    other = simulate(paper_plan(), model, ViscousLaw([2834.4]), seed=2, **kw)
+    prob = Problem([prepare_test(r) for r in fit], model, ["5"])
+    base = baseline_candidate(prob)
+    tr = transfer({"_problem": prob, "_path": [base]}, other)
+    assert abs(tr["pooled"]["model_db_over_noise"]) < 1.0 and tr["pooled"]["model_at_noise_floor"] is True
+    assert tr["transfers"] is False and tr["chain"] == "baseline"
+    assert tr["verdict_text"].startswith("no effect was named on the fitting set; on the other set the baseline "
+                                         "leaves NRMSE ")
