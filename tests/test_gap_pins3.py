@@ -404,3 +404,42 @@ def test_transfer_of_the_true_model_leaves_harmonic_records_at_their_noise_floor
     assert tr["transfers"] is False and tr["chain"] == "baseline"
     assert tr["verdict_text"].startswith("no effect was named on the fitting set; on the other set the baseline "
                                          "leaves NRMSE ")
+
+
+# ---------------------------------------------------------------- benchmark_time: the transfer case's harmonic set
+
+def test_transfer_case_harmonic_set_is_the_documented_one(monkeypatch):
+    """``run_case_transfer``'s docstring: 11 harmonic tests h1 … h11 over the random records' band and amplitudes
+    (ω ∈ (¼, ½, 1)·ω_lo × A ∈ (½, 1, 1.5)·Ā at x̄0, then two off-grid tests), 8 cycles of 256 samples, noise σ =
+    noise·S, seed + 1; the same device (true model, viscous c, effect hook) as the random records."""
+    from chainid.gap import benchmark_time as bt
+    from chainid.records import simulate as sim
+
+    case = next(c for c in bt.time_grid(small=True) if c["excitation"] == "transfer")
+    _, dev = bt.records(case | {"excitation": "random"})
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def recorder(plan, model, c, **kw):  # noqa: ANN001
+        seen.update(plan=plan, model=model, c=c, **kw)
+        raise Stop
+
+    monkeypatch.setattr(sim, "simulate", recorder)
+    assert bt.run_case_transfer(case)["verdict"].startswith("error: ")
+    wl = 2 * np.pi * min(m.f_max for m in dev["motions"])
+    A = float(np.median([m.A for m in dev["motions"]]))
+    x0 = float(np.median([np.median(m.x) for m in dev["motions"]]))
+    want = [(w * wl, x0, a * A) for w in (0.25, 0.5, 1.0) for a in (0.5, 1.0, 1.5)]
+    want += [(0.75 * wl, x0 + 0.1, 0.75 * A), (0.375 * wl, x0 - 0.1, 1.25 * A)]
+    assert [p.test for p in seen["plan"]] == [f"h{i}" for i in range(1, 12)]
+    np.testing.assert_allclose([(p.omega, p.x0, p.A) for p in seen["plan"]], want, rtol=1e-12)
+    assert (seen["n_cycles"], seen["samples_per_cycle"], seen["seed"]) == (8, 256, case["seed"] + 1)
+    assert seen["noise_F"] == pytest.approx(case["noise"] * dev["S"], rel=1e-12)
+    assert seen["c"] == pytest.approx(dev["c"], rel=1e-12)
+    assert (seen["model"].ea_scale, seen["model"].hertz_scale) == (dev["true"].ea_scale, dev["true"].hertz_scale)
+    t = np.linspace(0, 1, 50)
+    x = 2.0 + 0.2 * np.sin(2 * np.pi * t)
+    xd = 0.4 * np.pi * np.cos(2 * np.pi * t)
+    np.testing.assert_allclose(seen["force_fn"](t, x, xd, 0 * t, 0 * t), dev["hook"](t, x, xd, 0 * t, 0 * t))

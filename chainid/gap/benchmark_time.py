@@ -290,7 +290,12 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
 
 
 def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
-    """One device measured harmonically and under band-limited random excitation; fit on one, score the other."""
+    """One device measured harmonically and under band-limited random excitation; fit on one, score the other.
+
+    The harmonic set (tests ``h1`` … ``h11``): ω ∈ (¼, ½, 1)·ω_lo × A ∈ (½, 1, 1.5)·Ā at x̄0, then (¾ ω_lo, x̄0 + 0.1,
+    ¾ Ā) and (⅜ ω_lo, x̄0 − 0.1, 1.25 Ā), with ω_lo = 2π × the lowest band edge of the random records, Ā and x̄0
+    their median amplitude and median mean [mm]; 8 cycles of 256 samples, force noise σ = noise·S, seed + 1.
+    """
     from chainid.gap.diagnose import diagnose
     from chainid.records.simulate import grid_plan, simulate
 
