@@ -7,6 +7,7 @@ Units: mm, N, s.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -313,3 +314,40 @@ def test_quake_records_are_drawn_from_the_documented_ranges(monkeypatch):
     assert _share([bool(c.get("lead")) for c in calls], 0.25, N_DRAWS)
     with pytest.raises(ValueError, match=r"excitation = 'harmonic' is unknown; valid: random, sweep, startup, quake"):
         _draws("harmonic", 1, monkeypatch)
+
+
+# ---------------------------------------------------------------- where_time.ringing: thresholds, choice and texts
+
+def _ring(name, s2, amp=5.0, n=8000, fs=1000.0):
+    t = np.arange(n) / fs
+    xd = 2 * math.pi * np.cos(2 * math.pi * t)  # x = sin(2π t)
+    sliding = np.abs(xd) >= 0.2 * np.quantile(np.abs(xd), 0.99)
+    res = amp * np.sin(2 * math.pi * 60.0 * t) * np.where(sliding, 1.0, math.sqrt(s2))
+    return SimpleNamespace(test=name, f_band=2.0, fs=fs, xd=xd), res
+
+
+def test_ringing_ratio_threshold_choice_and_texts():
+    """``ringing``: the same 60 Hz tone while sliding and, scaled by √s², elsewhere has a mean-square ratio 1/s² (within
+    5 %: the tone's mean square over each set of samples and the high-pass's ends);
+    chatter needs >= RING_RATIO = 2 (s² = 1/2.2: chatter; 1/1.8: ringing, reported with score 0).  Over records
+    a chatter row beats a louder non-chatter one; a record that never rests (or never slides) is skipped."""
+    from chainid.gap.where_time import ringing
+
+    d1, r1 = _ring("A", 1 / 2.2)
+    got = ringing([d1], {"A": r1})
+    assert got["chatter"] is True and got["ratio"] == pytest.approx(2.2, rel=0.05)
+    assert got["finding"] == (f"ringing while sliding after reversals at {got['frequency_Hz']:.3g} Hz in test A (RMS "
+                              f"{got['rms_N']:.3g} N, {got['ratio']:.1f}× the mean square elsewhere, narrow spectral "
+                              f"peak {got['peak_ratio']:.0f}× its neighbourhood): stick-slip chatter — no library effect "
+                              "covers it, so it is reported, not named")
+    d2, r2 = _ring("B", 1 / 1.8, amp=20.0)
+    got = ringing([d2], {"B": r2})
+    assert got["chatter"] is False and got["ratio"] == pytest.approx(1.8, rel=0.05) and got["score"] == 0.0
+    assert got["finding"] == (f"no ringing after reversals (sliding high-frequency residual {got['ratio']:.2f}× "
+                              f"elsewhere, largest narrow peak {got['peak_ratio']:.1f}× its neighbourhood)")
+    both = ringing([d2, d1], {"A": r1, "B": r2})
+    assert both["test"] == "A" and both["kind"] == "chatter" and both["score"] == both["rms_N"]
+    assert ringing([d2, _ring("C", 1 / 1.9, amp=30.0)[0]], {"B": r2, "C": _ring("C", 1 / 1.9, amp=30.0)[1]})[
+        "test"] == "C"  # no chatter anywhere: the loudest record
+    still = SimpleNamespace(test="S", f_band=2.0, fs=1000.0, xd=np.full(8000, 3.0))
+    assert ringing([still], {"S": r1}) == {}
