@@ -351,3 +351,21 @@ def test_ringing_ratio_threshold_choice_and_texts():
         "test"] == "C"  # no chatter anywhere: the loudest record
     still = SimpleNamespace(test="S", f_band=2.0, fs=1000.0, xd=np.full(8000, 3.0))
     assert ringing([still], {"S": r1}) == {}
+
+
+# ---------------------------------------------------------------- stationarity.trend: the scatter's standard error
+
+def test_trend_standard_error_from_the_scatter_by_textbook_formulas():
+    """``trend`` without a covariate is the straight-line fit: slope b = Sxy/Sxx, s² = RSS/(n − 2), SE = √(s²/Sxx)
+    (textbook OLS); the floor only counts when larger than the scatter (floor 0.01 here: it does not)."""
+    from chainid.gap.stationarity import trend
+
+    t = np.arange(10, dtype=float)
+    y = 3.0 + 0.1 * t + 2.0 * (-1.0) ** np.arange(10)
+    sxx = float(np.sum((t - t.mean()) ** 2))
+    b = float(np.sum((t - t.mean()) * (y - y.mean()))) / sxx
+    rss = float(np.sum((y - y.mean() - b * (t - t.mean())) ** 2))
+    sl, se, chg = trend(t, y, sd_floor=0.01)
+    assert sl == pytest.approx(b, rel=1e-12) and se == pytest.approx(math.sqrt(rss / 8 / sxx), rel=1e-12)
+    assert chg == pytest.approx(abs(b) * 9, rel=1e-12)
+    assert trend(t, y, sd_floor=10.0)[1] == pytest.approx(10.0 / math.sqrt(sxx), rel=1e-12)  # the floor wins
