@@ -254,9 +254,16 @@ def test_phase_route_figures_show_the_results_numbers(tmp_path, monkeypatch):
         np.testing.assert_allclose(sc.get_array(), want, rtol=1e-12)
         assert sc.norm.vmin == 0 and sc.norm.vmax == pytest.approx(vmax, rel=1e-12)
         assert [a.get_text() for a in ax.texts] == [f"{v:.2g}" for v in want]
+        # dark text on the bright end of viridis (above 0.6 of the scale), white below
+        assert [a.get_color() for a in ax.texts] == ["k" if v > 0.6 * vmax else "w" for v in want]
         red = [tuple(c) for c in sc.get_edgecolors()]
         assert sum(c[:3] == (1.0, 0.0, 0.0) for c in red) == 2  # the two held-out tests
     assert ax1.get_title() == "with friction (red edge: held-out)"
+    assert {a.get_color() for a in ax0.texts + ax1.texts} == {"k", "w"}
+    # the residual's systematic excess is sqrt(max(r2 − f2, 0)) and its dB 10·log10(r2/f2): below the floor
+    # (friction leaves less than the noise, r2 < f2, dB < 0) the excess is 0
+    r = res["residual"]
+    assert r["db_over_noise"] < 0 and r["excess_rms_N"] == 0.0
     Amax = max(t["A"] for t in tests.values())
     surf = figs["residual_surface.png"].axes[0]
     for coll, t in zip(surf.collections, tests.values()):

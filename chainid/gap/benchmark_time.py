@@ -89,7 +89,23 @@ def _fs(rng: np.random.Generator, f_max: float, per: float = 25.0) -> float:
 
 
 def motion(kind: str, rng: np.random.Generator) -> Any:
-    """One record's displacement program of family ``kind``, every property drawn from its range."""
+    """One record's displacement program of family ``kind``, every property drawn from its range.
+
+    Uniform draws (frequencies Hz, lengths mm, times s; n samples, T = n/fs the record's length):
+
+    * ``random``: n 2000–4500, band edge f_hi 1–4, f_lo = max(f_hi × 0.02–0.1, 2.5 fs/n), RMS 0.04–0.11, mean
+      1.7–2.3, a wandering mean 0.02–0.08 on 30 % of the records;
+    * ``sweep``: 0.2–0.5 → 2–4 (down on 30 %), n 2000–4500 but >= 3 periods of the slowest frequency, amplitude
+      0.06–0.3, mean 1.8–2.3, exponential on half;
+    * ``startup``: running frequency 1–4, n 2000–4500, 2–4 load levels 1.6–2.5, ramp 0.15–0.3 T, steps of
+      0.3–1.5, amplitude 0.04–0.2, start 0.6–1.2;
+    * ``quake``: ground frequency f_g 1–3, n 3000–6000, peak 0.15–0.45, mean 1.9–2.4, damping ratio 0.3–0.7,
+      high-pass f_c = f_g × 0.05–0.15, band edge 4 f_g, rise 0.08–0.25 T, decay rate (3–8)/T, a pulse 0.5–1.5 on
+      half, an offset −0.3–0.3 on 30 %;
+    * the sampling rate: one of the three lowest logger rates (100, 200, 250, 500, 1000, 2000) with >= 25 samples
+      per period of the band edge (quake: 20);
+    * a taper 0.05–0.1 T on 30 % of the random and sweep records, a rest lead-in 0.03–0.1 T on 25 % of all.
+    """
     from chainid.records import excitation as ex
 
     n = int(rng.integers(2000, 4501))
@@ -133,7 +149,13 @@ def motion(kind: str, rng: np.random.Generator) -> Any:
 
 
 def _outside(kind: str, level: float, S: float, F_c: float, rng: np.random.Generator) -> Any:
-    """Force hook of an effect outside the library (N): drift, relaxation or stick-slip chatter."""
+    """Force hook of an effect outside the library (N): drift, relaxation or stick-slip chatter.
+
+    ``drift`` adds 0.05·level·S·(t − t0)/(t_end − t0); ``relaxation`` takes off 0.1·level·S·(1 − exp(−3·(t − t0)/
+    (t_end − t0))); ``chatter`` is Coulomb friction F_c·sgn(ẋ) plus a tone of amplitude drawn from 0.3–0.8 F_c (random
+    phase) at max(12 Hz, fs/20), at most fs/5, while the contact slides faster than a fraction drawn from 0.1–0.25 of
+    the record's peak speed.
+    """
     if kind == "drift":
         rate = 0.05 * level * S
 
@@ -268,7 +290,12 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
 
 
 def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
-    """One device measured harmonically and under band-limited random excitation; fit on one, score the other."""
+    """One device measured harmonically and under band-limited random excitation; fit on one, score the other.
+
+    The harmonic set (tests ``h1`` … ``h11``): ω ∈ (¼, ½, 1)·ω_lo × A ∈ (½, 1, 1.5)·Ā at x̄0, then (¾ ω_lo, x̄0 + 0.1,
+    ¾ Ā) and (⅜ ω_lo, x̄0 − 0.1, 1.25 Ā), with ω_lo = 2π × the lowest band edge of the random records, Ā and x̄0
+    their median amplitude and median mean [mm]; 8 cycles of 256 samples, force noise σ = noise·S, seed + 1.
+    """
     from chainid.gap.diagnose import diagnose
     from chainid.records.simulate import grid_plan, simulate
 

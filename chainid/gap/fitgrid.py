@@ -29,6 +29,21 @@ def starts(keys: Sequence[str], names: Sequence[str], ug: np.ndarray, fixed: np.
     ug : default start (unit box), with the fixed entries already set
     fixed : which entries come from a previous fit (not gridded)
     lo, hi : physical bounds of each parameter
+
+    Returns
+    -------
+    list of ndarray
+        The default start ``ug`` first, then (u the unit-box value of a free parameter):
+
+        * one free parameter: u ∈ ``GRID1`` (0, 0.003, 0.01, 0.03, 0.1, 0.3, 0.6), u = 0.5 − (0.01, 0.05, 0.2);
+          a range straddling 0 (at z = −lo/(hi − lo)): z ∓ 0.002, 0.01, 0.05, 0.15; a delay (``.tau``): the
+          ``DELAY_GRID`` midpoints (i + ½)/40; a scale or delay: ug × (0.5, 0.7, 0.85, 1.2, 1.5, 2, 3);
+        * two or more free: the first two over ``GRID2`` × ``GRID2`` (0, 0.003, 0.03, 0.2), the others at ug;
+          a new friction (F_c, µ, x_s) also (0.03, 0.2) × 0 × (0.02, 0.1, 0.4); a contact law (0.05, 0.18, 0.4) ×
+          (0.2, 0.39, 0.6); a hysteresis (0.01, 0.05, 0.2) × (0.005, 0.01, 0.02);
+        * a linear baseline (``spring.k`` first): every start above again with k × 0.1, then with k × 0.01;
+
+        each clipped to the unit box.
     """
     free = [i for i, k in enumerate(keys) if not fixed[i] and not k.startswith("spring.")]
     out = [ug.copy()]
