@@ -80,7 +80,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_negative_damping.py", "tests/test_gap_benchmark.py::test_canonical_names",
             "tests/test_gap_benchmark.py::test_compound_rates_by_hand",
             "tests/test_gap_time_compound.py::test_stiffness_level_and_slack_against_one_contact_law"),
-    "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_checks.py", "tests/test_dynamics_damping.py",
+    "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_pins2.py", "tests/test_dynamics_checks.py", "tests/test_dynamics_damping.py",
                  "tests/test_dynamics.py", "tests/test_cli_dynamics.py", "tests/test_dynamics_waves.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
     "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_parallel.py",
