@@ -58,7 +58,13 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "tests/test_gap_diagnose.py::test_parse_effect_errors_and_operators",
               "tests/test_gap_diagnose.py::test_damping_law_effect_hook_by_hand",
               "tests/test_augmented.py::test_force_closed_form_linear_viscous_mass_delay_and_non_uniform_sampling",
-              "tests/test_augmented.py::test_model_file_round_trip_and_errors"),
+              "tests/test_augmented.py::test_model_file_round_trip_and_errors",
+              # the damping laws' fit, ranking and predictions and Eq. 1's inertia term (model.laws, model.predict):
+              # 2 s together (the rest of the file identifies records: damping's targets)
+              *(f"tests/test_identify.py::test_{n}" for n in (
+                  "fit_law_stats_against_brute_force", "fewer_than_six_tests_refused", "law_predictions",
+                  "rank_laws_prefers_true_law", "predict_force_matches_model", "predict_force_estimates_test_parameters",
+                  "inertia_force_units", "mass_term_units"))),
     "records": ("tests/test_records_pins.py", "tests/test_plausible_grouped.py", "tests/test_records_contracts.py",
                 "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
                 "tests/test_readers.py", "tests/test_readers_readme.py", "tests/test_gap_benchmark_time.py::test_excitation_closed_forms",
