@@ -57,3 +57,19 @@ def test_implicit_newton_on_the_exact_tangent_needs_a_few_iterations_and_no_halv
     assert 1 <= stats[2] <= 6  # the largest Newton iteration count of any step
     res = simulate(line, drive, 400 * dt, dt=dt, scheme="implicit", n_out=100)
     assert res.rejected == 0 and res.substeps == res.n_steps
+
+
+@pytest.mark.parametrize("scheme", ["explicit", "implicit"])
+def test_drive_force_is_the_drive_node_inertia_plus_the_first_tension(scheme):
+    """SimResult.drive_force = m_0·a_0·1e-3 + T_1 [N] (the force the drive applies to node 0), with the sine drive's
+    a_0 = −A ω² sin(ωt) by hand and m_0 = ½ × a segment of 5 links × 50 mm × 4 kg/m = 0.5 kg; at t = 0 it is the
+    pretension (5 kN).  Bug caught: the inertia term's sign, units or the drive's acceleration garbled."""
+    line = ChainLine(n_links=20, n_masses=4, pretension_N=5_000.0)
+    A, w = 0.2, 2 * math.pi * 40
+    res = simulate(line, Drive("sine", A=A, omega=w), 0.1, n_out=50, scheme=scheme)
+    m0 = line.node_masses()[0]
+    assert m0 == pytest.approx(0.5 * 5 * 50.0 * line.chain.mass_per_m * 1e-3, rel=1e-12)
+    want = 1e-3 * m0 * (-A * w * w * np.sin(w * res.t)) + res.tension[:, 0]
+    np.testing.assert_allclose(res.drive_force, want, rtol=1e-12, atol=1e-9)
+    assert res.drive_force[0] == pytest.approx(5_000.0, rel=1e-12)
+    assert np.ptp(1e-3 * m0 * A * w * w * np.sin(w * res.t)) > 1.0  # the inertia term is not negligible here
