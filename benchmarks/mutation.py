@@ -53,7 +53,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "tests/test_chain_pins.py"),
     "signal": ("tests/test_signal_pins.py", "tests/test_steady.py", "tests/test_records.py", "tests/test_time_origin.py"),
     "model": ("tests/test_model_pins.py", "tests/test_model_laws_pins.py", "tests/test_model_base_pins.py",
-              "tests/test_kernels.py", "tests/test_operators.py", "tests/test_laws.py", "tests/test_practice.py",
+              "tests/test_model_effects_pins.py", "tests/test_kernels.py", "tests/test_operators.py", "tests/test_laws.py", "tests/test_practice.py",
               "tests/test_simulate.py", "tests/test_gap_pins.py", "tests/test_model_eq1_pins.py",
               "tests/test_augmented.py::test_memory_effects_run_forward_and_do_not_depend_on_the_sampling",
               "tests/test_gap_diagnose.py::test_parse_effect_errors_and_operators",

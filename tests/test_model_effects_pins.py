@@ -1,0 +1,39 @@
+"""Pins of the effect library's bounds (chainid.model.effects.make_effect; issue 20 §5, own mutation seeds of
+mutH): the bounds are "set from the data scales", so a diagnosis of the same data in other force or length
+units searches the same physical box.  Units: F N, x mm, τ s, ω rad/s."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from chainid.model.effects import EFFECT_NAMES, make_effect
+
+
+def _by_unit(e, unit):
+    return [(n, b, g) for n, u, b, g in zip(e.param_names, e.units, e.bounds, e.x0_guess) if u == unit]
+
+
+@pytest.mark.parametrize("name", EFFECT_NAMES)
+def test_effect_bounds_follow_the_data_scales(name):
+    """Every force parameter [N] has bounds and start value proportional to the force scale (× 1000 when the data
+    are given in mN) and reaching at least that scale (an effect as large as the data is admissible), every length
+    parameter [mm] proportional to the displacement scale; dimensionless ones do not move; the delay's box is
+    ± half the shortest period, π/ω_max (the docstring)."""
+    a = make_effect(name, F_scale=2e3, x_scale=0.4, omega_max=20.0)
+    f = make_effect(name, F_scale=2e6, x_scale=0.4, omega_max=20.0)
+    x = make_effect(name, F_scale=2e3, x_scale=400.0, omega_max=20.0)
+    assert a.param_names == f.param_names == x.param_names
+    for (n, b, g), (_, bf, gf), (_, bx, gx) in zip(_by_unit(a, "N"), _by_unit(f, "N"), _by_unit(x, "N")):
+        assert bf == pytest.approx(tuple(1e3 * v for v in b), rel=1e-12) and gf == pytest.approx(1e3 * g, rel=1e-12)
+        assert bx == b and b[0] <= 0.0 and b[1] >= 2e3, n
+    for (n, b, g), (_, bf, gf), (_, bx, gx) in zip(_by_unit(a, "mm"), _by_unit(f, "mm"), _by_unit(x, "mm")):
+        assert bx == pytest.approx(tuple(1e3 * v for v in b), rel=1e-12) and gx == pytest.approx(1e3 * g, rel=1e-12)
+        assert bf == b and b[1] > 0.0, n
+    for (n, b, g), (_, bf, _), (_, bx, _) in zip(_by_unit(a, "-"), _by_unit(f, "-"), _by_unit(x, "-")):
+        assert b == bf == bx and b[0] <= g <= b[1], n
+    if name == "sensor_delay":
+        assert a.bounds == ((-math.pi / 20.0, math.pi / 20.0),) and a.x0_guess == (0.0,)
+    for e in (a, f, x):
+        assert all(lo <= g <= hi for (lo, hi), g in zip(e.bounds, e.x0_guess))  # the start is inside the box
