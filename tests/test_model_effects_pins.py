@@ -37,3 +37,21 @@ def test_effect_bounds_follow_the_data_scales(name):
         assert a.bounds == ((-math.pi / 20.0, math.pi / 20.0),) and a.x0_guess == (0.0,)
     for e in (a, f, x):
         assert all(lo <= g <= hi for (lo, hi), g in zip(e.bounds, e.x0_guess))  # the start is inside the box
+
+
+def test_effect_check_refuses_below_the_lower_bound_and_accepts_it():
+    """Effect.check: lo <= v <= hi on both sides (the lower bound itself accepted, anything below refused with the
+    range): friction's F_c and μ from 0, the slack offset from −5·x_scale, the stiffness level from 0.2."""
+    fr = make_effect("friction", F_scale=100.0, x_scale=2.0)
+    fr.check({"F_c": 0.0, "mu": 0.0, "x_s": 0.0})
+    for k, v in (("F_c", -1e-9), ("mu", -0.01), ("x_s", -1.0)):
+        with pytest.raises(ValueError, match=rf"effect 'friction': {k} = {v!r} is out of range; valid range 0 to "):
+            fr.check({k: v})
+    sl = make_effect("slack", x_scale=2.0)
+    sl.check({"s": -10.0})
+    with pytest.raises(ValueError, match=r"s = -10.5 is out of range; valid range -10 to 10"):
+        sl.check({"s": -10.5})
+    lv = make_effect("stiffness_level")
+    lv.check({"scale": 0.2})
+    with pytest.raises(ValueError, match=r"scale = 0.19 is out of range; valid range 0.2 to 5"):
+        lv.check({"scale": 0.19})
