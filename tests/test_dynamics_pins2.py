@@ -150,3 +150,38 @@ def test_viscous_only_segments_clip_at_zero_and_go_slack_by_hand():
     assert out["T"].tolist() == [pytest.approx(F0, rel=1e-12), 0.0, 0.0]
     assert out["dv"][0] == pytest.approx(0.0, abs=1e-9) and out["dv"][1] == pytest.approx(-force(0.3, cl[1], ch[1]))
     assert peak == pytest.approx(F0, rel=1e-12) and low == 0.0
+
+
+def test_elastic_energy_is_the_integral_of_the_kernel_force():
+    """U(e) = ∫₀^e F_k de' (scipy's quad over the generated kernel) for a segment of 16 links at 0.05–1 mm; 0 when
+    slack; the array form sums the segments.  Bug caught: a coefficient of the closed form (½ c_lin, ⅗ c_hertz)."""
+    from scipy.integrate import quad
+
+    from chainid.dynamics.energy import elastic_energy, elastic_energy_array
+    from chainid.generated.stiffness_paper import force
+
+    cl, ch = ChainLine(n_links=16, n_masses=1).segment_coefficients()
+    for e in (0.05, 0.3, 1.0):
+        ref = quad(lambda s: force(s, cl[0], ch[0]), 0.0, e, epsabs=0, epsrel=1e-12, limit=200)[0]
+        assert elastic_energy(e, cl[0], ch[0]) == pytest.approx(ref, rel=1e-9)
+    assert elastic_energy(-0.2, cl[0], ch[0]) == 0.0
+    arr = elastic_energy_array(np.array([0.3, -0.1, 1.0]), np.repeat(cl, 3), np.repeat(ch, 3))
+    assert arr == pytest.approx(elastic_energy(0.3, cl[0], ch[0]) + elastic_energy(1.0, cl[0], ch[0]), rel=1e-12)
+
+
+def test_balance_scale_index_and_a_run_where_nothing_happens():
+    """The scale is the largest of |W|, |ΔE_kin|, |ΔE_el| and |D| over the run (here D = 40 N·mm leads); without
+    times the worst point is given by its output index; nothing happening (all zero) is a relative error of 0."""
+    from chainid.dynamics.energy import balance
+
+    W = np.array([0.0, 20.0, 30.0])
+    kin = np.array([5.0, 5.0, 5.0])
+    el = np.array([1.0, -9.0, -11.0])  # ΔE_el = 0, −10, −12
+    D = np.array([0.0, 29.0, 40.0])  # residual W − ΔE_kin − ΔE_el − D = 0, 1, 2
+    eb = balance(W, kin, el, D)
+    assert eb["scale"] == 40.0 and eb["worst_residual"] == 2.0 and eb["worst_t_s"] == 2.0
+    assert eb["relative_error"] == pytest.approx(2.0 / 40.0, rel=1e-15)
+    assert (eb["work_in"], eb["kinetic"], eb["elastic"], eb["dissipated"]) == (30.0, 0.0, -12.0, 40.0)
+    z = np.zeros(3)
+    still = balance(z, z + 7.0, z + 3.0, z, np.array([0.0, 1.0, 2.0]))
+    assert still["relative_error"] == 0.0 and still["scale"] == 0.0 and still["finite"] is True
