@@ -131,3 +131,36 @@ def LinearModel_():
     from chainid.model.base import LinearModel
 
     return LinearModel(1e4, 0.0)
+
+
+def test_predict_bad_model_file_is_one_line_and_exit_2(tmp_path, capsys):
+    """``chainid predict`` on a model file that is not TOML: exit code 2 (bad input, the CLI contract) and one line
+    on stderr naming the file; nothing on stdout."""
+    from chainid.cli import main
+
+    m, d = tmp_path / "m.toml", tmp_path / "d.csv"
+    m.write_text("not = [toml\n")
+    d.write_text("test,t,x,F\nT,0,1,1\nT,1,2,2\n")
+    assert main(["predict", str(m), str(d)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    assert err.startswith(f"chainid predict: error: model file {str(m)!r} is not valid TOML")
+
+
+def test_simulate_default_laws_are_the_papers_eq28_and_eq27(tmp_path, capsys):
+    """``chainid simulate`` without --params: the viscous law's c = 2834.4 N·s/mm (Eq. 27, test 3; the option's
+    help) and the polynomial law's α = Eq. 28 as printed in the paper, (28.02, −651.57, −8386.50, 7394.84, 4378.89),
+    whose c_e at each test of the paper plan the table states (Eq. 21 by hand with ω the plan's rad/s)."""
+    from chainid.cli import main
+    from chainid.records.simulate import paper_plan
+
+    eq28 = (28.02, -651.57, -8386.50, 7394.84, 4378.89)
+    assert main(["simulate", str(tmp_path / "v.csv"), "--cycles", "3"]) == 0
+    assert "(law viscous [2834.4]," in capsys.readouterr().out
+    assert main(["simulate", str(tmp_path / "p.csv"), "--law", "polynomial", "--cycles", "3"]) == 0
+    out = capsys.readouterr().out
+    assert f"(law polynomial {list(eq28)}," in out
+    rows = [ln.split() for ln in out.splitlines()[2:11]]
+    for s, row in zip(paper_plan(), rows):
+        c = eq28[0] * s.omega ** 2 + eq28[1] * s.omega + eq28[2] * s.A ** 2 + eq28[3] * s.A + eq28[4]
+        assert row[0] == s.test and float(row[4]) == pytest.approx(c, rel=1e-4)  # printed to 5 digits
