@@ -185,3 +185,28 @@ def test_balance_scale_index_and_a_run_where_nothing_happens():
     z = np.zeros(3)
     still = balance(z, z + 7.0, z + 3.0, z, np.array([0.0, 1.0, 2.0]))
     assert still["relative_error"] == 0.0 and still["scale"] == 0.0 and still["finite"] is True
+
+
+def test_mode_shapes_normalised_positive_at_their_largest_and_placed_at_the_free_nodes():
+    """modes(): each shape solves 1e3·K φ = ω² M φ (the dense tangent system), is scaled to max |φ| = 1 with that
+    largest entry +1; the free nodes of a tensioner line of 4 segments of 5 links are 1..4 at 250, 500, 750,
+    1000 mm (50 mm pitch; a fixed end drops node 4); f = ω/2π; n_modes beyond the free nodes gives them all;
+    n_modes must be an int >= 1."""
+    from chainid.dynamics.modes import modes, tangent_system
+
+    line = ChainLine(n_links=20, n_masses=4, pretension_N=2_000.0, tensioner_stiffness=50.0)
+    md = modes(line)
+    M, K, nodes = tangent_system(line)
+    for j in range(4):
+        phi, w = md.shapes[:, j], md.omega[j]
+        np.testing.assert_allclose(1e3 * K @ phi, w * w * M * phi, rtol=1e-9, atol=1e-9 * w * w * M.max())
+        assert np.max(np.abs(phi)) == pytest.approx(1.0, rel=1e-15) and phi[np.argmax(np.abs(phi))] == 1.0
+    assert md.nodes.tolist() == [1, 2, 3, 4] and md.positions.tolist() == [250.0, 500.0, 750.0, 1000.0]
+    np.testing.assert_allclose(md.frequency_hz, md.omega / (2 * math.pi), rtol=1e-15)
+    assert np.all(np.diff(md.omega) > 0)
+    assert modes(line, n_modes=9).omega.size == 4 and modes(line, n_modes=2).shapes.shape == (4, 2)
+    fixed = modes(ChainLine(n_links=20, n_masses=4, pretension_N=2_000.0, far_end="fixed"))
+    assert fixed.nodes.tolist() == [1, 2, 3] and fixed.positions.tolist() == [250.0, 500.0, 750.0]
+    for bad in (0, 2.0, True):
+        with pytest.raises(ValueError, match=rf"^n_modes = {bad!r} is invalid: valid range None or an int >= 1$"):
+            modes(line, n_modes=bad)
