@@ -100,7 +100,11 @@ TARGETS: dict[str, tuple[str, ...]] = {
               "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback",
               "--deselect=tests/test_parallel_limits.py::test_ctrl_c_on_benchmark_gap_exits_130_with_one_line"),
     "cli": ("tests/test_cli_outputs.py", "tests/test_cli_dynamics.py", "tests/test_cli_dynamics_pins.py",
-            "tests/test_cli_identify_pins.py", "tests/test_cli_simulate_effect.py",
+            "tests/test_cli_identify_pins.py",
+            # identify with a side file, a linear model and too few tests (test_audit.py's fast CLI tests, 1 s)
+            "tests/test_audit.py::test_cli_side_file_roundtrip",
+            "tests/test_audit.py::test_cli_identify_linear_model_allows_compression",
+            "tests/test_audit.py::test_cli_identify_fewer_than_six_tests", "tests/test_cli_simulate_effect.py",
             "tests/test_cli_pins.py", "tests/test_grade.py", "tests/test_kernels.py::test_cli_stiffness_json",
             "tests/test_identify_excluded.py", "tests/test_cli_input_checks.py", "tests/test_json_stdout.py",
             "tests/test_cli_contracts.py", "tests/test_cli_bounds.py", "tests/test_files_ours.py", "tests/test_presets.py",
