@@ -164,3 +164,18 @@ def test_simulate_default_laws_are_the_papers_eq28_and_eq27(tmp_path, capsys):
     for s, row in zip(paper_plan(), rows):
         c = eq28[0] * s.omega ** 2 + eq28[1] * s.omega + eq28[2] * s.A ** 2 + eq28[3] * s.A + eq28[4]
         assert row[0] == s.test and float(row[4]) == pytest.approx(c, rel=1e-4)  # printed to 5 digits
+
+
+def test_convert_refuses_an_unknown_output_suffix_before_reading(tmp_path, capsys):
+    """``chainid convert --to``: the suffix names the format (.csv, .parquet or .pq); another suffix, or none,
+    is one line naming it and the valid ones, exit 2, before the inputs are read (a missing input is not the
+    error reported) and nothing written."""
+    from chainid.records.writer import OUTPUT_FORMATS
+
+    for to, shown in (("o.txt", "'.txt'"), ("o", "'(none)'"), ("o.CSV.gz", "'.gz'")):
+        assert main(["convert", str(tmp_path / "missing.csv"), "--to", str(tmp_path / to)]) == 2
+        err = capsys.readouterr().err
+        assert err == (f"chainid convert: error: --to {str(tmp_path / to)!r}: unknown output suffix {shown}; "
+                       f"valid: {', '.join(OUTPUT_FORMATS)}\n")
+        assert not (tmp_path / to).exists()
+    assert sorted(OUTPUT_FORMATS) == [".csv", ".parquet", ".pq"]
