@@ -179,3 +179,18 @@ def test_convert_refuses_an_unknown_output_suffix_before_reading(tmp_path, capsy
                        f"valid: {', '.join(OUTPUT_FORMATS)}\n")
         assert not (tmp_path / to).exists()
     assert sorted(OUTPUT_FORMATS) == [".csv", ".parquet", ".pq"]
+
+
+def test_a_file_system_fault_is_one_line_naming_the_file(monkeypatch, capsys):
+    """An OSError escaping a command (a file system fault) is one line on stderr, exit 2, no traceback: with the
+    file it concerns when the error names one, else the system's message alone."""
+    import chainid.cli.convert as conv
+
+    for exc, line in ((OSError(13, "Permission denied", "/data/out.csv"),
+                       "chainid convert: error: '/data/out.csv' Permission denied\n"),
+                      (OSError(28, "No space left on device"), "chainid convert: error: No space left on device\n")):
+        def boom(args, exc=exc):
+            raise exc
+        monkeypatch.setattr(conv, "cmd_convert", boom)
+        assert main(["convert", "in.csv", "--to", "out.csv"]) == 2
+        assert capsys.readouterr().err == line
