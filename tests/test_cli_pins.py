@@ -194,3 +194,18 @@ def test_a_file_system_fault_is_one_line_naming_the_file(monkeypatch, capsys):
         monkeypatch.setattr(conv, "cmd_convert", boom)
         assert main(["convert", "in.csv", "--to", "out.csv"]) == 2
         assert capsys.readouterr().err == line
+
+
+def test_generate_lists_every_file_with_its_status_and_a_stale_check_exits_1(tmp_path, capsys, monkeypatch):
+    """``generate`` prints one line per generated file, its status right-aligned in 9 columns then the path; with
+    ``--check`` a file that is not unchanged makes generated/ stale: exit 1 and one stderr line naming it (README:
+    --check exits 1 when stale).  The emitter is stubbed (the CLI is under test)."""
+    from chainid.derive import emit
+
+    out = tmp_path / "gen"
+    out.mkdir()
+    monkeypatch.setattr(emit, "generate", lambda o, check=False: {"a.py": "unchanged", "b.py": "written"})
+    assert main(["generate", "--check", "--out", str(out)]) == 1
+    cap = capsys.readouterr()
+    assert cap.out.splitlines() == [f"unchanged  {out / 'a.py'}", f"  written  {out / 'b.py'}"]
+    assert cap.err == "generated/ is stale: b.py; run `chainid generate` and commit\n"
