@@ -113,7 +113,8 @@ TARGETS: dict[str, tuple[str, ...]] = {
             # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
             # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
             "--deselect=tests/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output"),
-    "report": ("tests/test_report_gap.py", "tests/test_report_pins.py", "tests/test_report_driver.py",
+    "report": ("tests/test_report_gap.py", "tests/test_report_pins.py", "tests/test_report_pins2.py",
+               "tests/test_report_driver.py",
                "tests/test_report.py::test_fig8_curves_are_the_closed_form_stiffness",
                "tests/test_report.py::test_report_data_step_with_compressive_records_uses_a_linear_spring",
                # the report driver (manifest, swap, late failure) with the steps faked: fast
