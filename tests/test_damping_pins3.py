@@ -203,3 +203,15 @@ def test_audit_data_stationary_points_inside_the_box_and_the_text_table():
     np.testing.assert_allclose(rows[:, 4], EQ28_PAPER, rtol=1e-9)
     assert text[7].startswith("  cond(X) = ")
     assert text[-1] == "2 test(s) excluded: T10 (0 steady cycles); T11 (x is constant)"
+
+
+def test_test_result_json_writes_non_finite_numbers_as_null():
+    """TestResult.to_dict: the contract's strict JSON: every non-finite float (the NaN defaults of a hand-made
+    result: W_ratio, r2_c, F_as, Fc0, steady_tol; an infinite c_e) is None; t_origin is not a key; θ is unchanged
+    when the record starts at t = 0."""
+    from chainid.damping.identify import TestResult
+
+    r = TestResult("T", 10.0, 2.0, 0.3, 2e4, 3e3, 0.1, 0.99, 300.0, math.inf, 50.0, theta=0.7)
+    d = r.to_dict()
+    assert [d[k] for k in ("W_ratio", "r2_c", "F_as", "Fc0", "steady_tol", "c_e")] == [None] * 6
+    assert "t_origin" not in d and d["theta"] == 0.7 and d["W"] == 50.0 and d["F_ac"] == 300.0
