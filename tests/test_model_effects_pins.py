@@ -55,3 +55,23 @@ def test_effect_check_refuses_below_the_lower_bound_and_accepts_it():
     lv.check({"scale": 0.2})
     with pytest.raises(ValueError, match=r"scale = 0.19 is out of range; valid range 0.2 to 5"):
         lv.check({"scale": 0.19})
+
+
+@pytest.mark.parametrize("name", EFFECT_NAMES)
+def test_an_effect_given_without_parameters_is_the_baseline(name):
+    """``--effect NAME`` with no parameters takes the library's neutral defaults (no friction, no play, no offset,
+    scale 1, the Hertz exponent 2/3, no delay, no extra damping), so the hook returns the baseline Eq. 1 force
+    unchanged (to round-off) on a harmonic test of the paper chain."""
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import parse_effect
+
+    model = ChainModel()
+    t = np.linspace(0.0, 2.0, 401)
+    w, A = 2 * math.pi, 0.25
+    x = 2.2 + A * np.sin(w * t)
+    xd, xdd = A * w * np.cos(w * t), -A * w * w * np.sin(w * t)
+    F_model = model.mass_kg * xdd * 1e-3 + model.force(x) + 300.0 * xd
+    hook = parse_effect(name, model)
+    if name == "contact_law":
+        assert hook.effect_params == {"scale": 1.0, "beta": pytest.approx(2.0 / 3.0, rel=1e-15)}
+    np.testing.assert_allclose(hook(t, x, xd, xdd, F_model), F_model, rtol=1e-9, atol=1e-6)
