@@ -75,3 +75,24 @@ def test_an_effect_given_without_parameters_is_the_baseline(name):
     if name == "contact_law":
         assert hook.effect_params == {"scale": 1.0, "beta": pytest.approx(2.0 / 3.0, rel=1e-15)}
     np.testing.assert_allclose(hook(t, x, xd, xdd, F_model), F_model, rtol=1e-9, atol=1e-6)
+
+
+@pytest.mark.parametrize("spec", ["damping_law:eta=0.1,F_f=50", "friction:F_c=100", "contact_law:scale=1.2"])
+def test_an_effect_hook_on_a_hold_without_motion_is_finite(spec):
+    """A record segment that does not move (x constant, ẋ = ẍ = 0: a hold at the pretension) has no amplitude and
+    no frequency: the hook still returns a finite force, the stiffness-side change of F_k and no velocity term
+    (the extra damping multiplies ẋ = 0), not a division by zero."""
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import parse_effect
+
+    model = ChainModel()
+    t = np.linspace(0.0, 1.0, 101)
+    x = np.full(101, 2.2)
+    z = np.zeros(101)
+    F_model = model.force(x)
+    out = parse_effect(spec, model)(t, x, z, z, F_model)
+    assert np.all(np.isfinite(out))
+    if spec.startswith("damping_law"):
+        np.testing.assert_allclose(out, F_model, rtol=1e-12)
+    if spec.startswith("contact_law"):
+        np.testing.assert_allclose(out, ChainModel(hertz_scale=1.2).force(x), rtol=1e-12)
