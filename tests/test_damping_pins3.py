@@ -215,3 +215,16 @@ def test_test_result_json_writes_non_finite_numbers_as_null():
     d = r.to_dict()
     assert [d[k] for k in ("W_ratio", "r2_c", "F_as", "Fc0", "steady_tol", "c_e")] == [None] * 6
     assert "t_origin" not in d and d["theta"] == 0.7 and d["W"] == 50.0 and d["F_ac"] == 300.0
+
+
+def test_a_loop_without_damping_has_no_energy_ratio():
+    """A record whose force is exactly the spring's (F = k·x, no mass): F_c ≡ 0, so c_e = F_ac = 0 and the ratio
+    W/(π c_e ω A²) has no value: NaN (null in the JSON), not a division by zero."""
+    from chainid.damping.identify import identify_test
+    from chainid.records.record import Record
+
+    t = np.linspace(0.0, 8.0, 1601)
+    x = 2.2 + 0.25 * np.sin(2 * math.pi * 0.5 * t)
+    rec = Record("E", t, x, 10000.0 * x)
+    r = identify_test(rec, Lin(), mass_kg=0.0)
+    assert r.c_e == 0.0 and r.F_ac == 0.0 and math.isnan(r.W_ratio) and r.to_dict()["W_ratio"] is None
