@@ -131,3 +131,81 @@ def LinearModel_():
     from chainid.model.base import LinearModel
 
     return LinearModel(1e4, 0.0)
+
+
+def test_predict_bad_model_file_is_one_line_and_exit_2(tmp_path, capsys):
+    """``chainid predict`` on a model file that is not TOML: exit code 2 (bad input, the CLI contract) and one line
+    on stderr naming the file; nothing on stdout."""
+    from chainid.cli import main
+
+    m, d = tmp_path / "m.toml", tmp_path / "d.csv"
+    m.write_text("not = [toml\n")
+    d.write_text("test,t,x,F\nT,0,1,1\nT,1,2,2\n")
+    assert main(["predict", str(m), str(d)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    assert err.startswith(f"chainid predict: error: model file {str(m)!r} is not valid TOML")
+
+
+def test_simulate_default_laws_are_the_papers_eq28_and_eq27(tmp_path, capsys):
+    """``chainid simulate`` without --params: the viscous law's c = 2834.4 N·s/mm (Eq. 27, test 3; the option's
+    help) and the polynomial law's α = Eq. 28 as printed in the paper, (28.02, −651.57, −8386.50, 7394.84, 4378.89),
+    whose c_e at each test of the paper plan the table states (Eq. 21 by hand with ω the plan's rad/s)."""
+    from chainid.cli import main
+    from chainid.records.simulate import paper_plan
+
+    eq28 = (28.02, -651.57, -8386.50, 7394.84, 4378.89)
+    assert main(["simulate", str(tmp_path / "v.csv"), "--cycles", "3"]) == 0
+    assert "(law viscous [2834.4]," in capsys.readouterr().out
+    assert main(["simulate", str(tmp_path / "p.csv"), "--law", "polynomial", "--cycles", "3"]) == 0
+    out = capsys.readouterr().out
+    assert f"(law polynomial {list(eq28)}," in out
+    rows = [ln.split() for ln in out.splitlines()[2:11]]
+    for s, row in zip(paper_plan(), rows):
+        c = eq28[0] * s.omega ** 2 + eq28[1] * s.omega + eq28[2] * s.A ** 2 + eq28[3] * s.A + eq28[4]
+        assert row[0] == s.test and float(row[4]) == pytest.approx(c, rel=1e-4)  # printed to 5 digits
+
+
+def test_convert_refuses_an_unknown_output_suffix_before_reading(tmp_path, capsys):
+    """``chainid convert --to``: the suffix names the format (.csv, .parquet or .pq); another suffix, or none,
+    is one line naming it and the valid ones, exit 2, before the inputs are read (a missing input is not the
+    error reported) and nothing written."""
+    from chainid.records.writer import OUTPUT_FORMATS
+
+    for to, shown in (("o.txt", "'.txt'"), ("o", "'(none)'"), ("o.CSV.gz", "'.gz'")):
+        assert main(["convert", str(tmp_path / "missing.csv"), "--to", str(tmp_path / to)]) == 2
+        err = capsys.readouterr().err
+        assert err == (f"chainid convert: error: --to {str(tmp_path / to)!r}: unknown output suffix {shown}; "
+                       f"valid: {', '.join(OUTPUT_FORMATS)}\n")
+        assert not (tmp_path / to).exists()
+    assert sorted(OUTPUT_FORMATS) == [".csv", ".parquet", ".pq"]
+
+
+def test_a_file_system_fault_is_one_line_naming_the_file(monkeypatch, capsys):
+    """An OSError escaping a command (a file system fault) is one line on stderr, exit 2, no traceback: with the
+    file it concerns when the error names one, else the system's message alone."""
+    import chainid.cli.convert as conv
+
+    for exc, line in ((OSError(13, "Permission denied", "/data/out.csv"),
+                       "chainid convert: error: '/data/out.csv' Permission denied\n"),
+                      (OSError(28, "No space left on device"), "chainid convert: error: No space left on device\n")):
+        def boom(args, exc=exc):
+            raise exc
+        monkeypatch.setattr(conv, "cmd_convert", boom)
+        assert main(["convert", "in.csv", "--to", "out.csv"]) == 2
+        assert capsys.readouterr().err == line
+
+
+def test_generate_lists_every_file_with_its_status_and_a_stale_check_exits_1(tmp_path, capsys, monkeypatch):
+    """``generate`` prints one line per generated file, its status right-aligned in 9 columns then the path; with
+    ``--check`` a file that is not unchanged makes generated/ stale: exit 1 and one stderr line naming it (README:
+    --check exits 1 when stale).  The emitter is stubbed (the CLI is under test)."""
+    from chainid.derive import emit
+
+    out = tmp_path / "gen"
+    out.mkdir()
+    monkeypatch.setattr(emit, "generate", lambda o, check=False: {"a.py": "unchanged", "b.py": "written"})
+    assert main(["generate", "--check", "--out", str(out)]) == 1
+    cap = capsys.readouterr()
+    assert cap.out.splitlines() == [f"unchanged  {out / 'a.py'}", f"  written  {out / 'b.py'}"]
+    assert cap.err == "generated/ is stale: b.py; run `chainid generate` and commit\n"
