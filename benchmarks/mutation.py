@@ -93,7 +93,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_gap_time_compound.py::test_stiffness_level_and_slack_against_one_contact_law",
             "tests/test_gap_pins2.py", "tests/test_gap_pins3.py",
             "tests/test_time_origin.py::test_diagnose_same_tests_at_any_origin"),
-    "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_pins2.py", "tests/test_dynamics_checks.py",
+    "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_bounds_pins.py", "tests/test_dynamics_pins2.py", "tests/test_dynamics_checks.py",
                  "tests/test_dynamics_damping.py", "tests/test_dynamics.py", "tests/test_cli_dynamics.py",
                  "tests/test_dynamics_waves.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
