@@ -1,0 +1,102 @@
+"""records pins from the blind mutation run of seed 23 (issue 20 §5): the exponential sweep's acceleration, the
+Clough–Penzien high-pass below its corner, the random band's order, and the two fast readers' own contracts
+(each checked against a finite difference, the textbook spectrum, the documented message or the docstring).
+Units: mm, N, s, Hz.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from chainid.records.excitation import band_random, earthquake, sweep
+
+
+def test_exponential_sweep_acceleration_is_the_second_derivative_where_the_sweep_rate_dominates():
+    """x = A sin φ with φ' = 2π f0 e^{rt}: ẍ = A(φ'' cos φ − φ'² sin φ) with φ'' = r·φ'.  From 0.05 to 5 Hz in
+    2 s (r = ln 100 / 2 = 2.3 /s) the first half second has φ'' (0.7 /s²) above φ'² (0.1 /s²): a central
+    difference at 20 kHz (error h²/12·x'''' < 1e-9 mm/s²) against ẍ within 1e-4 of its peak there.
+    Bug caught: ``dw = w * r`` → ``w ** r`` (the sweep-rate term 0.7 → 0.07)."""
+    fs = 20_000.0
+    m = sweep(40_000, fs, 0.05, 5.0, 1.0, 0.0, log=True)
+    h = 1.0 / fs
+    a_fd = (m.x[2:] - 2 * m.x[1:-1] + m.x[:-2]) / h**2
+    sel = m.t[1:-1] < 0.5
+    peak = np.max(np.abs(m.xdd[1:-1][sel]))
+    assert peak > 0.5  # the sweep-rate term is there: φ''·A = 2π·0.05·2.3 = 0.72 mm/s² at t = 0
+    assert np.max(np.abs(a_fd[sel] - m.xdd[1:-1][sel])) <= 1e-4 * peak
+
+
+def test_earthquake_below_the_corner_follows_the_clough_penzien_high_pass():
+    """Below f_c = 0.2 Hz the Clough–Penzien |H|² = r²/((1 − r)² + 4·0.7²·r), r = (f/f_c)², removes the drift of
+    a doubly integrated ground motion.  The displacement power in 0.04–0.1 Hz over that in 0.3–0.6 Hz (six
+    records of 960 s normalised and summed) against the same ratio of the textbook KT × CP form, within a
+    factor 1.6 (measured over seeds 0–47 in groups of six: 0.93–1.26).  Bug caught: r = (f/f_c)² →
+    (f/f_c)¹ (the ratio grows 11×)."""
+    from spectral_forms import kt_cp_displacement
+
+    fs, T = 8.0, 960.0
+    n = int(fs * T)
+    f = np.fft.rfftfreq(n, 1 / fs)
+    P = np.zeros(f.size)
+    for seed in range(6):
+        X = np.abs(np.fft.rfft(earthquake(n, fs, 10.0, 0.0, np.random.default_rng(seed), f_hi=3.0).x)) ** 2
+        P += X / X.sum()
+    b1, b2 = (f >= 0.04) & (f <= 0.1), (f >= 0.3) & (f <= 0.6)
+    ref = (kt_cp_displacement(f[b1]) ** 2).sum() / (kt_cp_displacement(f[b2]) ** 2).sum()
+    assert 1 / 1.6 <= P[b1].sum() / P[b2].sum() / ref <= 1.6
+
+
+@pytest.mark.parametrize("f_lo, f_hi", [(2.0, 1.0), (1.0, 1.0)])
+def test_band_random_refuses_a_band_out_of_order_by_its_own_rule(f_lo, f_hi):
+    """The documented range is 0 < f_lo < f_hi < fs/2: a reversed or empty band is refused as such (not as
+    'holds 0 lines').  Bug caught: ``f_lo < f_hi`` → ``f_lo != f_hi`` (a reversed band got the line count's
+    message)."""
+    with pytest.raises(ValueError, match=re.escape(f"band [{f_lo}, {f_hi}] Hz is invalid: valid range "
+                                                   "0 < f_lo < f_hi < fs/2 = 50")):
+        band_random(1000, 100.0, f_lo, f_hi, 0.1, 0.0, np.random.default_rng(0))
+
+
+def test_canonical_csv_fast_path_returns_views_of_one_array(tmp_path):
+    """``read_canonical_csv``'s docstring: with the header on line 1, the arrays of all tests are views into three
+    arrays of the whole file (the pyarrow path; the strict reader makes one array per test).  Two tests of
+    3 rows: both t arrays share one base, and the numbers are the file's.  Bug caught: the line-1 header test
+    inverted (``not line.strip()`` → ``line.strip()``: every file went to the strict reader)."""
+    pytest.importorskip("pyarrow")
+    from chainid.records.textcanon import read_canonical_csv
+
+    p = tmp_path / "r.csv"
+    rows = [("a", 0.0, 1.0, 10.0), ("a", 0.1, 1.5, 12.0), ("a", 0.2, 2.0, 14.0),
+            ("b", 0.0, 3.0, 30.0), ("b", 0.1, 3.5, 32.0), ("b", 0.2, 4.0, 34.0)]
+    p.write_text("test,t,x,F\n" + "".join(f"{a},{b!r},{c!r},{d!r}\n" for a, b, c, d in rows))
+    recs = read_canonical_csv(p)
+    assert [r.test for r in recs] == ["a", "b"]
+    assert recs[1].x.tolist() == [3.0, 3.5, 4.0] and recs[0].F.tolist() == [10.0, 12.0, 14.0]
+    assert recs[0].t.base is not None and recs[0].t.base is recs[1].t.base
+
+
+def test_whitespace_fast_path_skips_a_preamble_to_the_data_line(tmp_path):
+    """A whitespace logger file with two preamble lines (``skip_rows = 2``) and a header (data from line 4) is read
+    by the fast path (numpy's loadtxt skipping data_line − 1 = 3 lines), with the same numbers as the
+    line-by-line scan.  Bug caught: ``skiprows = data_line − 1`` → ``data_line >> 1`` (1 line skipped: the header is read as data and
+    the file left to the scan)."""
+    from chainid.records.spec import ReaderSpec
+    from chainid.records.table import resolve_roles
+    from chainid.records.textread import _fast, scan_strict, text_layout
+
+    p = tmp_path / "log.txt"
+    rows = [(0.01 * i, 1.0 + 0.1 * i, -3.5e2 + i / 3) for i in range(40)]
+    p.write_text("logger TX-9 serial 4411\nrate 100 Hz\nt  x  F\n" + "".join("  ".join(repr(v) for v in r) + "\n"
+                                                                             for r in rows))
+    spec = ReaderSpec(skip_rows=2)
+    lay = text_layout(p, spec)
+    assert lay.data_line == 4 and lay.names == ["t", "x", "F"]
+    use = resolve_roles(lay.names, spec, str(p), lay.positional, skip_test=True)
+    fast = _fast(p, lay, use, ".")
+    assert fast is not None
+    slow = scan_strict(p, lay, use, ".")
+    for k, j in (("t", 0), ("x", 1), ("F", 2)):
+        assert fast[k].tolist() == slow[k].tolist() == [r[j] for r in rows]
+    assert math.isclose(fast["F"][-1], -3.5e2 + 39 / 3)
