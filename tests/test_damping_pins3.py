@@ -228,3 +228,45 @@ def test_a_loop_without_damping_has_no_energy_ratio():
     rec = Record("E", t, x, 10000.0 * x)
     r = identify_test(rec, Lin(), mass_kg=0.0)
     assert r.c_e == 0.0 and r.F_ac == 0.0 and math.isnan(r.W_ratio) and r.to_dict()["W_ratio"] is None
+
+
+# ---------------------------------------------------------------- survivors of the blind seed-23 run
+def test_audit_data_positive_minimum_below_one_is_not_unphysical():
+    """(d) on Eq. 21 with α = (100, −300, 2000, −1200, 405.5): stationary at ω = 1.5 rad/s, A = 0.3 mm, where
+    c = 225 − 450 + 180 − 360 + 405.5 = 0.5 N·s/mm (by hand, on the 41-point grid): positive, so the text
+    names the minimum and calls nothing unphysical; α5 = 404.5 gives −0.5: '<= 0: unphysical'.  Bug caught:
+    the rule ``cmin <= 0`` → ``cmin <= 1``."""
+    from chainid.damping.audit_data import audit_results
+
+    for a5, cmin, bad in ((405.5, 0.5, False), (404.5, -0.5, True)):
+        rep = audit_results(_tests((100.0, -300.0, 2000.0, -1200.0, a5)), Lin())
+        d = {x["id"]: x for x in rep["findings"]}["d"]
+        assert f"its minimum over the tested range is {cmin:.4g} N s/mm" in d["summary"]
+        assert ("<= 0: unphysical" in d["summary"]) is bad
+
+
+def test_audit_data_polynomial_loo_rmse_is_eq21s_own_when_another_law_ranks_first():
+    """(f) on tests whose c_e = 4·F_f/(π ω A) exactly (F_f = 50 N): the Coulomb law ranks first (its
+    leave-one-out error is 0) and the finding still quotes Eq. 21's own leave-one-out RMSE: numpy's lstsq on
+    [ω², ω, A², A, 1] refitted nine times with one test left out, by hand.  Bug caught: the row picked by
+    ``law <= "polynomial"`` (the first law sorting before it: coulomb) instead of ``== "polynomial"``."""
+    from chainid.damping.audit_data import audit_results
+
+    tests = _tests((0.0, 0.0, 0.0, 0.0, 0.0))
+    for r in tests:
+        r.c_e = 4 * 50.0 / (math.pi * r.omega * r.A)
+        r.F_ac, r.W = r.c_e * r.omega * r.A, math.pi * r.c_e * r.omega * r.A * r.A
+    f = {x["id"]: x for x in audit_results(tests, Lin())["findings"]}["f"]
+    assert f["numbers"]["best_law"] == "coulomb"
+    w = np.array([r.omega for r in tests])
+    A = np.array([r.A for r in tests])
+    c = np.array([r.c_e for r in tests])
+    X = np.column_stack([w**2, w, A**2, A, np.ones(9)])
+    res = []
+    for i in range(9):
+        keep = np.arange(9) != i
+        beta = np.linalg.lstsq(X[keep], c[keep], rcond=None)[0]
+        res.append(c[i] - X[i] @ beta)
+    want = math.sqrt(np.mean(np.square(res)))
+    assert want > 0.1  # Eq. 21 cannot follow 1/(ωA) exactly
+    assert f["numbers"]["polynomial_loo_rmse"] == pytest.approx(want, rel=1e-9)

@@ -247,7 +247,8 @@ def test_stiffness_side_effects_change_eq15(name, p, compliance):
 def test_cycle_force_viscous_law_delay_and_coulomb_closed_form():
     """cycle_force on a linear spring k = 100 N/mm (x_ref 1, mass 0.5 kg): a viscous c = 2 adds 2·ẋ; a
     viscous+coulomb law resolved at the test's ω, A (c = 1 + 4·30/(π·ω·A)) adds c·ẋ; a delay τ evaluates the
-    inputs at t − τ; a Coulomb form adds F_c·sgn(ẋ) in its periodic steady state."""
+    inputs at t − τ; a Coulomb form adds F_c·sgn(ẋ) in its periodic steady state, of the delayed inputs under a
+    delay (bug caught: ``t − τ`` → ``t % τ`` in the rate-independent branch)."""
     from types import SimpleNamespace
 
     w, A = 2 * math.pi * 3.0, 0.5
@@ -271,3 +272,7 @@ def test_cycle_force_viscous_law_delay_and_coulomb_closed_form():
     np.testing.assert_allclose(late.cycle_force(d), 100.0 * (xs - 1.0) + 0.5 * xdds * 1e-3 + 2.0 * xds, rtol=1e-12)
     cou = AugmentedModel(spring, damping=Damping("coulomb", {"F_c": 40.0}))
     np.testing.assert_allclose(cou.cycle_force(d), base + 40.0 * np.sign(xd), rtol=1e-12)
+    # a rate-independent form under a delay: the Coulomb force too follows the inputs at t − τ
+    late_cou = AugmentedModel(spring, damping=Damping("coulomb", {"F_c": 40.0}), delay_s=0.01)
+    np.testing.assert_allclose(late_cou.cycle_force(d), 100.0 * (xs - 1.0) + 0.5 * xdds * 1e-3 + 40.0 * np.sign(xds),
+                               rtol=1e-12)
