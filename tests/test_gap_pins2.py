@@ -369,3 +369,25 @@ def test_trend_standard_error_from_the_scatter_by_textbook_formulas():
     assert sl == pytest.approx(b, rel=1e-12) and se == pytest.approx(math.sqrt(rss / 8 / sxx), rel=1e-12)
     assert chg == pytest.approx(abs(b) * 9, rel=1e-12)
     assert trend(t, y, sd_floor=10.0)[1] == pytest.approx(10.0 / math.sqrt(sxx), rel=1e-12)  # the floor wins
+
+
+def test_train_floor_is_five_chi2_standard_deviations_by_hand():
+    """``train_floor``: at the noise floor when r²/f² < 1 + 5·sqrt(2/n) (the χ² mean 1 with standard deviation
+    sqrt(2/n) over n noise cells).  n = 200 cells (timeproblem's n_cells, else the harmonic tests' bins):
+    threshold 1 + 5·0.1 = 1.5 by hand; 1.45 is at the floor, 1.55 not, f² = 0 never.  Bug caught:
+    ``5 * sqrt`` → ``5 % sqrt`` (threshold 1.0: nothing above the noise itself counts)."""
+    from chainid.gap.selection import train_floor
+
+    def prob(r2, f2, cells=True):
+        p = SimpleNamespace(noise_db=lambda ev, which: (r2, f2, None),
+                            train=[SimpleNamespace(counts=np.ones(120)), SimpleNamespace(counts=np.ones(80))])
+        if cells:
+            p.n_cells = lambda which: 200
+        return p
+
+    cand = SimpleNamespace(_ev={})
+    for cells in (True, False):
+        assert train_floor(prob(1.45, 1.0, cells), cand) is True
+        assert train_floor(prob(1.55, 1.0, cells), cand) is False
+        assert train_floor(prob(2.9, 2.0, cells), cand) is True  # 1.45
+    assert not train_floor(prob(0.0, 0.0), cand)
