@@ -248,7 +248,6 @@ def test_random_records_are_drawn_from_the_documented_ranges(monkeypatch):
     """``motion("random")``: the ranges of its docstring (README: band edge 1–4 Hz, some with a wandering mean)."""
     calls = _draws("random", N_DRAWS, monkeypatch)
     a = [c["band_random"] for c in calls]
-    T = np.array([x["n"] / x["fs"] for x in a])
     assert _spans([x["n"] for x in a], 2000, 4500, 0.02)
     assert _spans([x["f_hi"] for x in a], 1.0, 4.0)
     assert all(_rate_ok(x["fs"], x["f_hi"], 25.0) for x in a)
