@@ -210,3 +210,34 @@ def test_mode_shapes_normalised_positive_at_their_largest_and_placed_at_the_free
     for bad in (0, 2.0, True):
         with pytest.raises(ValueError, match=rf"^n_modes = {bad!r} is invalid: valid range None or an int >= 1$"):
             modes(line, n_modes=bad)
+
+
+# ---------------------------------------------------------------- survivors of the blind seed-23 run
+@pytest.mark.parametrize("far_end", ["fixed", "tensioner"])
+def test_resistance_is_shared_over_the_moving_nodes_by_mass(far_end):
+    """R_i ∝ the lumped mass of each moving node, summing to R: node 0 (the drive's) carries none, and a fixed far
+    end (it does not move) none either.  4 segments, half lumping, tail mass 2 kg: masses m/2, m, m, m, m/2 + 2
+    (m = one segment's mass); R = 100 N.  Bug caught: ``far_end == "fixed"`` → ``< "fixed"`` (a fixed end's
+    node kept its share)."""
+    from chainid.dynamics import ChainLine
+
+    line = ChainLine(n_links=8, n_masses=4, far_end=far_end, resistance_N=100.0, tail_mass_kg=2.0)
+    ms = line.chain.mass_per_m * line.segment_lengths()[0] * 1e-3
+    w = np.array([0.0, ms, ms, ms, 0.5 * ms + 2.0])
+    if far_end == "fixed":
+        w[-1] = 0.0
+    np.testing.assert_allclose(line.resistance_per_node(), 100.0 * w / w.sum(), rtol=1e-12)
+    assert line.resistance_per_node().sum() == pytest.approx(100.0, rel=1e-12)
+
+
+def test_work_estimate_counts_an_implicit_node_step_as_eight_explicit():
+    """``estimate``: node-steps = steps × nodes, × IMPLICIT_COST = 8 for the implicit scheme (its docstring:
+    Newton's 2–4 iterations of kernel, tangent and solve), seconds at 3e7 node-steps/s; 1000 steps of a
+    5-segment line (6 nodes): 6000 explicit, 48 000 implicit.  Bug caught: the cost 8 → 7."""
+    from chainid.dynamics import ChainLine
+    from chainid.dynamics.simulation import estimate
+
+    line = ChainLine(n_links=10, n_masses=5)
+    assert estimate(line, 1000, 10)["node_steps"] == 6000.0
+    imp = estimate(line, 1000, 10, scheme="implicit")
+    assert imp["node_steps"] == 48_000.0 and imp["seconds"] == pytest.approx(48_000.0 / 3e7, rel=1e-12)
