@@ -6,13 +6,14 @@ import contextlib
 import socket
 import threading
 import time
-from typing import Callable, Iterator
+from typing import Callable, Iterator, Sequence
 
 
 @contextlib.contextmanager
-def greeting_listener(greeting: Callable[[], bytes], hold_s: float = 0.0) -> Iterator[str]:
-    """Serve ``greeting()`` to every connection, keep it open ``hold_s`` seconds, close it; yields the address
-    ``tcp://127.0.0.1:PORT``.  A client that hangs up early is not an error."""
+def greeting_listener(greeting: Callable[[], bytes | Sequence[bytes]], hold_s: float = 0.0) -> Iterator[str]:
+    """Serve ``greeting()`` to every connection (bytes, or a list of byte pieces sent 0.1 s apart), keep it open
+    ``hold_s`` seconds, close it; yields the address ``tcp://127.0.0.1:PORT``.  A client that hangs up early is
+    not an error."""
     lst = socket.socket()
     lst.bind(("127.0.0.1", 0))
     lst.listen(16)
@@ -27,7 +28,11 @@ def greeting_listener(greeting: Callable[[], bytes], hold_s: float = 0.0) -> Ite
                 continue
             with c:
                 try:
-                    c.sendall(greeting())
+                    g = greeting()
+                    for k, piece in enumerate(g if isinstance(g, (list, tuple)) else [g]):
+                        if k:
+                            time.sleep(0.1)  # a greeting in pieces: each arrives in its own read
+                        c.sendall(piece)
                     time.sleep(hold_s)
                 except OSError:
                     pass

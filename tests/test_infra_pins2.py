@@ -161,3 +161,48 @@ def test_njit_cached_gives_the_recovering_cache_with_and_without_options():
     assert twice(1.5) == 3.0 and thrice(1.5) == 4.5
     for disp in (twice, thrice):
         assert type(disp._cache).__name__ in ("_RecoveringCache", "NullCache")
+
+
+# --- survivors of the blind seed-23 run ------------------------------------------------------------------------
+def test_format_rows_writes_block_b_at_the_documented_offset():
+    """``format_rows``' docstring: block b sits at ``out[b·cap:]`` with cap = block_rows·(len(prefix) +
+    n_cols·(MAX_CHARS + 1)) + 32, its length in ``lens[b]``.  Two blocks of 2 rows (prefix "T1", 2 columns):
+    a reader that slices at the documented offsets gets each block's rows, and the values read back are the
+    doubles written (Python's float(), the other method).  Bug caught: the pad 32 → 31 (every block after the
+    first moved one byte)."""
+    import numpy as np
+
+    from chainid.infra.floattext import MAX_CHARS, format_rows
+
+    cols = np.array([[0.1, -2.5e-7, 3.0, 6.02e23], [12345.678, 0.0, -0.125, 7.0]])
+    prefix = np.frombuffer(b"T1", np.uint8)
+    block_rows, nc = 2, 2
+    cap = block_rows * (2 + nc * (MAX_CHARS + 1)) + 32
+    out = np.zeros(2 * cap, np.uint8)
+    lens = np.zeros(2, np.int64)
+    ovr = np.full(8, -1, np.int32)
+    format_rows(cols, prefix, out, block_rows, lens, ovr, np.zeros(0, np.uint8), np.zeros(1, np.int64))
+    rows = []
+    for b in range(2):
+        text = out[b * cap: b * cap + lens[b]].tobytes().decode()
+        rows += [line.split(",") for line in text.splitlines()]
+    assert (ovr == -1).all()  # all ordinary doubles: none left to the exact fallback
+    assert [r[0] for r in rows] == ["T1"] * 4
+    assert [[float(v) for v in r[1:]] for r in rows] == cols.T.tolist()
+
+
+def test_probe_reads_the_whole_eight_byte_length():
+    """A dask handshake starts with an 8-byte little-endian length, which the probe accepts in (0, 1 MiB]: seven
+    bytes of 16 and, in a second read, an eighth byte 1 make 16 + 2^56, refused (the message shows all 8 bytes).
+    Bug caught: the read loop stopping at 7 bytes (the length read as 16: accepted)."""
+    import re
+
+    from fake_servers import greeting_listener
+
+    from chainid.infra.parallel import probe_scheduler
+
+    greeting = [(16).to_bytes(7, "little"), b"\x01"]  # the eighth byte 0.1 s after the first seven
+    with greeting_listener(lambda: greeting, hold_s=0.3) as address:
+        with pytest.raises(ValueError, match=re.escape(
+                r"answered '\\x10\\x00\\x00\\x00\\x00\\x00\\x00\\x01'..., not a dask handshake")):
+            probe_scheduler(address, timeout=3.0)
