@@ -99,7 +99,7 @@ def add_subparsers(subparsers: Any) -> None:
     d.add_argument("--speed", type=float, default=1000.0, help="(mean) chain speed [mm/s] (default 1000)")
     d.add_argument("--t-ramp", dest="t_ramp", type=float, default=2.0, help="start-up time [s] (default 2)")
     d.add_argument("--amplitude", type=float, default=0.0, help="sine amplitude [mm]")
-    d.add_argument("--omega", type=float, default=1.0, help="sine circular frequency [rad/s]")
+    d.add_argument("--omega", type=float, default=1.0, help="sine circular frequency [rad/s] (default 1)")
     d.add_argument("--teeth", type=int, default=8, help="sprocket teeth (polygon sides) for --drive polygon")
     s = p.add_argument_group("integration")
     s.add_argument("--t-end", dest="t_end", type=float, default=10.0, help="simulated time [s] (default 10)")

@@ -1,0 +1,122 @@
+"""cli pins from the blind mutation run of seed 23 (issue 20 §5): what the commands hand to the library
+(``identify --mass``, ``simulate --model M.toml --max-memory``, ``diagnose --model linear``, ``dynamics``' sine
+drive default) and the grade error of ``chains``, each against a hand computation, the library's own default
+or the documented message.  Units: mm, N, s, kg; memory GiB = 2^30 bytes.
+"""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from chainid.cli import main
+
+
+class _Reached(Exception):
+    """Raised by a stand-in once the command has handed over its arguments."""
+
+
+@pytest.fixture(scope="module")
+def chain_records(tmp_path_factory):
+    from chainid.model.base import ChainModel
+    from chainid.model.laws import ViscousLaw
+    from chainid.records.files import write_records
+    from chainid.records.simulate import paper_plan, simulate
+
+    recs = simulate(paper_plan(), ChainModel(), ViscousLaw([300.0]), n_cycles=4, samples_per_cycle=100,
+                    ramp_rate=None)
+    return write_records(tmp_path_factory.mktemp("c") / "d.csv", recs)
+
+
+def test_identify_mass_moves_the_in_phase_amplitude_by_m_omega2_a(chain_records, tmp_path, capsys):
+    """``--mass m`` is the mass whose inertia m·ẍ is taken off F in the dissipated force F_c = F − m·ẍ − F_k
+    (Eq. 17/20): the in-phase amplitude of F_c (``F_as``) changes by m·ω²·A·1e-3 N between ``--mass 0`` and
+    ``--mass 4000`` (ẍ = −ω²(x − x0)), by hand per test, and each test reports the mass used.  Bug caught:
+    ``--mass`` dropped when handing it to the identification (the chain's own 3.2 kg used)."""
+    out = {}
+    for m in (0, 4000):
+        j = tmp_path / f"m{m}.json"
+        assert main(["identify", str(chain_records), "--mass", str(m), "--law", "viscous", "--quiet",
+                     "--json", str(j)]) == 0
+        out[m] = {t["test"]: t for t in json.loads(j.read_text())["tests"]}
+    capsys.readouterr()
+    assert len(out[0]) == 9
+    for test, a in out[0].items():
+        b = out[4000][test]
+        assert b["F_as"] - a["F_as"] == pytest.approx(4000 * a["omega"] ** 2 * a["A"] * 1e-3, rel=1e-3)
+        assert (a["mass_kg"], b["mass_kg"]) == (0.0, 4000.0)
+
+
+def test_simulate_model_file_hands_max_memory_in_bytes(tmp_path, monkeypatch):
+    """``simulate --model M.toml --max-memory 0.5``: the limit reaches ``simulate_model`` as 0.5·2^30 bytes
+    (GiB, the option's unit).  Bug caught: 1024³ → 1023³ on the model-file path."""
+    import chainid.records.simulate as sim
+    from chainid.model.augmented import AugmentedModel
+    from chainid.model.base import LinearModel
+    from chainid.model.modelfile import save_model
+    from chainid.model.timedamping import Damping
+
+    mf = tmp_path / "m.toml"
+    save_model(AugmentedModel(LinearModel(1e4, 0.0), [], Damping("viscous", {"c": 1.0}), 0.0, 0.0), mf)
+    seen = {}
+
+    def stand_in(plan, model, **kw):  # noqa: ANN001
+        seen.update(kw)
+        raise _Reached
+
+    monkeypatch.setattr(sim, "simulate_model", stand_in)
+    with pytest.raises(_Reached):
+        main(["simulate", str(tmp_path / "r.csv"), "--model", str(mf), "--max-memory", "0.5"])
+    assert seen["max_memory"] == 0.5 * 2**30
+
+
+def test_diagnose_model_linear_hands_no_chain_model(chain_records, monkeypatch):
+    """``diagnose --model linear`` diagnoses against a linear spring fitted to the data: the library is given no
+    chain model (None); the default hands it the chain's.  Bug caught: ``== "linear"`` → ``> "linear"`` (the
+    chain model used for --model linear)."""
+    import importlib
+
+    from chainid.model.base import ChainModel
+
+    seen = []
+
+    def stand_in(recs, holdout, model, **kw):  # noqa: ANN001
+        seen.append(model)
+        raise _Reached
+
+    monkeypatch.setattr(importlib.import_module("chainid.gap.diagnose"), "diagnose", stand_in)
+    for extra in (["--model", "linear"], []):
+        with pytest.raises(_Reached):
+            main(["diagnose", str(chain_records), "--holdout", "3,7", "--quiet", *extra])
+    assert seen[0] is None and isinstance(seen[1], ChainModel)
+
+
+def test_dynamics_sine_drive_defaults_to_the_librarys_omega(monkeypatch):
+    """``dynamics --drive sine --amplitude 5`` without ``--omega`` builds the drive with ω = 1 rad/s, the
+    library's default (``Drive("sine").omega``) and the option's help.  Bug caught: the option's default 1 → 2."""
+    import chainid.dynamics as dyn
+    from chainid.cli.parser import build_parser
+    from chainid.dynamics import Drive
+
+    seen = {}
+
+    def stand_in(line, drive, t_end, **kw):  # noqa: ANN001
+        seen["drive"] = drive
+        raise _Reached
+
+    monkeypatch.setattr(dyn, "simulate", stand_in)
+    with pytest.raises(_Reached):
+        main(["dynamics", "--links", "100", "--masses", "10", "--pretension", "1000", "--t-end", "0.1", "--quiet",
+              "--drive", "sine", "--amplitude", "5"])
+    assert seen["drive"].omega == Drive("sine").omega == 1.0
+    sub = next(a for a in build_parser()._subparsers._group_actions[0].choices.items() if a[0] == "dynamics")[1]
+    assert "(default 1)" in next(a.help for a in sub._actions if "--omega" in a.option_strings)
+
+
+def test_chains_grade_of_another_kind_names_the_first_family_given(capsys):
+    """``chains --grade C --family studless studlink``: C (a DIN 22252 grade) fits neither; the error names the
+    first family given and its grades (R3 … R5), in one line.  Bug caught: the last family named instead."""
+    assert main(["chains", "--grade", "C", "--family", "studless", "studlink"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["chainid chains: error: --grade 'C' does not apply to studless chain: valid grades are "
+                   "['R3', 'R3S', 'R4', 'R4S', 'R5']"]
