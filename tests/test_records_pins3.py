@@ -100,3 +100,31 @@ def test_whitespace_fast_path_skips_a_preamble_to_the_data_line(tmp_path):
     for k, j in (("t", 0), ("x", 1), ("F", 2)):
         assert fast[k].tolist() == slow[k].tolist() == [r[j] for r in rows]
     assert math.isclose(fast["F"][-1], -3.5e2 + 39 / 3)
+
+
+# ---------------------------------------------------------------- survivors of the seed-24 check (records)
+def Record_(*a):  # noqa: N802
+    from chainid.records.record import Record
+
+    return Record(*a)
+
+
+def test_a_force_under_a_ten_thousandth_of_the_working_load_is_named():
+    """``chain_warnings``: a largest force under 1/10000 of the chain's working load (kN read as N) is named;
+    at 1/20000 it warns, at 1/5000 not (the paper's chain; working load from its practice sheet).  Bug caught:
+    ``wl * 1e-4`` → ``wl % 1e-4`` (the threshold ~0: never warned)."""
+    from chainid.chain.spec import default_chain
+    from chainid.model.practice import chain_practice
+    from chainid.records.plausible import chain_warnings
+
+    chain = default_chain()
+    wl = chain_practice(chain)["working_load_N"]
+    t = np.linspace(0.0, 10.0, 500)
+    x = 2.2 + 0.25 * np.sin(2.0 * t)
+    for frac, warns in ((1 / 20000, True), (1 / 5000, False)):
+        F = wl * frac * (0.6 + 0.4 * np.sin(2.0 * t))
+        out = [w for w in chain_warnings([Record_("a", t, x, F)], chain) if "working load" in w]
+        assert bool(out) is warns, (frac, out)
+        if warns:
+            assert out[0].startswith(f"test 'a': the largest force {wl * frac:.3g} N is under 1/10000 of the "
+                                     f"chain's working load ({wl:.4g} N)")
