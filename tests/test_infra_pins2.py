@@ -206,3 +206,22 @@ def test_probe_reads_the_whole_eight_byte_length():
         with pytest.raises(ValueError, match=re.escape(
                 r"answered '\\x10\\x00\\x00\\x00\\x00\\x00\\x00\\x01'..., not a dask handshake")):
             probe_scheduler(address, timeout=3.0)
+
+
+def test_csv_chunks_blocks_hold_their_longest_rows_with_a_four_byte_prefix():
+    """Each block of ``csv_chunks`` reserves block_rows·(len(prefix) + n_cols·(MAX_CHARS + 1)) + 32 bytes: 64 rows
+    of ``TEST,<24 chars>,<24 chars>`` (54 bytes each, 3456 per block) fit in 3616.  256 such rows in 4 blocks read
+    back exactly (float(), the other method).  Bug caught: ``len(prefix) + …`` → ``len(prefix) | …`` (4 | 52 = 52:
+    3360 bytes, each block's last rows overwritten by the next block)."""
+    import numpy as np
+
+    from chainid.infra.floattext import csv_chunks
+
+    rng = np.random.default_rng(3)
+    a = -(1.0 + rng.random(256)) * 1e-123  # 24 characters each, e.g. -1.2345678901234567e-123
+    b = -(1.0 + rng.random(256)) * 1e-155
+    assert min(len(repr(v)) for v in a) >= 23
+    text = b"".join(bytes(p) for p in csv_chunks(b"TEST", [a, b], block_rows=64)).decode()
+    rows = [r.split(",") for r in text.splitlines()]
+    assert len(rows) == 256 and {r[0] for r in rows} == {"TEST"}
+    assert [float(r[1]) for r in rows] == a.tolist() and [float(r[2]) for r in rows] == b.tolist()
