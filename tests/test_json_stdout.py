@@ -50,6 +50,7 @@ def test_json_dash_is_the_only_stdout(files, capsys, argv, key):
         assert key in doc
     if argv[0] != "chains":  # (chains writes no text with --json -)
         assert err.strip()  # the human text went to stderr
+    assert "wrote -" not in err  # stdout is no file: nothing claims to have written one named '-'
 
 
 def test_json_dash_verify(monkeypatch, capsys):
