@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 
-from chainid.records.excitation import band_random, earthquake, sweep
+from chainid.records.excitation import band_random, sweep
 
 
 def test_exponential_sweep_acceleration_is_the_second_derivative_where_the_sweep_rate_dominates():
@@ -35,18 +35,9 @@ def test_earthquake_below_the_corner_follows_the_clough_penzien_high_pass():
     records of 960 s normalised and summed) against the same ratio of the textbook KT × CP form, within a
     factor 1.6 (measured over seeds 0–47 in groups of six: 0.93–1.26).  Bug caught: r = (f/f_c)² →
     (f/f_c)¹ (the ratio grows 11×)."""
-    from spectral_forms import kt_cp_displacement
+    from spectral_forms import earthquake_band_ratio
 
-    fs, T = 8.0, 960.0
-    n = int(fs * T)
-    f = np.fft.rfftfreq(n, 1 / fs)
-    P = np.zeros(f.size)
-    for seed in range(6):
-        X = np.abs(np.fft.rfft(earthquake(n, fs, 10.0, 0.0, np.random.default_rng(seed), f_hi=3.0).x)) ** 2
-        P += X / X.sum()
-    b1, b2 = (f >= 0.04) & (f <= 0.1), (f >= 0.3) & (f <= 0.6)
-    ref = (kt_cp_displacement(f[b1]) ** 2).sum() / (kt_cp_displacement(f[b2]) ** 2).sum()
-    assert 1 / 1.6 <= P[b1].sum() / P[b2].sum() / ref <= 1.6
+    assert 1 / 1.6 <= earthquake_band_ratio(8.0, 960.0, range(6), 3.0, (0.04, 0.1), (0.3, 0.6)) <= 1.6
 
 
 @pytest.mark.parametrize("f_lo, f_hi", [(2.0, 1.0), (1.0, 1.0)])
@@ -82,21 +73,17 @@ def test_whitespace_fast_path_skips_a_preamble_to_the_data_line(tmp_path):
     by the fast path (numpy's loadtxt skipping data_line − 1 = 3 lines), with the same numbers as the
     line-by-line scan.  Bug caught: ``skiprows = data_line − 1`` → ``data_line >> 1`` (1 line skipped: the header is read as data and
     the file left to the scan)."""
+    from reader_paths import fast_and_scan
+
     from chainid.records.spec import ReaderSpec
-    from chainid.records.table import resolve_roles
-    from chainid.records.textread import _fast, scan_strict, text_layout
 
     p = tmp_path / "log.txt"
     rows = [(0.01 * i, 1.0 + 0.1 * i, -3.5e2 + i / 3) for i in range(40)]
     p.write_text("logger TX-9 serial 4411\nrate 100 Hz\nt  x  F\n" + "".join("  ".join(repr(v) for v in r) + "\n"
                                                                              for r in rows))
-    spec = ReaderSpec(skip_rows=2)
-    lay = text_layout(p, spec)
+    lay, fast, slow = fast_and_scan(p, ReaderSpec(skip_rows=2))
     assert lay.data_line == 4 and lay.names == ["t", "x", "F"]
-    use = resolve_roles(lay.names, spec, str(p), lay.positional, skip_test=True)
-    fast = _fast(p, lay, use, ".")
     assert fast is not None
-    slow = scan_strict(p, lay, use, ".")
     for k, j in (("t", 0), ("x", 1), ("F", 2)):
         assert fast[k].tolist() == slow[k].tolist() == [r[j] for r in rows]
     assert math.isclose(fast["F"][-1], -3.5e2 + 39 / 3)
