@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from chainid.dynamics import ChainLine, Drive, LoadStep, simulate
+from model_texts import SPECIMEN
 
 
 @pytest.mark.parametrize("kw, message", [
@@ -155,34 +156,13 @@ def test_drive_refuses_each_field_at_its_bound(kw, message):
     assert str(exc.value) == message
 
 
-_SPECIMEN = """format_version = 1
-kind = "chainid-augmented-model"
-mass_kg = 3.2
-delay_s = 0.0
-[units]
-length = "mm"
-force = "N"
-time = "s"
-mass = "kg"
-[base]
-model = "chain"
-variant = "paper"
-[base.chain]
-d = 14.0
-pitch = 50.0
-width = 17.0
-n = 16
-E = 210000.0
-nu = 0.3
-mass_per_m = 4.0
-"""
 
 
 def _segment_model(tmp_path, text, name="m.toml"):
     from chainid.dynamics.segment_model import segment_kwargs
 
     p = tmp_path / name
-    p.write_text(_SPECIMEN + text)
+    p.write_text(SPECIMEN + text)
     return p, segment_kwargs
 
 

@@ -12,6 +12,7 @@ import pytest
 from chainid.chain.spec import default_chain
 from chainid.dynamics import ChainLine, Drive, simulate
 from chainid.model import kernels
+from model_texts import SPECIMEN
 
 K, F = 2_000.0, 150.0  # N/mm, N: the specimen's Jenkins element (stick travel f/k = 0.075 mm)
 A = 0.3                 # mm elongation amplitude
@@ -106,27 +107,7 @@ def test_bad_segment_damping(kw, field):
 
 
 # ------------------------------------------------------------------ --segment-model (issue 17 model file)
-MODEL = """format_version = 1
-kind = "chainid-augmented-model"
-mass_kg = 3.2
-delay_s = 0.0
-[units]
-length = "mm"
-force = "N"
-time = "s"
-mass = "kg"
-[base]
-model = "chain"
-variant = "paper"
-[base.chain]
-d = 14.0
-pitch = 50.0
-width = 17.0
-n = 16
-E = 210000.0
-nu = 0.3
-mass_per_m = 4.0
-[damping]
+MODEL = SPECIMEN + """[damping]
 form = "{form}"
 [damping.params]
 {params}
