@@ -216,14 +216,29 @@ def test_harmonic_diagnosis_baseline_is_invariant_to_the_force_unit():
                                                                       rel=0.03)
 
 
+@pytest.fixture
+def figs(monkeypatch):
+    """The figures the plots save, by file name (``chainid.infra.fileio.save_figure`` spied, still writing)."""
+    import chainid.infra.fileio
+
+    saved = {}
+    orig = chainid.infra.fileio.save_figure
+
+    def spy(fig, path, *a, **k):  # noqa: ANN001
+        saved[path.name] = fig
+        return orig(fig, path, *a, **k)
+
+    monkeypatch.setattr(chainid.infra.fileio, "save_figure", spy)
+    return saved
+
+
 # ---------------------------------------------------------------- the phase-route figures show the result's numbers
 
-def test_phase_route_figures_show_the_results_numbers(tmp_path, monkeypatch):
+def test_phase_route_figures_show_the_results_numbers(tmp_path, figs):
     """heatmap: each square's colour and label are the test's NRMSE before/after of the JSON ``tests`` (2
     digits), colour scale 0 … the largest baseline NRMSE, held-out squares edged red; residual surface: every
     test's bins on a circle of radius A/A_max; residual vs phase: held-out lines thick (1.5), the others thin;
     loops: model loops closed (last point = first)."""
-    import chainid.infra.fileio
     from chainid.gap import diagnose
     from chainid.gap.benchmark import grid3x3_plan
     from chainid.gap.plots import make_plots
@@ -232,14 +247,6 @@ def test_phase_route_figures_show_the_results_numbers(tmp_path, monkeypatch):
     from chainid.model.laws import PolynomialLaw
     from chainid.records.simulate import simulate
 
-    figs = {}
-    orig = chainid.infra.fileio.save_figure
-
-    def spy(fig, path, *a, **k):  # noqa: ANN001
-        figs[path.name] = fig
-        return orig(fig, path, *a, **k)
-
-    monkeypatch.setattr(chainid.infra.fileio, "save_figure", spy)
     m = ChainModel()
     recs = simulate(grid3x3_plan(prefix=""), m, PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0]), n_cycles=6,
                     samples_per_cycle=64, noise_F=20.0, seed=2, force_fn=parse_effect("friction:F_c=150", m))
@@ -318,22 +325,13 @@ def test_build_problem_routes_harmonic_tests_by_the_documented_rule(monkeypatch)
 
 
 # ---------------------------------------------------------------- the time-route figures show the result's numbers
-def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, monkeypatch):
+def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, figs):
     """heatmap.png: one pair of bars per record at x ∓ 0.2 (width 0.4), heights the JSON ``tests`` NRMSE before
     and after; loops.png: the held-out record's held-out samples only (measured F over x); residual_phase.png:
     the held-out time span shaded; residual_surface.png: the baseline residual over (x, ẋ), colour scale ± its
     99th percentile of |r|."""
-    import chainid.infra.fileio
     from chainid.gap.plots import make_plots
 
-    figs = {}
-    orig = chainid.infra.fileio.save_figure
-
-    def spy(fig, path, *a, **k):  # noqa: ANN001
-        figs[path.name] = fig
-        return orig(fig, path, *a, **k)
-
-    monkeypatch.setattr(chainid.infra.fileio, "save_figure", spy)
     res = time_friction
     make_plots(res, tmp_path / "p")
     tests = res["tests"]
