@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from chainid.cli import main
@@ -120,3 +121,43 @@ def test_chains_grade_of_another_kind_names_the_first_family_given(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["chainid chains: error: --grade 'C' does not apply to studless chain: valid grades are "
                    "['R3', 'R3S', 'R4', 'R4S', 'R5']"]
+
+
+def test_predict_plots_one_figure_per_chosen_test_with_the_measured_force(tmp_path, capsys, monkeypatch):
+    """``predict M D --tests 3,7 --plots DIR`` (a fast stand-in for the slow augmented-model file): one PNG per
+    chosen test, ``DIR/predict_<test>.png`` as the docs name it, each announced with "wrote"; the figure's first
+    panel draws the record's own force samples over their times (read back from the CSV; the steady cycles
+    predicted, over 2 periods at least), and the residual-over-x panel
+    is there.  Bug caught (seed 24): the plotting loop emptied (``for p in []``: nothing written, exit 0)."""
+    from model_texts import SPECIMEN
+
+    import chainid.infra.fileio as fileio
+    from chainid.records.files import read_records
+
+    data, model, figs = tmp_path / "d.csv", tmp_path / "m.toml", tmp_path / "fig"
+    assert main(["simulate", str(data), "--cycles", "5", "--samples-per-cycle", "48"]) == 0
+    model.write_text(SPECIMEN)
+    seen = {}
+    real = fileio.save_figure
+
+    def spy(fig, path, **kw):
+        seen[path.name] = [(a.get_title(), [ln.get_xydata().copy() for ln in a.get_lines()]) for a in fig.axes]
+        return real(fig, path, **kw)
+
+    monkeypatch.setattr(fileio, "save_figure", spy)
+    capsys.readouterr()
+    assert main(["predict", str(model), str(data), "--tests", "3,7", "--plots", str(figs)]) == 0
+    out = capsys.readouterr().out
+    assert sorted(p.name for p in figs.iterdir()) == ["predict_3.png", "predict_7.png"]
+    for name in ("predict_3.png", "predict_7.png"):
+        assert f"wrote {figs / name}" in out
+        assert (figs / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rec = {r.test: r for r in read_records(data)}["3"]
+    title, lines = seen["predict_3.png"][0]
+    assert title == "test 3: force over time"
+    t_plot, F_plot = lines[0][:, 0], lines[0][:, 1]
+    i = np.searchsorted(rec.t, t_plot)  # the steady part predicted: a run of the record's own samples
+    assert np.array_equal(rec.t[i], t_plot) and np.array_equal(rec.F[i], F_plot) and np.all(np.diff(i) == 1)
+    assert t_plot[-1] - t_plot[0] >= 2 * (2 * np.pi / 1.885)  # at least 2 periods of test 3 (1.885 rad/s)
+    assert [a[0] for a in seen["predict_3.png"]] == ["test 3: force over time", "force over x",
+                                                      "residual over time", "residual over x"]

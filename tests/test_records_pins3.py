@@ -115,3 +115,36 @@ def test_a_force_under_a_ten_thousandth_of_the_working_load_is_named():
         if warns:
             assert out[0].startswith(f"test 'a': the largest force {wl * frac:.3g} N is under 1/10000 of the "
                                      f"chain's working load ({wl:.4g} N)")
+
+
+# --- seed 24 survivors -----------------------------------------------------------------------------------------
+def test_a_motion_at_the_nyquist_frequency_is_named_at_half_the_sampling_rate():
+    """x alternating every sample (x = 3 + cos(π n)) at 1 kHz is a 500 Hz motion, 2 samples per cycle: the
+    aliasing warning names 500 Hz, exactly fs/2 (its spectrum's last bin).  Bug caught: the bin zeroed before
+    the peak search moved from DC to the last one (``spec[0]`` → ``spec[-1]``: the peak becomes the bin next to
+    Nyquist, 499 Hz)."""
+    from chainid.records.plausible import sampling_warnings
+    from chainid.records.record import Record
+
+    n = 1000
+    t = np.arange(n) / 1000.0
+    x = 3.0 + np.cos(np.pi * np.arange(n))
+    (w,) = sampling_warnings([Record("a", t, x, 1000.0 + 100.0 * x)])
+    assert "1000 Hz sampling gives 2 samples per cycle of the main frequency 500 Hz " in w
+
+
+def test_a_noisy_record_under_one_cycle_is_measured_by_the_spanned_cycles_fit():
+    """0.7 s of a 1 Hz sine (A = 2 mm) with 0.3 mm of white noise on x, 400 samples: the regular estimate finds
+    no clean oscillation, and the single-sinusoid fit over 0.3..3 periods says "x(t) spans about 0.7 period(s)
+    of its oscillation (period ~1 s, record 0.7 s)" -- the sine drawn (R² ≈ 2²/2 / (2²/2 + 0.3²) = 0.96 > 0.5).
+    Bug caught: the total sum of squares of the fit's R² ``(x − x̄)**2`` → ``(x − x̄)*2`` (≈ 0: the fit never
+    passes its R² gate and the record is refused with another reason)."""
+    from chainid.records.record import Record
+    from chainid.records.validate import validate_record
+
+    rng = np.random.default_rng(0)
+    t = np.linspace(0.0, 0.7, 400)
+    x = 3.0 + 2.0 * np.sin(2 * np.pi * t + 0.3) + 0.3 * rng.standard_normal(t.size)
+    with pytest.raises(ValueError, match=r"^test 'p': less than one whole cycle: x\(t\) spans about 0\.7 period\(s\) "
+                                         r"of its oscillation \(period ~1 s, record 0\.7 s\)"):
+        validate_record(Record("p", t, x, 1000.0 + 500.0 * np.sin(2 * np.pi * t)))
