@@ -96,3 +96,17 @@ def test_an_effect_hook_on_a_hold_without_motion_is_finite(spec):
         np.testing.assert_allclose(out, F_model, rtol=1e-12)
     if spec.startswith("contact_law"):
         np.testing.assert_allclose(out, ChainModel(hertz_scale=1.2).force(x), rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["friction", "hysteresis"])
+def test_effect_bounds_follow_a_force_scale_under_one_newton(name):
+    """A small device (force scale 0.02 N, displacement scale 0.001 mm) gets the same box as a 2 kN / 0.4 mm
+    test scaled down by 1e5 in force and 400 in length: the scales are floored only at 1e-9 (a zero scale),
+    never at 1 N or 1 mm.  Bug caught (seed 25): the force floor ``1e-9`` → ``1.000000001`` (the box of a 1 N
+    test: friction up to 5 N where the data reach 0.02 N)."""
+    big = make_effect(name, F_scale=2e3, x_scale=0.4)
+    small = make_effect(name, F_scale=0.02, x_scale=1e-3)
+    for (n, b, g), (_, bs, gs) in zip(_by_unit(big, "N"), _by_unit(small, "N")):
+        assert bs == pytest.approx(tuple(v * 1e-5 for v in b), rel=1e-12) and gs == pytest.approx(g * 1e-5), n
+    for (n, b, g), (_, bs, gs) in zip(_by_unit(big, "mm"), _by_unit(small, "mm")):
+        assert bs == pytest.approx(tuple(v / 400.0 for v in b), rel=1e-12) and gs == pytest.approx(g / 400.0), n

@@ -148,3 +148,17 @@ def test_a_noisy_record_under_one_cycle_is_measured_by_the_spanned_cycles_fit():
     with pytest.raises(ValueError, match=r"^test 'p': less than one whole cycle: x\(t\) spans about 0\.7 period\(s\) "
                                          r"of its oscillation \(period ~1 s, record 0\.7 s\)"):
         validate_record(Record("p", t, x, 1000.0 + 500.0 * np.sin(2 * np.pi * t)))
+
+
+def test_white_noise_has_no_main_frequency_and_draws_no_sampling_warning():
+    """x white noise at 1 kHz (10 seeds, 2000 samples): no line holds half the power (the peak and its two
+    neighbours each side hold about 5 of 1001 equal shares), so there is no main frequency and no sampling
+    warning.  Bug caught (seed 25): the power test ``0.5 * power.sum()`` → ``0.5 ** power.sum()`` (≈ 0: the
+    largest noise line becomes the main frequency, and 7 of these 10 seeds are called aliased, above fs/4)."""
+    from chainid.records.plausible import sampling_warnings
+    from chainid.records.record import Record
+
+    t = np.arange(2000) / 1000.0
+    for seed in range(10):
+        x = 2.2 + 0.1 * np.random.default_rng(seed).standard_normal(t.size)
+        assert sampling_warnings([Record("n", t, x, 1000.0 + 10.0 * x)]) == [], seed
