@@ -213,6 +213,20 @@ def test_state_map_share_and_threshold_by_hand():
     assert _maps(35.6) == {}  # z = 4.95
 
 
+def test_state_map_bins_of_one_sample_by_hand():
+    """17 samples of a monotonic stroke x = 0 … 16 mm: the 17 quantile edges are the samples themselves, so bins
+    0 … 14 hold one sample each and the last bin two (x = 15 and 16).  A residual r = x − 8 N has bin means
+    −8 … 6 N, then 7.5 N -- each a mean over its own samples, computed here by hand.  Bug caught (seed 25): the
+    bin count's floor ``max(cnt, 1)`` → ``max(cnt, 2)`` (every one-sample bin's mean halved)."""
+    from chainid.gap.where_time import state_maps
+
+    x = np.arange(17.0)
+    d = SimpleNamespace(test="S", t=x * 0.1, x=x, xd=np.full(17, 10.0), sigma=0.01)
+    m = {k["variable"]: k for k in state_maps([d], {"S": x - 8.0}, {"S": np.zeros(17)})}["x"]
+    assert m["bin_means_N"] == [float(v) for v in range(-8, 7)] + [7.5]
+    assert m["bin_centres"] == [j + 0.5 for j in range(16)]
+
+
 # ---------------------------------------------------------------- where_time.spectrum_outside by hand
 
 def _rec(name, fs, f_band, sigma, amp, n=4000, f=200.0):
@@ -304,7 +318,7 @@ def test_backbone_kinds_by_hand():
     """``backbone``: travel uniform on (0, 2] mm, so T25 = 0.5, T75 = 1.5 mm; k_small = |ΔF|(T25)/T25, k_large =
     (|ΔF|(T75) − |ΔF|(T25))/(T75 − T25).  Play of 0.3 mm then 100 N/mm: 20/0.5 = 40 against 100 N/mm, ratio 0.4 <=
     1/2: a dead band; 100 N/mm up to 0.5 mm then 20 N/mm: ratio 5 >= 2: stiff then soft; a linear backbone
-    (ratio 1): no finding; fewer than 200 samples with travel: not judged."""
+    (ratio 1): no finding; fewer than 200 samples with travel: not judged (seed-25 survivor: ``< 200`` → ``< 199``)."""
     from chainid.gap.where_time import backbone
 
     (f,) = backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0))])
@@ -327,6 +341,10 @@ def test_backbone_kinds_by_hand():
     assert backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.225, 0.0))]) == []
     assert backbone([_triangle(lambda tr: np.where(tr < 0.5, 100.0 * tr, 50.0 + 52.6 * (tr - 0.5)))]) == []
     assert backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0), n=199)]) == []
+    # the count at its edge: the first sample has no travel, so n = 200 leaves 199 samples with travel (not judged)
+    # and n = 201 leaves 200 (judged: the play closing at 0.3 mm within the first 0.4 mm of the stroke)
+    assert backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0), n=200)]) == []
+    assert len(backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0), n=201)])) == 1
 
 
 # ---------------------------------------------------------------- timeproblem.leave_out_step by hand
