@@ -241,3 +241,18 @@ def test_work_estimate_counts_an_implicit_node_step_as_eight_explicit():
     assert estimate(line, 1000, 10)["node_steps"] == 6000.0
     imp = estimate(line, 1000, 10, scheme="implicit")
     assert imp["node_steps"] == 48_000.0 and imp["seconds"] == pytest.approx(48_000.0 / 3e7, rel=1e-12)
+
+
+def test_an_explicit_step_above_the_stable_one_names_the_load_it_was_computed_at():
+    """``simulate(..., scheme="explicit", dt=...)`` with dt at twice the stable step is refused before any work,
+    the message giving the valid range and the load the stable step belongs to: "at peak_force = 5000 N" when a
+    peak force is given, "at any load" when not.  Bug caught (seed 25): the text's ``%`` → ``|`` (a TypeError
+    traceback instead of the one-line error, only when a peak force is given)."""
+    from chainid.dynamics.simulation import stable_step
+
+    line = ChainLine(n_links=40, n_masses=8, pretension_N=2_000.0)
+    for peak, text in ((5000.0, "peak_force = 5000 N"), (None, "any load")):
+        dts = stable_step(line, peak)
+        with pytest.raises(ValueError, match=rf"0 < dt <= {dts:.6g} s \(the explicit stable step at {text}\); use a "
+                                             r"smaller dt or scheme='implicit'"):
+            simulate(line, Drive("none"), 1.0, dt=2.0 * dts, scheme="explicit", peak_force=peak)
