@@ -161,3 +161,65 @@ def test_predict_plots_one_figure_per_chosen_test_with_the_measured_force(tmp_pa
     assert t_plot[-1] - t_plot[0] >= 2 * (2 * np.pi / 1.885)  # at least 2 periods of test 3 (1.885 rad/s)
     assert [a[0] for a in seen["predict_3.png"]] == ["test 3: force over time", "force over x",
                                                       "residual over time", "residual over x"]
+
+
+@pytest.fixture(scope="module")
+def six_long_ids(tmp_path_factory):
+    """Six simulated tests of the paper plan (exactly MIN_TESTS = 6) under ids longer than any table header."""
+    from chainid.model.base import ChainModel
+    from chainid.model.laws import ViscousLaw
+    from chainid.records.files import write_records
+    from chainid.records.simulate import paper_plan, simulate
+
+    recs = simulate(paper_plan()[:6], ChainModel(), ViscousLaw([300.0]), n_cycles=4, samples_per_cycle=100,
+                    ramp_rate=None)
+    for i, r in enumerate(recs):
+        r.test = f"shaker_run_2026_11_24_{i:03d}"
+    return write_records(tmp_path_factory.mktemp("six") / "d.csv", recs)
+
+
+def test_identify_plots_of_six_tests_check_the_surface_figure_before_any_work(six_long_ids, tmp_path, capsys):
+    """Six tests (MIN_TESTS, the fewest a damping law is fitted to) also draw ``damping_surface.png``: a user's
+    file of that name in the ``--plots`` folder is refused without ``--force`` before any test is identified (no
+    "identifying test" progress line), and left byte for byte.  Bug caught (seed 25): the surface counted only
+    above six tests (``>= MIN_TESTS`` → ``> MIN_TESTS``), so the check came after the work."""
+    figs = tmp_path / "figs"
+    figs.mkdir()
+    (figs / "damping_surface.png").write_bytes(b"mine")
+    capsys.readouterr()
+    assert main(["identify", str(six_long_ids), "--plots", str(figs)]) == 2
+    err = capsys.readouterr().err
+    assert "damping_surface.png" in err and "identifying test" not in err
+    assert (figs / "damping_surface.png").read_bytes() == b"mine"
+
+
+def test_identify_table_columns_widen_to_their_longest_cell(six_long_ids, capsys):
+    """The per-test table is right-aligned on the longest of header and cells: with 26-character test ids
+    (longer than the header "test") every line of the table has the length of the header line, and each id
+    ends where the header "test" ends.  Bug caught (seed 25): widths taken from the headers alone (``if cells``
+    → ``if not cells``: the rows run past the header)."""
+    capsys.readouterr()
+    assert main(["identify", str(six_long_ids), "--quiet"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    i = next(k for k, ln in enumerate(lines) if ln.lstrip().startswith("test ") and "omega rad/s" in ln)
+    head = lines[i]
+    rows = lines[i + 2:i + 8]  # the six rows under the dashes
+    assert head.index("test") + 4 == len("shaker_run_2026_11_24_000")
+    for ln in [lines[i + 1]] + rows:
+        assert len(ln) == len(head), ln
+    assert all(ln.startswith("shaker_run_2026_11_24_") for ln in rows)
+
+
+def test_step_files_are_outputs_only_with_save_steps(tmp_path):
+    """``check_io``: the step files ``M.step0.toml`` … are outputs of the run only with ``--save-steps``; an input
+    named like one is refused then (naming ``--save-steps``), and accepted without it.  Bug caught (seed 25):
+    ``save_steps and save_model`` → ``or`` (the step files counted as outputs of every ``--save-model`` run)."""
+    from argparse import Namespace
+
+    from chainid.cli.common import check_io
+
+    data = tmp_path / "m.step0.toml"
+    data.write_text("x")
+    check_io(Namespace(data=str(data), save_model=str(tmp_path / "m.toml"), save_steps=False))
+    with pytest.raises(ValueError, match="--save-steps"):
+        check_io(Namespace(data=str(data), save_model=str(tmp_path / "m.toml"), save_steps=True))

@@ -191,6 +191,23 @@ def _independent_holdout_nrmse(holdout, params, best_law="polynomial", nb=64):
     return {"baseline": base, "baseline_law": lp, "best": best}
 
 
+def test_simulated_check_quotes_the_diagnosis_jackknife_sd(builtin):
+    """Part 4a's check against the hidden truth gives, per friction parameter, the true value, the recovered one and
+    the diagnosis's own jack-knife sd (``best.params_sd``), in the JSON and in the markdown table (2 significant
+    digits); each sd is positive and under the recovered total it qualifies.  Bug caught (seed 25): the sd lookup
+    ``params_sd or {}`` → ``and {}`` (every sd shown as "–")."""
+    folder, md, _ = builtin
+    doc = json.loads((folder / "json" / "gap_simulated.json").read_text())
+    sd = doc["best"]["params_sd"]
+    rows = doc["check"]["params"]
+    assert [r["param"] for r in rows] == ["friction.F_c", "friction.mu", "friction.x_s"]
+    for r in rows:
+        assert r["sd"] == sd[r["param"]] and r["sd"] > 0.0, r
+        line = f"| {r['param']} | {r['true']:.4g} | {r['recovered']:.4g} | {r['sd']:.2g} |"
+        assert line in md, line
+    assert rows[0]["sd"] < 150.0  # the hidden friction force at x0 is 150 N
+
+
 def test_eq26_numbers(builtin):
     folder, md, _ = builtin
     d = json.loads((folder / "json" / "gap_eq26.json").read_text())["eq26"]
