@@ -322,6 +322,14 @@ def retest(survivors_json: Path, out_md: Path | None, packages: tuple[str, ...] 
     return out
 
 
+def _rel(p: Path) -> str:
+    """*p* relative to the repository when it lies inside it (the report names files as a reader finds them)."""
+    try:
+        return p.resolve().relative_to(REPO).as_posix()
+    except ValueError:
+        return str(p)
+
+
 def write_markdown(rows: list[dict], args: argparse.Namespace, path: Path, started: str, minutes: float) -> None:
     ver = metadata.version("cosmic-ray")
     cmd = "python benchmarks/mutation.py " + " ".join(
@@ -338,7 +346,7 @@ def write_markdown(rows: list[dict], args: argparse.Namespace, path: Path, start
         f"A seeded random sample of {args.sample} of cosmic-ray's mutants per package (seed {args.seed}), each run "
         "against the package's targeted tests (`TARGETS` in `benchmarks/mutation.py`); kill rate = killed / "
         "(killed + survived); a timeout counts as killed; incompetent mutants are not counted. Survivors and their "
-        "triage: `benchmarks/mutation_survivors.md` (raw diffs: `benchmarks/mutation_survivors.json`).", "",
+        f"triage: `{_rel(Path(args.survivors).with_suffix('.md'))}` (raw diffs: `{_rel(Path(args.survivors))}`).", "",
         "Mutants inside type annotations are dropped before sampling: every module has `from __future__ import "
         "annotations`, so its annotations are never evaluated and such a mutant (`str | None` → `str % None`) is "
         "equivalent by construction.", "",

@@ -20,7 +20,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from . import chain, power
-from .symbols import E, c_hertz, c_lin, d, mu, n, pitch, u, width, x
+from .symbols import E, c_hertz, c_lin, d, mu, n, pitch, width, x
 
 __all__ = ["REQUIRED_SYMPY", "source_hash", "module_source", "generate", "GenerateResult"]
 

@@ -11,7 +11,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .symbols import A_S, E, F_k, G, J_1, J_2, L, M_1, N, R, kappa, s, theta
+from .symbols import A_S, E, F_k, G, J_1, J_2, L, M_1, N, R, s, theta
 
 __all__ = [
     "internal_forces_straight",

@@ -17,7 +17,7 @@ from typing import Any, Callable
 import sympy as sp
 
 from . import chain, hertz, link, paper, section
-from .symbols import A_S, E, F_k, G, J_1, J_2, L, M_1, N, R, d, delta, e, k_1, k_2, mu, n, omega_c, r, rho, theta
+from .symbols import A_S, E, F_k, G, J_1, J_2, L, M_1, N, R, d, e, k_1, k_2, mu, n, omega_c, r, rho, theta
 
 __all__ = ["Check", "run_checks", "PAPER_CHAIN_VALUES", "as_json"]
 

@@ -116,7 +116,6 @@ def cmd_identify(args: argparse.Namespace) -> int:
     the run.  ``--steady-tol`` sets the steady-cycle tolerance (default adaptive).
     """
     from chainid.model.laws import MIN_TESTS, rank_laws
-    from chainid.model.predict import inertia_force_N
     from chainid.damping.identify import identify_records
     from chainid.records.files import analyse_record, read_side_file, write_side_file
 

@@ -18,9 +18,7 @@ Everything here is computed from the shipped transcription of Table 1
 """
 from __future__ import annotations
 
-import csv
 import math
-from pathlib import Path
 from typing import Any
 
 import numpy as np

@@ -34,7 +34,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from chainid.model.laws import DampingLaw, StiffnessLike, as_arrays
+from chainid.model.laws import StiffnessLike
 from chainid.model.predict import inertia_force_N
 from chainid.records.files import HarmonicEstimate, Record, analyse_record, try_analyse
 

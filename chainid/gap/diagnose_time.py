@@ -18,8 +18,6 @@ import math
 import sys
 from typing import Any, Sequence
 
-import numpy as np
-
 from chainid.gap import selection as fw
 from chainid.gap.interpret import interpretation, separating_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem

@@ -114,7 +114,7 @@ def _plot_table1_surface(path: Path, alpha: list[float], tb: dict) -> None:
     fig, ax = plt.subplots(figsize=(7.2, 4.6))
     cs = ax.contourf(W, AA, C, levels=20, cmap="viridis")
     fig.colorbar(cs, ax=ax, label="$c_e$ (Eq. 21, 28) [N·s/mm]")
-    sc = ax.scatter(tb["omega_col"], tb["A"], c=tb["c_e"], cmap="viridis", edgecolors="k", s=60,
+    ax.scatter(tb["omega_col"], tb["A"], c=tb["c_e"], cmap="viridis", edgecolors="k", s=60,
                     vmin=cs.get_clim()[0], vmax=cs.get_clim()[1], label="Table 1 tests")
     ax.set_xlabel("ω, Table 1 column (as used by Eq. 28) [paper: rad/s]")
     ax.set_ylabel("amplitude A [mm]")
