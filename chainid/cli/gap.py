@@ -92,9 +92,14 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
         from chainid.gap.benchmark import grid
 
         grid(True, 0, exc)  # an unknown excitation is refused before the run
+        chain = None
+        if args.chain:
+            from chainid.chain.spec import load_chain
+
+            chain = load_chain(args.chain)
         run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed,
                       scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress,
-                      excitations=exc)
+                      excitations=exc, chain=chain)
     except ValueError as exc:
         print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
         return 2
@@ -150,6 +155,10 @@ def add_subparsers(subparsers: Any) -> None:
                    help="which excitations run, comma separated: harmonic (steady test plans), random, sweep, "
                         "startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, score "
                         "random, and back); default all")
+    b.add_argument("--chain", metavar="FILE.toml|PRESET",
+                   help="run every case on this chain (TOML file or preset, e.g. studless:76:grade=R4), its "
+                        "displacements scaled to the 14x50 chain's nominal stress (default: the built-in 14x50 "
+                        "and 10x35 chains)")
     b.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="dask scheduler address of an existing cluster, or local (default: a dask LocalCluster "
                         "when dask is installed, else a process pool), processes, serial")

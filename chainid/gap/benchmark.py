@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark_report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
+from chainid.gap.benchmark_chain import case_chain, on_chain
 from chainid.gap.benchmark_time import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
@@ -53,13 +54,6 @@ def _plans() -> dict[str, list[Any]]:
     return {"grid3x3": a, "grid4x3": b}
 
 
-def _chains() -> dict[str, Any]:
-    from chainid.chain.spec import default_chain
-
-    c = default_chain()
-    return {"14x50": c, "small": replace(c, d=10.0, pitch=35.0, width=12.0)}
-
-
 def _outside_hook(kind: str, level: float, S: float) -> Any:
     if kind == "drift":
         rate = 0.05 * level * S
@@ -74,6 +68,13 @@ def _outside_hook(kind: str, level: float, S: float) -> Any:
     return hook
 
 
+def case_plan(case: dict[str, Any]) -> list[Any]:
+    """The test plan of a harmonic case; on a user's chain every x0 and A × the case's ``x_scale`` (the same
+    nominal stress as on the paper's chain, :mod:`chainid.gap.benchmark_chain`)."""
+    s = float(case.get("x_scale", 1.0))
+    return [replace(p, x0=p.x0 * s, A=p.A * s) for p in _plans()[case["plan"]]]
+
+
 def run_case(case: dict[str, Any]) -> dict[str, Any]:
     """Simulate one case and diagnose it blind; returns the case with the verdict and scores."""
     if case.get("excitation", "harmonic") != "harmonic":
@@ -85,8 +86,8 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
     from chainid.records.simulate import simulate
     from chainid.gap.diagnose import diagnose
 
-    chain = _chains()[case["chain"]]
-    plan = _plans()[case["plan"]]
+    chain = case_chain(case)
+    plan = case_plan(case)
     nominal = ChainModel(chain)
     true = ChainModel(chain, ea_scale=case.get("ea_scale", 1.0), hertz_scale=case.get("hertz_scale", 1.0))
     x0s = np.array([p.x0 for p in plan])
@@ -134,9 +135,12 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
 ALL_EXCITATIONS = ("harmonic", "random", "sweep", "startup", "quake", "transfer")
 
 
-def grid(small: bool = False, seed: int = 0, excitations: Any = ALL_EXCITATIONS) -> list[dict[str, Any]]:
+def grid(small: bool = False, seed: int = 0, excitations: Any = ALL_EXCITATIONS,
+         chain: Any = None) -> list[dict[str, Any]]:
     """The benchmark cases (``small``: a subset for the tests) of the given excitations (see
-    :data:`ALL_EXCITATIONS`)."""
+    :data:`ALL_EXCITATIONS`); ``chain`` (a :class:`~chainid.ChainSpec`): every case on that chain, its
+    displacements scaled to the same nominal stress (:mod:`chainid.gap.benchmark_chain`), instead of the
+    built-in 14×50 and 10×35 chains."""
     excitations = tuple(excitations)
     bad = [e for e in excitations if e not in ALL_EXCITATIONS]
     if bad or not excitations:
@@ -144,10 +148,10 @@ def grid(small: bool = False, seed: int = 0, excitations: Any = ALL_EXCITATIONS)
                          f"{','.join(ALL_EXCITATIONS)}")
     from chainid.gap.benchmark_time import time_grid
 
-    others = time_grid(seed, small, tuple(e for e in excitations if e != "harmonic"))
-    if "harmonic" not in excitations:
-        return others
-    return _harmonic_grid(small, seed) + others
+    cases = time_grid(seed, small, tuple(e for e in excitations if e != "harmonic"))
+    if "harmonic" in excitations:
+        cases = _harmonic_grid(small, seed) + cases
+    return cases if chain is None else on_chain(cases, chain)
 
 
 def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
@@ -205,7 +209,7 @@ def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
 
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   scheduler: str | None = None, n_workers: int | None = None,
-                  progress: bool = True, excitations: Any = ALL_EXCITATIONS) -> dict[str, Any]:
+                  progress: bool = True, excitations: Any = ALL_EXCITATIONS, chain: Any = None) -> dict[str, Any]:
     """Run the grid in parallel, print the summary, optionally write JSON (atomically).
 
     Parameters
@@ -218,6 +222,8 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     n_workers : worker processes (default: the machine's cores)
     progress : progress bar on stderr
     excitations : which excitations run (:data:`ALL_EXCITATIONS`; default all)
+    chain : a :class:`~chainid.ChainSpec` to run every case on (default: the built-in 14×50 and 10×35 chains);
+        its displacements are scaled to the same nominal stress (:mod:`chainid.gap.benchmark_chain`)
     """
     from chainid.infra.parallel import run_cases
     from chainid.infra.fileio import check_output_file, write_json
@@ -225,12 +231,18 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
 
     if json_path:  # check the target before the long work
         check_output_file(json_path, force=overwrite, what="--json")
-    cases = grid(small, seed, excitations)
+    cases = grid(small, seed, excitations, chain)
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=n_workers, progress=progress,
                      desc="benchmark-gap")
     s = summarise(rows)
     s["wall_seconds"] = time.perf_counter() - t0
+    if chain is not None:
+        from chainid.gap.benchmark_chain import length_scale
+
+        s["chain"] = {**chain.to_dict(), "x_scale": length_scale(chain)}
+        print(f"chain: d = {chain.d:g} mm, pitch {chain.pitch:g} mm, n = {chain.n}, {chain.family or 'no family'}, grade "
+              f"{chain.grade or 'none'}; displacements x {s['chain']['x_scale']:.4g} (the 14x50 chain's nominal stress)")
     print(format_summary(s))
     if json_path:  # strict JSON (null for NaN), temp file + rename
         write_json(s, json_path, force=overwrite, what="--json")

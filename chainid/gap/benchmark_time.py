@@ -32,11 +32,11 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from chainid.gap.benchmark_chain import case_chain, scale_motion
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the non-harmonic excitation families
@@ -73,13 +73,6 @@ def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax
     if effect == "sensor_delay":
         return f"sensor_delay:tau={0.15 * level / wmax:.6g}"
     return f"damping_law:eta={0.1 * level:.6g}"
-
-
-def _chain(name: str) -> Any:
-    from chainid.chain.spec import default_chain
-
-    c = default_chain()
-    return c if name == "14x50" else replace(c, d=10.0, pitch=35.0, width=12.0)
 
 
 def _fs(rng: np.random.Generator, f_max: float, per: float = 25.0) -> float:
@@ -184,7 +177,7 @@ def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, fl
     """Nominal and true chain models, the effect hook, the dynamic force scale S [N] and the damping c."""
     from chainid.model.base import ChainModel
 
-    chain = _chain(case["chain"])
+    chain = case_chain(case)
     nominal = ChainModel(chain)
     true = ChainModel(chain, ea_scale=case.get("ea_scale", 1.0), hertz_scale=case.get("hertz_scale", 1.0))
     x0s = np.array([float(np.median(m.x)) for m in motions])
@@ -240,7 +233,8 @@ def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
     from chainid.records.excitation import simulate_motion
 
     rng = np.random.default_rng(case["seed"])
-    motions = [motion(case["excitation"], rng) for _ in range(N_RECORDS)]
+    s = float(case.get("x_scale", 1.0))  # a user's chain: every displacement x s (same nominal stress)
+    motions = [scale_motion(motion(case["excitation"], rng), s) for _ in range(N_RECORDS)]
     nominal, true, hooks, S, c = _device(case, motions)
     hook = _compose(hooks)
     recs, sigmas = [], []
@@ -289,6 +283,20 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
     return _row(case, res, t0) | {"effect_snr": snr}
 
 
+def transfer_plan(motions: list[Any], s: float = 1.0) -> list[Any]:
+    """The harmonic set of a transfer case over the random records' band and amplitudes (see
+    :func:`run_case_transfer`); ``s`` the chain's length scale (:mod:`chainid.gap.benchmark_chain`): the
+    mean-elongation offsets ±0.1 mm of the paper's chain are ±0.1·s mm."""
+    from chainid.records.simulate import grid_plan
+
+    f_lo = min(m.f_max for m in motions)
+    A = float(np.median([m.A for m in motions]))
+    x0 = float(np.median([np.median(m.x) for m in motions]))
+    w = 2 * np.pi * f_lo
+    return grid_plan((0.25 * w, 0.5 * w, w), (0.5 * A, A, 1.5 * A), x0,
+                     extra=[(0.75 * w, x0 + 0.1 * s, 0.75 * A), (0.375 * w, x0 - 0.1 * s, 1.25 * A)], prefix="h")
+
+
 def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
     """One device measured harmonically and under band-limited random excitation; fit on one, score the other.
 
@@ -297,7 +305,7 @@ def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
     their median amplitude and median mean [mm]; 8 cycles of 256 samples, force noise σ = noise·S, seed + 1.
     """
     from chainid.gap.diagnose import diagnose
-    from chainid.records.simulate import grid_plan, simulate
+    from chainid.records.simulate import simulate
 
     t0 = time.perf_counter()
     try:
@@ -305,12 +313,7 @@ def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
         nominal = dev["nominal"]
         # the same device (effect parameters, viscous c) on 11 steady harmonic tests over the random records'
         # band and amplitudes
-        f_lo = min(m.f_max for m in dev["motions"])
-        A = float(np.median([m.A for m in dev["motions"]]))
-        x0 = float(np.median([np.median(m.x) for m in dev["motions"]]))
-        w = 2 * np.pi * f_lo
-        plan = grid_plan((0.25 * w, 0.5 * w, w), (0.5 * A, A, 1.5 * A), x0,
-                         extra=[(0.75 * w, x0 + 0.1, 0.75 * A), (0.375 * w, x0 - 0.1, 1.25 * A)], prefix="h")
+        plan = transfer_plan(dev["motions"], float(case.get("x_scale", 1.0)))
         harm = simulate(plan, dev["true"], dev["c"], n_cycles=8, samples_per_cycle=256,
                         noise_F=case["noise"] * dev["S"], seed=case["seed"] + 1, force_fn=dev["hook"])
         if case["direction"] == "harmonic>random":
