@@ -51,7 +51,7 @@ def test_predict_time_domain_nrmse_and_pooling_by_hand():
     assert (p["nrmse_baseline"], p["nrmse_model"]) == (pytest.approx(math.sqrt(sb / var), rel=1e-9),
                                                        pytest.approx(math.sqrt(sm / var), rel=1e-9))
     assert p["shrinkage"] == pytest.approx(1 - math.sqrt(sm / sb), rel=1e-9)
-    assert out["damping_used"] == "law" and "_series" not in out
+    assert out["damping_used"] == "none" and "_series" not in out  # the model's damping form (no law here)
     one = predict(model, recs, tests=["B"], fitted=True, keep=True)
     assert [r["test"] for r in one["tests"]] == ["B"] and one["damping_used"] == "per-test fitted c_e"
     np.testing.assert_allclose(one["_series"]["B"][3], 100.0 * recs[1].x, rtol=1e-12)  # the model's force

@@ -20,8 +20,7 @@ import numpy as np
 
 from chainid.gap import selection as fw
 from chainid.gap.interpret import interpretation, separating_test
-from chainid.gap.modelio import negative_damping, step_fields, step_models
-from chainid.model.modelfile import model_to_dict
+from chainid.gap.modelio import attach_models
 from chainid.gap.prepare import Unusable, prepare_test
 from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable, jackknife_sd
 from chainid.gap.stationarity import check as stationarity_check
@@ -197,6 +196,10 @@ def diagnose(
         res = diagnose_any(records, data, time_recs, holdout, model, holdout_blocks=holdout_blocks, effects=effects,
                            max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet,
                            uncertainty=uncertainty)
+        evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
+                      "allow_compression": bool(allow_compression or not is_chain)}
+        for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation
+            warnings.warn(msg, stacklevel=2)
         if validate is not None:
             from chainid.gap.transfer import transfer
 
@@ -258,16 +261,10 @@ def diagnose(
              "db_over_noise": db0}
     summary = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, excluded, confounded, warn,
                        list(hold_ok), tests)
-    for st, cand in zip(summary["steps"], summary["_path"]):
-        st.update(step_fields(prob, cand))  # every fitted parameter: base, law coefficients, mass, delay
     evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
                   "allow_compression": bool(allow_compression or not is_chain)}
-    models = step_models(summary, {"evaluation": evaluation})
-    summary["model"] = model_to_dict(models[-1])  # the last step's model, in the model file's keys
-    for msg in negative_damping(models[-1], prob.data):
-        summary["warnings"].append(msg)
+    for msg in attach_models(summary, evaluation):
         warnings.warn(msg, stacklevel=2)
-    summary["_models"] = models
     if validate is not None:
         from chainid.gap.transfer import transfer
 

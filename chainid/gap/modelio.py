@@ -12,8 +12,11 @@ grid, memory operators in their periodic steady state, c_e from the *law* at the
 prediction, never a refit, and the same number the diagnosis reports (to round-off).  The per-test c_e the
 law was fitted on are in the file but used only with ``fitted=True`` (``--fitted-damping``): test ids of
 a new file need not be the same tests.  A record that is not a steady harmonic test is predicted in the
-time domain (:meth:`AugmentedModel.force`: operators from their initial state, the law resolved at the
-record's dominant ω and A by the rule of :mod:`chainid.timedamping`), NRMSE over its samples.
+time domain as the diagnosis' time route evaluates it (:meth:`AugmentedModel.force` on the smooth
+kinematics of :func:`chainid.gap.noise.kinematics` — a zero-phase low-pass above the record's excitation
+band, so the noise of x is not differentiated into a friction sign or the dashpot; operators from their initial
+state, the law resolved at the record's dominant ω and A by the rule of :mod:`chainid.timedamping`), NRMSE
+over its samples: the held-out number the diagnosis reports.
 
 Units: mm, N, s; NRMSE = RMS(residual)/RMS(F − mean F).
 """
@@ -31,6 +34,7 @@ import numpy as np
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
 from chainid.model.timedamping import Damping
+from chainid.gap import noise as nz
 from chainid.gap.prepare import Unusable, prepare_test
 
 
@@ -45,8 +49,11 @@ def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> A
     train = {d.test for d in prob.train}
     per_test = {t: float(c) for t, c in ev.get("c_e", {}).items() if t in train}
     k_e = None if prob.is_chain else float(prob.model.k)  # the law's k_e is the diagnosis baseline's
-    damping = Damping("law", law=cand.law, coefficients=[float(v) for v in cand.law_params], k_e=k_e,
-                      per_test=per_test)
+    if getattr(prob, "hprob", True) is None:  # time domain only: one viscous c for the set, no c_e(ω, A) law
+        damping = Damping("viscous", {"c": float(cand.law_params[0])})
+    else:
+        damping = Damping("law", law=cand.law, coefficients=[float(v) for v in cand.law_params], k_e=k_e,
+                          per_test=per_test)
     return AugmentedModel(prob.model_for(p), effects, damping, delay, info=dict(info or {}))
 
 
@@ -66,6 +73,38 @@ def step_fields(prob: Any, cand: Any) -> dict[str, Any]:
     d = model_to_dict(m)
     return {"law_params": [float(v) for v in cand.law_params], "base": d["base"], "mass_kg": d["mass_kg"],
             "delay_s": d["delay_s"]}
+
+
+def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[str]:
+    """Make a diagnosis result runnable, on either route: every step gets its fitted parameters
+    (:func:`step_fields`), ``summary["model"]`` the last step's model in the model file's keys and
+    ``summary["_models"]`` the model of every step (what ``--save-model`` / ``--save-steps`` write).
+
+    Parameters
+    ----------
+    summary : the result of :func:`chainid.gap.diagnose` (its ``_problem`` and ``_path``)
+    evaluation : how ``predict`` evaluates a steady harmonic test (``n_bins``, ``steady_tol``,
+        ``allow_compression``), stored in the model file
+
+    Returns
+    -------
+    list of str
+        Warnings (appended to ``summary["warnings"]`` too): the tests at which the model's damping is a
+        negative dashpot (:func:`negative_damping`).
+    """
+    prob = summary["_problem"]
+    for st, cand in zip(summary["steps"], summary["_path"]):
+        st.update(step_fields(prob, cand))  # every fitted parameter: base, law coefficients, mass, delay
+    models = step_models(summary, {"evaluation": evaluation})
+    summary["model"] = model_to_dict(models[-1])  # the last step's model, in the model file's keys
+    summary["_models"] = models
+    data = list(getattr(prob, "tdata", prob.data if hasattr(prob, "data") else []))
+    hprob = getattr(prob, "hprob", None)
+    if hprob is not None:
+        data += list(hprob.data)
+    msgs = negative_damping(models[-1], data)
+    summary["warnings"].extend(msgs)
+    return msgs
 
 
 def provenance(data_file: str | Path | None, command: str) -> dict[str, Any]:
@@ -155,8 +194,9 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
             mode = "steady-cycle"
             if keep:
                 series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
-        else:
-            Fm, Fb = model.force(r.t, r.x), base.force(r.t, r.x)
+        else:  # on the diagnosis' smooth kinematics (zero-phase low-pass above the excitation band)
+            xs, xd, xdd = nz.kinematics(r.t, r.x, nz.excitation_band(r.t, r.x))
+            Fm, Fb = model.force(r.t, xs, xd=xd, xdd=xdd), base.force(r.t, xs, xd=xd, xdd=xdd)
             w = np.ones_like(r.F)
             (sm, var), (sb, _) = _sse_var(r.F, Fm, w), _sse_var(r.F, Fb, w)
             mode = "time-domain"
@@ -170,7 +210,8 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         tot["v"] += var
     pb, pm = _nrmse(tot["b"], tot["v"]), _nrmse(tot["m"], tot["v"])
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
-           "model": model_to_dict(model), "damping_used": "per-test fitted c_e" if fitted else "law",
+           "model": model_to_dict(model), "damping_used": model.damping.form if model.damping.form != "law" else
+           "per-test fitted c_e" if fitted else "law",
            "warnings": negative_damping(model, prepared, fitted)}
     if keep:
         out["_series"] = series
