@@ -53,7 +53,7 @@ def test_predict_time_domain_nrmse_and_pooling_by_hand():
     assert p["shrinkage"] == pytest.approx(1 - math.sqrt(sm / sb), rel=1e-9)
     assert out["damping_used"] == "none" and "_series" not in out  # the model's damping form (no law here)
     one = predict(model, recs, tests=["B"], fitted=True, keep=True)
-    assert [r["test"] for r in one["tests"]] == ["B"] and one["damping_used"] == "per-test fitted c_e"
+    assert [r["test"] for r in one["tests"]] == ["B"] and one["damping_used"] == "none"  # no law: fitted c_e do not exist
     np.testing.assert_allclose(one["_series"]["B"][3], 100.0 * recs[1].x, rtol=1e-12)  # the model's force
     np.testing.assert_allclose(one["_series"]["B"][4], 80.0 * recs[1].x, rtol=1e-12)  # the baseline's
     assert one["pooled"]["nrmse_model"] == pytest.approx(math.sqrt(want["B"][1] / want["B"][2]), rel=1e-9)
@@ -361,3 +361,20 @@ def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, fi
     r = np.concatenate([res["_path"][0]._ev["time"]["res"][dd.test] for dd in prob.tdata])
     np.testing.assert_allclose(sc.get_array(), r, rtol=1e-12)
     assert sc.norm.vmax == pytest.approx(np.quantile(np.abs(r), 0.99), rel=1e-12) and sc.norm.vmin == -sc.norm.vmax
+
+
+def test_predict_names_the_damping_it_used():
+    """A c_e law: "law" (or "per-test fitted c_e" with fitted=True); any other form: its name."""
+    from chainid.gap.modelio import predict
+    from chainid.model.augmented import AugmentedModel
+    from chainid.model.timedamping import Damping
+    from chainid.records.record import Record
+
+    t = np.linspace(0.0, 1.0, 400)
+    recs = [Record("A", t, 1.0 + 0.1 * np.sin(2 * np.pi * 3 * t), 100.0 + 10.0 * np.sin(2 * np.pi * 3 * t))]
+    for damping, fitted, want in ((Damping("law", law="viscous", coefficients=[0.0]), False, "law"),
+                                  (Damping("law", law="viscous", coefficients=[0.0]), True, "per-test fitted c_e"),
+                                  (Damping("viscous", {"c": 0.0}), True, "viscous"),
+                                  (Damping("none"), False, "none")):
+        model = AugmentedModel(LinearModel(100.0, 0.0), [], damping, 0.0)
+        assert predict(model, recs, fitted=fitted)["damping_used"] == want
