@@ -171,13 +171,52 @@ def lowpass(y: np.ndarray, fs: float, f_cut: float) -> np.ndarray:
     return sosfiltfilt(sos, y)
 
 
+def velocity_noise(x: np.ndarray, xs: np.ndarray, fs: float, f_cut: float) -> float:
+    """Standard deviation [mm/s] of the noise the displacement noise leaves in the smooth velocity.
+
+    The displacement noise σ_x (white) is measured on what the low-pass removed, x − xs = (1 − |H|²)·x
+    (a robust 1.4826·MAD, so an edge of the motion does not count), whose share of the noise variance is
+    (2/fs)·∫₀^{fs/2} (1 − |H(f)|²)² df.  The in-band part passes the zero-phase Butterworth (gain |H|²,
+    :func:`lowpass`) and the central difference (gain fs·sin(2πf/fs)), so
+    σ_v² = σ_x²·(2/fs)·∫₀^{fs/2} fs²·sin²(2πf/fs)·|H(f)|⁴ df.
+    0 when the record is not smoothed (cut at or above 0.45·fs) or has no displacement noise.
+    """
+    from scipy.signal import butter, sosfreqz
+
+    r = np.asarray(x, float) - np.asarray(xs, float)
+    if f_cut >= 0.45 * fs or r.size < 30:
+        return 0.0
+    f, h = sosfreqz(butter(4, f_cut / (0.5 * fs), output="sos"), worN=8192, fs=fs)
+    h2 = np.abs(h) ** 2
+
+    def share(g: np.ndarray) -> float:  # (2/fs)·∫ g df, trapezoids
+        return 2.0 / fs * float(np.sum(0.5 * (g[1:] + g[:-1]) * np.diff(f)))
+
+    sig_x = 1.4826 * float(np.median(np.abs(r - np.median(r)))) / math.sqrt(share((1.0 - h2) ** 2))
+    return sig_x * math.sqrt(share((fs * np.sin(2 * np.pi * f / fs)) ** 2 * h2 ** 2))
+
+
+#: a smooth speed within this many noise standard deviations of zero is no resolvable motion (a 4σ test)
+REST_SIGMAS = 4.0
+
+
 def kinematics(t: np.ndarray, x: np.ndarray, f_band: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Smooth x [mm], ẋ [mm/s], ẍ [mm/s²]: zero-phase low-pass at ``CUT_FACTOR``·f_band, then central
-    differences on the record's own time stamps."""
+    differences on the record's own time stamps.
+
+    Where the smooth speed is within ``REST_SIGMAS`` noise standard deviations of zero
+    (:func:`velocity_noise`) the record shows no motion and ẋ is 0: a contact at rest (a record's lead-in, a
+    stop) is stuck, so its Coulomb friction is not switched by the noise's sign (each false switch costs
+    2·F_c) and no dashpot force is made of noise.  ẍ is the difference of the unzeroed ẋ.
+    """
     fs = sample_rate(t)
-    xs = lowpass(x, fs, CUT_FACTOR * f_band)
+    f_cut = CUT_FACTOR * f_band
+    xs = lowpass(x, fs, f_cut)
     xd = np.gradient(xs, t)
     xdd = np.gradient(xd, t)
+    v_n = velocity_noise(x, xs, fs, f_cut)
+    if v_n > 0.0:
+        xd = np.where(np.abs(xd) <= REST_SIGMAS * v_n, 0.0, xd)
     return xs, xd, xdd
 
 
