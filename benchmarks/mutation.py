@@ -83,7 +83,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_gap_diagnose.py::test_small_effect_above_half_the_noise_is_named",
             "tests/test_gap_compound.py::test_mismatch_alone_is_one_step",
             "tests/test_gap_compound.py::test_excluded_test_with_reason_and_strict", "tests/test_gap_time_where.py",
-            "tests/test_gap_benchmark_time.py", "tests/test_gap_benchmark_chain.py", "tests/test_gap_time_model.py", "tests/test_gap_rules.py", "tests/test_gap_closed_forms.py",
+            "tests/test_gap_benchmark_time.py", "tests/test_gap_benchmark_chain.py", "tests/test_gap_time_model.py", "tests/test_gap_rest.py", "tests/test_gap_rules.py", "tests/test_gap_closed_forms.py",
             "tests/test_gap_diagnose.py::test_inseparable_plan_warns", "tests/test_gap_diagnose.py::test_plots",
             "tests/test_gap_diagnose.py::test_cli_json_contract",
             "tests/test_augmented.py::test_simulate_model_then_predict_round_trips_to_the_noise_level",
