@@ -92,7 +92,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_negative_damping.py", "tests/test_gap_benchmark.py::test_canonical_names",
             "tests/test_gap_benchmark.py::test_compound_rates_by_hand",
             "tests/test_gap_time_compound.py::test_stiffness_level_and_slack_against_one_contact_law",
-            "tests/test_gap_pins2.py", "tests/test_gap_pins3.py",
+            "tests/test_gap_pins2.py", "tests/test_gap_pins3.py", "tests/test_gap_pins4.py",
             "tests/test_time_origin.py::test_diagnose_same_tests_at_any_origin"),
     "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_bounds_pins.py", "tests/test_dynamics_pins2.py", "tests/test_dynamics_checks.py",
                  "tests/test_dynamics_damping.py", "tests/test_dynamics.py", "tests/test_cli_dynamics.py",
