@@ -173,6 +173,9 @@ def diagnose(
     if len(set(holdout)) >= len(set(ids)):
         raise ValueError(f"--holdout: all {len(ids)} tests are held out; leave at least {MIN_TRAIN} for training")
     is_chain = model is not None and hasattr(model, "hertz_scale")
+    # how predict evaluates a harmonic test of the set, stored in the model file
+    evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
+                  "allow_compression": bool(allow_compression or not is_chain)}
     data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
     # records that are not steady harmonic tests go to the time-domain route when long enough for it
     from chainid.gap.timedomain import MIN_SAMPLES
@@ -196,8 +199,6 @@ def diagnose(
         res = diagnose_any(records, data, time_recs, holdout, model, holdout_blocks=holdout_blocks, effects=effects,
                            max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet,
                            uncertainty=uncertainty)
-        evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
-                      "allow_compression": bool(allow_compression or not is_chain)}
         for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation
             warnings.warn(msg, stacklevel=2)
         if validate is not None:
@@ -261,8 +262,6 @@ def diagnose(
              "db_over_noise": db0}
     summary = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, excluded, confounded, warn,
                        list(hold_ok), tests)
-    evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
-                  "allow_compression": bool(allow_compression or not is_chain)}
     for msg in attach_models(summary, evaluation):
         warnings.warn(msg, stacklevel=2)
     if validate is not None:

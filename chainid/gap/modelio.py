@@ -67,10 +67,10 @@ def step_models(result: dict[str, Any], info: dict[str, Any] | None = None) -> l
     return models
 
 
-def step_fields(prob: Any, cand: Any) -> dict[str, Any]:
-    """Fitted parameters of a step that the step's dict does not carry: base, law coefficients, mass, delay."""
-    m = model_of_step(prob, cand)
-    d = model_to_dict(m)
+def step_fields(prob: Any, cand: Any, model: AugmentedModel | None = None) -> dict[str, Any]:
+    """Fitted parameters of a step that the step's dict does not carry: base, law coefficients, mass, delay
+    (``model``: the step's model when already built, :func:`model_of_step`)."""
+    d = model_to_dict(model if model is not None else model_of_step(prob, cand))
     return {"law_params": [float(v) for v in cand.law_params], "base": d["base"], "mass_kg": d["mass_kg"],
             "delay_s": d["delay_s"]}
 
@@ -93,15 +93,15 @@ def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[s
         negative dashpot (:func:`negative_damping`).
     """
     prob = summary["_problem"]
-    for st, cand in zip(summary["steps"], summary["_path"]):
-        st.update(step_fields(prob, cand))  # every fitted parameter: base, law coefficients, mass, delay
     models = step_models(summary, {"evaluation": evaluation})
+    for st, cand, m in zip(summary["steps"], summary["_path"], models):
+        st.update(step_fields(prob, cand, m))  # every fitted parameter: base, law coefficients, mass, delay
     summary["model"] = model_to_dict(models[-1])  # the last step's model, in the model file's keys
     summary["_models"] = models
-    data = list(getattr(prob, "tdata", prob.data if hasattr(prob, "data") else []))
-    hprob = getattr(prob, "hprob", None)
-    if hprob is not None:
-        data += list(hprob.data)
+    if hasattr(prob, "tdata"):  # a time-domain problem: its records and its harmonic part's tests
+        data = list(prob.tdata) + (list(prob.hprob.data) if prob.hprob is not None else [])
+    else:
+        data = list(prob.data)
     msgs = negative_damping(models[-1], data)
     summary["warnings"].extend(msgs)
     return msgs
