@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark_report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
-from chainid.gap.benchmark_chain import case_chain, on_chain
+from chainid.gap.benchmark_chain import case_chain, on_chain, x_scale
 from chainid.gap.benchmark_time import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
@@ -71,7 +71,7 @@ def _outside_hook(kind: str, level: float, S: float) -> Any:
 def case_plan(case: dict[str, Any]) -> list[Any]:
     """The test plan of a harmonic case; on a user's chain every x0 and A × the case's ``x_scale`` (the same
     nominal stress as on the paper's chain, :mod:`chainid.gap.benchmark_chain`)."""
-    s = float(case.get("x_scale", 1.0))
+    s = x_scale(case)
     return [replace(p, x0=p.x0 * s, A=p.A * s) for p in _plans()[case["plan"]]]
 
 

@@ -62,6 +62,11 @@ def case_chain(case: dict[str, Any]) -> Any:
     return builtin_chains()[case["chain"]]
 
 
+def x_scale(case: dict[str, Any]) -> float:
+    """The length scale of a case's displacements: its ``x_scale`` on a user's chain, else 1."""
+    return float(case.get("x_scale", 1.0))
+
+
 def on_chain(cases: list[dict[str, Any]], chain: Any) -> list[dict[str, Any]]:
     """The cases moved onto the user's ``chain``: a harmonic grid keeps one of its two chain slots (the
     14×50 one; the cases of the ``small`` slot would repeat them), every case gets the chain's spec and its

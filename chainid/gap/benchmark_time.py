@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark_chain import case_chain, scale_motion
+from chainid.gap.benchmark_chain import case_chain, scale_motion, x_scale
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the non-harmonic excitation families
@@ -233,8 +233,7 @@ def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
     from chainid.records.excitation import simulate_motion
 
     rng = np.random.default_rng(case["seed"])
-    s = float(case.get("x_scale", 1.0))  # a user's chain: every displacement x s (same nominal stress)
-    motions = [scale_motion(motion(case["excitation"], rng), s) for _ in range(N_RECORDS)]
+    motions = [scale_motion(motion(case["excitation"], rng), x_scale(case)) for _ in range(N_RECORDS)]
     nominal, true, hooks, S, c = _device(case, motions)
     hook = _compose(hooks)
     recs, sigmas = [], []
@@ -313,7 +312,7 @@ def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
         nominal = dev["nominal"]
         # the same device (effect parameters, viscous c) on 11 steady harmonic tests over the random records'
         # band and amplitudes
-        plan = transfer_plan(dev["motions"], float(case.get("x_scale", 1.0)))
+        plan = transfer_plan(dev["motions"], x_scale(case))
         harm = simulate(plan, dev["true"], dev["c"], n_cycles=8, samples_per_cycle=256,
                         noise_F=case["noise"] * dev["S"], seed=case["seed"] + 1, force_fn=dev["hook"])
         if case["direction"] == "harmonic>random":

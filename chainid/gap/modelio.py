@@ -195,7 +195,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
             if keep:
                 series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
         else:  # on the diagnosis' smooth kinematics (zero-phase low-pass above the excitation band)
-            xs, xd, xdd = nz.kinematics(r.t, r.x, nz.excitation_band(r.t, r.x))
+            _, xs, xd, xdd = nz.record_kinematics(r.t, r.x)
             Fm, Fb = model.force(r.t, xs, xd=xd, xdd=xdd), base.force(r.t, xs, xd=xd, xdd=xdd)
             w = np.ones_like(r.F)
             (sm, var), (sb, _) = _sse_var(r.F, Fm, w), _sse_var(r.F, Fb, w)
@@ -209,9 +209,11 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         tot["m"] += sm
         tot["v"] += var
     pb, pm = _nrmse(tot["b"], tot["v"]), _nrmse(tot["m"], tot["v"])
+    used = model.damping.form  # a law: the law, or the per-test c_e it was fitted on
+    if used == "law":
+        used = "per-test fitted c_e" if fitted else "law"
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
-           "model": model_to_dict(model), "damping_used": model.damping.form if model.damping.form != "law" else
-           "per-test fitted c_e" if fitted else "law",
+           "model": model_to_dict(model), "damping_used": used,
            "warnings": negative_damping(model, prepared, fitted)}
     if keep:
         out["_series"] = series

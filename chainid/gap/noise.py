@@ -160,15 +160,23 @@ def hf_floor(t: np.ndarray, F: np.ndarray, f_band: float) -> float:
     return math.sqrt(float(np.median(P[m])) / (w2 * math.log(2.0)))
 
 
+def lowpass_sos(fs: float, f_cut: float, n: int) -> np.ndarray | None:
+    """Second-order sections of the 4th-order Butterworth low-pass at f_cut [Hz] for n samples at fs [Hz];
+    None where a record is not smoothed (cut at or above 0.45·fs, or fewer than 30 samples)."""
+    from scipy.signal import butter
+
+    if f_cut >= 0.45 * fs or n < 30:
+        return None
+    return butter(4, f_cut / (0.5 * fs), output="sos")
+
+
 def lowpass(y: np.ndarray, fs: float, f_cut: float) -> np.ndarray:
     """Zero-phase 4th-order Butterworth low-pass at f_cut [Hz] (forward-backward); identity at/above Nyquist."""
-    from scipy.signal import butter, sosfiltfilt
+    from scipy.signal import sosfiltfilt
 
     y = np.asarray(y, float)
-    if f_cut >= 0.45 * fs or y.size < 30:
-        return y.copy()
-    sos = butter(4, f_cut / (0.5 * fs), output="sos")
-    return sosfiltfilt(sos, y)
+    sos = lowpass_sos(fs, f_cut, y.size)
+    return y.copy() if sos is None else sosfiltfilt(sos, y)
 
 
 def velocity_noise(x: np.ndarray, xs: np.ndarray, fs: float, f_cut: float) -> float:
@@ -181,12 +189,13 @@ def velocity_noise(x: np.ndarray, xs: np.ndarray, fs: float, f_cut: float) -> fl
     σ_v² = σ_x²·(2/fs)·∫₀^{fs/2} fs²·sin²(2πf/fs)·|H(f)|⁴ df.
     0 when the record is not smoothed (cut at or above 0.45·fs) or has no displacement noise.
     """
-    from scipy.signal import butter, sosfreqz
+    from scipy.signal import sosfreqz
 
     r = np.asarray(x, float) - np.asarray(xs, float)
-    if f_cut >= 0.45 * fs or r.size < 30:
+    sos = lowpass_sos(fs, f_cut, r.size)
+    if sos is None:
         return 0.0
-    f, h = sosfreqz(butter(4, f_cut / (0.5 * fs), output="sos"), worN=8192, fs=fs)
+    f, h = sosfreqz(sos, worN=8192, fs=fs)
     h2 = np.abs(h) ** 2
 
     def share(g: np.ndarray) -> float:  # (2/fs)·∫ g df, trapezoids
@@ -218,6 +227,13 @@ def kinematics(t: np.ndarray, x: np.ndarray, f_band: float) -> tuple[np.ndarray,
     if v_n > 0.0:
         xd = np.where(np.abs(xd) <= REST_SIGMAS * v_n, 0.0, xd)
     return xs, xd, xdd
+
+
+def record_kinematics(t: np.ndarray, x: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """The excitation band [Hz] of a record and its smooth x, ẋ, ẍ (:func:`excitation_band`,
+    :func:`kinematics`): what the time-domain route and ``predict`` evaluate a model on."""
+    fb = excitation_band(t, x)
+    return (fb, *kinematics(t, x, fb))
 
 
 #: a steady harmonic test holds at least this share of its displacement variance within ± ``LINE_WIDTH`` of its

@@ -107,8 +107,7 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
         raise ValueError(f"blocks per record = {n_blocks!r} is out of range for test {rec.test!r}; "
                          f"valid range 1 to {t.size // 16}")
     fs = nz.sample_rate(t)
-    fb = nz.excitation_band(t, rec.x)
-    xs, xd, xdd = nz.kinematics(t, rec.x, fb)
+    fb, xs, xd, xdd = nz.record_kinematics(t, rec.x)
     F = np.asarray(rec.F, float)
     sigma = max(nz.force_noise(F), 1e-6 * float(np.std(F)) + 1e-9)
     block = np.minimum((np.arange(t.size) * n_blocks) // t.size, n_blocks - 1).astype(np.int64)
