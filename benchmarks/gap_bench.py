@@ -28,9 +28,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--force", action="store_true", help="overwrite --json")
     ap.add_argument("--excitations", default=None, help="comma-separated subset (default: all)")
     a = ap.parse_args(argv)
-    from chainid.gap.benchmark import grid, run_benchmark
+    from chainid.gap.benchmark.grid import grid, run_benchmark
 
-    from chainid.gap.benchmark import ALL_EXCITATIONS
+    from chainid.gap.benchmark.grid import ALL_EXCITATIONS
 
     exc = tuple(a.excitations.split(",")) if a.excitations else ALL_EXCITATIONS
     n = len(grid(excitations=exc))

@@ -314,7 +314,7 @@ def child_workflow(which: str) -> None:
         from chainid.records.simulate import paper_plan, simulate
         if which == "gap":
             from chainid.gap import diagnose
-            from chainid.gap.benchmark import grid3x3_plan
+            from chainid.gap.benchmark.grid import grid3x3_plan
     except Exception as e:  # noqa: BLE001
         print(json.dumps({"skip": f"{type(e).__name__}: {e}"}))
         return

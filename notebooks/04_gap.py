@@ -36,7 +36,7 @@ import numpy as np
 import chainid
 from chainid.gap import diagnose, parse_effect
 from chainid.model.effects import EFFECT_NAMES
-from chainid.gap.summary import summary
+from chainid.gap.core.summary import summary
 from chainid.model.laws import PolynomialLaw
 from chainid.model.base import ChainModel
 from chainid.records.simulate import grid_plan, simulate
@@ -108,7 +108,7 @@ assert chain_result["verdict"] == "stiffness_level+friction"
 assert abs(chain_result["steps"][-1]["params"]["friction.F_c"] / 150.0 - 1) < 0.10
 
 # %%
-from chainid.gap.plot_steps import waterfall_figure
+from chainid.gap.core.plot_steps import waterfall_figure
 
 waterfall_figure(chain_result)
 

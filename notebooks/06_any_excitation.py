@@ -35,7 +35,7 @@ import numpy as np
 
 from chainid.gap import diagnose
 from chainid.model.effects import dahl_operator
-from chainid.gap.summary import summary
+from chainid.gap.core.summary import summary
 from chainid.model import ChainModel
 
 # %% [markdown]

@@ -27,8 +27,8 @@ class LinearSpring:
 def localise_viscous_excess(C: float = 30.0):
     """Three harmonic tests (ω = 10/20/30 rad/s, A = 0.2/0.3/0.4 mm, x = 2 + A sin ψ, 64 phase bins of 10 samples,
     σ = 1 N) whose baseline residual is a pure viscous excess r = C·cos ψ [N]; returns (tests, the findings of
-    ``chainid.gap.where.localise`` on them)."""
-    from chainid.gap.where import localise
+    ``chainid.gap.harmonic.where.localise`` on them)."""
+    from chainid.gap.harmonic.where import localise
 
     B = 64
     psi = (np.arange(B) + 0.5) * 2 * math.pi / B

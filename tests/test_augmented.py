@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from chainid.cli import main
-from chainid.gap.benchmark import grid3x3_plan
-from chainid.gap.prepare import prepare_test
+from chainid.gap.benchmark.grid import grid3x3_plan
+from chainid.gap.harmonic.prepare import prepare_test
 from chainid.model import ChainModel, LinearModel, PolynomialLaw, parse_effect
 from chainid.model.augmented import AugmentedModel
 from chainid.model.modelfile import load_model, model_from_dict, model_to_dict, save_model

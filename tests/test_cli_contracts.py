@@ -362,12 +362,12 @@ def test_default_generated_dir_is_the_packages_generated_folder():
 
 
 def test_benchmark_gap_seed_defaults_to_the_librarys():
-    """``benchmark-gap`` without ``--seed`` runs :func:`chainid.gap.benchmark.run_benchmark`'s default seed 0 (the
+    """``benchmark-gap`` without ``--seed`` runs :func:`chainid.gap.benchmark.grid.run_benchmark`'s default seed 0 (the
     README's quoted runs give no ``--seed``), and its help says so."""
     import inspect
 
     from chainid.cli.parser import build_parser
-    from chainid.gap.benchmark import run_benchmark
+    from chainid.gap.benchmark.grid import run_benchmark
 
     args = build_parser().parse_args(["benchmark-gap"])
     assert args.seed == 0 == inspect.signature(run_benchmark).parameters["seed"].default

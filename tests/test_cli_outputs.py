@@ -31,7 +31,7 @@ def _one_error_line(err: str) -> str:
 def no_work(monkeypatch):
     """Make the expensive part of each command fail loudly: the target check must come first."""
     import chainid.derive.verify as verify
-    import chainid.gap.benchmark as bench
+    import chainid.gap.benchmark.grid as bench
     import chainid.records.files as records
 
     def boom(*a, **k):

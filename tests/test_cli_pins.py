@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from chainid.cli import main
-from chainid.gap.benchmark import grid3x3_plan
+from chainid.gap.benchmark.grid import grid3x3_plan
 from chainid.model.base import ChainModel
 from chainid.model.laws import PolynomialLaw
 from chainid.records.files import write_records
@@ -75,7 +75,7 @@ def test_cli_benchmark_gap_exit_code(monkeypatch):
     """A finished benchmark exits 0 (the grid itself is replaced by a stand-in here).  Bug caught: rc 1."""
     import importlib
 
-    bm = importlib.import_module("chainid.gap.benchmark")
+    bm = importlib.import_module("chainid.gap.benchmark.grid")
     monkeypatch.setattr(bm, "run_benchmark", lambda **kw: None)
     assert main(["benchmark-gap", "--small", "--no-progress"]) == 0
 

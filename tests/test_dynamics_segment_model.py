@@ -4,7 +4,7 @@ import json
 import pytest
 
 from chainid.cli import main
-from chainid.gap.benchmark import grid3x3_plan
+from chainid.gap.benchmark.grid import grid3x3_plan
 from chainid.model import ChainModel, PolynomialLaw, parse_effect
 from chainid.records import write_records
 from chainid.records.simulate import simulate

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from chainid.gap.benchmark import canon, grid, run_benchmark
+from chainid.gap.benchmark.grid import canon, grid, run_benchmark
 
 
 def test_small_benchmark(capsys, tmp_path):
@@ -37,7 +37,7 @@ def test_canonical_names():
 
 
 def test_compound_rates_by_hand():
-    from chainid.gap.benchmark_report import summarise
+    from chainid.gap.benchmark.report import summarise
 
     def row(truth, verdict, confounded=(), family="mismatch+"):
         return {"family": family, "truth": truth, "verdict": verdict, "snr": 10.0, "shrinkage": 0.9, "seconds": 1.0,

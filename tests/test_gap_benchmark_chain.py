@@ -1,4 +1,4 @@
-"""``chainid benchmark-gap --chain``: the blind benchmark on a user's chain (chainid.gap.benchmark_chain).
+"""``chainid benchmark-gap --chain``: the blind benchmark on a user's chain (chainid.gap.benchmark.chain).
 
 Independent references: linear elasticity and Hertz contact are both scale-free.  A chain whose every length
 (d, pitch, width) is λ times the paper's chain carries the same stress at λ times the elongation (the link's
@@ -17,8 +17,8 @@ import pytest
 import chainid
 from chainid.chain.spec import ChainSpec, default_chain
 from chainid.cli import main
-from chainid.gap.benchmark import grid, run_case
-from chainid.gap.benchmark_chain import REF_X0, USER, builtin_chains, length_scale, on_chain
+from chainid.gap.benchmark.grid import grid, run_case
+from chainid.gap.benchmark.chain import REF_X0, USER, builtin_chains, length_scale, on_chain
 
 
 def similar(lam: float, name: str = "14x50") -> ChainSpec:
@@ -60,7 +60,7 @@ def test_a_user_chain_carries_every_case_and_keeps_one_harmonic_chain_slot() -> 
 
 
 def test_the_time_cases_move_every_displacement_by_the_length_scale() -> None:
-    from chainid.gap.benchmark_time import records
+    from chainid.gap.benchmark.nonharmonic import records
 
     case = next(k for k in grid(True, 0, ("quake",)) if k["family"] == "single") | {"chain": "14x50"}
     lam = 3.0
@@ -125,7 +125,7 @@ def test_a_transfer_case_on_a_similar_chain_scales_its_harmonic_plan_too() -> No
 def test_the_harmonic_plan_of_a_user_chain_is_the_paper_plan_times_the_length_scale() -> None:
     """grid3x3 on the paper's chain: 9 tests at x0 = 2 mm with A 0.1/0.2/0.3 mm, then (2.2, 0.15), (1.8, 0.25)
     (its docstring); on the user's chain every x0 and A × s, ω unchanged."""
-    from chainid.gap.benchmark import case_plan
+    from chainid.gap.benchmark.grid import case_plan
 
     c = ChainSpec.preset("studless:76:grade=R4")
     case = next(k for k in grid(True, 0, ("harmonic",)) if k["plan"] == "grid3x3")
@@ -139,7 +139,7 @@ def test_the_harmonic_plan_of_a_user_chain_is_the_paper_plan_times_the_length_sc
 
 
 def test_the_transfer_plan_offsets_its_two_extra_tests_by_a_tenth_of_a_millimetre_times_the_scale() -> None:
-    from chainid.gap.benchmark_time import transfer_plan
+    from chainid.gap.benchmark.nonharmonic import transfer_plan
     from chainid.records.excitation import Motion
 
     t = np.linspace(0.0, 10.0, 1001)

@@ -10,8 +10,8 @@ import json
 import numpy as np
 import pytest
 
-from chainid.gap.benchmark import grid, run_benchmark
-from chainid.gap.benchmark_report import canon
+from chainid.gap.benchmark.grid import grid, run_benchmark
+from chainid.gap.benchmark.report import canon
 from chainid.records import excitation as ex
 
 NON_HARMONIC = ("random", "sweep", "startup", "quake", "transfer")
@@ -101,7 +101,7 @@ def test_tiny_nonharmonic_benchmark(tmp_path, capsys):
 def test_noise_floor_of_a_quantised_force(q_over_sigma):
     # a sine of 1 kN plus white noise σ = 10 N, written in steps q: the reference is the standard deviation of
     # what was added (noise + quantisation error), computed here from the known signal
-    from chainid.gap.noise import force_noise, force_quantum
+    from chainid.gap.core.noise import force_noise, force_quantum
 
     rng = np.random.default_rng(5)
     t = np.arange(20000) / 200.0

@@ -11,8 +11,10 @@ import math
 import numpy as np
 import pytest
 
-from chainid.gap import interpret, law_choice, noise
-from chainid.gap.where import classify_slopes, energy_slopes, residual_harmonics
+from chainid.gap.core import interpret
+from chainid.gap.harmonic import law_choice
+from chainid.gap.core import noise
+from chainid.gap.harmonic.where import classify_slopes, energy_slopes, residual_harmonics
 
 
 def test_residual_harmonics_of_a_known_series():
@@ -135,7 +137,7 @@ def test_benchmark_family_rates_by_hand():
     """Twelve hand-made cases, every rate counted by hand: singles scored from SNR_MIN (3) on, machine_compliance
     named stiffness_level is right; compounds: both named / exact / named-or-confounded / detectable; controls;
     outside cases (an error is a miss); the median shrinkage of the right verdicts; the misses."""
-    from chainid.gap.benchmark_report import family_rates
+    from chainid.gap.benchmark.report import family_rates
 
     def row(family, truth, verdict, snr=5.0, shrinkage=None, **kw):
         return {"family": family, "truth": truth, "verdict": verdict, "snr": snr, "shrinkage": shrinkage,
@@ -179,7 +181,7 @@ def test_prepare_test_bins_and_noise_of_a_clean_record():
     """x = 2 + 0.3 sin(2π t + π/40) sampled 40 times a cycle over 12 cycles, F = 1000·(x − 0.5) + white noise σ = 2 N:
     ω = 2π, A = 0.3, x0 = 2; B = max(8, min(n_bins, 4·(40 // 8))) = 20 bins (8 with n_bins = 8) of equal counts;
     the bin means are F at the bins' mean x within the noise; σ = 2 N within 15 %."""
-    from chainid.gap.prepare import prepare_test
+    from chainid.gap.harmonic.prepare import prepare_test
     from chainid.records.record import Record
 
     t = np.arange(12 * 40) / 40.0

@@ -9,11 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from chainid.gap import selection as fw
-from chainid.gap.benchmark import grid3x3_plan
+from chainid.gap.core import selection as fw
+from chainid.gap.benchmark.grid import grid3x3_plan
 from chainid.gap.diagnose import diagnose
 from chainid.model.effects import parse_effect
-from chainid.gap.problem import Candidate
+from chainid.gap.harmonic.problem import Candidate
 from chainid.model.laws import PolynomialLaw
 from chainid.model.base import ChainModel
 from chainid.records.simulate import TestSpec, simulate, simulate_test

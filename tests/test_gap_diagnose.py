@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chainid.gap.benchmark import grid3x3_plan
+from chainid.gap.benchmark.grid import grid3x3_plan
 from chainid.gap.diagnose import diagnose
 from chainid.model.effects import parse_effect, play_operator, stick_slip
 from chainid.model.laws import PolynomialLaw

@@ -1,4 +1,4 @@
-"""The leave-one-block-out step of the time-domain route (:mod:`chainid.gap.timeproblem`).
+"""The leave-one-block-out step of the time-domain route (:mod:`chainid.gap.timedomain.problem`).
 
 1. The linearised refit step is the minimiser of its quadratic inside the parameters' physical box, checked
    against an exact enumeration of the active sets, and differs from the clipped solution when two parameters trade
@@ -12,7 +12,7 @@ import itertools
 import numpy as np
 import pytest
 
-from chainid.gap.timeproblem import leave_out_step
+from chainid.gap.timedomain.problem import leave_out_step
 
 
 def _enumerate_active_sets(A, g, lo, hi):

@@ -11,10 +11,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from chainid.gap import stationarity
-from chainid.gap.diagnose import _jackknife
-from chainid.gap.problem import Candidate, Problem
-from chainid.gap.selection import TIE, _pick
+from chainid.gap.core import stationarity
+from chainid.gap.harmonic.route import jackknife as _jackknife
+from chainid.gap.harmonic.problem import Candidate, Problem
+from chainid.gap.core.selection import TIE, _pick
 from chainid.model.operators import coulomb_sign
 from stand_ins import localise_viscous_excess
 
@@ -101,6 +101,7 @@ def test_noise_db_uses_the_requested_split():
     3 N, σ = 1, 4 samples: 9 / 0.25 → +15.563 dB.  Bug caught: the split ignored / swapped."""
     hold, train = _d("H", 2, 2.0, 2), _d("T", 3, 1.0, 4)
     fake = SimpleNamespace(hold=[hold], train=[train])
+    fake.n_cells = lambda split: Problem.n_cells(fake, split)
     ev = {"res": {"H": np.ones(2), "T": np.full(3, 3.0)}}
     assert Problem.noise_db(fake, ev, "hold") == pytest.approx((1.0, 2.0, 10 * math.log10(0.5)), rel=1e-12)
     assert Problem.noise_db(fake, ev, "train") == pytest.approx((9.0, 0.25, 10 * math.log10(36.0)), rel=1e-12)
@@ -110,7 +111,7 @@ def test_diagnose_baseline_db_is_on_the_holdout(monkeypatch):
     """The baseline's dB over noise (``baseline.db_over_noise``) is that of the held-out tests, whose residuals here
     are made larger than the training tests' (a 60 N offset only in the held-out test's force), so the two splits
     give clearly different dB.  Bug caught: computed on the training tests."""
-    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.gap.benchmark.grid import grid3x3_plan
     from chainid.gap.diagnose import diagnose
     from chainid.model.base import ChainModel
     from chainid.model.laws import PolynomialLaw
@@ -146,6 +147,7 @@ def test_bic_sample_size_is_the_training_bins():
     fake = SimpleNamespace(train=train, hold=hold, laws_for=lambda names: ["viscous"],
                            evaluate=lambda names, params, law: ev)
     fake.noise_db = lambda e, split="hold": Problem.noise_db(fake, e, split)
+    fake.n_cells = lambda split="train": Problem.n_cells(fake, split)
     cand = Candidate(name="friction", params={"friction.F_c": 1.0}, n_params=1)
     out = Problem.score(fake, cand, ["friction"], 0.5)
     assert out.bic == pytest.approx(50.0 + 3 * math.log(128), rel=1e-12)
@@ -195,7 +197,7 @@ def test_coulomb_sign_turning_point_rule():
 def test_bin_noise_removes_a_local_linear_trend_in_phase_and_time():
     """F exactly linear in phase and time inside every bin (a slope and a drift): the pooled scatter is 0; pure
     white noise of SD 2 N gives 2 N within a few %.  Bug caught: the 2×2 normal-equation solution garbled."""
-    from chainid.gap.prepare import _bin_noise
+    from chainid.gap.harmonic.prepare import _bin_noise
 
     rng = np.random.default_rng(5)
     B = 16
@@ -211,7 +213,7 @@ def test_bin_noise_removes_a_local_linear_trend_in_phase_and_time():
 def test_local_peak_over_the_octave_median():
     """A flat power spectrum with one line 50× higher at 40 Hz: the peak is found at 40 Hz with height 50 (the
     median within ± one octave is the flat level).  Bug caught: the octave window's upper edge garbled."""
-    from chainid.gap.where_time import OCT, _local_peak
+    from chainid.gap.timedomain.where import OCT, _local_peak
 
     f = np.arange(1.0, 201.0)
     P = np.ones_like(f)
@@ -229,7 +231,7 @@ def test_local_peak_over_the_octave_median():
 def test_at_noise_floor_chi2_band():
     """Within 5 standard deviations of a χ² mean: ratio < 1 + 5·sqrt(2/n) = 1.5 for n = 200 bins (systematic part
     well above half σ, so only the ratio decides).  Bug caught: 2/n made an integer division (threshold 1)."""
-    from chainid.gap.selection import at_noise_floor
+    from chainid.gap.core.selection import at_noise_floor
 
     assert at_noise_floor(1.4, 1.0, 0.1, 200) is True
     assert at_noise_floor(1.6, 1.0, 0.1, 200) is False
@@ -239,7 +241,7 @@ def test_at_noise_floor_chi2_band():
 def test_cycle_stats_whole_cycles_by_hand():
     """F = 3 + 2 sin ψ + 0.5 cos ψ sampled over 6.5 cycles from ψ = 0.3: the first and last (partial) cycles are
     dropped, the 5 middle ones give mean 3, a = 2, b = 0.5 exactly.  Bug caught: no cycle marked whole."""
-    from chainid.gap.prepare import cycle_stats
+    from chainid.gap.harmonic.prepare import cycle_stats
 
     w = 2 * math.pi
     t = np.linspace(0.0, 6.5, 833)  # 128 samples per cycle
@@ -274,7 +276,7 @@ def test_delay_signature_reads_a_pure_lag():
     """The data are the model's force delayed by τ = 2 ms: harmonic k turns by −kωτ, so δ_k/k against ω has slope
     −τ through the origin: τ read back exactly (harmonics 2 and 3, ω = 10, 20, 30 rad/s).
     Bug caught: the harmonic's phase grid k·ψ garbled."""
-    from chainid.gap.where import delay_signature
+    from chainid.gap.harmonic.where import delay_signature
 
     B, tau = 64, 0.002
     psi = (np.arange(B) + 0.5) * 2 * math.pi / B
@@ -297,7 +299,7 @@ def test_benchmark_summary_counts_a_case_at_the_snr_threshold():
     """Single-effect cases with residual ≥ SNR_MIN × noise are scored: one at exactly SNR_MIN (right), one
     below it (wrong, not scored), one above (wrong): rate 1/2 = "50.0 %" in the text.
     Bugs caught: >= made != or >, the percentage garbled."""
-    from chainid.gap.benchmark_report import SNR_MIN, format_summary, summarise
+    from chainid.gap.benchmark.report import SNR_MIN, format_summary, summarise
 
     def row(snr, verdict):
         return {"family": "single", "truth": ["friction"], "verdict": verdict, "snr": snr, "shrinkage": 0.5,

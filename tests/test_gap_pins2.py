@@ -12,7 +12,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from chainid.gap.problem import Candidate
+from chainid.gap.harmonic.problem import Candidate
 
 
 # ---------------------------------------------------------------- prepare: the time origin
@@ -21,7 +21,7 @@ def test_prepared_time_is_from_the_records_first_sample():
     """``TestData.t`` is the time from the record's first sample and ``t + t_origin`` the record's own time
     (the docstring): a sine stamped from t = 1000 s gives t_origin = 1000 s, t inside [0, T], and
     x = x0 + A sin(ω t + θ) on the relative time."""
-    from chainid.gap.prepare import prepare_test
+    from chainid.gap.harmonic.prepare import prepare_test
     from chainid.records.record import Record
 
     fs, f, n = 200.0, 2.0, 1600  # 8 s, 16 cycles
@@ -46,7 +46,7 @@ def test_prepared_time_is_from_the_records_first_sample():
 def test_force_noise_takes_five_samples_and_refuses_four():
     """``force_noise`` needs >= 5 samples (docstring).  F = (0, 1, 3, 2, 7) N: Δ²F = (1, −3, 6), median 1,
     |Δ²F − 1| = (0, 4, 5), MAD 4, σ = 1.4826·4/√6 (5 distinct values: no quantum)."""
-    from chainid.gap.noise import force_noise
+    from chainid.gap.core.noise import force_noise
 
     assert force_noise(np.array([0.0, 1.0, 3.0, 2.0, 7.0])) == pytest.approx(1.4826 * 4 / math.sqrt(6), rel=1e-12)
     with pytest.raises(ValueError, match=r"force_noise needs >= 5 samples; got 4"):
@@ -61,7 +61,7 @@ def test_chatter_hook_is_friction_plus_an_oscillation_while_sliding(fs, f_ch):
     amplitude 0.3–0.8 F_c at max(12 Hz, fs/20), at most fs/5, only while the contact slides faster than a fraction
     0.1–0.25 of the peak speed.  The oscillation's amplitude is fitted by least squares at the known frequency on
     the samples surely sliding (speed above 0.25 of the peak); it is exactly 0 below 0.1 of the peak."""
-    from chainid.gap.benchmark_time import _outside
+    from chainid.gap.benchmark.nonharmonic import _outside
     from chainid.model.effects import stick_slip
 
     t = np.arange(int(4 * fs)) / fs
@@ -93,7 +93,7 @@ def test_two_for_one_reports_identified_pairs_within_the_tie(monkeypatch):
     members of its family that are allowed and not in the chain; a pair is reported when its LOTO NRMSE is within
     ``TIE`` (5 %) of the chain's and none of its parameters is at a bound (rule 4).  The pair is fitted with the
     chain's other effects, warm-started from their parameters (the replaced effect's dropped)."""
-    from chainid.gap import selection as fw
+    from chainid.gap.core import selection as fw
 
     full = Candidate("friction+contact_law", {"friction.F_c": 3.0, "contact_law.scale": 1.2,
                                               "contact_law.exponent": 1.4}, 3)
@@ -139,7 +139,7 @@ def _set(out, cols=slice(None)):
 def test_start_set_of_one_free_parameter_is_the_documented_one():
     """``starts`` with one free parameter (its docstring): the default first, then GRID1, 0.5 − (0.01, 0.05, 0.2),
     around 0 when the range straddles it, the 40 delay midpoints, and ug × (0.5 … 3) for a scale or delay."""
-    from chainid.gap.fitgrid import starts
+    from chainid.gap.core.fitgrid import starts
 
     grid1 = [0.0, 0.003, 0.01, 0.03, 0.1, 0.3, 0.6]
     mid = [0.49, 0.45, 0.3]
@@ -171,7 +171,7 @@ def test_start_set_of_one_free_parameter_is_the_documented_one():
 def test_start_set_of_a_new_effect_with_several_parameters_is_the_documented_one(effect, params, extra):
     """Two or more free parameters: GRID2 × GRID2 (0, 0.003, 0.03, 0.2) over the first two (the others at the
     default), plus the effect's own documented starts (friction, contact law, hysteresis); the default first."""
-    from chainid.gap.fitgrid import starts
+    from chainid.gap.core.fitgrid import starts
 
     k = len(params)
     ug = np.full(k, 0.77)
@@ -190,7 +190,7 @@ def _draws(kind, n_draws, monkeypatch):
     signal is built)."""
     import inspect
 
-    from chainid.gap import benchmark_time as bt
+    from chainid.gap.benchmark import nonharmonic as bt
     from chainid.records import excitation as ex
 
     calls = []
@@ -330,7 +330,7 @@ def test_ringing_ratio_threshold_choice_and_texts():
     5 %: the tone's mean square over each set of samples and the high-pass's ends);
     chatter needs >= RING_RATIO = 2 (s² = 1/2.2: chatter; 1/1.8: ringing, reported with score 0).  Over records
     a chatter row beats a louder non-chatter one; a record that never rests (or never slides) is skipped."""
-    from chainid.gap.where_time import ringing
+    from chainid.gap.timedomain.where import ringing
 
     d1, r1 = _ring("A", 1 / 2.2)
     got = ringing([d1], {"A": r1})
@@ -357,7 +357,7 @@ def test_ringing_ratio_threshold_choice_and_texts():
 def test_trend_standard_error_from_the_scatter_by_textbook_formulas():
     """``trend`` without a covariate is the straight-line fit: slope b = Sxy/Sxx, s² = RSS/(n − 2), SE = √(s²/Sxx)
     (textbook OLS); the floor only counts when larger than the scatter (floor 0.01 here: it does not)."""
-    from chainid.gap.stationarity import trend
+    from chainid.gap.core.stationarity import trend
 
     t = np.arange(10, dtype=float)
     y = 3.0 + 0.1 * t + 2.0 * (-1.0) ** np.arange(10)
@@ -372,21 +372,16 @@ def test_trend_standard_error_from_the_scatter_by_textbook_formulas():
 
 def test_train_floor_is_five_chi2_standard_deviations_by_hand():
     """``train_floor``: at the noise floor when r²/f² < 1 + 5·sqrt(2/n) (the χ² mean 1 with standard deviation
-    sqrt(2/n) over n noise cells).  n = 200 cells (timeproblem's n_cells, else the harmonic tests' bins):
+    sqrt(2/n) over n noise cells).  n = 200 cells (the problem's n_cells):
     threshold 1 + 5·0.1 = 1.5 by hand; 1.45 is at the floor, 1.55 not, f² = 0 never.  Bug caught:
     ``5 * sqrt`` → ``5 % sqrt`` (threshold 1.0: nothing above the noise itself counts)."""
-    from chainid.gap.selection import train_floor
+    from chainid.gap.core.selection import train_floor
 
-    def prob(r2, f2, cells=True):
-        p = SimpleNamespace(noise_db=lambda ev, which: (r2, f2, None),
-                            train=[SimpleNamespace(counts=np.ones(120)), SimpleNamespace(counts=np.ones(80))])
-        if cells:
-            p.n_cells = lambda which: 200
-        return p
+    def prob(r2, f2):
+        return SimpleNamespace(noise_db=lambda ev, which: (r2, f2, None), n_cells=lambda which: 200)
 
     cand = SimpleNamespace(_ev={})
-    for cells in (True, False):
-        assert train_floor(prob(1.45, 1.0, cells), cand) is True
-        assert train_floor(prob(1.55, 1.0, cells), cand) is False
-        assert train_floor(prob(2.9, 2.0, cells), cand) is True  # 1.45
+    assert train_floor(prob(1.45, 1.0), cand) is True
+    assert train_floor(prob(1.55, 1.0), cand) is False
+    assert train_floor(prob(2.9, 2.0), cand) is True  # 1.45
     assert not train_floor(prob(0.0, 0.0), cand)

@@ -30,7 +30,7 @@ def _result(steps=("baseline", "friction", "friction+slack"), **kw):
 
 
 def _run(monkeypatch, diag):
-    from chainid.gap.benchmark import run_case
+    from chainid.gap.benchmark.grid import run_case
     from chainid.records import simulate as sim
 
     monkeypatch.setattr(sim, "simulate", lambda *a, **k: [])
@@ -86,7 +86,7 @@ def test_time_rows_time_the_case(monkeypatch):
     """``run_case_time``: the row's seconds are the case's own duration (simulation and diagnosis), for a
     diagnosed case and for one whose diagnosis raises (the error row: verdict, snr ∞, no transfer numbers)."""
     import chainid.gap.diagnose  # noqa: F401
-    from chainid.gap import benchmark_time as bt
+    from chainid.gap.benchmark import nonharmonic as bt
 
     monkeypatch.setattr(bt, "records", lambda case: (time.sleep(0.05), ([], {"nominal": None, "motions": [], "true": None, "hooks": [], "c": 0.0,
                                                         "sigmas": []}))[1])
@@ -117,7 +117,7 @@ def test_records_noise_and_quantisation_by_hand(monkeypatch):
     """``records``: per record a force noise σ = noise·S × 0.8–1.25, a force quantum of 0.5–2 σ on about 30 % of the
     records (README), displacement noise up to 0.003 A; the reported σ of a record is that of its noise plus its
     quantisation error, √(σ² + q²/12) (a uniform error over one step has variance q²/12)."""
-    from chainid.gap import benchmark_time as bt
+    from chainid.gap.benchmark import nonharmonic as bt
     from chainid.records import excitation as ex
 
     seen = []
@@ -156,7 +156,7 @@ def test_other_plateau_rule_by_hand():
     """``other_plateau``: a whole cycle *outside* the steady window at the plateau's amplitude (within 25 %) about
     a mean more than half that amplitude from the kept cycles' median mean is a second steady state; ramp cycles
     (smaller amplitude), cycles at the same mean, and the kept cycles themselves do not count."""
-    from chainid.gap.prepare import other_plateau
+    from chainid.gap.harmonic.prepare import other_plateau
 
     kept = [2, 3, 4, 5]
     A = [0.3, 0.6, 1.0, 1.0, 1.0, 1.0, 1.2]
@@ -184,7 +184,7 @@ def test_other_plateau_rule_by_hand():
 # ---------------------------------------------------------------- where_time.state_maps: share, z and the text
 
 def _maps(sigma2, n=1600):
-    from chainid.gap.where_time import state_maps
+    from chainid.gap.timedomain.where import state_maps
 
     x = np.linspace(0.0, 8.0, n)  # a monotonic stroke: ẋ constant, travel since reversal = x
     r = np.where(x > 4.0, 1.0, -1.0)  # a residual that is a step in x: ±1 N
@@ -218,7 +218,7 @@ def test_state_map_bins_of_one_sample_by_hand():
     0 … 14 hold one sample each and the last bin two (x = 15 and 16).  A residual r = x − 8 N has bin means
     −8 … 6 N, then 7.5 N -- each a mean over its own samples, computed here by hand.  Bug caught (seed 25): the
     bin count's floor ``max(cnt, 1)`` → ``max(cnt, 2)`` (every one-sample bin's mean halved)."""
-    from chainid.gap.where_time import state_maps
+    from chainid.gap.timedomain.where import state_maps
 
     x = np.arange(17.0)
     d = SimpleNamespace(test="S", t=x * 0.1, x=x, xd=np.full(17, 10.0), sigma=0.01)
@@ -239,7 +239,7 @@ def test_spectrum_outside_the_band_by_hand():
     run twice takes off (20/200)^8 of it), against white noise of σ over the band above the cut (a fraction
     1 − f_c/(fs/2) of the power): ratio = √(Σ n·a²/2 / Σ σ²·(1 − f_c/(fs/2))·n), pooled over records; above 1.5
     the text names content outside the band; a record whose cut reaches 0.45 fs is skipped."""
-    from chainid.gap.where_time import spectrum_outside
+    from chainid.gap.timedomain.where import spectrum_outside
 
     d1, r1 = _rec("A", 1000.0, 5.0, 1.0, 3.0)  # cut 20 Hz: fraction 0.96
     d2, r2 = _rec("B", 800.0, 10.0, 2.0, 1.0, n=3200)  # cut 40 Hz: fraction 0.9
@@ -276,7 +276,7 @@ def test_drift_quarter_rule_change_and_text_by_hand():
     6.235 s); a residual 0.5 N/s·t has slope 0.5 and change 0.5 × 6.08 = 3.04 N; non-stationary when the
     significant records are at least a quarter, ceil(0.25·n_rec) (1 of 5 is not, 2 of 5 are); the change is the
     RMS over records counting the others as 0: √(2·3.04²/5)."""
-    from chainid.gap.where_time import drift
+    from chainid.gap.timedomain.where import drift
 
     data, res = _drift_recs(5, 1)
     got = drift(data, res)
@@ -319,7 +319,7 @@ def test_backbone_kinds_by_hand():
     (|ΔF|(T75) − |ΔF|(T25))/(T75 − T25).  Play of 0.3 mm then 100 N/mm: 20/0.5 = 40 against 100 N/mm, ratio 0.4 <=
     1/2: a dead band; 100 N/mm up to 0.5 mm then 20 N/mm: ratio 5 >= 2: stiff then soft; a linear backbone
     (ratio 1): no finding; fewer than 200 samples with travel: not judged (seed-25 survivor: ``< 200`` → ``< 199``)."""
-    from chainid.gap.where_time import backbone
+    from chainid.gap.timedomain.where import backbone
 
     (f,) = backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0))])
     assert f["kind"] == "backbone" and f["test"] == "R" and f["score"] == 0.0
@@ -354,7 +354,7 @@ def test_leave_out_step_box_constrained_quadratic_by_hand():
     minimum A⁻¹g = (0.2, −0.1) inside the box; g = (3, 0) gives (2, −1) outside the box ±0.5, where the KKT point is
     Δ1 = 0.5 (gradient 2Δ1 + Δ2 − 3 = −2.25 < 0 pushes it up) and Δ2 = −Δ1/2 = −0.25 (not the clipped (0.5, −0.5));
     a matrix with no positive curvature (A = −I) gives no step."""
-    from chainid.gap.timeproblem import leave_out_step
+    from chainid.gap.timedomain.problem import leave_out_step
 
     A = np.array([[2.0, 1.0], [1.0, 2.0]])
     lo, hi = np.full(2, -0.5), np.full(2, 0.5)
@@ -370,7 +370,7 @@ def test_delay_signature_fundamental_phase_line_and_its_r2_by_hand():
     """The fundamental's phase of F against x, φ₁ = atan2(b, a) of F = a sin ψ + b cos ψ + …: a lag τ = 2 ms and a
     damping part q cos ψ give a = 500 cos ωτ, b = q − 500 sin ωτ.  The straight line through (ω, φ₁) and its
     R² = 1 − SS_res/SS_tot are a least-squares fit by hand (phases small, SS_tot < 1 rad²)."""
-    from chainid.gap.where import delay_signature
+    from chainid.gap.harmonic.where import delay_signature
 
     B, tau = 64, 0.002
     psi = (np.arange(B) + 0.5) * 2 * math.pi / B
@@ -403,9 +403,9 @@ def test_transfer_of_the_true_model_leaves_harmonic_records_at_their_noise_floor
     """``transfer`` on steady harmonic records: a bin mean of n samples carries noise σ²/n, so the model that
     simulated the records (the paper's plan, viscous c_e) leaves them at 0 dB over their noise (within ± 1 dB over
     9 × 64 bins) and at the noise floor; with no effect named the text says so."""
-    from chainid.gap.prepare import prepare_test
-    from chainid.gap.problem import Problem
-    from chainid.gap.selection import baseline_candidate
+    from chainid.gap.harmonic.prepare import prepare_test
+    from chainid.gap.harmonic.problem import Problem
+    from chainid.gap.core.selection import baseline_candidate
     from chainid.gap.transfer import transfer
     from chainid.model.base import ChainModel
     from chainid.model.laws import ViscousLaw
@@ -430,7 +430,7 @@ def test_transfer_case_harmonic_set_is_the_documented_one(monkeypatch):
     """``run_case_transfer``'s docstring: 11 harmonic tests h1 … h11 over the random records' band and amplitudes
     (ω ∈ (¼, ½, 1)·ω_lo × A ∈ (½, 1, 1.5)·Ā at x̄0, then two off-grid tests), 8 cycles of 256 samples, noise σ =
     noise·S, seed + 1; the same device (true model, viscous c, effect hook) as the random records."""
-    from chainid.gap import benchmark_time as bt
+    from chainid.gap.benchmark import nonharmonic as bt
     from chainid.records import simulate as sim
 
     case = next(c for c in bt.time_grid(small=True) if c["excitation"] == "transfer")

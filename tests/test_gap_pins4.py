@@ -9,7 +9,7 @@ def test_the_benchmark_seed_changes_the_effect_levels_of_every_excitation() -> N
     """``benchmark-gap --seed`` is the seed of the benchmark's random effects: two seeds draw different effect
     levels in every non-harmonic excitation (the levels come from a generator seeded by the seed and the
     excitation), and one seed draws the same levels again."""
-    from chainid.gap.benchmark_time import EXCITATIONS, time_grid
+    from chainid.gap.benchmark.nonharmonic import EXCITATIONS, time_grid
 
     def levels(seed: int) -> dict[str, list[float]]:
         out: dict[str, list[float]] = {}
@@ -27,8 +27,8 @@ def test_the_benchmark_seed_changes_the_effect_levels_of_every_excitation() -> N
 
 def test_a_constant_force_has_the_documented_noise_floor_not_zero() -> None:
     """A harmonic test whose force does not vary at all has no scatter to measure: its σ is the floor
-    1e-6·std(F) + 1e-9 N = 1e-9 N (chainid/gap/prepare.py), never 0 (every dB over the noise divides by it)."""
-    from chainid.gap.prepare import prepare_test
+    1e-6·std(F) + 1e-9 N = 1e-9 N (chainid/gap/harmonic/prepare.py), never 0 (every dB over the noise divides by it)."""
+    from chainid.gap.harmonic.prepare import prepare_test
     from chainid.records.record import Record
 
     t = np.arange(8 * 256) / 256 * np.pi  # ω = 2 rad/s, 8 periods of 256 samples

@@ -1,4 +1,4 @@
-"""A record at rest is stuck: the smooth velocity is 0 where it is within its noise (chainid.gap.noise).
+"""A record at rest is stuck: the smooth velocity is 0 where it is within its noise (chainid.gap.core.noise).
 
 Independent references: the velocity noise of the smoothing pipeline against a Monte Carlo of the same
 pipeline on white noise; a record whose lead-in is exactly at rest (the simulation's ẋ = 0 there).
@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from chainid.gap import noise as nz
+from chainid.gap.core import noise as nz
 
 
 @pytest.mark.parametrize("fs,fb", [(200.0, 2.0), (1000.0, 3.0), (100.0, 8.0)])
@@ -61,8 +61,8 @@ def test_coulomb_friction_behind_a_rest_lead_in_is_named_on_a_held_out_record() 
     Before the rest rule the noise's velocity sign put ±F_c on them (310 of 3970 samples with the wrong
     sign) and the case was `unexplained` (held-out shrinkage 49 %); the truth is F_c = 139.07 N
     (``effect_spec`` of the case) and c = 19.32 N·s/mm."""
-    from chainid.gap.benchmark import grid
-    from chainid.gap.benchmark_time import records
+    from chainid.gap.benchmark.grid import grid
+    from chainid.gap.benchmark.nonharmonic import records
     from chainid.gap.diagnose import diagnose
 
     case = next(k for k in grid(True, 0, ("random",)) if k["family"] == "single")

@@ -12,11 +12,11 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from chainid.gap import verdict as vd
-from chainid.gap.benchmark_time import effect_spec
-from chainid.gap.prepare import other_plateau
-from chainid.gap.summary import summary
-from chainid.gap.where_time import PEAK, RING_RATIO, ringing
+from chainid.gap.core import verdict as vd
+from chainid.gap.benchmark.nonharmonic import effect_spec
+from chainid.gap.harmonic.prepare import other_plateau
+from chainid.gap.core.summary import summary
+from chainid.gap.timedomain.where import PEAK, RING_RATIO, ringing
 from stand_ins import localise_viscous_excess
 
 STAT_OK = {"stationary": True, "trend_change_N": 0.0, "finding": ""}
@@ -126,7 +126,7 @@ def test_step_models_baseline_is_step_zero_and_step_zero_is_bare():
     """Every step's model is compared with step 0 (the baseline: the base spring and the fitted damping, no effect,
     no delay); step 0's own baseline is that same bare model, so both predict the same force on any record.
     The truth here is a pure 0.05 s force-channel lag: the last step carries it, step 0 does not."""
-    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.gap.benchmark.grid import grid3x3_plan
     from chainid.gap.diagnose import diagnose
     from chainid.model.base import ChainModel
     from chainid.model.effects import parse_effect
@@ -159,7 +159,7 @@ def test_waterfall_figure_bars_shrinkage_and_noise_floor():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from chainid.gap.plot_steps import waterfall_figure
+    from chainid.gap.core.plot_steps import waterfall_figure
 
     steps = [{"effect": "baseline", "nrmse_holdout": 0.4, "db_over_noise": 24.0},
              {"effect": "friction", "nrmse_holdout": 0.1, "db_over_noise": 12.0},
@@ -192,7 +192,7 @@ def test_waterfall_figure_bars_shrinkage_and_noise_floor():
 def test_damping_separable_needs_three_by_three_and_six_tests():
     """Eq. 21 has 5 coefficients: separable on >= 6 tests at >= 3 frequencies and >= 3 amplitudes (full rank);
     five such tests, or 9 tests at 2 amplitudes, are not, and the message counts them."""
-    from chainid.gap.problem import damping_separable
+    from chainid.gap.harmonic.problem import damping_separable
 
     plan = [(1.0, 0.1), (2.0, 0.2), (4.0, 0.3), (1.0, 0.3), (2.0, 0.1), (4.0, 0.2)]
     data = [SimpleNamespace(omega=w, A=a) for w, a in plan]
@@ -209,7 +209,7 @@ def test_damping_separable_needs_three_by_three_and_six_tests():
 def test_fourier_x_reproduces_a_two_harmonic_motion_and_its_derivatives():
     """x = 2 + 0.3 sin ψ + 0.05 cos 3ψ, ψ = 5t + 0.2 (inside the 5-harmonic basis): x, ẋ = 1.5 cos ψ − 0.75 sin 3ψ,
     ẍ = −7.5 sin ψ − 11.25 cos 3ψ, exact to round-off at any t."""
-    from chainid.gap.prepare import fourier_x
+    from chainid.gap.harmonic.prepare import fourier_x
 
     t = np.linspace(0.0, 3.0, 700)
     ps = 5 * t + 0.2
@@ -225,7 +225,7 @@ def test_fourier_x_reproduces_a_two_harmonic_motion_and_its_derivatives():
 def test_phase_grid_commensurate_sampling_is_one_point_per_phase():
     """64 samples per cycle over 3 cycles, 8 bins: the grid has the 64 distinct phases (weight 3 each, 24 per bin) at
     t = (ψ − θ)/ω in [0, T), and a grid mean of any function of ψ equals the samples' bin mean exactly."""
-    from chainid.gap.prepare import phase_grid
+    from chainid.gap.harmonic.prepare import phase_grid
 
     w, th, B = 2 * math.pi, math.pi / 64, 8  # phases half a sample off the bin edges
     t = np.arange(3 * 64) / 64.0
@@ -257,7 +257,7 @@ def test_ringing_is_not_looked_for_when_the_band_reaches_the_sampling():
 def test_state_maps_skip_a_variable_with_two_levels_and_go_on():
     """A displacement with two levels has < 3 distinct quantile edges and gets no map; the other variables are
     still mapped: a residual 10·ẋ/max|ẋ| (σ = 0.1 N) is found to follow ẋ."""
-    from chainid.gap.where_time import state_maps
+    from chainid.gap.timedomain.where import state_maps
 
     t = np.linspace(0.0, 8.0, 4000)
     xd = np.cos(2 * math.pi * t)
@@ -274,7 +274,7 @@ def test_state_maps_skip_a_variable_with_two_levels_and_go_on():
 @pytest.mark.parametrize("kind", ["random", "sweep", "startup", "quake"])
 def test_benchmark_motion_is_of_its_family(kind):
     """Each excitation family of the non-harmonic benchmark draws its own kind of program."""
-    from chainid.gap.benchmark_time import motion
+    from chainid.gap.benchmark.nonharmonic import motion
 
     m = motion(kind, np.random.default_rng(3))
     assert m.kind == kind and m.t.size >= 2000 and np.all(np.diff(m.t) > 0)
@@ -295,8 +295,8 @@ def test_localise_names_a_residual_harmonic_above_twice_the_noise_floor():
 def test_a_given_damping_law_needs_one_training_test_more_than_its_coefficients():
     """Eq. 21 has 5 coefficients: leave-one-out needs >= 6 training tests.  Seven tests, one held out: the given
     law is taken ("given"); two held out (5 training tests): refused, saying so."""
-    from chainid.gap.prepare import prepare_test
-    from chainid.gap.problem import Problem
+    from chainid.gap.harmonic.prepare import prepare_test
+    from chainid.gap.harmonic.problem import Problem
     from chainid.model.base import ChainModel
     from chainid.records.simulate import TestSpec, simulate
 

@@ -5,7 +5,7 @@ operators, independent of the diagnosis; the true strengths from the documented 
 * Friction seen through a lagging force channel (random): the presliding travel x_s sits at 0, where the friction
   force is strongly nonlinear in it; the linear leave-one-block-out prediction of a large x_s step made one
   block's left-out error 140× its fitted error, the backward pass dropped the lag, verdict ``unexplained``.
-  Now a large leave-out step is checked on the nonlinear model (:mod:`chainid.gap.timeproblem`).
+  Now a large leave-out step is checked on the nonlinear model (:mod:`chainid.gap.timedomain.problem`).
 * The same pair on a sweep: the family exchange swapped friction for Dahl hysteresis with x_h pinned at its floor
   (Coulomb friction under another name) and then dropped the lag; a swap must now obey rule 4.
 * A stiffness level with a slack (sweep) against one Hertz law with a fitted exponent: same parameter count,
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from chainid.gap import diagnose
-from chainid.gap.benchmark_time import effect_spec, records, time_grid
+from chainid.gap.benchmark.nonharmonic import effect_spec, records, time_grid
 
 
 def _run(seed):

@@ -1,7 +1,7 @@
 """The model a time-domain diagnosis finds is runnable: saved, reloaded, and run by predict, simulate, dynamics.
 
 Independent reference: ``predict`` evaluates a saved model through :meth:`AugmentedModel.force`, a code path
-apart from the diagnosis' own time-domain evaluation (:class:`chainid.gap.timeproblem.AnyProblem`); on the
+apart from the diagnosis' own time-domain evaluation (:class:`chainid.gap.timedomain.problem.AnyProblem`); on the
 same records the two must give the same per-record NRMSE (the diagnosis' held-out number is a prediction,
 so reloading the model must reproduce it).
 """
@@ -15,8 +15,8 @@ import warnings
 import pytest
 
 from chainid.cli import main
-from chainid.gap.benchmark import grid
-from chainid.gap.benchmark_time import records
+from chainid.gap.benchmark.grid import grid
+from chainid.gap.benchmark.nonharmonic import records
 from chainid.gap.diagnose import diagnose
 from chainid.gap.modelio import predict
 from chainid.model.modelfile import load_model

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from chainid.gap import diagnose
-from chainid.gap.benchmark_time import effect_spec, records, time_grid
-from chainid.gap.diagnose_time import larger_sd
+from chainid.gap.benchmark.nonharmonic import effect_spec, records, time_grid
+from chainid.gap.timedomain.route import larger_sd
 
 
 def test_larger_sd_takes_the_larger_per_parameter_and_none_for_pinned():
@@ -52,7 +52,7 @@ def test_refit_sd_leaves_each_unit_out_once_and_takes_the_jackknife_spread():
     (time block or harmonic test) left out exactly once, and every mask restored."""
     from types import SimpleNamespace
 
-    from chainid.gap.timeproblem import AnyProblem
+    from chainid.gap.timedomain.problem import AnyProblem
 
     a, b = _Block("a", [0, 0, 1, 1, 2, 2]), _Block("b", [0, 1, 1])
     prob = object.__new__(AnyProblem)
@@ -86,7 +86,7 @@ def test_refit_sd_leaves_each_unit_out_once_and_takes_the_jackknife_spread():
 
 
 def test_refit_sd_needs_two_units():
-    from chainid.gap.timeproblem import AnyProblem
+    from chainid.gap.timedomain.problem import AnyProblem
 
     prob = object.__new__(AnyProblem)
     prob.train_units, prob.hprob = [(_Block("a", [0]), 0)], None

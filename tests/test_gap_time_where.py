@@ -105,8 +105,8 @@ def test_holdout_blocks_bad_values():
 
 def test_backbone_dead_band_of_play():
     # play b = 0.06 mm: after each reversal the force changes little over the first travel, then at full stiffness
-    from chainid.gap.timedomain import prepare_time
-    from chainid.gap.where_time import backbone
+    from chainid.gap.timedomain.data import prepare_time
+    from chainid.gap.timedomain.where import backbone
 
     _, recs = chain_set("backlash", {"b": 0.06}, n_rec=1, seed=90)
     f = backbone([prepare_time(r, 1) for r in recs])

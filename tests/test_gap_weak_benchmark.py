@@ -29,7 +29,7 @@ def _motion(n: int, fs: float, f: float) -> SimpleNamespace:
 
 
 def test_effect_snr_is_the_rms_added_force_over_the_pooled_noise_by_hand():
-    from chainid.gap.benchmark_time import effect_snr
+    from chainid.gap.benchmark.nonharmonic import effect_snr
 
     # two records of whole periods (Σ ẋ = 0): a constant force C has no part along ẋ, so it counts in full;
     # a force proportional to ẋ is all along ẋ (the fitted viscous c absorbs it): 0
@@ -54,7 +54,7 @@ def test_effect_snr_is_the_rms_added_force_over_the_pooled_noise_by_hand():
 def test_transfer_case_fits_on_one_set_and_scores_the_other(monkeypatch, direction):
     """The module docstring: ``harmonic>random`` fits on the 11 harmonic tests (3 held out) and scores on the
     random records; ``random>harmonic`` fits on the random records (one held out) and scores the harmonic set."""
-    from chainid.gap.benchmark_time import run_case_transfer, time_grid
+    from chainid.gap.benchmark.nonharmonic import run_case_transfer, time_grid
 
     seen = {}
 
@@ -84,7 +84,7 @@ def test_harmonic_case_noise_damping_and_holdout_by_hand(monkeypatch):
     loss ~2 % of k at the top frequency (Eq. 21's α5 = 0.02·k/ω_max), the friction level 0.1·level·S
     (``effect_spec``), three held-out tests (the 3rd, the middle one and the last)."""
     from chainid.chain.spec import default_chain
-    from chainid.gap.benchmark import run_case
+    from chainid.gap.benchmark.grid import run_case
     from chainid.model.base import ChainModel
     from chainid.records import simulate as simulate_module
 
@@ -135,7 +135,7 @@ def _trow(direction, verdict, sh, shr, ok, truth=("friction",)):
 
 
 def test_transfer_rates_by_hand():
-    from chainid.gap.benchmark_report import transfer_rates
+    from chainid.gap.benchmark.report import transfer_rates
 
     rows = [_trow("harmonic>random", "friction", 0.8, 0.6, True), _trow("harmonic>random", "hysteresis", 0.2, None, False),
             _trow("random>harmonic", "friction", None, None, False),
@@ -165,7 +165,7 @@ def _row(exc, family, truth, verdict, snr=9.0, **kw):
 def test_summarise_splits_excitations_and_formats_the_non_harmonic_lines():
     """Harmonic rows at the top level; each non-harmonic excitation apart and pooled; transfer apart; the
     terminal lines say each rate with its n, PASS/MISS against issue 18's targets and the misses."""
-    from chainid.gap.benchmark_report import format_summary, summarise
+    from chainid.gap.benchmark.report import format_summary, summarise
 
     rows = [_row("harmonic", "single", ["friction"], "friction"),
             _row("random", "single", ["friction"], "friction"), _row("random", "single", ["slack"], "backlash"),
@@ -203,7 +203,7 @@ def test_summarise_splits_excitations_and_formats_the_non_harmonic_lines():
 
 
 def test_format_summary_without_harmonic_rows_and_with_errors():
-    from chainid.gap.benchmark_report import format_summary, summarise
+    from chainid.gap.benchmark.report import format_summary, summarise
 
     rows = [_row("quake", "single", ["friction"], "error: ValueError: boom"),
             _row("quake", "single", ["friction"], "friction")]
@@ -216,7 +216,7 @@ def test_format_summary_without_harmonic_rows_and_with_errors():
 
 
 def test_format_summary_confusion_matrix_and_misses():
-    from chainid.gap.benchmark_report import format_summary, summarise
+    from chainid.gap.benchmark.report import format_summary, summarise
 
     rows = [_row("harmonic", "single", ["friction"], "friction"),
             _row("harmonic", "single", ["machine_compliance"], "hysteresis+slack"),
@@ -241,8 +241,8 @@ def test_benchmark_grid_is_the_documented_one():
     every library effect alone at 3 strengths × 2 noise levels × 2 chains × 2 plans; 24 controls; mismatch
     EA × 0.7–1.4, Hertz compliance × 0.5–2; non-harmonic strengths log-uniform 0.5–3×, noise 0.5–3 %; transfer
     both directions, six effects; case seeds seed + 100000 + 1000·k + i (module docstring of time_grid)."""
-    from chainid.gap.benchmark import ALL_EXCITATIONS, grid
-    from chainid.gap.benchmark_time import EXCITATIONS
+    from chainid.gap.benchmark.grid import ALL_EXCITATIONS, grid
+    from chainid.gap.benchmark.nonharmonic import EXCITATIONS
     from chainid.model.effects import EFFECT_NAMES
 
     g = grid(seed=3)
@@ -286,7 +286,7 @@ def test_benchmark_grid_is_the_documented_one():
 def test_small_grids_one_case_per_family():
     """The small subset (tests): harmonic — friction and stiffness_level alone, a control, a mismatch, a mismatch
     plus friction and one pair; non-harmonic — one single-effect case per family, one control, one transfer."""
-    from chainid.gap.benchmark import grid
+    from chainid.gap.benchmark.grid import grid
 
     g = grid(small=True)
     fam = [(c["excitation"], c["family"], tuple(c["effects"])) for c in g]
@@ -315,7 +315,7 @@ def test_time_and_transfer_rows_by_hand(monkeypatch):
     """The row of a non-harmonic case: snr = excess/noise (30/4), the last step's shrinkage when the chain has an
     effect (else the best's), the steps after the baseline, the first of the ranking, chatter found in `where`
     or in the residual's `where`; a transfer case adds the pooled shrinkages and the transfer verdict."""
-    from chainid.gap.benchmark_time import run_case_time, run_case_transfer, time_grid
+    from chainid.gap.benchmark.nonharmonic import run_case_time, run_case_transfer, time_grid
 
     monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", lambda *a, **k: _fake_result())
     cases = time_grid(small=True)
@@ -346,8 +346,8 @@ def test_time_and_transfer_rows_by_hand(monkeypatch):
 
 
 def test_run_case_dispatches_by_excitation(monkeypatch):
-    from chainid.gap import benchmark_time as bt
-    from chainid.gap.benchmark import run_case
+    from chainid.gap.benchmark import nonharmonic as bt
+    from chainid.gap.benchmark.grid import run_case
 
     monkeypatch.setattr(bt, "run_case_time", lambda c: ("time", c["excitation"]))
     monkeypatch.setattr(bt, "run_case_transfer", lambda c: ("transfer", c["excitation"]))
@@ -358,8 +358,8 @@ def test_run_case_dispatches_by_excitation(monkeypatch):
 def test_outside_library_hooks_by_hand(monkeypatch):
     """Harmonic cases: a drift adds 0.05·level·S·t/t_end; a relaxation takes off 0.1·level·S·(1 − exp(−3 t/t_end)).
     Non-harmonic records: the same from the record's first sample, (t − t0)/(t_end − t0)."""
-    from chainid.gap.benchmark import run_case
-    from chainid.gap.benchmark_time import _outside
+    from chainid.gap.benchmark.grid import run_case
+    from chainid.gap.benchmark.nonharmonic import _outside
     from chainid.records import simulate as simulate_module
 
     t = np.linspace(0.0, 4.0, 9)

@@ -136,7 +136,7 @@ def test_fit_linear_model_uses_the_training_records_only():
 def test_jackknife_sd_by_hand():
     """Leave-one-test-out refits give 1, 2, 4: sd = sqrt((n − 1)/n · Σ(v − v̄)²) = sqrt(2/3 · 42/9); a law
     coefficient (``law.*``) is not jack-knifed."""
-    from chainid.gap.diagnose import _jackknife
+    from chainid.gap.harmonic.route import jackknife as _jackknife
 
     vals = iter([1.0, 2.0, 4.0])
     seen = []
@@ -190,7 +190,7 @@ def test_harmonic_diagnosis_baseline_is_invariant_to_the_force_unit():
     the verdict is the same.  (The friction fit itself lands within 2 % of the unscaled one: the optimiser's
     path is not exactly scale-free, so it is held to a looser tolerance.)"""
     from chainid.gap import diagnose
-    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.gap.benchmark.grid import grid3x3_plan
     from chainid.model.base import ChainModel
     from chainid.model.effects import parse_effect
     from chainid.model.laws import PolynomialLaw
@@ -240,7 +240,7 @@ def test_phase_route_figures_show_the_results_numbers(tmp_path, figs):
     test's bins on a circle of radius A/A_max; residual vs phase: held-out lines thick (1.5), the others thin;
     loops: model loops closed (last point = first)."""
     from chainid.gap import diagnose
-    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.gap.benchmark.grid import grid3x3_plan
     from chainid.gap.plots import make_plots
     from chainid.model.base import ChainModel
     from chainid.model.effects import parse_effect
@@ -291,7 +291,7 @@ def test_build_problem_routes_harmonic_tests_by_the_documented_rule(monkeypatch)
     """Harmonic tests keep the phase-bin route when at least MIN_TRAIN = 3 of them are for training and no
     --holdout-blocks is given; otherwise they join the time-domain records, with a warning saying why; every
     time-domain record is cut in LOO_BLOCKS = 4 blocks (or the --holdout-blocks K)."""
-    from chainid.gap import diagnose_time as dt
+    from chainid.gap.timedomain import route as dt
 
     made = {}
     monkeypatch.setattr(dt, "prepare_time", lambda r, nb: SimpleNamespace(test=r.test, nb=nb))

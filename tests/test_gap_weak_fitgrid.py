@@ -24,7 +24,7 @@ def test_fit_start_points_follow_their_documentation():
     (below and above it); a parameter whose range straddles 0 starts close to 0 on both sides; the linear spring
     of a --model linear baseline may soften a lot: every start again with k × 0.1 and × 0.01; parameters of
     effects already fitted (fixed) keep their value in every start; everything inside the unit box."""
-    from chainid.gap.fitgrid import DELAY_GRID, starts
+    from chainid.gap.core.fitgrid import DELAY_GRID, starts
 
     ug = np.array([0.5])
     out = starts(["sensor_delay.tau"], ["sensor_delay"], ug, np.zeros(1, bool), np.array([-0.1]), np.array([0.1]))
@@ -58,8 +58,8 @@ def test_fit_start_points_follow_their_documentation():
 def test_time_domain_record_checks_and_split_errors():
     """The time-domain route's input checks name the test and the valid range: >= 64 samples, finite values,
     t strictly increasing, blocks 1 … n // 16; a split needs something held out and >= 3 training units."""
-    from chainid.gap.timedomain import MIN_SAMPLES, prepare_time
-    from chainid.gap.timeproblem import AnyProblem
+    from chainid.gap.timedomain.data import MIN_SAMPLES, prepare_time
+    from chainid.gap.timedomain.problem import AnyProblem
     from chainid.records.record import Record
 
     n = 160
@@ -96,7 +96,7 @@ def test_time_domain_record_checks_and_split_errors():
 def test_library_drops_aliases_and_restricts_to_the_given_effects():
     """machine_compliance is the same physics as stiffness_level for the diagnosis (ALIASES): considered only
     when stiffness_level is not; ``effects`` restricts the library."""
-    from chainid.gap.selection import library
+    from chainid.gap.core.selection import library
 
     prob = SimpleNamespace(applicable=lambda: ["friction", "machine_compliance", "stiffness_level", "slack"])
     assert library(prob, None) == ["friction", "stiffness_level", "slack"]
@@ -106,8 +106,8 @@ def test_library_drops_aliases_and_restricts_to_the_given_effects():
 
 def test_baseline_candidate_of_a_chain_and_of_a_linear_spring():
     """The chain model as given (no parameters) or the linear spring re-fitted; scored with shrinkage 0."""
-    from chainid.gap.problem import Candidate
-    from chainid.gap.selection import baseline_candidate
+    from chainid.gap.harmonic.problem import Candidate
+    from chainid.gap.core.selection import baseline_candidate
 
     scored = []
 
@@ -129,7 +129,7 @@ def test_bin_noise_is_the_pooled_scatter_after_a_per_bin_linear_fit():
     """σ = sqrt(Σ RSS_b / Σ(n_b − 3)) with RSS_b of a least-squares fit of F on (1, ψ, t) within each bin
     (computed here by numpy.linalg.lstsq per bin; the code uses running moments); bins with fewer than 5
     samples do not count; with none left, σ is the plain standard deviation of F."""
-    from chainid.gap.prepare import _bin_noise
+    from chainid.gap.harmonic.prepare import _bin_noise
 
     rng = np.random.default_rng(5)
     B, n = 4, 200
@@ -159,7 +159,7 @@ def test_ce_projection_and_candidate_contract():
     """c_e of a test = the count-weighted projection of F̄ − F_n on v (Eq. 27 on the cycle-mean loop): with
     F̄ − F_n = 2.5·v exactly it is 2.5; Candidate names split on '+', the baseline has none; its JSON turns
     non-finite numbers into null."""
-    from chainid.gap.problem import Candidate, _ce
+    from chainid.gap.harmonic.problem import Candidate, _ce
 
     v = np.array([1.0, -2.0, 0.5, 3.0])
     d = SimpleNamespace(counts=np.array([4.0, 1.0, 2.0, 3.0]), Fbar=10.0 + 2.5 * v)
@@ -181,8 +181,8 @@ def test_laws_for_and_a_given_baseline_law():
     """A candidate is scored with the baseline's law, and viscous too once it has an effect; the damping_law
     effect tries the other forms that n_train − 1 coefficients allow.  A given law is refused when unknown or
     when it has more coefficients than n_train − 1 (the messages name the value and the valid choices)."""
-    from chainid.gap.law_choice import ALT_LAWS
-    from chainid.gap.problem import Problem
+    from chainid.gap.harmonic.law_choice import ALT_LAWS
+    from chainid.gap.harmonic.problem import Problem
 
     p = SimpleNamespace(train=[0] * 4, law="coulomb")
     assert Problem.laws_for(p, []) == ["coulomb"] and Problem.laws_for(p, ["friction"]) == ["coulomb", "viscous"]
@@ -208,7 +208,7 @@ def test_run_benchmark_checks_its_output_before_the_work_and_writes_the_summary(
     import json
 
     import chainid.infra.parallel
-    from chainid.gap import benchmark as bm
+    from chainid.gap.benchmark import grid as bm
 
     ran = []
 
@@ -233,7 +233,7 @@ def test_run_benchmark_checks_its_output_before_the_work_and_writes_the_summary(
 # ---------------------------------------------------------------- timedomain helpers by hand
 
 def test_reversals_travel_and_blocks_by_hand():
-    from chainid.gap.timedomain import reversals, split_blocks, travel_since_reversal
+    from chainid.gap.timedomain.data import reversals, split_blocks, travel_since_reversal
 
     xd = np.array([1.0, 2.0, 0.0, -1.0, -2.0, 0.0, 0.0, 3.0, 1.0])
     assert list(reversals(xd)) == [3, 7]  # the sample after each sign change (zeros skipped)
@@ -254,7 +254,7 @@ def test_undamped_force_of_each_effect_on_a_linear_spring_by_hand():
     """F_n = m·ẍ·1e-3 + k(x − x_ref) plus: friction (F_c + μ|F_k|)·sgn-with-stick; hysteresis the Dahl operator;
     backlash k(play(x, b/2) − x_ref) instead of k(x − x_ref); sensor_delay everything at t − τ (linear
     interpolation); damping_law nothing; slack needs a chain model (a chain-only effect)."""
-    from chainid.gap.timedomain import undamped
+    from chainid.gap.timedomain.data import undamped
     from chainid.model.effects import dahl_operator, play_operator, stick_slip
 
     t = np.linspace(0.0, 2.0, 401)
@@ -290,7 +290,7 @@ def test_undamped_force_of_each_effect_on_a_linear_spring_by_hand():
 def test_time_data_blocks_and_properties():
     """Blocks contiguous in time, sample i in block floor(i·K/n); A half the range, x0 the mean, ω the spectral
     peak of x; the fit subset every q-th sample with q = min(fs/(40·band), ceil(n/4000)) (at least 1)."""
-    from chainid.gap.timedomain import prepare_time
+    from chainid.gap.timedomain.data import prepare_time
     from chainid.records.record import Record
 
     n, fs = 1000, 200.0
@@ -308,7 +308,7 @@ def test_time_data_blocks_and_properties():
 # ---------------------------------------------------------------- where.localise: the findings by hand
 
 def _localise(C=30.0, tau=0.0):
-    from chainid.gap.where import localise
+    from chainid.gap.harmonic.where import localise
 
     B = 64
     psi = (np.arange(B) + 0.5) * 2 * math.pi / B
@@ -367,8 +367,8 @@ def test_contract_ranking_best_and_chain_text_by_hand():
     """The JSON contract: ranking = the single effects and the chain's multi-effect steps, by LOTO NRMSE; best
     = the chain's last step (else the best single); left NRMSE = the last step's (else the baseline's);
     chain_text = the step texts joined by arrows and the dB left; private keys carry the objects."""
-    from chainid.gap.problem import Candidate
-    from chainid.gap.verdict import contract
+    from chainid.gap.harmonic.problem import Candidate
+    from chainid.gap.core.verdict import contract
 
     def cand(name, loto, hold, params=None):
         c = Candidate(name, params or {}, len(params or {}), nrmse_loto=loto, nrmse_holdout=hold)

@@ -25,8 +25,8 @@ class _Stop(Exception):
 def _world(monkeypatch, table, floor=()):
     """Fits looked up in ``table`` (sorted effect names → (LOTO NRMSE, LOTO SSE per test A, B, C, at_bound,
     n_params)); ``floor``: effect sets whose training residual is at the noise floor."""
-    from chainid.gap import selection as sel
-    from chainid.gap.problem import Candidate
+    from chainid.gap.core import selection as sel
+    from chainid.gap.harmonic.problem import Candidate
 
     calls = []
 
@@ -106,8 +106,8 @@ def test_forward_selection_near_tie_is_confounded_and_look_ahead_takes_the_runne
 
 def test_step_rule_boundaries():
     """Rule 2: mean log ratio > Z = 2 jack-knife SE (strict); rule 3: relative gain >= MIN_GAIN = 10 %."""
-    from chainid.gap.problem import Candidate
-    from chainid.gap.selection import loto_jackknife, passes, step_test
+    from chainid.gap.harmonic.problem import Candidate
+    from chainid.gap.core.selection import loto_jackknife, passes, step_test
 
     assert passes({"delta_loto": 2.0, "se_jackknife": 1.0, "relative_gain": 0.5}) is False
     assert passes({"delta_loto": 2.001, "se_jackknife": 1.0, "relative_gain": 0.5}) is True
@@ -154,7 +154,7 @@ def test_no_look_ahead_beyond_the_maximum_chain(monkeypatch):
 def test_quake_records_half_with_a_near_fault_pulse(monkeypatch):
     """README (non-harmonic families): quake records are Kanai–Tajimi noise under an envelope, half of them with
     a near-fault pulse (0.5–1.5), some with a permanent offset (|offset| <= 0.3 mm)."""
-    from chainid.gap.benchmark_time import motion
+    from chainid.gap.benchmark.nonharmonic import motion
     from chainid.records import excitation as ex
 
     seen = []
@@ -212,7 +212,7 @@ def test_time_drift_rule_by_hand():
     """640 samples (10 s) in N_DRIFT = 20 blocks of 32: block mid-times 0.5 s apart, Σ(t − t̄)² = 0.25·665; the
     floor σ/sqrt(32) = 1 N (σ = sqrt 32); a noise-free residual slope of 2 N/s: z = 2·sqrt(166.25), change
     2·9.5 = 19 N.  Non-stationary when at least a quarter of the records drift (1 of 4, not 1 of 5)."""
-    from chainid.gap.where_time import drift
+    from chainid.gap.timedomain.where import drift
 
     def run(slopes):
         recs = [_trec(f"r{i}", s) for i, s in enumerate(slopes)]
@@ -243,7 +243,7 @@ def test_state_map_threshold_by_hand():
     """A residual ±a split at the median of x: 16 quantile bins of x with means ±a, between-bin variance a²;
     pure noise of σ would give σ²·16/N; z = (a² − σ²·16/N)/(σ²·16/N · sqrt(2/15)); reported from z = 5 on, with
     the bin means' range and the share of the residual's variance (100 %)."""
-    from chainid.gap.where_time import state_maps
+    from chainid.gap.timedomain.where import state_maps
 
     n, sig = 1600, 1.0
     x = np.linspace(1.0, 3.0, n)
@@ -269,7 +269,7 @@ def test_spectrum_outside_the_band_by_hand():
     """A 40 Hz sine of amplitude a in the residual, band 2 Hz (cut 4× = 8 Hz), fs = 100 Hz, σ = 1 N: the high
     pass keeps the sine, RMS² a²/2 against white noise over 8 … 50 Hz, σ²·(1 − 8/50): ratio sqrt(a²/2/0.84);
     above 1.5 it is called content outside the band, else noise.  A band whose cut reaches 0.45·fs is skipped."""
-    from chainid.gap.where_time import spectrum_outside
+    from chainid.gap.timedomain.where import spectrum_outside
 
     n, fs = 4000, 100.0
     t = np.arange(n) / fs
@@ -338,7 +338,7 @@ def test_provenance_of_a_model_file(tmp_path):
 def test_noise_edge_cases():
     """Fewer than 8 spectral lines or a displacement with no variation: the band is the Nyquist frequency and
     the record is not called broadband."""
-    from chainid.gap import noise
+    from chainid.gap.core import noise
 
     t = np.arange(12) / 100.0
     assert noise.excitation_band(t, np.sin(t)) == pytest.approx(50.0, rel=1e-9)  # 7 lines
@@ -350,7 +350,7 @@ def test_noise_edge_cases():
 
 
 def test_problem_holdout_errors():
-    from chainid.gap.problem import Problem
+    from chainid.gap.harmonic.problem import Problem
 
     data = [SimpleNamespace(test=s) for s in ("a", "b", "c", "d")]
     with pytest.raises(ValueError, match=r"--holdout: test id\(s\) \['z'\] not in the usable data; usable ids: a, b, "
@@ -364,7 +364,7 @@ def test_problem_holdout_errors():
 
 def test_every_held_out_test_excluded_is_an_error_with_the_reasons(capsys):
     from chainid.gap import diagnose
-    from chainid.gap.benchmark import grid3x3_plan
+    from chainid.gap.benchmark.grid import grid3x3_plan
     from chainid.model.base import ChainModel
     from chainid.records.record import Record
     from chainid.records.simulate import simulate

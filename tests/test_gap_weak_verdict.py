@@ -31,7 +31,7 @@ def test_stationarity_a_trend_in_a_quarter_of_the_tests_by_hand():
     """Noise-free lines: the scatter is 0, so the standard error is the floor σ·sqrt(1/n) = 1 N (no cycle counts
     given: n = 1) over sqrt(Σ(t − t̄)²) = sqrt(82.5) for t = 0 … 9 s; slope 5 N/s: z = 5·sqrt(82.5) = 45.4,
     change 5·9 = 45 N.  One trending test in 4 is a quarter (non-stationary), one in 5 is not."""
-    from chainid.gap import stationarity
+    from chainid.gap.core import stationarity
 
     z = 5.0 * math.sqrt(82.5)
     res = stationarity.check(_tests([5.0, 0.0, 0.0, 0.0]))
@@ -55,7 +55,7 @@ def test_stationarity_a_trend_in_a_quarter_of_the_tests_by_hand():
 
 @pytest.mark.parametrize("z,stationary", [(3.9, True), (4.1, False)])
 def test_stationarity_threshold_is_four_standard_errors(z, stationary):
-    from chainid.gap import stationarity
+    from chainid.gap.core import stationarity
 
     res = stationarity.check(_tests([z / math.sqrt(82.5)]))
     assert res["z"] == pytest.approx(z, rel=1e-9)
@@ -66,7 +66,7 @@ def test_stationarity_threshold_is_four_standard_errors(z, stationary):
 def test_stationarity_floor_of_a_harmonic_amplitude_uses_the_cycle_counts():
     """A harmonic amplitude's floor is σ·sqrt(2/n) with n the mean samples per cycle: σ = 2 N, n = 50 →
     0.4 N; a slope 0.1 N/s of b over t = 0 … 9: z = 0.1·sqrt(82.5)/0.4."""
-    from chainid.gap import stationarity
+    from chainid.gap.core import stationarity
 
     cy = _cycles(0.0) | {"b": 0.1 * np.arange(10.0), "n": np.full(10, 50.0)}
     res = stationarity.check([SimpleNamespace(test="T", sigma=2.0, cycles=cy)])
@@ -77,7 +77,7 @@ def test_stationarity_floor_of_a_harmonic_amplitude_uses_the_cycle_counts():
 def test_trend_uses_the_covariate_from_six_cycles_on():
     """y = 3·t + 10·cov exactly: with ≥ 6 cycles the covariate is fitted and the slope is 3 N/s exactly; with 5
     it is not (too few cycles for three coefficients and a scatter), and the slope is the plain line's."""
-    from chainid.gap import stationarity
+    from chainid.gap.core import stationarity
 
     cov = np.array([0.3, -0.1, 0.7, 0.2, -0.4, 0.5])
     for n in (5, 6):
@@ -103,7 +103,7 @@ def test_law_choice_leave_one_out_errors_and_ties_by_hand():
     so its error is n/(n − 1)·(c_i − c̄) and its LOO RMS n/(n − 1)·std(c).  A Coulomb-exact set
     c = 4·F_f/(π·ω·A) is fitted with zero error by coulomb and by viscous+coulomb: the tie goes to the law with
     fewer coefficients."""
-    from chainid.gap.law_choice import choose
+    from chainid.gap.harmonic.law_choice import choose
 
     w = np.array([1.0, 2.0, 4.0, 1.0, 2.0, 4.0, 3.0])
     A = np.array([0.1, 0.1, 0.1, 0.3, 0.3, 0.3, 0.2])
@@ -131,7 +131,7 @@ def test_verdict_a_drift_of_a_quarter_of_the_residual_is_unexplained():
     """`unexplained` when what is left drifts by at least NONSTAT_FRACTION = 1/4 of the baseline's systematic
     residual (8 N here: 2 N is the limit); a smaller drift keeps the named chain with a warning; the finding goes
     first in `where`."""
-    from chainid.gap import verdict as vd
+    from chainid.gap.core import verdict as vd
 
     final = SimpleNamespace(names=("friction",), shrinkage=0.8, at_bound=())
     for change, want in ((2.0, "unexplained"), (1.99, "friction")):
@@ -156,7 +156,7 @@ def test_verdict_a_drift_of_a_quarter_of_the_residual_is_unexplained():
 
 
 def test_verdict_warns_of_each_step_with_a_parameter_at_its_bound():
-    from chainid.gap import verdict as vd
+    from chainid.gap.core import verdict as vd
 
     s1 = SimpleNamespace(name="friction", at_bound=("friction.x_s",))
     s2 = SimpleNamespace(name="slack", at_bound=())
@@ -174,7 +174,7 @@ def test_verdict_warns_of_each_step_with_a_parameter_at_its_bound():
 # ---------------------------------------------------------------- interpret: the engineer's words
 
 def test_step_texts_by_hand():
-    from chainid.gap.interpret import step_text
+    from chainid.gap.core.interpret import step_text
 
     assert step_text({"effect": "baseline", "params": {}, "nrmse_holdout": 0.12345}) == \
         "baseline [held-out NRMSE 0.123]"
@@ -195,7 +195,7 @@ def test_step_texts_by_hand():
 
 
 def test_mechanism_joins_families_once_and_separating_test_of_stiffness_pairs():
-    from chainid.gap.interpret import mechanism, separating_test
+    from chainid.gap.core.interpret import mechanism, separating_test
 
     assert mechanism("stiffness_level+machine_compliance+sensor_delay", "") == "stiffness+instrumentation"
     assert mechanism("friction+hysteresis", "Dahl friction (x_h << A)") == "friction"
@@ -208,7 +208,7 @@ def test_mechanism_joins_families_once_and_separating_test_of_stiffness_pairs():
 def test_interpretation_dahl_and_stiffness_level_by_hand():
     """Dahl friction when x_h < A_min/2; a stiffness level s on a model with a linear coefficient c_lin [mm/N] is
     a series compliance c_lin·(1/s − 1)."""
-    from chainid.gap.interpret import interpretation
+    from chainid.gap.core.interpret import interpretation
 
     prob = SimpleNamespace(data=[SimpleNamespace(A=0.3), SimpleNamespace(A=0.1)],
                            model=SimpleNamespace(coefficients=[2e-5, 1.0]))
@@ -233,7 +233,7 @@ def test_interpretation_dahl_and_stiffness_level_by_hand():
 
 
 def test_step_dict_is_the_json_contract_of_a_step():
-    from chainid.gap.interpret import step_dict
+    from chainid.gap.core.interpret import step_dict
 
     c = SimpleNamespace(names=("friction", "slack"), params={"spring.k": 1.0, "friction.F_c": 3.0, "slack.s": 0.1},
                         param_sd={"friction.F_c": float("nan"), "slack.s": 0.01, "spring.k": 0.5}, law="viscous",
@@ -272,7 +272,7 @@ def _summary_result(**kw):
 
 
 def test_summary_text_by_hand():
-    from chainid.gap.summary import summary
+    from chainid.gap.core.summary import summary
 
     lines = summary(_summary_result(), n_rank=3).splitlines()
     assert lines[0] == ("Baseline (chain, damping law: polynomial): NRMSE train 0.1, held-out 0.25 (12.3 dB over the "
@@ -296,7 +296,7 @@ def test_summary_text_by_hand():
 
 
 def test_summary_route_residual_and_unexplained_texts():
-    from chainid.gap.summary import summary, waterfall
+    from chainid.gap.core.summary import summary, waterfall
 
     txt = summary(_summary_result(route="time", verdict="unexplained", left_nrmse_holdout=0.123456,
                                   mechanism="unexplained", interpretation="", warnings=[]))
@@ -322,7 +322,7 @@ def test_summary_route_residual_and_unexplained_texts():
 
 
 def test_to_json_drops_private_keys_and_non_finite_numbers():
-    from chainid.gap.summary import to_json
+    from chainid.gap.core.summary import to_json
 
     res = {"a": np.float64(1.5), "_problem": object(), "b": [np.int64(3), float("nan"), (float("inf"), 2.0)],
            "c": {"_x": 1, "y": np.float32(0.5)}, 4: "four"}
@@ -412,7 +412,7 @@ def test_problem_keys_spring_bounds_and_no_damping_law_parameters_by_hand():
     """A linear baseline re-fits its spring: k in [0, max(10·k0, 10·F_scale/x_scale)], x_ref within ± 2·x_scale;
     ``damping_law`` has no fitted effect parameters (its law coefficients are the damping fit's), also when its
     name is a string built at run time (read from a command line), not the interned literal."""
-    from chainid.gap.problem import Problem
+    from chainid.gap.harmonic.problem import Problem
     from chainid.model.effects import EFFECT_NAMES, make_effect
 
     effects = {n: make_effect(n, 100.0, 0.5, 10.0) for n in EFFECT_NAMES}
@@ -433,7 +433,7 @@ def test_problem_keys_spring_bounds_and_no_damping_law_parameters_by_hand():
 
 
 def test_validate_record_too_short_for_the_time_domain(monkeypatch):
-    from chainid.gap.timedomain import MIN_SAMPLES
+    from chainid.gap.timedomain.data import MIN_SAMPLES
     from chainid.records.record import Record
 
     tr, base, final, _ = _fake_scores(monkeypatch, {"r1": 1.0, "r2": 1.0})

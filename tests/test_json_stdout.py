@@ -65,7 +65,7 @@ def test_json_dash_verify(monkeypatch, capsys):
 
 
 def test_json_dash_benchmark_gap(monkeypatch, capsys):
-    from chainid.gap import benchmark
+    from chainid.gap.benchmark import grid as benchmark
 
     small = benchmark.grid(True, 0)[:1]
     monkeypatch.setattr(benchmark, "grid", lambda small_, seed, *excitations: small)

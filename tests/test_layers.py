@@ -148,23 +148,6 @@ def test_every_package_says_what_it_is_for_and_lists_its_api():
         assert "__all__" in names, d.name
 
 
-@pytest.mark.parametrize("old, new, name", [("chainid.fileio", "chainid.infra.fileio", "write_json"),
-                                            ("chainid.parallel", "chainid.infra.parallel", "run_cases"),
-                                            ("chainid.simulate", "chainid.records.simulate", "estimate_memory"),
-                                            ("chainid.gap.effects", "chainid.model.effects", "parse_effect")])
-def test_documented_old_paths_still_work_with_a_deprecation_warning(old, new, name):
-    """The README documented these paths before the move: a thin re-export for one release, with a warning."""
-    code = (f"import warnings; warnings.simplefilter('error', DeprecationWarning)\n"
-            f"try:\n    import {old}\nexcept DeprecationWarning as e:\n    print('warned:', e)\n"
-            f"warnings.simplefilter('ignore')\nimport importlib; a = importlib.import_module('{old}')\n"
-            f"b = importlib.import_module('{new}')\nprint(getattr(a, '{name}') is getattr(b, '{name}'))\n")
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
-                         env={**os.environ, "PYTHONPATH": str(ROOT)})
-    assert res.returncode == 0, res.stderr
-    assert f"warned: {old} is deprecated; import {new} instead" in res.stdout
-    assert res.stdout.strip().endswith("True")
-
-
 def test_no_public_name_shadows_a_submodule():
     """``from chainid.damping import audit`` must give the module, not a function of the same name."""
     for d in sorted(p for p in PKG.iterdir() if (p / "__init__.py").is_file()):

@@ -1,5 +1,5 @@
 """Independent test signals for the time-domain diagnosis: band-limited random displacement and forces
-built directly from the library's causal operators (not through chainid.gap.timedomain)."""
+built directly from the library's causal operators (not through chainid.gap.timedomain.data)."""
 from __future__ import annotations
 
 import numpy as np

@@ -71,7 +71,7 @@ def add_subparsers(subparsers: Any) -> None:
     g.add_argument("--damping", type=float, default=0.0,
                    help="viscous-equivalent c_e of the tested specimen [N·s/mm] (default 0)")
     g.add_argument("--segment-model", dest="segment_model", metavar="M.toml",
-                   help="diagnosed model file (issue 17) of the tested specimen: its chain, kernel variant and "
+                   help="diagnosed model file of the tested specimen: its chain, kernel variant and "
                         "time-domain damping go into every segment, scaled in series (see "
                         "chainid.dynamics.segment_model)")
     g.add_argument("--segment-omega", dest="seg_omega", type=float, metavar="RAD_S",

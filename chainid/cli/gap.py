@@ -9,7 +9,7 @@ from typing import Any
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
     from chainid.gap.diagnose import diagnose
-    from chainid.gap.summary import summary, write_json
+    from chainid.gap.core.summary import summary, write_json
 
     try:
         if args.steady_tol is not None and not (0.0 < args.steady_tol < 1.0):
@@ -80,7 +80,7 @@ def check_workers(n: int | None) -> None:
 
 
 def cmd_benchmark(args: argparse.Namespace) -> int:
-    from chainid.gap.benchmark import run_benchmark
+    from chainid.gap.benchmark.grid import run_benchmark
 
     try:
         check_workers(args.workers)
@@ -89,7 +89,7 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
 
             check_output_file(args.json, force=args.force, what="--json")
         exc = tuple(e.strip() for e in args.excitations.split(",") if e.strip())
-        from chainid.gap.benchmark import grid
+        from chainid.gap.benchmark.grid import grid
 
         grid(True, 0, exc)  # an unknown excitation is refused before the run
         chain = None

@@ -28,7 +28,7 @@ and adds no history state.  Dampers of a chain act in series like its springs: c
 ``damping_ref_links`` links gives a segment of n_s links c_e·n_ref/n_s.  The damper acts only while the
 segment is taut and can never push: T_j = max(F_k(e_j) + c_j·ė_j + Σ z_jq, 0) for e_j > 0, else 0.
 
-Time-domain hysteretic damping (issue 17).  Besides (or instead of) the viscous c_e, a segment can carry
+Time-domain hysteretic damping.  Besides (or instead of) the viscous c_e, a segment can carry
 Jenkins elements (spring k in series with a Coulomb slider of force f, state z = element force, see
 :mod:`.segments`): ``hysteresis`` = ((k [N/mm], f [N]), ...) of the specimen, an Iwan (parallel Masing)
 model of rate-independent hysteresis, and ``coulomb_N`` = Coulomb friction with stick (one Jenkins element

@@ -1,4 +1,4 @@
-"""A diagnosed model file (issue 17) as the segments of a chain line: ``chainid dynamics --segment-model M.toml``.
+"""A diagnosed model file as the segments of a chain line: ``chainid dynamics --segment-model M.toml``.
 
 The file is read by the one loader, :func:`chainid.model.modelfile.load_model` (an
 :class:`~chainid.model.augmented.AugmentedModel`).  It describes one *specimen* (the tested piece of chain

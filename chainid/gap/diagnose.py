@@ -18,14 +18,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap import selection as fw
-from chainid.gap.interpret import interpretation, separating_test
 from chainid.gap.modelio import attach_models
-from chainid.gap.prepare import Unusable, prepare_test
-from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable, jackknife_sd
-from chainid.gap.stationarity import check as stationarity_check
-from chainid.gap.verdict import MIN_SHRINK, NONSTAT_FRACTION, contract, decide  # noqa: F401  (the verdict rule, one place)
-from chainid.gap.where import localise
+from chainid.gap.harmonic.prepare import Unusable, prepare_test
+from chainid.gap.core.candidate import MIN_TRAIN
+from chainid.gap.core.verdict import MIN_SHRINK, NONSTAT_FRACTION  # noqa: F401  (the verdict rule, one place)
+from chainid.gap.harmonic.route import diagnose_harmonic
 
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
@@ -39,7 +36,7 @@ def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
 
 def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, steady_tol: float | None,
              strict: bool) -> tuple[list[Any], list[dict[str, str]]]:
-    from chainid.gap.noise import is_broadband
+    from chainid.gap.core.noise import is_broadband
 
     data, excluded = [], []
     for r in records:
@@ -139,7 +136,7 @@ def diagnose(
         :func:`chainid.gap.transfer.transfer`).
 
     A record that is not a steady harmonic test (a transient, sweep, random or seismic record) is analysed
-    in the time domain (:mod:`chainid.gap.diagnose_time`); harmonic tests keep the phase-bin route, and a set
+    in the time domain (:mod:`chainid.gap.timedomain.route`); harmonic tests keep the phase-bin route, and a set
     of both kinds is diagnosed as one problem.
 
     Returns
@@ -178,7 +175,7 @@ def diagnose(
                   "allow_compression": bool(allow_compression or not is_chain)}
     data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
     # records that are not steady harmonic tests go to the time-domain route when long enough for it
-    from chainid.gap.timedomain import MIN_SAMPLES
+    from chainid.gap.timedomain.data import MIN_SAMPLES
 
     time_ids = {r.test for r in records if r.t.size >= MIN_SAMPLES} & {e["test"] for e in excluded}
     excluded = [e for e in excluded if e["test"] not in time_ids]
@@ -186,7 +183,7 @@ def diagnose(
         e = excluded[0]
         raise ValueError(f"test {e['test']!r} cannot be used (--strict): {e['reason']}")
     if time_ids or holdout_blocks:
-        from chainid.gap.diagnose_time import diagnose_any
+        from chainid.gap.timedomain.route import diagnose_any
 
         for e in excluded:
             if not quiet:
@@ -216,52 +213,8 @@ def diagnose(
                          f"reasons: {'; '.join(e['reason'] for e in excluded if e['test'] in holdout)}")
     if model is None:
         model = fit_linear_model([r for r in records if r.test not in ex_ids], hold_ok)
-    prob = Problem(data, model, hold_ok, damping_law)
-    warn: list[str] = [f"test {e['test']} excluded: {e['reason']}" for e in excluded]
-    if prob.law == "polynomial" and damping_law == "polynomial":
-        ok, msg = damping_separable(prob.train)
-        if not ok:
-            warn.append(msg)
-            warnings.warn(msg, stacklevel=2)
-    base_c = fw.baseline_candidate(prob)
-    base_hold = base_c.nrmse_holdout
-    base = base_c._ev  # type: ignore[attr-defined]
-    where = localise(prob, base)
-    r2, f2, db0 = prob.noise_db(base, "hold")
-    nbin = sum(d.counts.size for d in prob.hold)
-    sig_hold = math.sqrt(np.mean([d.sigma**2 for d in prob.hold]))
-    excess = math.sqrt(max(r2 - f2, 0.0))
-    consistent = fw.at_noise_floor(r2, f2, sig_hold, nbin)
-
-    fwd = fw.forward_select(prob, fw.library(prob, effects), base_c, base_hold, max_effects=int(max_combo))
-    path: list[Candidate] = fwd["path"]
-    singles: list[Candidate] = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
-    final = path[-1] if len(path) > 1 else None
-    best = final if final is not None else (singles[0] if singles else None)
-    if uncertainty:
-        for c in path[1:]:
-            c.param_sd = _jackknife(prob, c)
-        if final is None and best is not None and best.n_params:
-            best.param_sd = _jackknife(prob, best)
-    stat = stationarity_check(prob.data)
-    left = final if final is not None else base_c
-    r2l, f2l, dbl = prob.noise_db(left._ev, "hold")  # type: ignore[attr-defined]
-    residual = {"db_over_noise": dbl, "nrmse_holdout": left.nrmse_holdout,
-                "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)), "stationary": stat["stationary"],
-                "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"], "finding": stat["finding"],
-                "at_noise_floor": fw.at_noise_floor(r2l, f2l, sig_hold, nbin)}
-    verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
-    confounded = []
-    for cf in fwd["confounded"]:
-        confounded.append(cf | {"separate_by": separating_test(*cf["pair"])})
-    interp = interpretation(path, prob, verdict)
-    tests = [{"test": d.test, "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma, "window": d.window,
-              "split": "holdout" if d in prob.hold else "train", "nrmse_before": base_c.per_test[d.test],
-              "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data]
-    noise = {"excess_rms_N": excess, "noise_sigma_N": sig_hold, "chi2_ratio": r2 / f2 if f2 > 0 else None,
-             "db_over_noise": db0}
-    summary = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, excluded, confounded, warn,
-                       list(hold_ok), tests)
+    summary = diagnose_harmonic(data, hold_ok, model, effects=effects, max_combo=max_combo, damping_law=damping_law,
+                                uncertainty=uncertainty, excluded=excluded)
     for msg in attach_models(summary, evaluation):
         warnings.warn(msg, stacklevel=2)
     if validate is not None:
@@ -269,16 +222,3 @@ def diagnose(
 
         summary["transfer"] = transfer(summary, validate, n_bins=n_bins, steady_tol=steady_tol)
     return summary
-
-
-def _jackknife(prob: Problem, cand: Candidate) -> dict[str, float]:
-    """Parameter standard deviations [their units] by leave-one-test-out refits (jack-knife over training tests)."""
-    names = cand.names
-    keys = [k for k in cand.params if not k.startswith("law.")]
-    vals = []
-    tr = prob.train
-    for i in range(len(tr)):
-        sub = tr[:i] + tr[i + 1:]
-        c = prob.fit(names, train_only=sub, start=cand.params, polish_only=True)
-        vals.append([c.params.get(k, float("nan")) for k in keys])
-    return dict(zip(keys, (float(s) for s in jackknife_sd(np.array(vals)))))

@@ -6,14 +6,14 @@
 * :func:`predict` — ``chainid predict``: per-test and pooled NRMSE of a model file's baseline and model.
 * :func:`negative_damping` — a warning where the damping resolves to a negative dashpot.
 
-**Which damping ``predict`` uses.**  For a steady harmonic test (one :func:`chainid.gap.prepare.prepare_test`
+**Which damping ``predict`` uses.**  For a steady harmonic test (one :func:`chainid.gap.harmonic.prepare.prepare_test`
 accepts) the model is evaluated exactly as the diagnosis evaluates a held-out test: on the test's phase
 grid, memory operators in their periodic steady state, c_e from the *law* at the test's ω, A and x0 — a
 prediction, never a refit, and the same number the diagnosis reports (to round-off).  The per-test c_e the
 law was fitted on are in the file but used only with ``fitted=True`` (``--fitted-damping``): test ids of
 a new file need not be the same tests.  A record that is not a steady harmonic test is predicted in the
 time domain as the diagnosis' time route evaluates it (:meth:`AugmentedModel.force` on the smooth
-kinematics of :func:`chainid.gap.noise.kinematics` — a zero-phase low-pass above the record's excitation
+kinematics of :func:`chainid.gap.core.noise.kinematics` — a zero-phase low-pass above the record's excitation
 band, so the noise of x is not differentiated into a friction sign or the dashpot; operators from their initial
 state, the law resolved at the record's dominant ω and A by the rule of :mod:`chainid.timedamping`), NRMSE
 over its samples: the held-out number the diagnosis reports.
@@ -34,8 +34,8 @@ import numpy as np
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
 from chainid.model.timedamping import Damping
-from chainid.gap import noise as nz
-from chainid.gap.prepare import Unusable, prepare_test
+from chainid.gap.core import noise as nz
+from chainid.gap.harmonic.prepare import Unusable, prepare_test
 
 
 def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> AugmentedModel:

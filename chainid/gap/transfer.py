@@ -3,7 +3,7 @@
 The model of the diagnosis (its base with the fitted spring, its effects with their
 parameters, its damping) is evaluated unchanged on every record of the other set:
 
-* a steady harmonic test on its phase bins (:mod:`chainid.gap.prepare`), the damping
+* a steady harmonic test on its phase bins (:mod:`chainid.gap.harmonic.prepare`), the damping
   c_e from the fitted law at the test's ω and A — or the fitted viscous c when the model
   was fitted in the time domain;
 * any other record in the time domain (causal operators from the first sample), the
@@ -32,12 +32,12 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap import law_choice as L
-from chainid.gap.prepare import Unusable, prepare_test
-from chainid.gap.selection import at_noise_floor
-from chainid.gap.problem import Problem
-from chainid.gap.timedomain import MIN_SAMPLES, prepare_time, undamped
-from chainid.gap.verdict import MIN_SHRINK
+from chainid.gap.harmonic import law_choice as L
+from chainid.gap.harmonic.prepare import Unusable, prepare_test
+from chainid.gap.core.selection import at_noise_floor
+from chainid.gap.harmonic.problem import Problem
+from chainid.gap.timedomain.data import MIN_SAMPLES, prepare_time, undamped
+from chainid.gap.core.verdict import MIN_SHRINK
 
 
 

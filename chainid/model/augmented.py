@@ -111,7 +111,7 @@ class AugmentedModel:
     def cycle_parts(self, d: Any) -> tuple[np.ndarray, np.ndarray]:
         """Bin means of the undamped force [N] and of the damped velocity [mm/s] on a prepared test's phase grid.
 
-        ``d`` is a :class:`chainid.gap.prepare.TestData` (phase grid, smooth periodic x(t), ω, A, x0); the
+        ``d`` is a :class:`chainid.gap.harmonic.prepare.TestData` (phase grid, smooth periodic x(t), ω, A, x0); the
         operators run in their periodic steady state, exactly as the diagnosis evaluates a step.
         """
         g = d.grid

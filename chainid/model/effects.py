@@ -3,7 +3,7 @@
 Each effect changes the *undamped* part of the model force,
 F = m·ẍ + F_k(x) + c_e(ω, A)·ẋ (paper Eq. 1), and/or the velocity the damping
 acts on.  The library is kept apart from the selection method
-(:mod:`chainid.gap.selection`): an :class:`Effect` only knows its parameters,
+(:mod:`chainid.gap.core.selection`): an :class:`Effect` only knows its parameters,
 their physical bounds and how to evaluate the force.
 
 Units: x mm, ẋ mm/s, ẍ mm/s², F N, t s, ω rad/s, m kg (m·ẍ·1e-3 = N).

@@ -1,6 +1,6 @@
 """Non-harmonic displacement programs for simulated records, with exact derivatives.
 
-Four families of the excitations machines meet in service (issue 18), each a :class:`Motion`
+Four families of the excitations machines meet in service, each a :class:`Motion`
 (t s, x mm, ẋ mm/s, ẍ mm/s²) whose derivatives are exact (analytic forms or the
 derivatives of a finite Fourier series), so a simulated force F = m·ẍ + F_k(x) + c·ẋ + effects
 has no discretisation error of its own:

@@ -13,7 +13,7 @@ force is the model of Eq. 1::
 with F_k and m from a :class:`~chainid.model.base.StiffnessModel` and c_e from a
 damping law (or a constant).  The force is built by :func:`model_force`, then
 passed through an optional hook ``force_fn(t, x, xdot, xddot, F_model) -> F``
-so that later issues can add unmodelled effects (friction, backlash, delay, …),
+so that unmodelled effects can be added (friction, backlash, delay, …),
 then Gaussian noise is added to x and F (seeded).
 
 Units: t s, x mm, F N, omega rad/s, m kg.

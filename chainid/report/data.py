@@ -13,7 +13,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.report.common import dump_json
-from chainid.gap.summary import to_json
+from chainid.gap.core.summary import to_json
 from chainid.report.diagnosis import MAX_COMBO, Progress, diagnosis_markdown, run_diagnosis, write_plots
 
 #: Fraction of the user's tests held out with ``--data``.

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.where import residual_harmonics
+from chainid.gap.harmonic.where import residual_harmonics
 
 
 # -- Eq. 26 record ----------------------------------------------------------------

@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from chainid.report.common import dump_json, md_table
-from chainid.gap.summary import to_json
+from chainid.gap.core.summary import to_json
 from chainid.report.data import (  # noqa: F401
     CHAIN_FORCE_FACTOR,
     DATA_HOLDOUT_FRACTION,
@@ -152,7 +152,7 @@ def eq26_section(folder: Path, model: Any, say: Progress) -> str:
         f"A single test cannot go through the diagnosis (it needs ≥ {MIN_TESTS} tests), so Eq. 26 — x = "
         f"{rc['x0_mm']:g} + {rc['A_mm']:g} sin({rc['omega_x_rad_s']:g}t) mm, F = {rc['F0_N']:.2f} + {rc['FA_N']:.1f} "
         f"sin({rc['omega_F_rad_s']:g}t − {-rc['phi_rad']:.4f}) N — is compared with the model directly, with the "
-        f"diagnosis' residual tools (`chainid.gap.where`). Model: {rc['model']}. JSON: `{j}`.\n",
+        f"diagnosis' residual tools (`chainid.gap.harmonic.where`). Model: {rc['model']}. JSON: `{j}`.\n",
         *[f"- {s}" for s in findings],
         "\n![Eq. 26 record against the model](figures/gap_eq26/eq26_record.png)\n",
         "**Table 1** (ω converted to rad/s, audit a; W = π·F_ac·A):\n",

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from chainid.report.common import dump_json, md_table
-from chainid.gap.summary import to_json
+from chainid.gap.core.summary import to_json
 from chainid.report.diagnosis import MAX_COMBO, Progress, diagnosis_markdown, run_diagnosis, write_plots
 
 #: Hidden effect of the built-in simulated series (withheld from the model): Coulomb friction 150 N.

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.where import classify_slopes, energy_slopes
+from chainid.gap.harmonic.where import classify_slopes, energy_slopes
 
 
 # -- Table 1 -----------------------------------------------------------------------

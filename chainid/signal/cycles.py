@@ -1,7 +1,7 @@
 """One batched least-squares fit per cycle (or any segment) of a sampled record, several columns at once.
 
 Both the steady-cycle selection (:mod:`chainid.signal.steady`: x per cycle against 1, a drift and sin/cos of
-the phase) and the gap's stationarity trends (:mod:`chainid.gap.prepare`: F and x per cycle against 1 and
+the phase) and the gap's stationarity trends (:mod:`chainid.gap.harmonic.prepare`: F and x per cycle against 1 and
 sin/cos) solve many small normal-equation systems, one per cycle; here the per-segment sums are
 accumulated with ``np.bincount`` and all systems solved as one batch, so the cost is O(N) in the samples.
 Units are those of the columns.

@@ -1,14 +1,14 @@
 """The diagnosis problem for any excitation: time-domain records, alone or mixed with harmonic tests.
 
-:class:`AnyProblem` has the interface the forward selection (:mod:`chainid.gap.selection`)
+:class:`AnyProblem` has the interface the forward selection (:mod:`chainid.gap.core.selection`)
 uses — ``fit``, ``score``, ``noise_db``, ``n_cells`` — so the same selection and step
 rule run on it.  Its parts:
 
-* **time-domain records** (:mod:`chainid.gap.timedomain`): the model force on the raw
+* **time-domain records** (:mod:`chainid.gap.timedomain.data`): the model force on the raw
   samples, F = m·ẍ + F_k(x) + effects + c·ẋ with causal memory operators and one
   viscous c (profiled by least squares at every parameter value);
 * **harmonic tests** (when the set has at least ``MIN_TRAIN`` training harmonic tests):
-  today's phase-bin route (:class:`chainid.gap.problem.Problem`) with its c_e(ω, A)
+  today's phase-bin route (:class:`chainid.gap.harmonic.problem.Problem`) with its c_e(ω, A)
   law; the effect and spring parameters are shared with the time part (one device).
 
 Scoring units are whole harmonic tests and contiguous time blocks.  A time block's
@@ -32,8 +32,9 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.model.effects import EFFECT_NAMES, make_effect
-from chainid.gap.problem import Candidate, Problem, jackknife_sd
-from chainid.gap.timedomain import TimeData, split_blocks, undamped
+from chainid.gap.core.candidate import Candidate, jackknife_sd
+from chainid.gap.harmonic.problem import Problem
+from chainid.gap.timedomain.data import TimeData, split_blocks, undamped
 
 #: finite-difference step of the Jacobian in the unit box of a parameter's physical range
 FD_STEP = 1e-4

@@ -3,7 +3,7 @@
 Method (all on whole tests, never on random samples):
 
 * Baseline: F = m·ẍ + F_k(x) + c_e·ẋ (paper Eq. 1); c_e per training test from
-  the bin means, damping law (:mod:`chainid.gap.law_choice`) fitted on training tests
+  the bin means, damping law (:mod:`chainid.gap.harmonic.law_choice`) fitted on training tests
   only, held-out c_e predicted by the law.
 * An effect set: its physical parameters (all of them, jointly) are fitted by
   ``scipy.optimize.least_squares`` (bounded) on the training tests, the
@@ -23,65 +23,10 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import least_squares
 
-from chainid.gap import law_choice as L
+from chainid.gap.core.candidate import MIN_TRAIN, Candidate, jackknife_sd  # noqa: F401  (re-exported)
+from chainid.gap.harmonic import law_choice as L
 from chainid.model.effects import EFFECT_NAMES, make_effect, undamped_force
-from chainid.gap.prepare import TestData
-
-#: fewest training tests the diagnosis runs with (a 1-coefficient law + leave-one-out needs >= 2; 3 gives a spread)
-MIN_TRAIN = 3
-
-
-def jackknife_sd(values: np.ndarray) -> np.ndarray:
-    """Jack-knife standard deviation per column of leave-one-out estimates ``values`` (n rows, n >= 2):
-    √((n−1)/n · Σ(θ_(i) − θ̄)²) (Efron & Stein; units of the estimates)."""
-    v = np.asarray(values, float)
-    n = v.shape[0]
-    return np.sqrt((n - 1) / n * np.sum((v - v.mean(axis=0)) ** 2, axis=0))
-
-
-@dataclass
-class Candidate:
-    """A fitted effect set with its scores (NRMSE dimensionless, params in the effect's units)."""
-
-    name: str
-    params: dict[str, float]
-    n_params: int
-    law: str = "polynomial"
-    law_params: list[float] = field(default_factory=list)
-    nrmse_train: float = float("nan")
-    nrmse_loto: float = float("nan")
-    nrmse_holdout: float = float("nan")
-    shrinkage: float = float("nan")
-    bic: float = float("nan")
-    chi2_train: float = float("nan")
-    param_sd: dict[str, float] = field(default_factory=dict)
-    per_test: dict[str, float] = field(default_factory=dict)
-    at_bound: list[str] = field(default_factory=list)
-    loto_num: dict[str, float] = field(default_factory=dict)
-    db_holdout: float = float("nan")
-    db_train: float = float("nan")
-
-    @property
-    def names(self) -> list[str]:
-        return [n for n in self.name.split("+") if n] if self.name not in ("", "baseline") else []
-
-    def to_dict(self) -> dict[str, Any]:
-        f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
-        return {
-            "effect": self.name,
-            "params": {k: f(float(v)) for k, v in self.params.items()},
-            "params_sd": {k: f(float(v)) for k, v in self.param_sd.items()},
-            "damping_law": self.law,
-            "nrmse_train": f(self.nrmse_train),
-            "nrmse_loto": f(self.nrmse_loto),
-            "nrmse_holdout": f(self.nrmse_holdout),
-            "shrinkage": f(self.shrinkage),
-            "bic": f(self.bic),
-            "n_params": self.n_params,
-            "at_bound": list(self.at_bound),
-            "db_over_noise": f(self.db_holdout),
-        }
-
+from chainid.gap.harmonic.prepare import TestData
 
 def _ce(d: TestData, Fn: np.ndarray, v: np.ndarray) -> float:
     """c_e of one test [N·s/mm]: the count-weighted least-squares projection of what the undamped model leaves,
@@ -118,7 +63,7 @@ class Problem:
     holdout : sequence of str
         Held-out test ids.
     damping_law : str
-        Baseline law name or "auto" (:func:`chainid.gap.law_choice.choose`).
+        Baseline law name or "auto" (:func:`chainid.gap.harmonic.law_choice.choose`).
     """
 
     def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto",
@@ -269,10 +214,14 @@ class Problem:
             "res": {d.test: res(d, c) for d, c in zip(ho, c_hold)} | {d.test: res(d, c) for d, c in zip(tr, cloo)},
         }
 
+    def n_cells(self, split: str = "train") -> int:
+        """Independent noise cells of a split: the phase bins of its tests."""
+        return sum(d.counts.size for d in (self.hold if split == "hold" else self.train))
+
     def noise_db(self, ev: dict[str, Any], split: str = "hold") -> tuple[float, float, float]:
         """Mean squared bin residual, its noise floor (σ²/n per bin) [N²] and the ratio in dB."""
         ds = self.hold if split == "hold" else self.train
-        nb = sum(d.counts.size for d in ds)
+        nb = self.n_cells(split)
         r2 = sum(float(np.sum(ev["res"][d.test] ** 2)) for d in ds) / nb
         f2 = sum(float(np.sum(d.sigma**2 / np.maximum(d.counts, 1))) for d in ds) / nb
         return r2, f2, 10 * math.log10(max(r2, 1e-300) / max(f2, 1e-300))
@@ -321,7 +270,7 @@ class Problem:
         polish_only : bool
             Only a local least-squares polish from ``start`` (jack-knife refits).
         """
-        from chainid.gap.fitgrid import starts
+        from chainid.gap.core.fitgrid import starts
 
         keys, lo, hi, x0 = self._keys(names)
         lo_a, hi_a = np.array(lo), np.array(hi)
@@ -382,7 +331,7 @@ class Problem:
         cand.loto_num = ev["loto_num"]
         cand.db_holdout = self.noise_db(ev, "hold")[2]
         cand.db_train = self.noise_db(ev, "train")[2]
-        nb = sum(d.counts.size for d in self.train)
+        nb = self.n_cells("train")
         k = cand.n_params + len(cand.law_params)
         cand.bic = ev["chi2"] + k * math.log(nb)
         cand.per_test = ev["per_test"]

@@ -1,11 +1,11 @@
-"""``chainid benchmark-gap``: the non-harmonic excitation families and the transfer cases (issue 18).
+"""``chainid benchmark-gap``: the non-harmonic excitation families and the transfer cases.
 
 Each non-harmonic case is a set of 4 records of one chain under one excitation family
 (:mod:`chainid.records.excitation`): ``random`` (band-limited random, some with a wandering
 mean), ``sweep`` (linear or exponential chirp), ``startup`` (start-up ramp of the mean load with
 load steps and a running vibration that runs up in frequency) and ``quake`` (Kanai–Tajimi
 filtered noise under a rise/decay envelope, some with a near-fault pulse and a permanent offset).
-The case families are those of the harmonic grid (:mod:`chainid.gap.benchmark`): ``single``,
+The case families are those of the harmonic grid (:mod:`chainid.gap.benchmark.grid`): ``single``,
 ``mismatch``, ``mismatch+``, ``pair``, ``control``, ``outside``.  Everything a record is made of is
 drawn from ranges with the case's seed — not from the diagnosis' grid: sampling rate, length,
 band, amplitude and mean, the effect's strength (log-uniform 0.5–3 × typical), the viscous damping,
@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark_chain import case_chain, scale_motion, x_scale
+from chainid.gap.benchmark.chain import case_chain, scale_motion, x_scale
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the non-harmonic excitation families
@@ -284,7 +284,7 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
 
 def transfer_plan(motions: list[Any], s: float = 1.0) -> list[Any]:
     """The harmonic set of a transfer case over the random records' band and amplitudes (see
-    :func:`run_case_transfer`); ``s`` the chain's length scale (:mod:`chainid.gap.benchmark_chain`): the
+    :func:`run_case_transfer`); ``s`` the chain's length scale (:mod:`chainid.gap.benchmark.chain`): the
     mean-elongation offsets ±0.1 mm of the paper's chain are ±0.1·s mm."""
     from chainid.records.simulate import grid_plan
 

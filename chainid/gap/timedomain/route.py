@@ -2,9 +2,9 @@
 
 Called by :func:`chainid.gap.diagnose.diagnose` when a record is not a steady harmonic
 test (or ``holdout_blocks`` is given).  Harmonic tests keep the phase-bin route as the
-harmonic part of :class:`chainid.gap.timeproblem.AnyProblem` when there are at least
+harmonic part of :class:`chainid.gap.timedomain.problem.AnyProblem` when there are at least
 ``MIN_TRAIN`` of them for training; otherwise they join the time-domain records.  The same
-forward selection and step rule (:mod:`chainid.gap.selection`) run on the combined problem;
+forward selection and step rule (:mod:`chainid.gap.core.selection`) run on the combined problem;
 the verdict rules are those of the harmonic route.  The result has the same JSON contract
 keys, plus ``route``, ``noise`` and the time-domain ``where`` findings (state maps, spectrum,
 ringing/chatter, drift).
@@ -18,14 +18,15 @@ import math
 import sys
 from typing import Any, Sequence
 
-from chainid.gap import selection as fw
-from chainid.gap.interpret import interpretation, separating_test
-from chainid.gap.problem import MIN_TRAIN, Candidate, Problem
-from chainid.gap.timedomain import prepare_time
-from chainid.gap.timeproblem import AnyProblem
-from chainid.gap.verdict import contract, decide
-from chainid.gap.where import localise
-from chainid.gap.where_time import drift, localise_time
+from chainid.gap.core import selection as fw
+from chainid.gap.core.interpret import interpretation, separating_test
+from chainid.gap.core.candidate import MIN_TRAIN, Candidate
+from chainid.gap.harmonic.problem import Problem
+from chainid.gap.timedomain.data import prepare_time
+from chainid.gap.timedomain.problem import AnyProblem
+from chainid.gap.core.verdict import contract, decide
+from chainid.gap.harmonic.where import localise
+from chainid.gap.timedomain.where import drift, localise_time
 
 #: blocks per record for leave-one-block-out scoring when whole tests are held out
 LOO_BLOCKS = 4

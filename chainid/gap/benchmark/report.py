@@ -1,4 +1,4 @@
-"""Scores of ``chainid benchmark-gap``: per case family, in the issue's terms, and the confusion matrix."""
+"""Scores of ``chainid benchmark-gap``: per case family, against the targets, and the confusion matrix."""
 
 from __future__ import annotations
 
@@ -133,7 +133,7 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
 
 
 TARGETS = {"single_right_rate": 0.92, "compound_both_named_rate": 0.85, "control_none_rate": 0.95}
-#: issue 18's targets of the non-harmonic families (pooled) and of the transfer cases
+#: the targets of the non-harmonic families (pooled) and of the transfer cases
 TARGETS_NONHARMONIC = {"single_right_rate": 0.90, "compound_both_named_rate": 0.80, "control_none_rate": 0.95}
 TARGET_TRANSFER = 0.7
 

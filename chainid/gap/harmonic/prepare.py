@@ -10,7 +10,7 @@ Per whole cycle the mean force and the force's first harmonic (in phase with x
 and with ẋ) are kept: a displacement-controlled test whose x is periodic must
 give a periodic force under any static effect, so a trend of these over the
 cycles is a non-stationarity that no static library member explains
-(:mod:`chainid.gap.stationarity`).
+(:mod:`chainid.gap.core.stationarity`).
 
 Units: t s, x mm, F N, ω rad/s.
 """

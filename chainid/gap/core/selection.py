@@ -33,7 +33,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.problem import Candidate, Problem
+from chainid.gap.core.candidate import Candidate, Problem
 
 #: jack-knife z of the LOTO improvement required to keep a step
 Z = 2.0
@@ -98,8 +98,7 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     second effect, and the step rule decides whether it does)."""
     ev = cand._ev  # type: ignore[attr-defined]
     r2, f2, _ = prob.noise_db(ev, "train")
-    # noise cells: phase bins of harmonic tests (+ samples of time-domain records, :mod:`.timeproblem`)
-    n = prob.n_cells("train") if hasattr(prob, "n_cells") else sum(d.counts.size for d in prob.train)
+    n = prob.n_cells("train")  # noise cells: phase bins of harmonic tests, samples of time-domain records
     return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
 
 

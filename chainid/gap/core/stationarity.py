@@ -63,7 +63,7 @@ def check(data: Sequence[Any]) -> dict[str, Any]:
 
     Parameters
     ----------
-    data : sequence of TestData (with ``cycles`` from :func:`chainid.gap.prepare.cycle_stats`)
+    data : sequence of TestData (with ``cycles`` from :func:`chainid.gap.harmonic.prepare.cycle_stats`)
 
     Returns
     -------

@@ -20,7 +20,7 @@
   (stick, pre-sliding) when the small-travel and large-travel slopes differ by ``BACKBONE``.
 * **Drift.** Per record, the residual's means over ``N_DRIFT`` contiguous blocks are
   regressed on time with the block's mean x as a covariate
-  (:func:`chainid.gap.stationarity.trend`): a slope over ``Z_TREND`` standard errors in at
+  (:func:`chainid.gap.core.stationarity.trend`): a slope over ``Z_TREND`` standard errors in at
   least a quarter of the records is a non-stationarity no static effect explains.
 
 Units: mm, N, s, Hz.
@@ -33,9 +33,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.noise import CUT_FACTOR, lowpass
-from chainid.gap.stationarity import Z_TREND, trend
-from chainid.gap.timedomain import TimeData, travel_since_reversal
+from chainid.gap.core.noise import CUT_FACTOR, lowpass
+from chainid.gap.core.stationarity import Z_TREND, trend
+from chainid.gap.timedomain.data import TimeData, travel_since_reversal
 
 #: quantile bins of a state map
 N_MAP = 16
@@ -210,7 +210,7 @@ def backbone(data: Sequence[TimeData]) -> list[dict[str, Any]]:
 
 def _last_reversal(xd: np.ndarray) -> np.ndarray:
     """Index of the last velocity reversal at or before each sample (0 before the first)."""
-    from chainid.gap.timedomain import reversals
+    from chainid.gap.timedomain.data import reversals
 
     start = np.zeros(xd.size, np.int64)
     r = reversals(xd)

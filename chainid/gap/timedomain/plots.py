@@ -22,7 +22,7 @@ def time_plots(result: dict[str, Any], save: Callable[[Any, str], Path]) -> list
     """Draw the five figures of a time-domain / mixed diagnosis; ``save(fig, name)`` writes one."""
     import matplotlib.pyplot as plt
 
-    from chainid.gap.plot_steps import waterfall_figure
+    from chainid.gap.core.plot_steps import waterfall_figure
 
     prob, path = result["_problem"], result["_path"]
     base, final = path[0], path[-1]

@@ -24,7 +24,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap import noise as nz
+from chainid.gap.core import noise as nz
 from chainid.model.effects import STIFFNESS_SIDE, dahl_operator, modify_model, play_operator, stick_slip
 
 #: fewest samples of a time-domain record

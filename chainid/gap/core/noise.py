@@ -1,7 +1,7 @@
 """Noise floor, excitation band and smooth kinematics of a record that is not a steady harmonic test.
 
 A harmonic test gets its noise from the cycle-to-cycle scatter of the phase bins
-(:mod:`chainid.gap.prepare`).  A transient, random or seismic record has no repeated
+(:mod:`chainid.gap.harmonic.prepare`).  A transient, random or seismic record has no repeated
 cycle, so the noise is estimated from the record itself:
 
 * **Force noise σ [N]** — the robust scale of the second difference of the force,

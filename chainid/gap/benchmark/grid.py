@@ -13,7 +13,7 @@ Case families (the diagnosis sees only the records, the nominal chain and the he
 
 These are the ``harmonic`` excitation (steady harmonic test plans).  The same families on non-harmonic
 excitations (band-limited random, sweep, start-up with load steps, earthquake-like) and the transfer
-cases (fit harmonic, score random and back) are :mod:`chainid.gap.benchmark_time`; ``excitations``
+cases (fit harmonic, score random and back) are :mod:`chainid.gap.benchmark.nonharmonic`; ``excitations``
 chooses which run, and each excitation is reported apart.
 
 "Residual over noise" (snr) of a case is the baseline's systematic held-out residual over the noise σ.
@@ -29,9 +29,9 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark_report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
-from chainid.gap.benchmark_chain import case_chain, on_chain, x_scale
-from chainid.gap.benchmark_time import effect_spec  # noqa: F401  (part of the benchmark API)
+from chainid.gap.benchmark.report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
+from chainid.gap.benchmark.chain import case_chain, on_chain, x_scale
+from chainid.gap.benchmark.nonharmonic import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
@@ -70,7 +70,7 @@ def _outside_hook(kind: str, level: float, S: float) -> Any:
 
 def case_plan(case: dict[str, Any]) -> list[Any]:
     """The test plan of a harmonic case; on a user's chain every x0 and A × the case's ``x_scale`` (the same
-    nominal stress as on the paper's chain, :mod:`chainid.gap.benchmark_chain`)."""
+    nominal stress as on the paper's chain, :mod:`chainid.gap.benchmark.chain`)."""
     s = x_scale(case)
     return [replace(p, x0=p.x0 * s, A=p.A * s) for p in _plans()[case["plan"]]]
 
@@ -78,7 +78,7 @@ def case_plan(case: dict[str, Any]) -> list[Any]:
 def run_case(case: dict[str, Any]) -> dict[str, Any]:
     """Simulate one case and diagnose it blind; returns the case with the verdict and scores."""
     if case.get("excitation", "harmonic") != "harmonic":
-        from chainid.gap.benchmark_time import run_case_time, run_case_transfer
+        from chainid.gap.benchmark.nonharmonic import run_case_time, run_case_transfer
 
         return (run_case_transfer if case["excitation"] == "transfer" else run_case_time)(case)
     from chainid.model.laws import PolynomialLaw
@@ -139,14 +139,14 @@ def grid(small: bool = False, seed: int = 0, excitations: Any = ALL_EXCITATIONS,
          chain: Any = None) -> list[dict[str, Any]]:
     """The benchmark cases (``small``: a subset for the tests) of the given excitations (see
     :data:`ALL_EXCITATIONS`); ``chain`` (a :class:`~chainid.ChainSpec`): every case on that chain, its
-    displacements scaled to the same nominal stress (:mod:`chainid.gap.benchmark_chain`), instead of the
+    displacements scaled to the same nominal stress (:mod:`chainid.gap.benchmark.chain`), instead of the
     built-in 14×50 and 10×35 chains."""
     excitations = tuple(excitations)
     bad = [e for e in excitations if e not in ALL_EXCITATIONS]
     if bad or not excitations:
         raise ValueError(f"--excitations {','.join(excitations)!r}: unknown {bad or 'empty'}; valid: "
                          f"{','.join(ALL_EXCITATIONS)}")
-    from chainid.gap.benchmark_time import time_grid
+    from chainid.gap.benchmark.nonharmonic import time_grid
 
     cases = time_grid(seed, small, tuple(e for e in excitations if e != "harmonic"))
     if "harmonic" in excitations:
@@ -223,11 +223,11 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     progress : progress bar on stderr
     excitations : which excitations run (:data:`ALL_EXCITATIONS`; default all)
     chain : a :class:`~chainid.ChainSpec` to run every case on (default: the built-in 14×50 and 10×35 chains);
-        its displacements are scaled to the same nominal stress (:mod:`chainid.gap.benchmark_chain`)
+        its displacements are scaled to the same nominal stress (:mod:`chainid.gap.benchmark.chain`)
     """
     from chainid.infra.parallel import run_cases
     from chainid.infra.fileio import check_output_file, write_json
-    from chainid.gap.benchmark_report import format_summary, summarise
+    from chainid.gap.benchmark.report import format_summary, summarise
 
     if json_path:  # check the target before the long work
         check_output_file(json_path, force=overwrite, what="--json")
@@ -238,7 +238,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     s = summarise(rows)
     s["wall_seconds"] = time.perf_counter() - t0
     if chain is not None:
-        from chainid.gap.benchmark_chain import length_scale
+        from chainid.gap.benchmark.chain import length_scale
 
         s["chain"] = {**chain.to_dict(), "x_scale": length_scale(chain)}
         print(f"chain: d = {chain.d:g} mm, pitch {chain.pitch:g} mm, n = {chain.n}, {chain.family or 'no family'}, grade "

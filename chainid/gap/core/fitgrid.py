@@ -3,7 +3,7 @@
 A coarse grid over the parameters of the effect(s) being added (log-spaced toward
 small values: most effects are small corrections), the parameters of effects
 already fitted kept at their start values.  Kept apart from the fitting
-(:mod:`chainid.gap.problem`) so the search can be changed in one place.
+(:mod:`chainid.gap.harmonic.problem`) so the search can be changed in one place.
 """
 
 from __future__ import annotations

@@ -65,7 +65,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     ``noise`` holds the baseline's excess_rms_N, noise_sigma_N, chi2_ratio and db_over_noise.  The private
     keys ``_problem``, ``_best`` and ``_path`` carry the fitted objects (plots, transfer).
     """
-    from chainid.gap.interpret import mechanism, step_dict, step_text
+    from chainid.gap.core.interpret import mechanism, step_dict, step_text
 
     path = fwd["path"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
