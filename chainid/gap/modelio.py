@@ -12,11 +12,11 @@ grid, memory operators in their periodic steady state, c_e from the *law* at the
 prediction, never a refit, and the same number the diagnosis reports (to round-off).  The per-test c_e the
 law was fitted on are in the file but used only with ``fitted=True`` (``--fitted-damping``): test ids of
 a new file need not be the same tests.  A record that is not a steady harmonic test is predicted in the
-time domain as the diagnosis' time route evaluates it (:meth:`AugmentedModel.force` on the smooth
-kinematics of :func:`chainid.gap.core.noise.kinematics` — a zero-phase low-pass above the record's excitation
-band, so the noise of x is not differentiated into a friction sign or the dashpot; operators from their initial
-state, the law resolved at the record's dominant ω and A by the rule of :mod:`chainid.timedamping`), NRMSE
-over its samples: the held-out number the diagnosis reports.
+time domain as the diagnosis' time route evaluates it (:func:`time_force`: :meth:`AugmentedModel.force` on the
+smooth kinematics of :func:`chainid.gap.core.kinematics.estimate`, at the record's operating conditions, with its
+own force offset when the model's offsets are per test; operators from their initial state, a law resolved at the
+record's dominant ω and A by the rule of :mod:`chainid.model.timedamping`), NRMSE over its samples: the held-out
+number the diagnosis reports.
 
 Units: mm, N, s; NRMSE = RMS(residual)/RMS(F − mean F).
 """
@@ -35,26 +35,35 @@ from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
 from chainid.model.timedamping import Damping
 from chainid.gap.core import noise as nz
+from chainid.gap.core.kinematics import estimate
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
 
 
 def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> AugmentedModel:
-    """The augmented model of a scored candidate (a diagnosis step) on problem ``prob``."""
+    """The augmented model of a scored candidate (a diagnosis step) on problem ``prob`` (either route)."""
     p = cand.params
     names = cand.names
-    effects = [(n, {k.split(".", 1)[1]: float(v) for k, v in p.items() if k.startswith(n + ".")})
-               for n in names if n not in NOT_FORCE]
+    effects = [(n, {k.split(".", 1)[1]: float(v) for k, v in p.items() if k.startswith(n + ".") and "@" not in k})
+               for n in names if n not in NOT_FORCE and "@" not in n]
     delay = float(p.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
+    info = dict(info or {})
+    if getattr(prob, "hprob", True) is None:  # the time-domain route: viscous c, or c following record features
+        if "damping_law" in names:
+            damping = Damping("feature", {"c": float(p["damping.c"])} | {
+                k: float(p[f"damping_law.{k}"]) for k in ("b_w", "b_A", "w_ref", "A_ref")})
+        else:
+            damping = Damping("viscous", {"c": float(p.get("damping.c", 0.0))})
+        terms = {t: float(p[t]) for t in names if "@" in t}
+        refs = {t.split("@", 1)[1]: float(p[f"covariate.{t.split('@', 1)[1]}.ref"]) for t in terms}
+        return AugmentedModel(prob.model_for(p), effects, damping, delay, info=info, offsets=prob.base.offsets,
+                              covariate_terms=terms, covariate_refs=refs)
     ev = getattr(cand, "_ev", {})
     train = {d.test for d in prob.train}
     per_test = {t: float(c) for t, c in ev.get("c_e", {}).items() if t in train}
-    k_e = None if prob.is_chain else float(prob.model.k)  # the law's k_e is the diagnosis baseline's
-    if getattr(prob, "hprob", True) is None:  # time domain only: one viscous c for the set, no c_e(ω, A) law
-        damping = Damping("viscous", {"c": float(cand.law_params[0])})
-    else:
-        damping = Damping("law", law=cand.law, coefficients=[float(v) for v in cand.law_params], k_e=k_e,
-                          per_test=per_test)
-    return AugmentedModel(prob.model_for(p), effects, damping, delay, info=dict(info or {}))
+    k_e = None if prob.is_chain else float(prob.model_for(p).k)  # the law's k_e is the diagnosis baseline's
+    damping = Damping("law", law=cand.law, coefficients=[float(v) for v in cand.law_params], k_e=k_e,
+                      per_test=per_test)
+    return AugmentedModel(prob.model_for(p), effects, damping, delay, info=info)
 
 
 def step_models(result: dict[str, Any], info: dict[str, Any] | None = None) -> list[AugmentedModel]:
@@ -134,7 +143,8 @@ def negative_damping(model: AugmentedModel, data: Sequence[Any], fitted: bool = 
     naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none."""
     bad = []
     for d in data:
-        dmp = model.damping.resolve(d.omega, d.A, model.ke(d.x0), d.test, fitted, d.x0)
+        w = getattr(d, "omega_c", d.omega) if model.damping.form == "feature" else d.omega
+        dmp = model.damping.resolve(w, d.A, model.ke(d.x0), d.test, fitted, d.x0)
         if dmp.form == "viscous" and dmp.params.get("c", 0.0) < 0:
             bad.append((dmp.params["c"], d))
     if not bad:
@@ -178,15 +188,18 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     if not records:
         raise ValueError("no records to predict")
     ev = dict(model.info.get("evaluation", {}))
+    time_only = ev.get("route") == "time"  # a time-route model: every record sample by sample, as diagnosed
     base = model.baseline or model
     rows, series, prepared = [], {}, []
     tot = {"b": 0.0, "m": 0.0, "v": 0.0}
     for r in records:
-        try:
-            d = prepare_test(r, n_bins=int(ev.get("n_bins", 64)), allow_compression=bool(ev.get("allow_compression", True)),
-                             steady_tol=ev.get("steady_tol"))
-        except Unusable:
-            d = None
+        d = None
+        if not time_only:
+            try:
+                d = prepare_test(r, n_bins=int(ev.get("n_bins", 64)),
+                                 allow_compression=bool(ev.get("allow_compression", True)), steady_tol=ev.get("steady_tol"))
+            except Unusable:
+                d = None
         if d is not None:
             prepared.append(d)
             Fm, Fb = model.cycle_force(d, fitted), base.cycle_force(d, fitted)
@@ -194,9 +207,8 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
             mode = "steady-cycle"
             if keep:
                 series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
-        else:  # on the diagnosis' smooth kinematics (zero-phase low-pass above the excitation band)
-            _, xs, xd, xdd = nz.record_kinematics(r.t, r.x)
-            Fm, Fb = model.force(r.t, xs, xd=xd, xdd=xdd), base.force(r.t, xs, xd=xd, xdd=xdd)
+        else:  # on the diagnosis' smooth kinematics (the estimator chosen by the record's spectrum)
+            Fm, Fb = time_force(model, r), time_force(base, r)
             w = np.ones_like(r.F)
             (sm, var), (sb, _) = _sse_var(r.F, Fm, w), _sse_var(r.F, Fb, w)
             mode = "time-domain"
@@ -218,6 +230,19 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     if keep:
         out["_series"] = series
     return out
+
+
+def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False) -> Any:
+    """The model force [N] on a record evaluated as the time-domain route evaluates it: on the record's smooth
+    kinematics (:func:`chainid.gap.core.kinematics.estimate`), at the record's operating conditions, and with the
+    record's own force offset when the model's offsets are per test (nuisance parameters).  With
+    ``with_kinematics`` also the kinematics used."""
+    kin = estimate(rec.t, rec.x, nz.excitation_band(rec.t, rec.x))
+    m = model.at_conditions(getattr(rec, "covariates", None))
+    F = np.asarray(m.force(rec.t, kin.x, xd=kin.xd, xdd=kin.xdd), float)
+    if model.offsets:
+        F = F + float(np.mean(np.asarray(rec.F, float) - F))
+    return (F, kin) if with_kinematics else F
 
 
 def _nrmse(sse: float, var: float) -> float | None:

@@ -6,8 +6,13 @@ with the stiffness-side effects applied (``stiffness_level``, ``contact_law``, `
 ``machine_compliance``), the memory effects are the causal operators of :mod:`chainid.operators`
 (``friction``: Jenkins element with stick; ``hysteresis``: Dahl; ``backlash``: play) and F_d a
 time-domain damping (:mod:`chainid.timedamping`).  The effect names and parameters are those of the gap
-library (:mod:`chainid.gap.effects`, :func:`~chainid.gap.effects.undamped_force` composes them: one place),
+library (:mod:`chainid.model.effects`, :func:`~chainid.model.effects.undamped_force` composes them: one place),
 so a diagnosis step (``effects`` + ``params``) rebuilds a model exactly.
+
+Operating conditions: ``covariate_terms`` maps ``effect.param@cov`` (or ``damping.c@cov``, ``spring.k@cov``) to
+a slope, so that for a record with covariates the parameter is p + slope·(cov − ref), ``covariate_refs`` the ref of
+each covariate.  ``offsets``: the tests ran at different preloads, so each record's force offset is a nuisance
+parameter (a prediction takes the record's own mean residual).
 
 Two evaluations:
 
@@ -29,7 +34,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.model.effects import DEFAULTS, EFFECT_NAMES, make_effect, undamped_force
-from chainid.model.timedamping import Damping, dominant
+from chainid.model.timedamping import Damping, dominant, record_features
 
 #: effects that are not force terms of the model (the delay is ``delay_s``; ``damping_law`` is the law choice)
 NOT_FORCE = ("sensor_delay", "damping_law")
@@ -56,6 +61,10 @@ class AugmentedModel:
         The model this one is compared with (``predict``'s baseline), e.g. the diagnosis' step 0.
     info : dict
         Free metadata (variant, chain, provenance) carried to the model file.
+    offsets : bool
+        Per-record force offsets are nuisance parameters (tests at different preloads).
+    covariate_terms, covariate_refs : dict
+        Slopes of parameters over covariates and the covariates' reference values (module docstring).
     """
 
     base: Any
@@ -65,6 +74,9 @@ class AugmentedModel:
     mass_kg: float | None = None
     baseline: "AugmentedModel | None" = None
     info: dict[str, Any] = field(default_factory=dict)
+    offsets: bool = False
+    covariate_terms: dict[str, float] = field(default_factory=dict)
+    covariate_refs: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         chain = hasattr(self.base, "hertz_scale")
@@ -77,10 +89,10 @@ class AugmentedModel:
             eff = make_effect(name)
             if eff.chain_only and not chain and name not in ("slack", "machine_compliance"):
                 raise ValueError(f"effect {name!r} needs a chain base (the base is a linear spring)")
-            unknown = set(params) - set(eff.param_names)
+            unknown = set(params) - set(eff.param_names) - set(eff.fixed)
             if unknown:
                 raise ValueError(f"effect {name!r}: unknown parameter(s) {sorted(unknown)}; "
-                                 f"valid: {', '.join(eff.param_names)}")
+                                 f"valid: {', '.join(list(eff.param_names) + list(eff.fixed))}")
             bad = [k for k, v in params.items() if not math.isfinite(float(v))]
             if bad:
                 raise ValueError(f"effect {name!r}: {bad[0]} = {params[bad[0]]!r} must be finite")
@@ -90,6 +102,49 @@ class AugmentedModel:
             raise ValueError(f"delay_s = {self.delay_s!r} must be finite [s]")
         if self.mass_kg is not None and not (math.isfinite(self.mass_kg) and self.mass_kg >= 0):
             raise ValueError(f"mass_kg = {self.mass_kg!r} is out of range; valid range >= 0 kg")
+        for term, v in self.covariate_terms.items():
+            head, at, cov = term.partition("@")
+            if not at or "." not in head or not cov:
+                raise ValueError(f"covariate term {term!r} is invalid; valid: 'effect.param@covariate' "
+                                 "(e.g. friction.F_c@i, damping.c@i, spring.k@p)")
+            if not math.isfinite(float(v)):
+                raise ValueError(f"covariate term {term} = {v!r} must be finite")
+            if cov not in self.covariate_refs:
+                raise ValueError(f"covariate term {term!r}: covariate {cov!r} has no reference value in "
+                                 f"covariate_refs (known: {', '.join(self.covariate_refs) or 'none'})")
+
+    def at_conditions(self, covariates: dict[str, float] | None) -> "AugmentedModel":
+        """The model at a record's operating conditions: every covariate term applied (p + slope·(cov − ref)).
+
+        Raises
+        ------
+        ValueError
+            A covariate the model depends on is missing from ``covariates``.
+        """
+        if not self.covariate_terms:
+            return self
+        from dataclasses import replace as _replace
+
+        cov = dict(covariates or {})
+        effects = [(n, dict(p)) for n, p in self.effects]
+        damping = self.damping
+        base = self.base
+        for term, slope in self.covariate_terms.items():
+            head, _, name = term.partition("@")
+            if name not in cov:
+                raise ValueError(f"the model depends on covariate {name!r} ({term}); the record carries "
+                                 f"{', '.join(cov) or 'none'}")
+            dv = float(slope) * (float(cov[name]) - self.covariate_refs[name])
+            eff, _, par = head.partition(".")
+            if eff == "damping" and par == "c":
+                damping = _replace(damping, params=dict(damping.params) | {"c": damping.params.get("c", 0.0) + dv})
+            elif eff == "spring" and par == "k":
+                base = _replace(base, k=max(float(base.k) + dv, 0.0))
+            else:
+                for n, p in effects:
+                    if n == eff:
+                        p[par] = p.get(par, 0.0) + dv
+        return _replace(self, base=base, effects=effects, damping=damping, covariate_terms={})
 
     # ------------------------------------------------------------------ helpers
     @property
@@ -165,6 +220,8 @@ class AugmentedModel:
         w, A, x0 = dominant(t, x)
         Fn = undamped_force(self.effects, self.base, t, x, xd, xdd, w, max(A, 1e-12), x0, xfun,
                             periodic=False) + self._mass_fix(xdd)
+        if self.damping.form == "feature":
+            w, A = record_features(t, x)
         dmp = self.damping.resolve(w, max(A, 1e-12), self.ke(x0), x0=x0)
         Fd, dE = dmp.force(x, xd, periodic=False)
         F = Fn + Fd

@@ -8,7 +8,10 @@ Layout (``format_version = 1``; keys of /work/shared/design/architecture.md "Aug
     delay_s = 0.0                 # force channel lag τ [s]
     [units]                       # length = "mm", force = "N", time = "s", mass = "kg"
     [base]                        # model = "chain" (variant, [base.chain] spec, kernel modifiers) or
-                                  # model = "linear" (k [N/mm], x_ref [mm])
+                                  # model = "linear" (k [N/mm], x_ref [mm], mass [kg]); offsets = "per-test" when
+                                  # each test's force offset is a nuisance parameter (tests at different preloads)
+    [covariates]                  # operating conditions: [covariates.refs] name = reference value,
+                                  # [covariates.terms] "effect.param@name" = slope (p = p0 + slope·(cov − ref))
     [[effects]]                   # ordered; name = "friction", [effects.params] F_c = …, mu = …, x_s = …
     [damping]                     # form = "law" (law, coefficients, rule, k_e, [damping.per_test]) or a
                                   # time-domain form with [damping.params] (chainid.timedamping)
@@ -35,7 +38,8 @@ FORMAT_VERSION = 1
 KIND = "chainid-augmented-model"
 UNITS = {"length": "mm", "force": "N", "time": "s", "mass": "kg"}
 _TOP = {"format_version", "kind", "units", "base", "mass_kg", "effects", "damping", "delay_s", "baseline",
-        "evaluation", "provenance"}
+        "evaluation", "provenance", "covariates"}
+_MODEL_KEYS = ("base", "mass_kg", "delay_s", "effects", "damping", "covariates")
 _CHAIN_MODS = ("slack", "compliance", "hertz_scale", "contact_exponent", "contact_ref_force", "ea_scale")
 
 
@@ -65,7 +69,9 @@ def _base_from(d: dict[str, Any], where: str) -> Any:
         return ChainModel(chain_from_mapping(dict(d.get("chain", {})), source=f"{where}.chain"),
                           str(d.get("variant", "paper")), **mods)
     if kind == "linear":
-        _unknown(d, {"model", "k", "x_ref", "mass"}, where)
+        _unknown(d, {"model", "k", "x_ref", "mass", "offsets"}, where)
+        if d.get("offsets", "none") not in ("none", "per-test"):
+            raise ValueError(f"{where}.offsets = {d.get('offsets')!r} is unknown; valid: none, per-test")
         if "k" not in d:
             raise ValueError(f"{where}: a linear base needs k [N/mm]")
         return LinearModel(float(d["k"]), float(d.get("x_ref", 0.0)), mass=float(d.get("mass", 0.0)))
@@ -90,9 +96,14 @@ def model_to_dict(m: AugmentedModel) -> dict[str, Any]:
         "effects": [{"name": n, "params": {k: float(v) for k, v in p.items()}} for n, p in m.effects],
         "damping": m.damping.to_dict(),
     }
+    if m.offsets:
+        d["base"]["offsets"] = "per-test"
+    if m.covariate_terms:
+        d["covariates"] = {"refs": {k: float(v) for k, v in m.covariate_refs.items()},
+                           "terms": {k: float(v) for k, v in m.covariate_terms.items()}}
     if m.baseline is not None:
         b = model_to_dict(m.baseline)
-        d["baseline"] = {k: b[k] for k in ("base", "mass_kg", "delay_s", "effects", "damping")}
+        d["baseline"] = {k: b[k] for k in _MODEL_KEYS if k in b}
     for k in ("evaluation", "provenance"):
         if k in m.info:
             d[k] = {kk: vv for kk, vv in m.info[k].items() if vv is not None}
@@ -125,11 +136,16 @@ def _model(d: dict[str, Any], where: str, with_baseline: bool) -> AugmentedModel
         effects.append((str(e.get("name")), {k: float(v) for k, v in dict(e.get("params", {})).items()}))
     base = _base_from(dict(d["base"]), f"{where}.base")
     mass = d.get("mass_kg")
+    cov = dict(d.get("covariates", {}))
+    _unknown(cov, {"refs", "terms"}, f"{where}.covariates")
     m = AugmentedModel(base, effects, Damping.from_dict(dict(d.get("damping", {})), f"{where}.damping"),
-                       float(d.get("delay_s", 0.0)), None if mass is None else float(mass))
+                       float(d.get("delay_s", 0.0)), None if mass is None else float(mass),
+                       offsets=dict(d["base"]).get("offsets", "none") == "per-test",
+                       covariate_terms={str(k): float(v) for k, v in dict(cov.get("terms", {})).items()},
+                       covariate_refs={str(k): float(v) for k, v in dict(cov.get("refs", {})).items()})
     if with_baseline and "baseline" in d:
         b = dict(d["baseline"])
-        _unknown(b, {"base", "mass_kg", "delay_s", "effects", "damping"}, f"{where}.baseline")
+        _unknown(b, set(_MODEL_KEYS), f"{where}.baseline")
         m.baseline = _model(b, f"{where}.baseline", with_baseline=False)
     m.info = {k: dict(d[k]) for k in ("evaluation", "provenance") if k in d}
     return m

@@ -34,6 +34,10 @@ from chainid.gap.benchmark.chain import case_chain, on_chain, x_scale
 from chainid.gap.benchmark.nonharmonic import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
+#: the effects of the harmonic single-effect family, in the order their cases (and seeds) are drawn
+GRID_EFFECTS = ("stiffness_level", "friction", "hysteresis", "contact_law", "slack", "backlash",
+                "machine_compliance", "sensor_delay", "damping_law")
+
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
     """The 11-test plan of the benchmark: ω ∈ {1, 2, 4} rad/s × A ∈ {0.1, 0.2, 0.3} mm at x0 = 2 mm,
     plus (ω, x0, A) = (3 rad/s, 2.2 mm, 0.15 mm) and (1.5 rad/s, 1.8 mm, 0.25 mm); ids ``prefix1`` … ``prefix11``."""
@@ -165,7 +169,7 @@ def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
         cases.append({"excitation": "harmonic", "family": family, "truth": truth, "effects": effects, "levels": levels, "noise": noise,
                       "chain": chain, "plan": plan, "seed": s, **kw})
 
-    singles = list(EFFECT_NAMES)
+    singles = list(GRID_EFFECTS)
     levels, noises, chains, plans = (0.3, 1.0, 3.0), (0.01, 0.03), ("14x50", "small"), ("grid3x3", "grid4x3")
     if small:
         singles = ["friction", "stiffness_level"]

@@ -42,7 +42,8 @@ from chainid.model.effects import EFFECT_NAMES, parse_effect
 #: the non-harmonic excitation families
 EXCITATIONS = ("random", "sweep", "startup", "quake")
 #: effects simulated on non-harmonic records (damping_law is a harmonic c_e(ω, A) form: see the module docstring)
-TIME_EFFECTS = tuple(e for e in EFFECT_NAMES if e != "damping_law")
+TIME_EFFECTS = ("stiffness_level", "friction", "hysteresis", "contact_law", "slack", "backlash", "machine_compliance",
+                "sensor_delay")
 #: the harmonic grid's compound pairs without damping_law
 TIME_PAIRS = (("friction", "sensor_delay"), ("hysteresis", "slack"), ("friction", "slack"),
               ("backlash", "sensor_delay"))

@@ -47,16 +47,17 @@ NONE_FRACTION = 0.5
 ALIASES = {"machine_compliance": "stiffness_level"}
 
 
-def at_noise_floor(r2: float, f2: float, sigma: float, n_bins: int) -> bool:
+def at_noise_floor(r2: float, f2: float, sigma: float, n_bins: int, f2_rel_sd: float = 0.0) -> bool:
     """Whether a mean squared bin residual r2 [N²] is consistent with its noise floor f2 [N²].
 
     Consistent when the systematic part sqrt(r2 − f2) is below ``NONE_FRACTION``·σ
     (σ the raw per-sample noise [N]) or the ratio r2/f2 is within 5 standard
-    deviations of a χ² mean (1 + 5·sqrt(2/n_bins)).
+    deviations of 1: sqrt(2/n_bins) for the χ² of the residual, and ``f2_rel_sd`` for the floor itself when it is
+    an estimate (a force noise measured on the record).
     """
     excess = math.sqrt(max(r2 - f2, 0.0))
     ratio = r2 / f2 if f2 > 0 else float("inf")
-    return excess < NONE_FRACTION * sigma or ratio < 1 + 5 * math.sqrt(2.0 / max(n_bins, 1))
+    return excess < NONE_FRACTION * sigma or ratio < 1 + 5 * math.sqrt(2.0 / max(n_bins, 1) + f2_rel_sd**2)
 
 
 def loto_jackknife(prev: Candidate, new: Candidate) -> tuple[float, float]:
@@ -99,7 +100,8 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     ev = cand._ev  # type: ignore[attr-defined]
     r2, f2, _ = prob.noise_db(ev, "train")
     n = prob.n_cells("train")  # noise cells: phase bins of harmonic tests, samples of time-domain records
-    return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
+    u = getattr(prob, "floor_rel_sd", lambda split: 0.0)("train")
+    return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1) + u**2)
 
 
 def _pinned_new(c: Candidate) -> bool:
@@ -194,6 +196,8 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         path.append(chosen)
         cur = chosen
         remaining.remove(chosen.names[-1])
+        # a chosen effect opens its covariate terms (an amplitude that follows an operating condition)
+        remaining += [t for t in getattr(prob, "followups", lambda n: [])(chosen.names[-1]) if t not in remaining]
     swaps: list[str] = []
     if len(path) > 2:
         final, swaps = _exchange(prob, path[-1], names, base_hold)
@@ -282,7 +286,8 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
 
 
 #: effects that can stand in for each other (same physical family): the exchange pass swaps within these
-FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"), ("friction", "hysteresis"))
+FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
+            ("friction", "hysteresis", "stribeck", "bouc_wen"))
 
 
 def _fit_score(prob: Problem, names: list[str], start: dict[str, float], base_hold: float) -> Candidate:
@@ -365,9 +370,11 @@ def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[st
 
 
 def baseline_candidate(prob: Any) -> Candidate:
-    """The scored baseline (no effect) the selection starts from: a linear spring re-fitted on the training data
-    (``--model linear``) or the chain model as given; shrinkage 0 by definition."""
-    base_c = prob.fit([]) if not prob.is_chain else Candidate("baseline", {}, 0)
+    """The scored baseline (no effect) the selection starts from: a base with free parameters fitted on the training
+    data (a linear spring re-fitted with ``--model linear``; the time domain's dashpot, mass and spring) or the chain
+    model as given; shrinkage 0 by definition."""
+    fits = getattr(prob, "fits_base", not prob.is_chain)  # a base with free parameters is fitted first
+    base_c = prob.fit([]) if fits else Candidate("baseline", {}, 0)
     base_c.name = "baseline"
     prob.score(base_c, [], 1.0)
     base_c.shrinkage = 0.0

@@ -16,6 +16,20 @@ MIN_SHRINK = 0.5
 NONSTAT_FRACTION = 0.25
 
 
+def verdict_name(names: list[str]) -> str:
+    """The verdict of an explanation chain's terms: its library effects joined by ``+``; a covariate term
+    (``effect.param@cov``) names its effect, the base's damping following a covariate names ``damping_law`` and the
+    base's spring ``stiffness_level``."""
+    out: list[str] = []
+    for n in names:
+        if "@" in n:
+            head = n.split("@", 1)[0].split(".", 1)[0]
+            n = {"damping": "damping_law", "spring": "stiffness_level", "mass": "fixture_mass"}.get(head, head)
+        if n not in out:
+            out.append(n)
+    return "+".join(out)
+
+
 def decide(consistent: bool, final: Any, stat: dict[str, Any], excess: float, path: list[Any], fwd: dict[str, Any],
            where: list[dict[str, Any]], warn: list[str], best: Any = None) -> str:
     """The verdict; adds the non-stationarity finding to ``where`` and the warnings to ``warn``.
@@ -37,7 +51,7 @@ def decide(consistent: bool, final: Any, stat: dict[str, Any], excess: float, pa
     elif final is None or not (final.shrinkage >= MIN_SHRINK):
         verdict = "unexplained"
     else:
-        verdict = "+".join(final.names)
+        verdict = verdict_name(final.names)
     if verdict != "none" and stat["stationary"] is False:
         named = "+".join(final.names) if final is not None else ""
         msg = (f"{stat['finding']}; " + (f"the static effects {named} absorb part of it, but what is left drifts "

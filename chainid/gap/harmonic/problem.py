@@ -91,7 +91,10 @@ class Problem:
         self.is_chain = hasattr(model, "hertz_scale")
         self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
-        self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max) for n in EFFECT_NAMES}
+        x_mid = float(np.mean([d.x0 for d in self.data]))
+        v_max = float(max(d.omega * d.A for d in self.data))
+        self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max, v_scale=v_max, x_mid=x_mid)
+                        for n in EFFECT_NAMES}
         self.law, self.law_reason = self._baseline_law(damping_law)
 
     # ------------------------------------------------------------- damping law
@@ -150,8 +153,10 @@ class Problem:
         return self.model
 
     def applicable(self) -> list[str]:
-        """Library effects that apply to this baseline (chain-only effects need the chain model)."""
-        return [n for n, e in self.effects.items() if self.is_chain or not e.chain_only]
+        """Library effects that apply to this baseline (chain-only effects need the chain model, linear-only ones a
+        linear spring)."""
+        return [n for n, e in self.effects.items()
+                if not (e.chain_only and not self.is_chain) and not (e.linear_only and self.is_chain)]
 
     def parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
         """Bin means of the undamped force [N] and of the damping velocity [mm/s] of an effect set on a
@@ -281,8 +286,10 @@ class Problem:
             if not keys:
                 return Candidate("+".join(names), {}, 0)
 
+            fixed_p = {f"{n}.{k}": v for n in names if n in self.effects for k, v in self.effects[n].fixed.items()}
+
             def unpack(u: np.ndarray) -> dict[str, float]:
-                return dict(zip(keys, lo_a + np.clip(u, 0, 1) * (hi_a - lo_a)))
+                return fixed_p | dict(zip(keys, lo_a + np.clip(u, 0, 1) * (hi_a - lo_a)))
 
             def fun(u: np.ndarray) -> np.ndarray:
                 return self._train_resid(names, unpack(u))

@@ -1,0 +1,263 @@
+"""Smooth kinematics x, ẋ, ẍ of a measured displacement, with the estimator chosen by the record's own spectrum.
+
+A time-domain model force m·ẍ + c·ẋ + F_k(x) + … is only as good as the derivatives it is evaluated on.  On a
+damping-dominated record the viscous force c·ẋ is many times the noise, so a 1 % error of ẋ is a residual far
+above the noise floor; on a resonant device ẍ carries the inertia.  The estimator is therefore chosen per record
+by the error it predicts, and the error it predicts is reported (it enters the noise floor of the diagnosis).
+
+**The rule.**
+
+1. *Periodic record* (the record is a whole number of periods of its excitation: the circular extension is as
+   smooth across the wrap as inside, :func:`is_periodic`): spectral derivatives, ẋ = IFFT(i2πf·X(f)) with the
+   spectrum cut above ``CUT_FACTOR``·f_band.  Exact for a band-limited periodic signal: no bias; the noise of x
+   inside the kept band passes with gain 2πf.
+2. *Any other record*: a zero-phase 4th-order Butterworth low-pass (run forward and backward, gain |H(f)|²) at
+   f_cut = c·f_band, then central differences on the record's own time stamps (gain D(f) = fs·sin(2πf/fs) of the
+   true 2πf).  The factor c is chosen among :data:`CUT_CHOICES` to minimise the predicted mean squared error of ẋ,
+
+       E(c) = Σ_f |1 − |H_c(f)|²·D(f)/(2πf)|²·(2πf)²·S(f)  +  σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df,
+
+   the bias on the record's own signal spectrum S(f) (its Hann-windowed periodogram where it stands above the
+   largest value white noise would reach, the floor removed) plus the
+   noise σ_x of x (robust scale of its second difference, as :func:`chainid.gap.core.noise.force_noise`) carried
+   through the filter and the difference.  The bound reported is √E(c) [mm/s].
+3. *Edges*: the filter runs on the record extended at each end by its odd reflection about a denoised end value
+   (a straight line fitted over 1/f_cut), so a noisy first sample does not launch a transient.
+4. *Rest*: where the smooth speed stays within ``REST_SIGMAS`` noise standard deviations of zero for at least
+   half a period of f_cut, the record shows no motion and ẋ is 0 (a contact at rest is stuck); a brief passage
+   through zero (a reversal) keeps its estimate.  ẍ is the difference of the unzeroed ẋ.
+
+Units: t s, x mm, ẋ mm/s, ẍ mm/s², f Hz.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from chainid.gap.core.noise import force_noise, sample_rate
+
+__all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
+           "filtered", "error_budget"]
+
+#: the spectral derivative keeps this many times the band edge
+CUT_FACTOR = 4.0
+#: cut-off factors (× band edge) the filter estimator chooses among
+CUT_CHOICES = (1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0)
+#: a smooth speed within this many noise standard deviations of zero, long enough, is rest (a 4σ test)
+REST_SIGMAS = 4.0
+
+
+@dataclass
+class Kinematics:
+    """Smooth x [mm], ẋ [mm/s], ẍ [mm/s²] of a record and how they were made.
+
+    ``method`` is ``"spectral"`` or ``"butterworth"``; ``f_cut`` the cut-off [Hz]; ``sigma_x`` the noise of the
+    measured x [mm]; ``err_v`` / ``err_a`` the predicted RMS error of ẋ [mm/s] and ẍ [mm/s²] (bias and noise);
+    ``noise_v`` the noise part of ``err_v`` alone [mm/s] (the rest test's scale); ``err_x`` the predicted RMS
+    error of the smooth x [mm].
+    """
+
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+    method: str
+    f_cut: float
+    sigma_x: float
+    err_v: float
+    err_a: float
+    noise_v: float
+    err_x: float = 0.0
+
+    def info(self) -> dict[str, float | str]:
+        """The estimator and its predicted errors, for a report."""
+        return {"method": self.method, "f_cut_Hz": self.f_cut, "sigma_x_mm": self.sigma_x, "err_x_mm": self.err_x,
+                "err_v_mm_s": self.err_v, "err_a_mm_s2": self.err_a}
+
+
+def _detrended(x: np.ndarray) -> np.ndarray:
+    n = np.arange(x.size)
+    return x - np.polyval(np.polyfit(n, x, 1), n)
+
+
+def is_periodic(x: np.ndarray, sigma_x: float) -> bool:
+    """Whether the record is (close to) a whole number of periods of its own excitation.
+
+    A local cubic through the last 8 and the first 8 samples (the wrap-around) must fit as well as local cubics
+    inside the record: its residual RMS at most 3× the median of 16 interior windows' and within 4 σ_x of them.
+    Needs >= 256 samples.
+    """
+    x = np.asarray(x, float)
+    n = x.size
+    if n < 256:
+        return False
+    u = np.arange(16.0)
+
+    def cubic_rms(seg: np.ndarray) -> float:
+        return float(np.sqrt(np.mean((seg - np.polyval(np.polyfit(u, seg, 3), u)) ** 2)))
+
+    wrap = cubic_rms(np.concatenate([x[-8:], x[:8]]))
+    starts = np.linspace(8, n - 24, 16).astype(int)
+    inner = float(np.median([cubic_rms(x[s:s + 16]) for s in starts]))
+    return wrap <= 3.0 * inner + 4.0 * sigma_x
+
+
+def _periodogram(x: np.ndarray, fs: float, window: bool) -> tuple[np.ndarray, np.ndarray, float]:
+    """One-sided power spectrum of the record [mm² per bin, summing to its variance] — a periodic record with its
+    mean removed, any other detrended and Hann-windowed — and the white noise floor [mm² per bin] (median of the
+    upper half)."""
+    y = _detrended(np.asarray(x, float)) if window else np.asarray(x, float) - float(np.mean(x))
+    n = y.size
+    wv = np.hanning(n) if window else np.ones(n)
+    X = np.fft.rfft(y * wv)
+    P = (np.abs(X) ** 2) * 2.0 / (n * float(np.sum(wv ** 2)))
+    P[0] *= 0.5
+    if n % 2 == 0:
+        P[-1] *= 0.5
+    f = np.fft.rfftfreq(n, 1.0 / fs)
+    floor = float(np.median(P[P.size // 2:])) if P.size >= 8 else 0.0
+    return f, P, floor
+
+
+def spectral(x: np.ndarray, fs: float, f_cut: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Spectral x, ẋ, ẍ of a periodic record [mm, mm/s, mm/s²], the spectrum cut above f_cut [Hz]."""
+    x = np.asarray(x, float)
+    n = x.size
+    X = np.fft.rfft(x)
+    f = np.fft.rfftfreq(n, 1.0 / fs)
+    X[f > f_cut] = 0.0
+    w = 2j * np.pi * f
+    if n % 2 == 0:  # the Nyquist bin has no derivative of its own
+        w[-1] = 0.0
+    return np.fft.irfft(X, n), np.fft.irfft(w * X, n), np.fft.irfft(w * w * X, n)
+
+
+def _pad_odd(x: np.ndarray, m: int, k: int) -> np.ndarray:
+    """x extended at each end by m samples of its odd reflection about a denoised end value: a quadratic fitted over
+    the first / last k samples, evaluated at the end sample."""
+    m = max(1, min(m, x.size - 1))
+    k = max(5, min(k, x.size))
+    u = np.arange(k, dtype=float)
+    a0 = float(np.polyval(np.polyfit(u, x[:k], 2), 0.0))
+    a1 = float(np.polyval(np.polyfit(u, x[-k:], 2), k - 1.0))
+    return np.concatenate([2.0 * a0 - x[m:0:-1], x, 2.0 * a1 - x[-2:-m - 2:-1]])
+
+
+def filtered(t: np.ndarray, x: np.ndarray, f_cut: float, f_band: float | None = None
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Zero-phase Butterworth (4th order, forward-backward) at f_cut [Hz] with odd-reflection padding (the end
+    values from quadratics over an eighth of the band edge's period, f_band [Hz], default f_cut/4), then central
+    differences on the time stamps: x, ẋ, ẍ [mm, mm/s, mm/s²] (no smoothing at or above 0.45·fs)."""
+    from scipy.signal import butter, sosfiltfilt
+
+    t = np.asarray(t, float)
+    x = np.asarray(x, float)
+    fs = sample_rate(t)
+    if f_cut < 0.45 * fs and x.size >= 30:
+        sos = butter(4, f_cut / (0.5 * fs), output="sos")
+        m = int(min(x.size - 1, max(8, math.ceil(3.0 * fs / f_cut))))
+        k = int(math.ceil(fs / (8.0 * (f_band if f_band else 0.25 * f_cut))))
+        xs = sosfiltfilt(sos, _pad_odd(x, m, k), padtype=None)[m:m + x.size]
+    else:
+        xs = x.copy()
+    xd = np.gradient(xs, t)
+    return xs, xd, np.gradient(xd, t)
+
+
+def error_budget(f: np.ndarray, S: np.ndarray, fs: float, f_cut: float, sigma_x: float, order: int = 1,
+                 spectral_cut: bool = False) -> tuple[float, float]:
+    """Predicted RMS error of the ``order``-th derivative (0: x [mm], 1: ẋ [mm/s], 2: ẍ [mm/s²]): (bias + noise,
+    noise alone).
+
+    ``S`` is the signal's one-sided power per bin [mm²] at frequencies ``f`` [Hz] (the periodogram with the noise
+    floor removed), σ_x the white noise of x [mm].  ``spectral_cut``: the spectral estimator cut at f_cut [Hz]
+    (bias: the signal above the cut); else a 4th-order Butterworth at f_cut run forward and backward, then central
+    differences (bias: |w^k − |H|²·D^k|² on the signal, D = fs·sin(2πf/fs) the central difference's gain).
+    """
+    if order not in (0, 1, 2):
+        raise ValueError(f"order = {order!r} is out of range; valid: 0, 1 or 2")
+    w = 2.0 * np.pi * np.asarray(f, float)
+    ff = np.linspace(0.0, 0.5 * fs, 4097)
+    ww = 2.0 * np.pi * ff
+    if spectral_cut:
+        keep = w <= 2.0 * np.pi * f_cut
+        bias = float(np.sum(S[~keep] * w[~keep] ** (2 * order)))
+        kk = ww <= 2.0 * np.pi * f_cut
+        noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid(ww[kk] ** (2 * order), ff[kk])) if kk.sum() > 1 else 0.0
+        return math.sqrt(bias + noise), math.sqrt(noise)
+    H2 = _butter_gain2(w / (2 * np.pi), f_cut, fs)
+    D = (fs * np.sin(w / fs)) ** order
+    bias = float(np.sum(np.abs(w ** order - H2 * D) ** 2 * S))
+    H2f = _butter_gain2(ff, f_cut, fs)
+    noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid((fs * np.sin(ww / fs)) ** (2 * order) * H2f ** 2, ff))
+    return math.sqrt(bias + noise), math.sqrt(noise)
+
+
+def _butter_gain2(f: np.ndarray, f_cut: float, fs: float) -> np.ndarray:
+    """|H(f)|² of the digital 4th-order Butterworth at f_cut (bilinear transform of the analog prototype):
+    1/(1 + (tan(πf/fs)/tan(πf_cut/fs))^8) — the forward-backward gain (1 at or above 0.45·fs)."""
+    if f_cut >= 0.45 * fs:
+        return np.ones_like(np.asarray(f, float))
+    ratio = np.tan(np.pi * np.minimum(np.asarray(f, float), 0.4999999 * fs) / fs) / math.tan(math.pi * f_cut / fs)
+    return 1.0 / (1.0 + ratio ** 8)
+
+
+def _rest_zero(xd: np.ndarray, v_noise: float, min_run: int) -> np.ndarray:
+    """ẋ with runs of at least ``min_run`` samples of |ẋ| <= REST_SIGMAS·v_noise set to 0 (rest)."""
+    if v_noise <= 0.0:
+        return xd
+    low = np.abs(xd) <= REST_SIGMAS * v_noise
+    if not low.any():
+        return xd
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], low.view(np.int8), [0]])))
+    out = xd.copy()
+    for a, b in zip(edges[::2], edges[1::2]):
+        if b - a >= min_run:
+            out[a:b] = 0.0
+    return out
+
+
+def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
+    """Smooth kinematics of a record by the rule of the module docstring.
+
+    Parameters
+    ----------
+    t : ndarray
+        Time stamps [s], strictly increasing (uniform within a few per cent).
+    x : ndarray
+        Measured displacement [mm].
+    f_band : float
+        Upper edge of the excitation band [Hz] (:func:`chainid.gap.core.noise.excitation_band`).
+    """
+    t = np.asarray(t, float)
+    x = np.asarray(x, float)
+    fs = sample_rate(t)
+    sigma_x = force_noise(x) if x.size >= 5 else 0.0
+    periodic = is_periodic(x, sigma_x)
+    f, P, floor = _periodogram(x, fs, window=not periodic)
+    # the signal: lines above the largest a white-noise periodogram reaches (exponential, median = floor, over its
+    # bins: P > floor/ln2·ln(20·N) happens by chance with probability 1/20)
+    S = np.where(P > floor / math.log(2.0) * math.log(20.0 * P.size), P - floor, 0.0)
+    if periodic:
+        fc = min(CUT_FACTOR * f_band, 0.5 * fs)
+        xs, xd, xdd = spectral(x, fs, fc)
+        ev, nv = error_budget(f, S, fs, fc, sigma_x, 1, spectral_cut=True)
+        ea, _ = error_budget(f, S, fs, fc, sigma_x, 2, spectral_cut=True)
+        ex, _ = error_budget(f, S, fs, fc, sigma_x, 0, spectral_cut=True)
+        return Kinematics(xs, xd, xdd, "spectral", fc, sigma_x, ev, ea, nv, ex)
+    best = None
+    for c in CUT_CHOICES:
+        fc = c * f_band
+        if fc >= 0.45 * fs and best is not None:
+            break
+        ev, nv = error_budget(f, S, fs, fc, sigma_x, 1)
+        if best is None or ev < best[1]:
+            best = (fc, ev, nv)
+    fc, ev, nv = best
+    ea, _ = error_budget(f, S, fs, fc, sigma_x, 2)
+    ex, _ = error_budget(f, S, fs, fc, sigma_x, 0)
+    xs, xd, xdd = filtered(t, x, fc, f_band)
+    xd = _rest_zero(xd, nv, max(3, int(math.ceil(0.5 * fs / fc))))
+    return Kinematics(xs, xd, xdd, "butterworth", fc, sigma_x, ev, ea, nv, ex)
