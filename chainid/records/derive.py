@@ -65,11 +65,12 @@ def parse_derived(name: str, expr: str, what: str = "derive") -> Derived:
     except SyntaxError as exc:
         raise ValueError(f"{what} {name} = {text!r}: not an expression ({exc.msg})") from None
     syms: list[str] = []
-    for node in ast.walk(tree):
+    for node in ast.walk(tree):  # first the kinds of node, then what the allowed ones hold
         if not isinstance(node, _OPS):
             kind = type(node).__name__
             raise ValueError(f"{what} {name} = {text!r}: {kind!r} is not allowed; use numbers, column names, "
                              f"+ - * / ** and the functions {', '.join(FUNCTIONS)}")
+    for node in ast.walk(tree):
         if isinstance(node, ast.Constant) and (isinstance(node.value, bool)
                                                or not isinstance(node.value, (int, float))):
             raise ValueError(f"{what} {name} = {text!r}: the constant {node.value!r} is not a number")
@@ -163,6 +164,6 @@ def evaluate(d: Derived, columns: Mapping[str, np.ndarray], source: str) -> np.n
     bad = np.flatnonzero(~np.isfinite(v))
     if bad.size:
         i = int(bad[0])
-        raise ValueError(f"{source}: derive {d.name} = {d.expr!r} is {v[i]!r} at data row {i + 1} "
+        raise ValueError(f"{source}: derive {d.name} = {d.expr!r} is {float(v[i])!r} at data row {i + 1} "
                          f"({bad.size} non-finite value(s)): a division by zero or a log of a negative number?")
     return v
