@@ -35,14 +35,14 @@ def covariates_from_ids(records: Iterable[Record], patterns: Mapping[str, str]) 
         for r in records:
             m = bounded_search(rx, r.test, f"--covariate {name}")
             if m is None:
-                raise ValueError(f"--covariate {name}={pat!r} does not match the test id {r.test!r}")
+                raise ValueError(f"--covariate {name}='{pat}' does not match the test id {r.test!r}")
             text = m.group("value") if "value" in rx.groupindex else m.group(1)
             try:
                 v = float(text)
             except (TypeError, ValueError):
                 v = float("nan")
             if not math.isfinite(v):
-                raise ValueError(f"--covariate {name}={pat!r}: test {r.test!r}: {text!r} is not a number")
+                raise ValueError(f"--covariate {name}='{pat}': test {r.test!r}: {text!r} is not a number")
             if name in r.covariates:
                 raise ValueError(f"test {r.test!r}: covariate {name!r} comes from both the data ({r.covariates[name]:g})"
                                  f" and --covariate {pat!r} ({v:g}); give one source")
