@@ -26,7 +26,12 @@ def _targets(args: argparse.Namespace) -> tuple[str | None, Any]:
     from chainid.records.reader import expand_paths
     from chainid.records.writer import OUTPUT_FORMATS
 
-    ins = [("IN", str(p)) for p in expand_paths(args.inputs)]
+    ins = []
+    for item in args.inputs:  # the inputs that exist (a missing one is the reader's error, after these checks)
+        try:
+            ins += [("IN", str(p)) for p in expand_paths(item)]
+        except ValueError:
+            continue
     if args.to == "-":
         st = os.fstat(sys.stdout.fileno())
         for _, p in ins:
@@ -38,7 +43,7 @@ def _targets(args: argparse.Namespace) -> tuple[str | None, Any]:
     suffix = "." + args.to.rsplit(".", 1)[-1].lower() if "." in os.path.basename(args.to) else ""
     if suffix not in OUTPUT_FORMATS and not special:
         raise ValueError(f"--to {args.to!r}: unknown output suffix {suffix or '(none)'!r}; valid: "
-                         f"{', '.join(OUTPUT_FORMATS)} (or - for stdout)")
+                         f"{', '.join(OUTPUT_FORMATS)}")
     check_output_file(args.to, force=args.force, what="--to")
     side = args.covariates_to or (None if special else str(covariates_path(args.to)))
     if side:

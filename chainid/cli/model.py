@@ -70,12 +70,14 @@ def cmd_predict(args: argparse.Namespace) -> int:
         model = load_model(args.model)
         from chainid.cli.readopts import load_records
 
-        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None))
+        read_doc: dict[str, Any] = {}
+        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None), doc=read_doc)
         res = predict(model, recs, None, fitted=args.fitted_damping, keep=bool(args.plots))  # --tests: read only those
         for w in res["warnings"]:
             if getattr(args, "strict", False):
                 raise ValueError(f"{w} (--strict)")
             print(f"chainid predict: warning: {w}", file=sys.stderr)
+        res["warnings"] = read_doc.get("warnings", []) + res["warnings"]  # reading's too (printed when read)
         print(_table(res))
         if args.json:
             write_json({k: v for k, v in res.items() if not k.startswith("_")}, args.json, force=args.force)

@@ -55,8 +55,8 @@ def add_reader_options(p: argparse.ArgumentParser, strict: bool = False, quiet: 
                    help="the column-name line is the first line matching REGEX (instead of --skip-rows)")
     g.add_argument("--names", metavar="A,B,...", help="column names for a file without a name line (or to replace it)")
     g.add_argument("--bad-lines", dest="bad_lines", choices=("error", "warn", "skip"),
-                   help="a data line with more fields than the names or an unreadable used value: error (default), "
-                        "or left out and counted (warn: a warning; skip: a note)")
+                   help="a data line with more fields than the names or an unreadable used value: stop there with an "
+                        "error (the reader's default), or leave it out and count it (warn: a warning; skip: a note)")
     g.add_argument("--split-events", dest="split_events", metavar="REGEX",
                    help="one test per segment: a row whose events cell matches ends its segment ('DAQ Pause')")
     g.add_argument("--split-gap", dest="split_gap", type=float, metavar="S",
