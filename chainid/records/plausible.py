@@ -5,9 +5,10 @@ Each warning names the likely slip and the option that fixes it; nothing is ever
 
 * sampling: a time step implying a rate above 1 MHz (time in s declared ms/us), fewer than 4 samples per cycle
   of the test's main frequency (the rate is below about twice the test frequency), a main frequency below
-  0.01 Hz (time in ms read as s) or above 1 kHz, a displacement moving faster than :data:`V_MAX_MM_S` (5 m/s,
-  above what servo-hydraulic and electrodynamic test machines drive: a record in s declared ms moves 1000x too
-  fast; estimated as 2π·f·A from the main frequency f and half the 1..99 % span of x, so noise does not count);
+  0.01 Hz (time in ms read as s) or above 1 kHz, a displacement moving faster than :data:`V_MAX_MM_S` (5 m/s) or
+  accelerating more than :data:`A_MAX_MM_S2` (100 g), beyond what servo-hydraulic and electrodynamic test
+  machines drive a specimen: a record in s declared ms moves 1000x and accelerates 10⁶x too much (estimated as
+  2π·f·A and (2π·f)²·A from the main frequency f and half the 1..99 % span of x, so noise does not count);
   time steps over 5x the record's median step (gaps: their count and the largest);
 * with a chain (its elastic range from :mod:`chainid.model`): a displacement span over 10x the chain's
   elongation at the breaking load (x in um read as mm) or under 1/1000 of its elongation at the working load
@@ -28,13 +29,16 @@ import numpy as np
 
 from chainid.records.record import Record
 
-__all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "GAP_FACTOR", "sampling_warnings", "gap_warnings", "chain_warnings",
+__all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "A_MAX_MM_S2", "GAP_FACTOR", "sampling_warnings", "gap_warnings", "chain_warnings",
            "smallest_chain", "not_a_chain", "plausibility_warnings", "grouped"]
 
 #: A sampling rate above this [Hz] is implausible for a chain test rig.
 FS_MAX_HZ = 1.0e6
 #: A displacement faster than this [mm/s] is implausible for a test rig (time unit slip).
 V_MAX_MM_S = 5000.0
+#: Standard gravity [mm/s²]; an acceleration of x over :data:`A_MAX_MM_S2` (100 g) is implausible for a test rig.
+G_MM_S2 = 9806.65
+A_MAX_MM_S2 = 100.0 * G_MM_S2
 #: A time step over this multiple of the median step is a gap in the record.
 GAP_FACTOR = 5.0
 _SLIPS = ((1000.0, "x in m read as mm (--units x=m) or F declared kN while in N"),
@@ -91,12 +95,13 @@ def sampling_warnings(records: Sequence[Record]) -> list[str]:
             out.append(f"test {r.test!r}: the main frequency {f:.4g} Hz is implausibly fast for a chain test: is t "
                        "in s declared ms (--units t=...) or --fs too large?")
         else:
-            lo, hi = np.percentile(r.x, [1.0, 99.0])
-            v = 2 * math.pi * f * 0.5 * float(hi - lo)
-            if v > V_MAX_MM_S:
-                out.append(f"test {r.test!r}: x moves at about {v:.4g} mm/s ({0.5 * float(hi - lo):.4g} mm at "
-                           f"{f:.4g} Hz), faster than a test rig drives a specimen ({V_MAX_MM_S:g} mm/s): is t in s "
-                           "declared ms (--units t=ms), or --fs too large?")
+            amp = 0.5 * float(np.subtract(*np.percentile(r.x, [99.0, 1.0])))
+            w = 2 * math.pi * f
+            v, acc = w * amp, w * w * amp
+            if v > V_MAX_MM_S or acc > A_MAX_MM_S2:
+                out.append(f"test {r.test!r}: x moves at about {v:.4g} mm/s and {acc / G_MM_S2:.4g} g ({amp:.4g} mm "
+                           f"at {f:.4g} Hz), beyond what a test rig drives a specimen ({V_MAX_MM_S / 1000:g} m/s, "
+                           f"{A_MAX_MM_S2 / G_MM_S2:g} g): is t in s declared ms (--units t=ms), or --fs too large?")
     return out + gap_warnings(records)
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from chainid.chain.spec import default_chain
 from chainid.records.plausible import gap_warnings, not_a_chain, plausibility_warnings, sampling_warnings, \
@@ -27,6 +28,16 @@ def test_time_in_seconds_declared_ms_is_caught_by_the_speed():
     v = float(msg.split("x moves at about ")[1].split(" mm/s")[0])
     assert 0.97 * 26389 < v <= 26389 * 1.0001
     assert msg.startswith("test 'S': x moves at about") and "--units t=ms" in msg
+
+
+def test_a_slow_small_chain_test_declared_ms_is_caught_by_the_acceleration():
+    t = np.arange(4000) * 0.01  # 100 Hz, 0.5 Hz motion of 0.3 mm: 0.94 m/s and 302 g once read 1000x too fast
+    x = 1.906 + 0.3 * np.sin(2 * math.pi * 0.5 * t)
+    assert sampling_warnings([Record("c", t, x, 1e4 + x)]) == []
+    (msg,) = sampling_warnings([Record("c", t / 1000.0, x, 1e4 + x)])
+    g = float(msg.split(" mm/s and ")[1].split(" g ")[0])
+    assert g == pytest.approx((2 * math.pi * 500.0) ** 2 * 0.3 / 9806.65, rel=0.01)  # by hand: 301.9 g
+    assert "100 g" in msg and "--units t=ms" in msg
 
 
 def test_gaps_are_counted_with_the_largest_step():
