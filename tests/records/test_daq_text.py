@@ -145,3 +145,26 @@ def test_bad_lines_error_names_the_line_warn_and_skip_count_them(tmp_path):
         assert len(msgs) == 1 and f"2 bad line(s) left out (--bad-lines {policy}); the first: " in msgs[0]
         assert "line 5: 4 fields" in msgs[0]
         assert getattr(log, "notes" if where == "warnings" else "warnings") == []
+
+
+def test_a_time_column_at_odds_with_the_stated_interval_is_a_warning(tmp_path):
+    p = tmp_path / "ME.txt"
+    write_daq(p, [200], interval=0.005)
+    cols = "x=CHANNEL1,F=CHANNEL0,t=Sample Number"
+    log = ReadLog()
+    (rec,) = read_any(p, spec_from_options(skip_rows=6, columns=cols, scale="t=0.005"), log=log)
+    assert log.warnings == [] and rec.t[1] - rec.t[0] == pytest.approx(0.005, rel=1e-12)
+    read_any(p, spec_from_options(skip_rows=6, columns=cols, scale="t=0.001"), log=log)
+    (msg,) = log.warnings
+    assert msg.startswith(f"file {str(p)!r}: the time column's median step is 0.001 s but the file states a sampling "
+                          "interval of 0.005 s (0.2x)")
+
+
+def test_a_files_rule_with_a_bad_key_names_its_pattern(tmp_path):
+    prof = tmp_path / "r.toml"
+    prof.write_text('skip_rows = 6\n[[files]]\npattern = "*.txt"\nskiprows = 3\n')
+    with pytest.raises(ValueError, match=r"\[\[files\]\] pattern = '\*\.txt': unknown key\(s\) \['skiprows'\]"):
+        load_profile(prof)
+    prof.write_text('[[files]]\nskip_rows = 3\n')
+    with pytest.raises(ValueError, match=r"\[\[files\]\] table .* has no pattern"):
+        load_profile(prof)
