@@ -65,9 +65,10 @@ class ColumnPlan:
         return out
 
 
-def symbol_table(names: list[str], positional: bool) -> dict[str, str]:
-    """Symbol -> column name: ``c1..cN`` by position, identifiers (not of the form ``cN``) by name."""
-    out = {f"c{j + 1}": n for j, n in enumerate(names)}
+def symbol_table(names: list[str], positional: bool, positions: bool = True) -> dict[str, str]:
+    """Symbol -> column name: ``c1..cN`` by position (text files: ``positions``), identifiers (not of the form
+    ``cN``) by name."""
+    out = {f"c{j + 1}": n for j, n in enumerate(names)} if positions else {}
     if not positional:
         for n in names:
             if _IDENT.match(n) and not _POS.match(n):
@@ -116,8 +117,10 @@ def _role_columns(names: list[str], spec: ReaderSpec, source: str, positional: b
 
 
 def plan_columns(names: list[str], spec: ReaderSpec, source: str, positional: bool = False,
-                 skip_test: bool = False, dt_meta: float | None = None, hint: str = "") -> ColumnPlan:
-    """The plan of one table whose columns are ``names`` (see :class:`ColumnPlan`).
+                 skip_test: bool = False, dt_meta: float | None = None, hint: str = "",
+                 positions: bool = True) -> ColumnPlan:
+    """The plan of one table whose columns are ``names`` (see :class:`ColumnPlan`); ``positions``: ``cN`` symbols
+    name the N-th column (text files; a container's datasets are named, never numbered).
 
     Raises
     ------
@@ -126,7 +129,7 @@ def plan_columns(names: list[str], spec: ReaderSpec, source: str, positional: bo
         column and no time step, both a time column and ``fs``, a column mapped to two roles, an unknown symbol in
         an expression, ``keep`` or ``reduce``.
     """
-    syms = symbol_table(names, positional)
+    syms = symbol_table(names, positional, positions)
     derived = order_derived(spec.derive, set(syms), "derive") if spec.derive else []
     dnames = {d.name for d in derived}
     roles = _role_columns(names, spec, source, positional, skip_test, dnames, hint)

@@ -199,7 +199,7 @@ def records_from_table(tab: RawTable, spec: ReaderSpec, file_id: str, stem: str 
         Unvalidated; t [s] from 0 per test and per segment when built from ``fs`` or the file's interval.
     """
     plan = tab.plan or plan_columns(list(tab.columns), spec, tab.source, tab.positional, tab.test is not None,
-                                    tab.dt_meta)
+                                    tab.dt_meta, positions=False)  # a container's columns are named, not numbered
     tab.plan = plan
     cols = _Columns(tab, spec, plan)
     ids, bounds = _segments(tab, spec, plan, cols, file_id, stem or file_id)

@@ -100,3 +100,16 @@ def test_command_line_and_profile_give_the_same_computed_force(tmp_path):
         assert r.returncode == 0, r.stderr
         outs.append((tmp_path / name).read_bytes())
     assert outs[0] == outs[1] and outs[0].startswith(b"test,t,x,F\n")
+
+
+def test_container_columns_are_named_never_numbered(tmp_path):
+    import json
+
+    t = [0.01 * i for i in range(40)]
+    (tmp_path / "r.json").write_text(json.dumps({"time": t, "disp": [1 + a for a in t], "load": [5 + a for a in t],
+                                                 "p": [2.0] * 40}))
+    spec = spec_from_options(columns="t=time,x=disp", derive=["F = load - p*10"])
+    (rec,) = read_any(tmp_path / "r.json", spec)
+    np.testing.assert_allclose(rec.F, [5 + a - 20.0 for a in t], rtol=1e-15, atol=1e-15)
+    with pytest.raises(ValueError, match=r"r\.json: no 'disp' and 'c3' and 'p' columns found \(top level: \['time', "):
+        read_any(tmp_path / "r.json", spec_from_options(columns="t=time,x=disp", derive=["F = c3 - p*10"]))
