@@ -103,8 +103,11 @@ def _role_columns(names: list[str], spec: ReaderSpec, source: str, positional: b
             out[role] = want
         else:
             have = "no header (give 1-based positions, e.g. F=1,x=2)" if positional else f"columns {names}"
+            calc = re.search(r"[-+*/()]", want) is not None
             raise ValueError(f"{source}: --columns {role}={want}: no {_ROLE_NAMES[role]} column named {want!r}; "
-                             f"the file has {have}{hint}")
+                             f"the file has {have}{hint}"
+                             + (f" (a computed column: --derive '{role} = ...', e.g. '{role} = c7 - c6*51.875')"
+                                if calc else ""))
     for role in ("x", "F"):
         if role not in out:
             have = "no header: give positions, e.g. --columns F=1,x=2" if positional else \

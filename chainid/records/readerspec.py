@@ -183,7 +183,8 @@ class ReaderSpec:
     def _check_columns(self) -> None:
         bad = [k for k in self.columns if k not in COLUMN_ROLES]
         if bad:
-            raise ValueError(f"reader columns: unknown role(s) {bad}; valid roles are {list(COLUMN_ROLES)}")
+            raise ValueError(f"reader columns: unknown role(s) {bad}; valid roles are {list(COLUMN_ROLES)} (another "
+                             f"column: --keep it as a channel, or --derive '{bad[0]} = c6' to name it)")
         for k, v in self.columns.items():
             if isinstance(v, bool) or not isinstance(v, (str, int)) or (isinstance(v, int) and v < 1) \
                     or (isinstance(v, str) and not v.strip()):
