@@ -6,9 +6,11 @@ Each warning names the likely slip and the option that fixes it; nothing is ever
 * sampling: a time step implying a rate above 1 MHz (time in s declared ms/us), fewer than 4 samples per cycle
   of the test's main frequency (the rate is below about twice the test frequency), a main frequency below
   0.01 Hz (time in ms read as s) or above 1 kHz, a displacement moving faster than :data:`V_MAX_MM_S` (5 m/s) or
-  accelerating more than :data:`A_MAX_MM_S2` (100 g), beyond what servo-hydraulic and electrodynamic test
+  accelerating more than :data:`A_MAX_MM_S2` (1000 g), beyond what servo-hydraulic and electrodynamic test
   machines drive a specimen: a record in s declared ms moves 1000x and accelerates 10⁶x too much (estimated as
-  2π·f·A and (2π·f)²·A from the main frequency f and half the 1..99 % span of x, so noise does not count);
+  2π·f·A and (2π·f)²·A from the main frequency f and half the 1..99 % span of x, so noise does not count).  So a
+  slip is caught when the true motion exceeds 5 mm/s or 10⁻³ g (0.3 mm at 0.92 Hz and faster); a slower, smaller
+  one is not;
   time steps over 5x the record's median step (gaps: their count and the largest);
 * with a chain (its elastic range from :mod:`chainid.model`): a displacement span over 10x the chain's
   elongation at the breaking load (x in um read as mm) or under 1/1000 of its elongation at the working load
@@ -36,9 +38,9 @@ __all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "A_MAX_MM_S2", "GAP_FACTOR", "sampling_war
 FS_MAX_HZ = 1.0e6
 #: A displacement faster than this [mm/s] is implausible for a test rig (time unit slip).
 V_MAX_MM_S = 5000.0
-#: Standard gravity [mm/s²]; an acceleration of x over :data:`A_MAX_MM_S2` (100 g) is implausible for a test rig.
+#: Standard gravity [mm/s²]; an acceleration of x over :data:`A_MAX_MM_S2` (1000 g) is implausible for a test rig.
 G_MM_S2 = 9806.65
-A_MAX_MM_S2 = 100.0 * G_MM_S2
+A_MAX_MM_S2 = 1000.0 * G_MM_S2
 #: A time step over this multiple of the median step is a gap in the record.
 GAP_FACTOR = 5.0
 _SLIPS = ((1000.0, "x in m read as mm (--units x=m) or F declared kN while in N"),

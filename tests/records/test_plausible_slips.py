@@ -31,13 +31,15 @@ def test_time_in_seconds_declared_ms_is_caught_by_the_speed():
 
 
 def test_a_slow_small_chain_test_declared_ms_is_caught_by_the_acceleration():
-    t = np.arange(4000) * 0.01  # 100 Hz, 0.5 Hz motion of 0.3 mm: 0.94 m/s and 302 g once read 1000x too fast
-    x = 1.906 + 0.3 * np.sin(2 * math.pi * 0.5 * t)
+    t = np.arange(4000) * 0.01  # 100 Hz, 0.95 Hz motion of 0.3 mm: 1.8 m/s (under 5), 1090 g once read as ms
+    x = 1.906 + 0.3 * np.sin(2 * math.pi * 0.95 * t)
     assert sampling_warnings([Record("c", t, x, 1e4 + x)]) == []
     (msg,) = sampling_warnings([Record("c", t / 1000.0, x, 1e4 + x)])
     g = float(msg.split(" mm/s and ")[1].split(" g ")[0])
-    assert g == pytest.approx((2 * math.pi * 500.0) ** 2 * 0.3 / 9806.65, rel=0.01)  # by hand: 301.9 g
-    assert "100 g" in msg and "--units t=ms" in msg
+    assert g == pytest.approx((2 * math.pi * 950.0) ** 2 * 0.3 / 9806.65, rel=0.01)  # by hand: 1090 g
+    assert "1000 g" in msg and "--units t=ms" in msg
+    slower = 1.906 + 0.3 * np.sin(2 * math.pi * 0.5 * t)  # 0.5 Hz: 302 g, 0.94 m/s: the documented blind spot
+    assert sampling_warnings([Record("c", t / 1000.0, slower, 1e4 + slower)]) == []
 
 
 def test_gaps_are_counted_with_the_largest_step():
