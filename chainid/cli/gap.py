@@ -32,7 +32,8 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         from chainid.gap.diagnose import check_magnitudes
 
         chain = chain_for_checks(args)
-        recs = load_records(args, args.data, chain, check=check_magnitudes)
+        read_doc: dict[str, Any] = {}
+        recs = load_records(args, args.data, chain, doc=read_doc, check=check_magnitudes)
         if args.model == "linear":
             model = None
         else:
@@ -43,12 +44,15 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         holdout = [h for h in (args.holdout or "").split(",") if h.strip()]
         if args.holdout is None and not args.holdout_blocks:
             raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
-        other = load_records(args, args.validate, chain, check=check_magnitudes) if args.validate else None
+        other = load_records(args, args.validate, chain, doc=read_doc, check=check_magnitudes, select=False) \
+            if args.validate else None
         res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
                        allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
                        holdout_blocks=args.holdout_blocks, validate=other)
-        if model is not None:  # loads beyond the elastic contact or the working load (as stiffness, identify)
-            from chainid.cli.chains import warn_loads
+        if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
+            res.setdefault("warnings", []).extend(read_doc["warnings"])
+        if model is not None and not getattr(args, "not_a_chain", None):  # loads beyond the elastic contact or
+            from chainid.cli.chains import warn_loads  # the working load (as stiffness, identify)
 
             warn_loads(max(float(r.F.max()) for r in recs), model.chain, res)
         print(summary(res))

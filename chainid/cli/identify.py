@@ -133,7 +133,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
     # per-test analysis problems are reported (and the test left out) by identify_records
     from chainid.cli.readopts import chain_for_checks, load_records
 
-    records = load_records(args, args.data, chain_for_checks(args))
+    read_doc: dict[str, Any] = {}
+    records = load_records(args, args.data, chain_for_checks(args), doc=read_doc)
     if args.plots:
         from chainid.damping.plots import plot_names
 
@@ -192,8 +193,10 @@ def cmd_identify(args: argparse.Namespace) -> int:
         "law": None,
         "excluded": [{"test": e["test"], "reason": e["reason"]} for e in excluded],
     }
-    if getattr(model, "chain", None) is not None:  # record force beyond the chain's elastic/working range
-        from chainid.cli.chains import warn_loads
+    if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
+        out["warnings"] = list(read_doc["warnings"])
+    if getattr(model, "chain", None) is not None and not getattr(args, "not_a_chain", None):
+        from chainid.cli.chains import warn_loads  # record force beyond the chain's elastic/working range
 
         warn_loads(max(float(r.F.max()) for r in records), model.chain, out)
     if args.write_side:

@@ -70,13 +70,14 @@ def cmd_predict(args: argparse.Namespace) -> int:
         model = load_model(args.model)
         from chainid.cli.readopts import load_records
 
-        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None))
-        tests = [s.strip() for s in args.tests.split(",") if s.strip()] if args.tests else None
-        res = predict(model, recs, tests, fitted=args.fitted_damping, keep=bool(args.plots))
+        read_doc: dict[str, Any] = {}
+        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None), doc=read_doc)
+        res = predict(model, recs, None, fitted=args.fitted_damping, keep=bool(args.plots))  # --tests: read only those
         for w in res["warnings"]:
             if getattr(args, "strict", False):
                 raise ValueError(f"{w} (--strict)")
             print(f"chainid predict: warning: {w}", file=sys.stderr)
+        res["warnings"] = read_doc.get("warnings", []) + res["warnings"]  # reading's too (printed when read)
         print(_table(res))
         if args.json:
             write_json({k: v for k, v in res.items() if not k.startswith("_")}, args.json, force=args.force)
@@ -150,7 +151,6 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("model", help="model file (TOML or JSON) written by diagnose --save-model")
     p.add_argument("data", help="records: CSV test,t,x,F (s, mm, N), or a file/directory/glob in the rig's layout "
                                 "(see the reading options)")
-    p.add_argument("--tests", metavar="IDS", help="only these test ids, comma separated (e.g. the held-out ones)")
     p.add_argument("--fitted-damping", dest="fitted_damping", action="store_true",
                    help="use the per-test c_e the law was fitted on for those tests (default: the law for every test)")
     p.add_argument("--json", metavar="FILE", help="write the JSON result")
