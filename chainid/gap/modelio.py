@@ -239,7 +239,7 @@ def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False) -
     ``with_kinematics`` also the kinematics used."""
     kin = estimate(rec.t, rec.x, nz.excitation_band(rec.t, rec.x))
     m = model.at_conditions(getattr(rec, "covariates", None))
-    F = np.asarray(m.force(rec.t, kin.x, xd=kin.xd, xdd=kin.xdd), float)
+    F = np.asarray(m.force(rec.t, kin.x, xd=kin.xd, xdd=kin.xdd, v_err=kin.v_spread(rec.t)), float)
     if model.offsets:
         F = F + float(np.mean(np.asarray(rec.F, float) - F))
     return (F, kin) if with_kinematics else F

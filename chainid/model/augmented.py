@@ -189,13 +189,15 @@ class AugmentedModel:
         return Fn + d.gridmean(dmp.force(x, xd, periodic=True)[0])
 
     def force(self, t: Sequence[float], x: Sequence[float], return_parts: bool = False,
-              xd: Sequence[float] | None = None, xdd: Sequence[float] | None = None) -> Any:
+              xd: Sequence[float] | None = None, xdd: Sequence[float] | None = None,
+              v_err: float | np.ndarray = 0.0) -> Any:
         """Model force F(t) [N] for any sampled x(t) [s, mm] (uniform or not, strictly increasing t).
 
         ẋ, ẍ by ``np.gradient`` with t; the force channel lags by τ (inputs interpolated at t − τ, held at
         the ends); memory operators run forward from their stated initial state; a damping law is resolved at
         the record's dominant ω and A.  ``xd``, ``xdd`` [mm/s, mm/s²]: exact derivatives when known (a
-        simulation), instead of the finite differences.  ``return_parts``: also a dict with the undamped force, damping force,
+        simulation), instead of the finite differences; ``v_err`` [mm/s] the RMS error of an estimated ``xd`` (the sign of
+        sliding friction is then its expectation).  ``return_parts``: also a dict with the undamped force, damping force,
         dissipated-energy increments of the damping [N·mm] and the resolved damping.
         """
         t = np.asarray(t, float)
@@ -213,13 +215,15 @@ class AugmentedModel:
         if self.delay_s != 0.0:
             ts = t - self.delay_s
             x, xd, xdd = np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)
+            if np.ndim(v_err):
+                v_err = np.interp(ts, t, np.asarray(v_err, float))
 
         def xfun(ts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             return np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)
 
         w, A, x0 = dominant(t, x)
         Fn = undamped_force(self.effects, self.base, t, x, xd, xdd, w, max(A, 1e-12), x0, xfun,
-                            periodic=False) + self._mass_fix(xdd)
+                            periodic=False, v_err=v_err) + self._mass_fix(xdd)
         if self.damping.form == "feature":
             w, A = record_features(t, x)
         dmp = self.damping.resolve(w, max(A, 1e-12), self.ke(x0), x0=x0)

@@ -23,9 +23,10 @@ by the error it predicts, and the error it predicts is reported (it enters the n
    through the filter and the difference.  The bound reported is √E(c) [mm/s].
 3. *Edges*: the filter runs on the record extended at each end by its odd reflection about a denoised end value
    (a straight line fitted over 1/f_cut), so a noisy first sample does not launch a transient.
-4. *Rest*: where the smooth speed stays within ``REST_SIGMAS`` noise standard deviations of zero for at least
-   half a period of f_cut, the record shows no motion and ẋ is 0 (a contact at rest is stuck); a brief passage
-   through zero (a reversal) keeps its estimate.  ẍ is the difference of the unzeroed ẋ.
+4. *Rest*: where the smooth speed and acceleration both stay within ``REST_SIGMAS`` noise standard deviations of
+   zero for at least half a period of f_cut, the record shows no motion and ẋ is 0 (a contact at rest is stuck);
+   a reversal passes through zero speed with an acceleration and keeps its estimate.  ẍ is the difference of the
+   unzeroed ẋ.
 
 Units: t s, x mm, ẋ mm/s, ẍ mm/s², f Hz.
 """
@@ -40,7 +41,7 @@ import numpy as np
 from chainid.gap.core.noise import force_noise, sample_rate
 
 __all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
-           "filtered", "error_budget"]
+           "filtered", "error_budget", "adaptive", "displacement_noise"]
 
 #: the spectral derivative keeps this many times the band edge
 CUT_FACTOR = 4.0
@@ -70,6 +71,20 @@ class Kinematics:
     err_a: float
     noise_v: float
     err_x: float = 0.0
+    #: the predicted RMS error of ẋ per sample [mm/s] (None: ``err_v`` everywhere)
+    err_v_t: np.ndarray | None = None
+
+    def v_error(self) -> np.ndarray | float:
+        """The velocity's predicted RMS error [mm/s], per sample where it varies."""
+        return self.err_v_t if self.err_v_t is not None else self.err_v
+
+    def v_spread(self, t: np.ndarray) -> np.ndarray:
+        """The spread of the velocity a sample stands for [mm/s]: its predicted error and the change of ẋ over the
+        sample's own interval, √(e_v² + (ẍ·Δt)²/12) (a force channel averages over its sample; a sliding contact
+        reverses somewhere inside one).  The sign of sliding friction is its expectation under this spread
+        (:func:`chainid.model.effects.forms.sliding_sign`)."""
+        dt = np.gradient(np.asarray(t, float))
+        return np.sqrt(np.asarray(self.v_error(), float) ** 2 + (np.asarray(self.xdd) * dt) ** 2 / 12.0)
 
     def info(self) -> dict[str, float | str]:
         """The estimator and its predicted errors, for a report."""
@@ -204,11 +219,14 @@ def _butter_gain2(f: np.ndarray, f_cut: float, fs: float) -> np.ndarray:
     return 1.0 / (1.0 + ratio ** 8)
 
 
-def _rest_zero(xd: np.ndarray, v_noise: float, min_run: int) -> np.ndarray:
-    """ẋ with runs of at least ``min_run`` samples of |ẋ| <= REST_SIGMAS·v_noise set to 0 (rest)."""
-    if v_noise <= 0.0:
+def _rest_zero(xd: np.ndarray, xdd: np.ndarray, v_noise: float | np.ndarray, a_noise: float | np.ndarray,
+               min_run: int) -> np.ndarray:
+    """ẋ with runs of at least ``min_run`` samples at rest set to 0: |ẋ| <= REST_SIGMAS·v_noise and
+    |ẍ| <= REST_SIGMAS·a_noise (a reversal passes through zero speed with an acceleration; a rest has none); the
+    noise sds may vary per sample."""
+    if not np.any(np.asarray(v_noise) > 0.0):
         return xd
-    low = np.abs(xd) <= REST_SIGMAS * v_noise
+    low = (np.abs(xd) <= REST_SIGMAS * np.asarray(v_noise)) & (np.abs(xdd) <= REST_SIGMAS * np.maximum(a_noise, 0.0))
     if not low.any():
         return xd
     edges = np.flatnonzero(np.diff(np.concatenate([[0], low.view(np.int8), [0]])))
@@ -217,6 +235,23 @@ def _rest_zero(xd: np.ndarray, v_noise: float, min_run: int) -> np.ndarray:
         if b - a >= min_run:
             out[a:b] = 0.0
     return out
+
+
+def displacement_noise(x: np.ndarray, fs: float, f_band: float) -> float:
+    """The white noise σ_x [mm] of a measured displacement.
+
+    Where the excitation band ends below fs/4, the upper half of the spectrum holds noise only: σ_x from its median
+    power (the periodogram of white noise of variance σ² is exponential with mean 2σ²/n per bin, median ln 2 of
+    that).  Otherwise the robust scale of the second difference (:func:`chainid.gap.core.noise.force_noise`), which a
+    signal smooth on the sample scale does not reach.
+    """
+    x = np.asarray(x, float)
+    if x.size < 16:
+        return force_noise(x) if x.size >= 5 else 0.0
+    if f_band < 0.25 * fs:
+        _, _, floor = _periodogram(x, fs, window=True)
+        return math.sqrt(max(floor, 0.0) / math.log(2.0) * x.size / 2.0)
+    return force_noise(x)
 
 
 def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
@@ -234,7 +269,7 @@ def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
     t = np.asarray(t, float)
     x = np.asarray(x, float)
     fs = sample_rate(t)
-    sigma_x = force_noise(x) if x.size >= 5 else 0.0
+    sigma_x = displacement_noise(x, fs, f_band)
     periodic = is_periodic(x, sigma_x)
     f, P, floor = _periodogram(x, fs, window=not periodic)
     # the signal: lines above the largest a white-noise periodogram reaches (exponential, median = floor, over its
@@ -244,20 +279,66 @@ def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
         fc = min(CUT_FACTOR * f_band, 0.5 * fs)
         xs, xd, xdd = spectral(x, fs, fc)
         ev, nv = error_budget(f, S, fs, fc, sigma_x, 1, spectral_cut=True)
-        ea, _ = error_budget(f, S, fs, fc, sigma_x, 2, spectral_cut=True)
+        ea, na = error_budget(f, S, fs, fc, sigma_x, 2, spectral_cut=True)
+        xd = _rest_zero(xd, xdd, nv, na, max(3, int(math.ceil(0.5 * fs / fc))))
         ex, _ = error_budget(f, S, fs, fc, sigma_x, 0, spectral_cut=True)
         return Kinematics(xs, xd, xdd, "spectral", fc, sigma_x, ev, ea, nv, ex)
-    best = None
-    for c in CUT_CHOICES:
-        fc = c * f_band
-        if fc >= 0.45 * fs and best is not None:
-            break
-        ev, nv = error_budget(f, S, fs, fc, sigma_x, 1)
-        if best is None or ev < best[1]:
-            best = (fc, ev, nv)
-    fc, ev, nv = best
-    ea, _ = error_budget(f, S, fs, fc, sigma_x, 2)
+    return adaptive(t, x, f_band, sigma_x, f, S)
+
+
+def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.ndarray, S: np.ndarray
+             ) -> Kinematics:
+    """The filter estimator with a cut-off chosen per sample by the intersection of confidence intervals (ICI).
+
+    The record is filtered at every cut of :data:`CUT_CHOICES` from the one whose predicted error on the record's
+    own spectrum is least (:func:`error_budget`) up to 0.45·fs; each estimate of ẋ has a known noise sd σ_k (the
+    white noise σ_x of x through that filter and the difference).  At every sample, going from the least smoothed
+    estimate to the most smoothed, the intervals ẋ_k ± ``ICI_GAMMA``·σ_k are intersected; the sample takes the most
+    smoothed estimate whose interval still meets all the less smoothed ones' (a smoother estimate that disagrees is
+    biased there: an onset, a reversal, an edge).  x and ẍ are chosen the same way on their own intervals.  The error reported per sample is σ_k·√(1 + Γ²/3) (the noise, and a
+    bias that ICI keeps within ±Γσ_k, taken uniform), its RMS ``err_v``; ``f_cut`` is the cut most samples take.
+    """
+    fs = sample_rate(t)
+    cuts = [c * f_band for c in CUT_CHOICES if c * f_band < 0.45 * fs] or [0.45 * fs]
+    budget = [error_budget(f, S, fs, fc, sigma_x, 1)[0] for fc in cuts]
+    cuts = cuts[int(np.argmin(budget)):]  # never smoother than the record's best fixed cut
+    est = [filtered(t, x, fc, f_band) for fc in cuts]
+    nx = np.array([error_budget(f, S, fs, fc, sigma_x, 0)[1] for fc in cuts])
+    nv = np.array([error_budget(f, S, fs, fc, sigma_x, 1)[1] for fc in cuts])
+    na = np.array([error_budget(f, S, fs, fc, sigma_x, 2)[1] for fc in cuts])
+    kx = _ici(np.array([e[0] for e in est]), nx)
+    kv = _ici(np.array([e[1] for e in est]), nv)
+    ka = _ici(np.array([e[2] for e in est]), na)
+    rows = np.arange(x.size)
+    xs = np.array([e[0] for e in est])[kx, rows]
+    xd = np.array([e[1] for e in est])[kv, rows]
+    xdd = np.array([e[2] for e in est])[ka, rows]
+    g = math.sqrt(1.0 + ICI_GAMMA**2 / 3.0)
+    ev_t, ea_t = nv[kv] * g, na[ka] * g
+    fc = cuts[int(np.bincount(kv, minlength=len(cuts)).argmax())]
     ex, _ = error_budget(f, S, fs, fc, sigma_x, 0)
-    xs, xd, xdd = filtered(t, x, fc, f_band)
-    xd = _rest_zero(xd, nv, max(3, int(math.ceil(0.5 * fs / fc))))
-    return Kinematics(xs, xd, xdd, "butterworth", fc, sigma_x, ev, ea, nv, ex)
+    xd = _rest_zero(xd, xdd, nv[kv], na[ka], max(3, int(math.ceil(0.5 * fs / fc))))
+    kin = Kinematics(xs, xd, xdd, "butterworth-ici", fc, sigma_x, float(np.sqrt(np.mean(ev_t**2))),
+                     float(np.sqrt(np.mean(ea_t**2))), float(np.sqrt(np.mean(nv[kv] ** 2))), ex)
+    kin.err_v_t = ev_t
+    return kin
+
+
+#: half-width of the ICI confidence intervals, in noise standard deviations
+ICI_GAMMA = 2.5
+
+
+def _ici(V: np.ndarray, sd: np.ndarray) -> np.ndarray:
+    """Per sample, the index of the most smoothed estimate (row 0 most smoothed, rows in order of cut) whose
+    interval V_k ± ICI_GAMMA·sd_k meets those of every less smoothed estimate."""
+    K, n = V.shape
+    lo = np.full(n, -np.inf)
+    hi = np.full(n, np.inf)
+    choice = np.full(n, K - 1)
+    alive = np.ones(n, bool)
+    for k in range(K - 1, -1, -1):
+        lo = np.maximum(lo, V[k] - ICI_GAMMA * sd[k])
+        hi = np.minimum(hi, V[k] + ICI_GAMMA * sd[k])
+        alive &= lo <= hi
+        choice = np.where(alive, k, choice)
+    return choice

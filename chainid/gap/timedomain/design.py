@@ -17,7 +17,9 @@ m·ẍ) and φ_j the columns of the free amplitudes a_j (:mod:`chainid.gap.timed
 * a covariate term ``effect.param@cov``: the column of that amplitude times (cov_r − cov_ref).
 
 ``sensor_delay`` evaluates the whole model on the motion at t − τ (the force lags the displacement by τ).  The
-memory operators run over the samples of the view in order (the whole record, or its fit subset).
+memory operators run over the samples of the view in order (the whole record, or its fit subset).  The sign of
+sliding friction is its expectation given the estimated velocity and its spread over the sample
+(:meth:`chainid.gap.core.kinematics.Kinematics.v_spread`, :func:`chainid.model.effects.forms.sliding_sign`).
 
 Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N, m kg, ω rad/s.
 """
@@ -135,6 +137,7 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
     xd = _shift(d.t, d.xd, tau)[sel]
     xdd = _shift(d.t, d.xdd, tau)[sel]
     y = np.asarray(d.F, float)[sel]
+    v_err = _shift(d.t, d.kin.v_spread(d.t), tau)[sel] if getattr(d, "kin", None) is not None else 0.0
     amps = amplitude_names(base, names)
     Phi = np.zeros((y.size, len(amps)))
     col = {k: j for j, k in enumerate(amps)}
@@ -166,7 +169,7 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
         p = _params_of(shapes, n)
         if n == "hardening":
             p["x_ref"] = base.refs.get("x_mid", 0.0)
-        for a, c in columns(n, p, x, xd, xdd, Fk, periodic=False).items():
+        for a, c in columns(n, p, x, xd, xdd, Fk, periodic=False, v_err=v_err).items():
             if f"{n}.{a}" in col:
                 Phi[:, col[f"{n}.{a}"]] = c
     for t in names:
@@ -176,7 +179,7 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
         if f"{e}.{par}" in col:
             src = Phi[:, col[f"{e}.{par}"]]
         else:  # the effect itself is not in the set: its amplitude lives only through the covariate
-            src = columns(e, _params_of(shapes, e), x, xd, xdd, Fk, periodic=False)[par]
+            src = columns(e, _params_of(shapes, e), x, xd, xdd, Fk, periodic=False, v_err=v_err)[par]
         Phi[:, col[t]] = (d.covariates.get(cov, math.nan) - base.refs.get(f"cov:{cov}", 0.0)) * src
     if base.offsets:
         f = f - f.mean()

@@ -46,13 +46,15 @@ def modify_model(name: str, p: dict[str, float], model: Any) -> Any:
 
 def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, t: np.ndarray, x: np.ndarray,
                    xd: np.ndarray, xdd: np.ndarray, omega: float, A: float, x0: float,
-                   xfun: Callable | None = None, periodic: bool = True) -> np.ndarray:
+                   xfun: Callable | None = None, periodic: bool = True,
+                   v_err: float | np.ndarray = 0.0) -> np.ndarray:
     """Undamped model force [N] of an ordered effect set on a stiffness model (paper Eq. 1 without c_e·ẋ).
 
     The one place where effects are composed (the diagnosis and :class:`chainid.model.augmented.AugmentedModel`):
     stiffness-side effects change the model (:func:`modify_model`), the others add their force change on the
     changed model.  ``sensor_delay`` and ``damping_law`` are not force terms here: the caller evaluates the
-    inputs at t − τ and the damping law.  Units: t s, x mm, ẋ mm/s, ẍ mm/s², ω rad/s, A mm, x0 mm.
+    inputs at t − τ and the damping law.  ``v_err`` [mm/s]: the RMS error of an estimated velocity (the sign of
+    sliding friction).  Units: t s, x mm, ẋ mm/s, ẍ mm/s², ω rad/s, A mm, x0 mm.
     """
     rest = []
     for n, pp in effects:
@@ -66,6 +68,6 @@ def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, 
     for n, pp in rest:
         if n in ("damping_law", "sensor_delay"):
             continue
-        Fe, _, _ = make_effect(n).force(pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic)
+        Fe, _, _ = make_effect(n).force(pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err)
         Fn += Fe - base
     return Fn

@@ -22,7 +22,7 @@ import numpy as np
 from chainid.model import operators as ops
 
 __all__ = ["columns", "effect_force", "play_operator", "dahl_operator", "bouc_wen_operator", "stick_slip",
-           "coulomb_sign", "series_compliance_force", "is_chain"]
+           "sliding_sign", "coulomb_sign", "series_compliance_force", "is_chain"]
 
 #: sgn(ẋ) of Coulomb sliding with 0 at a reversal (one implementation: :func:`chainid.model.operators.coulomb_sign`)
 coulomb_sign = ops.coulomb_sign
@@ -65,17 +65,32 @@ def bouc_wen_operator(x: np.ndarray, F_y: float, x_y: float, n: float, r: float,
                         periodic=periodic)[0]
 
 
-def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True) -> np.ndarray:
+def sliding_sign(xd: np.ndarray, periodic: bool = True, v_err: float | np.ndarray = 0.0) -> np.ndarray:
+    """The sign of sliding friction: sgn(ẋ) with 0 at a reversal (:func:`coulomb_sign`) for exact velocities; for a
+    velocity estimated with an RMS error ``v_err`` [mm/s] > 0, its expectation given the estimate,
+    E[sgn(ẋ) | ẋ̂] = erf(ẋ̂/(√2·v_err)) — the least-squares force where the direction is uncertain (near a
+    reversal, at rest), instead of a full 2·F_c jump at a noise-decided sample.  ``v_err`` may vary per sample."""
+    ve = np.asarray(v_err, float)
+    if np.any(ve > 0.0):
+        from scipy.special import erf
+
+        soft = erf(np.asarray(xd, float) / (math.sqrt(2.0) * np.maximum(ve, 1e-300)))
+        return np.where(ve > 0.0, soft, coulomb_sign(xd, periodic)) if np.any(ve <= 0.0) else soft
+    return coulomb_sign(xd, periodic)
+
+
+def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True,
+               v_err: float | np.ndarray = 0.0) -> np.ndarray:
     """Normalised Coulomb friction with elastic stick (Jenkins element), in [-1, 1].
 
     After a reversal the contact sticks elastically over a travel 2·x_s [mm] before sliding again
-    (:func:`chainid.model.operators.jenkins` with F_c = 1); x_s = 0 (or below 1e-4 of the stroke) gives sgn(ẋ),
-    pure Coulomb sliding friction.
+    (:func:`chainid.model.operators.jenkins` with F_c = 1); x_s = 0 (or below 1e-4 of the stroke) gives the sign of
+    sliding, pure Coulomb friction (:func:`sliding_sign`, with the velocity's error ``v_err`` [mm/s]).
     """
     x = np.asarray(x, dtype=float)
     if x_s <= 1e-4 * (float(np.ptp(x)) if x.size else 0.0):
         # a stick travel below 1e-4 of the stroke is not resolved by any record: pure Coulomb sliding.
-        return coulomb_sign(xd, periodic)
+        return sliding_sign(xd, periodic, v_err)
     return ops.jenkins(x, 1.0, float(x_s), periodic=periodic)[0]
 
 
@@ -97,11 +112,12 @@ def series_compliance_force(model: Any, x: np.ndarray, c: float, iters: int = 8)
 
 
 def columns(name: str, p: dict[str, float], x: np.ndarray, xd: np.ndarray, xdd: np.ndarray,
-            Fk: np.ndarray | None = None, periodic: bool = False) -> dict[str, np.ndarray]:
+            Fk: np.ndarray | None = None, periodic: bool = False, v_err: float | np.ndarray = 0.0) -> dict[str, np.ndarray]:
     """Unit force columns [N per unit amplitude] of a force- or mass-kind effect at shape parameters ``p``.
 
     The effect's force is Σ_a p[a]·columns[a] over its amplitude parameters a.  ``Fk`` is the base spring force
-    [N] (``friction``'s load-dependent part μ·|F_k|); omitted columns are those the base cannot carry.
+    [N] (``friction``'s load-dependent part μ·|F_k|); omitted columns are those the base cannot carry.  ``v_err``
+    [mm/s]: the RMS error of an estimated velocity (the sign of sliding, :func:`sliding_sign`).
 
     Raises
     ------
@@ -109,13 +125,13 @@ def columns(name: str, p: dict[str, float], x: np.ndarray, xd: np.ndarray, xdd: 
         ``name`` is not a force- or mass-kind effect.
     """
     if name == "friction":
-        s = stick_slip(x, xd, p.get("x_s", 0.0), periodic)
+        s = stick_slip(x, xd, p.get("x_s", 0.0), periodic, v_err)
         out = {"F_c": s}
         if Fk is not None:
             out["mu"] = np.abs(Fk) * s
         return out
     if name == "stribeck":
-        s = coulomb_sign(xd, periodic)
+        s = sliding_sign(xd, periodic, v_err)
         v_s = max(float(p.get("v_s", 1.0)), 1e-12)
         return {"F_c": s, "dF_s": np.exp(-(np.asarray(xd, float) / v_s) ** 2) * s, "dF": np.abs(s)}
     if name == "hysteresis":
@@ -140,13 +156,15 @@ def _amplitude_force(name: str, p: dict[str, float], cols: dict[str, np.ndarray]
 
 def effect_force(eff: Any, p: dict[str, float], model: Any, t: np.ndarray, x: np.ndarray, xd: np.ndarray,
                  xdd: np.ndarray, omega: float, A: float, x0: float, xfun: Callable | None = None,
-                 periodic: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                 periodic: bool = True, v_err: float | np.ndarray = 0.0
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Undamped force [N], the velocity the damping acts on [mm/s], and an extra c_e factor [N·s/mm] of one
     effect ``eff`` (:class:`.library.Effect`) with parameters ``p`` on ``model``.
 
     Returns ``(F_nodamp, xd_damp, extra_c)`` with the model force F = F_nodamp + (c_e + extra_c)·xd_damp.
     ``periodic``: the memory operators return the periodic steady state of a series that is one period (the
-    diagnosis' phase grid); False runs them forward from their stated initial state, for any x(t).
+    diagnosis' phase grid); False runs them forward from their stated initial state, for any x(t).  ``v_err``
+    [mm/s]: the RMS error of an estimated velocity (the sign of sliding, :func:`sliding_sign`).
     """
     from chainid.model.effects.compose import modify_model
 
@@ -156,7 +174,7 @@ def effect_force(eff: Any, p: dict[str, float], model: Any, t: np.ndarray, x: np
     name = eff.name
     if eff.kind in ("force", "mass"):
         q = dict(eff.fixed) | p
-        F = inert + Fk + _amplitude_force(name, q, columns(name, q, x, xd, xdd, Fk, periodic))
+        F = inert + Fk + _amplitude_force(name, q, columns(name, q, x, xd, xdd, Fk, periodic, v_err))
     elif name == "backlash":
         F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0), periodic)), dtype=float)
     elif name == "slack" and not is_chain(model):

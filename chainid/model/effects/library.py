@@ -251,12 +251,12 @@ class Effect:
             if not (math.isfinite(v) and lo <= v <= hi):
                 raise ValueError(f"effect {self.name!r}: {k} = {v!r} is out of range; valid range {lo:g} to {hi:g}")
 
-    def force(self, p, model, t, x, xd, xdd, omega, A, x0, xfun=None, periodic=True):  # noqa: ANN001, ANN201
+    def force(self, p, model, t, x, xd, xdd, omega, A, x0, xfun=None, periodic=True, v_err=0.0):  # noqa: ANN001, ANN201
         """Undamped force [N], the velocity the damping acts on [mm/s] and an extra c_e [N·s/mm] of this effect
         on ``model`` (:func:`chainid.model.effects.forms.effect_force`)."""
         from chainid.model.effects.forms import effect_force
 
-        return effect_force(self, p, model, t, x, xd, xdd, omega, A, x0, xfun, periodic)
+        return effect_force(self, p, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err)
 
 
 def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max: float = 10.0, *,
