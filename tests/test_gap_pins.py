@@ -14,7 +14,7 @@ import pytest
 from chainid.gap.core import stationarity
 from chainid.gap.harmonic.route import jackknife as _jackknife
 from chainid.gap.harmonic.problem import Candidate, Problem
-from chainid.gap.core.selection import TIE, _pick
+from chainid.gap.core.selection import TIE, pick as _pick
 from chainid.model.operators import coulomb_sign
 from stand_ins import localise_viscous_excess
 

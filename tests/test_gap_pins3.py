@@ -347,23 +347,6 @@ def test_backbone_kinds_by_hand():
     assert len(backbone([_triangle(lambda tr: 100.0 * np.maximum(tr - 0.3, 0.0), n=201)])) == 1
 
 
-# ---------------------------------------------------------------- timeproblem.leave_out_step by hand
-
-def test_leave_out_step_box_constrained_quadratic_by_hand():
-    """``leave_out_step`` minimises ½ΔᵀAΔ − gᵀΔ in lo <= Δ <= hi.  A = [[2, 1], [1, 2]]: g = (0.3, 0) gives the free
-    minimum A⁻¹g = (0.2, −0.1) inside the box; g = (3, 0) gives (2, −1) outside the box ±0.5, where the KKT point is
-    Δ1 = 0.5 (gradient 2Δ1 + Δ2 − 3 = −2.25 < 0 pushes it up) and Δ2 = −Δ1/2 = −0.25 (not the clipped (0.5, −0.5));
-    a matrix with no positive curvature (A = −I) gives no step."""
-    from chainid.gap.timedomain.problem import leave_out_step
-
-    A = np.array([[2.0, 1.0], [1.0, 2.0]])
-    lo, hi = np.full(2, -0.5), np.full(2, 0.5)
-    np.testing.assert_allclose(leave_out_step(A, np.array([0.3, 0.0]), lo, hi), [0.2, -0.1], atol=1e-12)
-    np.testing.assert_allclose(leave_out_step(A, np.array([3.0, 0.0]), lo, hi), [0.5, -0.25], atol=1e-9)
-    np.testing.assert_allclose(leave_out_step(A, np.array([0.0, -3.0]), lo, hi), [0.25, -0.5], atol=1e-9)
-    np.testing.assert_array_equal(leave_out_step(-np.eye(2), np.array([1.0, 0.0]), lo, hi), [0.0, 0.0])
-
-
 # ---------------------------------------------------------------- where.delay_signature: the fundamental's line
 
 def test_delay_signature_fundamental_phase_line_and_its_r2_by_hand():

@@ -46,9 +46,20 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
             raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
         other = load_records(args, args.validate, chain, doc=read_doc, check=check_magnitudes, select=False) \
             if args.validate else None
-        res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
-                       allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
-                       holdout_blocks=args.holdout_blocks, validate=other)
+        if args.resamples < 0:
+            raise ValueError(f"--resamples = {args.resamples} is invalid; valid range >= 0 (0: no resampling)")
+        import warnings
+
+        from chainid.infra.progress import tracking
+
+        with tracking("chainid diagnose", quiet=getattr(args, "quiet", False)) as stages, \
+                warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the diagnosis' warnings are in its result (printed, and in the JSON)
+            res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
+                           allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
+                           holdout_blocks=args.holdout_blocks, validate=other, mass_kg=args.mass,
+                           resamples=args.resamples, seed=args.seed)
+        res["timing_s"] = stages.times
         if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
             res.setdefault("warnings", []).extend(read_doc["warnings"])
         if model is not None and not getattr(args, "not_a_chain", None):  # loads beyond the elastic contact or
@@ -132,6 +143,12 @@ def add_subparsers(subparsers: Any) -> None:
                    choices=("auto", "polynomial", "viscous", "coulomb", "viscous+coulomb", "hysteretic"),
                    help="baseline damping law (default auto: Eq. 21 when the plan separates it, else the "
                         "leave-one-out best simple law)")
+    p.add_argument("--mass", type=float, default=None, metavar="KG",
+                   help="the moving mass of a linear base [kg], given instead of fitted (--model linear)")
+    p.add_argument("--resamples", type=int, default=200, metavar="N",
+                   help="resamples of the training tests and time blocks for the stability of every step and the "
+                        "90 %% intervals of every parameter (default 200; 0: none)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the resamples' draws (default 0)")
     p.add_argument("--allow-compression", dest="allow_compression", action="store_true",
                    help="accept compressive forces with the chain model (which carries none)")
     p.add_argument("--steady-tol", dest="steady_tol", type=float, default=None, metavar="TOL",

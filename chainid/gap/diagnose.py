@@ -26,6 +26,7 @@ from chainid.gap.harmonic.prepare import Unusable, prepare_test
 from chainid.gap.core.candidate import MIN_TRAIN
 from chainid.gap.core.verdict import MIN_SHRINK, NONSTAT_FRACTION  # noqa: F401  (the verdict rule, one place)
 from chainid.gap.harmonic.route import diagnose_harmonic
+from chainid.infra.progress import stage
 
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str], mass_kg: float = 0.0) -> Any:
@@ -99,6 +100,8 @@ def diagnose(
     holdout_blocks: int = 0,
     validate: Sequence[Any] | None = None,
     mass_kg: float | None = None,
+    resamples: int = 0,
+    seed: int = 0,
 ) -> dict[str, Any]:
     """Diagnose the sim-to-real gap of a test series.
 
@@ -141,6 +144,10 @@ def diagnose(
         :func:`chainid.gap.transfer.transfer`).
     mass_kg : float, optional
         The moving mass of a linear base [kg], given instead of fitted (``--mass``).
+    resamples, seed : int
+        Resamples of the training units (whole tests, time blocks) for the stability of every step and the 90 %
+        intervals of every parameter (:mod:`chainid.gap.core.resample`; 0: none; ``chainid diagnose`` runs
+        :data:`chainid.gap.core.resample.RESAMPLES`), and the seed of their draws.
 
     The route each set takes is stated in the module docstring.
 
@@ -163,6 +170,7 @@ def diagnose(
     # how predict evaluates a harmonic test of the set, stored in the model file
     evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
                   "allow_compression": bool(allow_compression or not is_chain)}
+    stage("preparing", f"{len(records)} records")
     data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
     from chainid.gap.timedomain.data import MIN_SAMPLES
 
@@ -183,7 +191,8 @@ def diagnose(
 
         res = diagnose_any(usable, hold_ok, model if is_chain else None, holdout_blocks=holdout_blocks,
                            effects=effects, max_combo=max_combo, excluded=excluded, quiet=quiet, mass_kg=mass_kg,
-                           warn=[f"test {e['test']} excluded: {e['reason']}" for e in excluded])
+                           warn=[f"test {e['test']} excluded: {e['reason']}" for e in excluded],
+                           resamples=resamples, seed=seed)
     else:
         if not hold_ok:
             raise ValueError(f"--holdout: every held-out test was excluded ({', '.join(holdout)}); "
@@ -191,13 +200,15 @@ def diagnose(
         if model is None:
             model = fit_linear_model(usable, hold_ok, mass_kg or 0.0)
         res = diagnose_harmonic(data, hold_ok, model, effects=effects, max_combo=max_combo, damping_law=damping_law,
-                                uncertainty=uncertainty, excluded=excluded)
+                                uncertainty=uncertainty, excluded=excluded, resamples=resamples, seed=seed)
     evaluation["route"] = "time" if res.get("route") == "time" else "harmonic"
+    stage("models")
     for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation
         warnings.warn(msg, stacklevel=2)
     if validate is not None:
         from chainid.gap.transfer import transfer
 
+        stage("transfer")
         res["transfer"] = transfer(res, validate, n_bins=n_bins, steady_tol=steady_tol)
     return res
 

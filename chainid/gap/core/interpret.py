@@ -54,6 +54,8 @@ def step_text(step: dict[str, Any]) -> str:
     e = step["effect"]
     p, sd = step["params"], step.get("params_sd", {})
     tail = f" [held-out NRMSE {step['nrmse_holdout']:.3g}]" if step.get("nrmse_holdout") is not None else ""
+    if step.get("worsened_holdout"):
+        tail += " [raised the held-out error: over-fitted, not in the verdict]"
     if e == "baseline":
         return f"baseline{tail}"
     pre = f"{e}."
@@ -95,11 +97,17 @@ def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
     return "; ".join(out)
 
 
-def step_dict(c: Any, i: int) -> dict[str, Any]:
-    """One step of the explanation chain as the JSON contract writes it (step 0 is the baseline)."""
+def step_dict(c: Any, i: int, prev: Any = None) -> dict[str, Any]:
+    """One step of the explanation chain as the JSON contract writes it (step 0 is the baseline; ``prev`` the step
+    before, for ``worsened_holdout``)."""
     f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
     st = getattr(c, "step_test", {})
+    fit = 100.0 * (1.0 - c.nrmse_holdout) if math.isfinite(c.nrmse_holdout) else float("nan")
+    ratio = 10 ** (c.db_holdout / 20.0) if math.isfinite(c.db_holdout) else float("nan")
     return {
+        "fit_holdout_pct": f(fit),
+        "residual_over_noise": f(ratio),
+        "worsened_holdout": bool(prev is not None and c.nrmse_holdout > prev.nrmse_holdout),
         "effect": "baseline" if i == 0 else c.names[-1],
         "effects": c.names,
         "params": {k: f(float(v)) for k, v in c.params.items() if not k.startswith("spring.")},

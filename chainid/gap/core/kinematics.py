@@ -73,6 +73,7 @@ class Kinematics:
     err_x: float = 0.0
     #: the predicted RMS error of ẋ per sample [mm/s] (None: ``err_v`` everywhere)
     err_v_t: np.ndarray | None = None
+    _spread: np.ndarray | None = None
 
     def v_error(self) -> np.ndarray | float:
         """The velocity's predicted RMS error [mm/s], per sample where it varies."""
@@ -83,8 +84,10 @@ class Kinematics:
         sample's own interval, √(e_v² + (ẍ·Δt)²/12) (a force channel averages over its sample; a sliding contact
         reverses somewhere inside one).  The sign of sliding friction is its expectation under this spread
         (:func:`chainid.model.effects.forms.sliding_sign`)."""
-        dt = np.gradient(np.asarray(t, float))
-        return np.sqrt(np.asarray(self.v_error(), float) ** 2 + (np.asarray(self.xdd) * dt) ** 2 / 12.0)
+        if self._spread is None or self._spread.size != np.size(t):
+            dt = np.gradient(np.asarray(t, float))
+            self._spread = np.sqrt(np.asarray(self.v_error(), float) ** 2 + (np.asarray(self.xdd) * dt) ** 2 / 12.0)
+        return self._spread
 
     def info(self) -> dict[str, float | str]:
         """The estimator and its predicted errors, for a report."""

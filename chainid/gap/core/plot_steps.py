@@ -16,18 +16,21 @@ def waterfall_figure(result: dict[str, Any]) -> Any:
     vals = [s["nrmse_holdout"] for s in steps]
     fig, ax = plt.subplots(figsize=(1.6 + 1.5 * max(len(steps), 1), 3.8))
     xs = range(len(steps))
-    bars = ax.bar(xs, vals, color=["0.55"] + ["C3"] * (len(steps) - 1), width=0.6)
+    colors = ["0.55"] + ["0.8" if s.get("worsened_holdout") else "C3" for s in steps[1:]]
+    bars = ax.bar(xs, vals, color=colors, width=0.6)
     for i, (b, s) in enumerate(zip(bars, steps)):
-        txt = f"{s['nrmse_holdout']:.3g}\n{s['db_over_noise']:.1f} dB"
+        txt = f"NRMSE {s['nrmse_holdout']:.3g}\n{s['db_over_noise']:.1f} dB over noise"
         if i:
-            txt = f"−{100 * (1 - s['nrmse_holdout'] / steps[i - 1]['nrmse_holdout']):.0f} %\n" + txt
+            chg = 100 * (s["nrmse_holdout"] / steps[i - 1]["nrmse_holdout"] - 1)
+            txt = f"held-out {chg:+.0f} %" + (" (worse)" if chg > 0 else "") + "\n" + txt
         ax.annotate(txt, (b.get_x() + b.get_width() / 2, b.get_height()), ha="center", va="bottom", fontsize=7)
     # the NRMSE the noise alone would give: the last step's NRMSE scaled down by its dB over noise
     if steps and all(math.isfinite(v) and v > 0 for v in vals):
         last = steps[-1]
         floor = last["nrmse_holdout"] / 10 ** (max(last["db_over_noise"], 0.0) / 20)
         ax.axhline(floor, color="k", ls="--", lw=0.8)
-        ax.annotate("noise floor", (len(steps) - 0.5, floor), fontsize=7, va="bottom", ha="right")
+        ax.annotate(f"noise floor (NRMSE {floor:.3g})", (len(steps) - 0.5, floor), fontsize=7, va="bottom",
+                    ha="right")
         ax.set_yscale("log")
         ax.set_ylim(min(vals + [floor]) / 3, max(vals) * 4)
     ax.set_xticks(list(xs))

@@ -34,6 +34,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.candidate import Candidate, Problem
+from chainid.infra.progress import stage
 
 #: jack-knife z of the LOTO improvement required to keep a step
 Z = 2.0
@@ -110,7 +111,7 @@ def _pinned_new(c: Candidate) -> bool:
     return any(k.startswith(new) for k in c.at_bound)
 
 
-def _pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
+def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
     pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
     Returns (chosen, tied others)."""
@@ -146,6 +147,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         names_k = cur.names + [n]
         key = tuple(sorted(names_k))
         if key not in cache:
+            stage("selection", f"step {len(names_k)}: {'+'.join(names_k)}")
             cache[key] = _fit_score(prob, names_k, cur.params, base_hold)
         return cache[key]
 
@@ -154,6 +156,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     remaining = [n for n in names]
     singles: list[Candidate] = []
     confounded: list[dict[str, Any]] = []
+    rejected: list[dict[str, Any]] = []
     stop = ""
     while True:
         if len(cur.names) >= max_effects:
@@ -168,27 +171,17 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         cands = [cached(cur, n) for n in remaining]
         if not singles:
             singles = list(cands)
-        # a step must be physically identified: the new effect's parameters inside their bounds
-        free = [c for c in cands if not _pinned_new(c)]
-        if not free:
-            stop = (f"the best next effect {min(cands, key=lambda c: c.nrmse_loto).names[-1]} needs parameters at "
-                    "the bounds of their physical range: its form does not fit what is left")
-            break
-        def test(c: Candidate) -> bool:
+        for c in cands:
             c.step_test = step_test(cur, c)  # type: ignore[attr-defined]
-            return passes(c.step_test)  # type: ignore[attr-defined]
-
         # the best candidate that passes the rule (the lowest-LOTO one may fail it: an improvement carried by
-        # a few tests), near-ties resolved by _pick, then the one-step look-ahead among those that pass
-        passing = [c for c in free if test(c)]
+        # a few tests), near-ties resolved by pick, then the one-step look-ahead among those that pass; a step
+        # must be physically identified: the new effect's parameters inside their bounds (rule 4)
+        passing = [c for c in cands if not _pinned_new(c) and passes(c.step_test)]  # type: ignore[attr-defined]
         if not passing:
-            b = min(free, key=lambda c: c.nrmse_loto)
-            st = b.step_test  # type: ignore[attr-defined]
-            stop = (f"no significant improvement: best next effect {b.names[-1]} lowers the LOTO NRMSE by "
-                    f"{100 * st['relative_gain']:.1f} % (mean log error ratio over tests {st['delta_loto']:.3g}, "
-                    f"jack-knife SE {st['se_jackknife']:.2g}; needs > {Z:g} SE and >= {100 * MIN_GAIN:.0f} %)")
+            rejected = rejections(cands)
+            stop = stop_message(rejected)
             break
-        chosen, ties = _pick(passing)
+        chosen, ties = pick(passing)
         chosen = _look_ahead(prob, cur, chosen, passing, remaining, cached, max_effects)
         for t in ties:
             confounded.append({"step": len(path), "pair": [chosen.names[-1], t.names[-1]],
@@ -207,12 +200,50 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     alts = _two_for_one(prob, path[-1], names, base_hold)
     confounded += [a["report"] for a in alts]
     _take_tie_break(prob, base, path, alts, base_hold)
-    return {"path": path, "singles": singles, "stop": stop, "confounded": confounded, "dropped": dropped,
-            "swapped": swaps}
+    return {"path": path, "singles": singles, "stop": stop, "rejected": rejected, "confounded": confounded,
+            "dropped": dropped, "swapped": swaps, "_cache": cache}
+
+
+def rejections(cands: Sequence[Candidate]) -> list[dict[str, Any]]:
+    """Why each candidate of a step was not taken, best LOTO first: ``{"effect", "nrmse_loto", "nrmse_holdout",
+    "reason"}`` — a parameter at a bound of its physical range (rule 4), or the step rule's numbers (rules 2, 3)."""
+    out = []
+    for c in sorted(cands, key=lambda c: c.nrmse_loto):
+        st = getattr(c, "step_test", None) or {}
+        if _pinned_new(c):
+            new = c.names[-1] + "."
+            pins = [k for k in c.at_bound if k.startswith(new)]
+            reason = (f"parameter(s) {', '.join(pins)} at the bound of their physical range: its form does not fit "
+                      "what is left")
+        elif st and not st["delta_loto"] > Z * st["se_jackknife"]:
+            reason = (f"not significant over the training units: mean log error ratio {st['delta_loto']:.3g}, "
+                      f"jack-knife SE {st['se_jackknife']:.2g} (needs > {Z:g} SE)")
+        elif st:
+            reason = (f"not material: lowers the LOTO NRMSE by {100 * st['relative_gain']:.1f} % (needs >= "
+                      f"{100 * MIN_GAIN:.0f} %)")
+        else:
+            reason = "not scored against the chain"
+        out.append({"effect": c.names[-1] if c.names else c.name, "nrmse_loto": c.nrmse_loto,
+                    "nrmse_holdout": c.nrmse_holdout, "relative_gain_loto": st.get("relative_gain"), "reason": reason})
+    return out
+
+
+def stop_message(rejected: Sequence[dict[str, Any]]) -> str:
+    """Why the chain stopped when no candidate passed: the best next effect by LOTO and why it was not taken, and
+    the best identified one (no parameter at a bound) when that is another."""
+    if not rejected:
+        return "no library effect left"
+    top = rejected[0]
+    msg = (f"no next effect passes the step rule: the best by LOTO, {top['effect']} (LOTO NRMSE "
+           f"{top['nrmse_loto']:.4g}), was not taken: {top['reason']}")
+    free = next((r for r in rejected if not r["reason"].startswith("parameter(s)")), None)
+    if free is not None and free is not top:
+        msg += f"; the best identified one, {free['effect']} (LOTO NRMSE {free['nrmse_loto']:.4g}): {free['reason']}"
+    return msg
 
 
 def _tie_key(c: Candidate) -> tuple[int, int, float]:
-    """The near-tie order of :func:`_pick`: fewer parameters pinned at a bound, then fewer parameters, then BIC."""
+    """The near-tie order of :func:`pick`: fewer parameters pinned at a bound, then fewer parameters, then BIC."""
     return (len(c.at_bound), c.n_params, c.bic)
 
 

@@ -16,6 +16,23 @@ MIN_SHRINK = 0.5
 NONSTAT_FRACTION = 0.25
 
 
+def trusted_path(path: list[Any]) -> tuple[list[Any], int | None]:
+    """The explanation chain up to (not including) its first step whose held-out NRMSE is higher than the step
+    before's, and that step's index (None when every step lowers or keeps the held-out error).  A step the training
+    data chose but the held-out data refute is over-fitting: the verdict never includes it."""
+    for i in range(1, len(path)):
+        if path[i].nrmse_holdout > path[i - 1].nrmse_holdout:
+            return path[:i], i
+    return list(path), None
+
+
+def overfit_warning(path: list[Any], k: int) -> str:
+    """The warning for a chain whose step ``k`` raised the held-out error."""
+    a, b = path[k - 1].nrmse_holdout, path[k].nrmse_holdout
+    return (f"over-fitted: step {k} ({path[k].names[-1]}) raised the held-out NRMSE from {a:.4g} to {b:.4g} "
+            f"({100 * (b / a - 1):+.1f} %); the verdict and what is left are those of the chain before it")
+
+
 def verdict_name(names: list[str]) -> str:
     """The verdict of an explanation chain's terms: its library effects joined by ``+``; a covariate term
     (``effect.param@cov``) names its effect, the base's damping following a covariate names ``damping_law`` and the
@@ -84,10 +101,11 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     path = fwd["path"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
-    final = path[-1] if len(path) > 1 else None
+    ok_path, bad = trusted_path(path)
+    final = ok_path[-1] if len(ok_path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     left = final if final is not None else base_c
-    steps = [step_dict(c, i) for i, c in enumerate(path)]
+    steps = [step_dict(c, i, path[i - 1] if i else None) for i, c in enumerate(path)]
     return {
         "mechanism": mechanism(verdict, interp),
         "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_c.nrmse_holdout,
@@ -105,6 +123,9 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "excluded": excluded,
         "confounded": confounded,
         "left_nrmse_holdout": left.nrmse_holdout,
+        "fit_holdout_pct": 100.0 * (1.0 - left.nrmse_holdout),
+        "overfitted": bad is not None,
+        "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,
         "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {residual['db_over_noise']:.1f} dB over noise",
         "warnings": warn,

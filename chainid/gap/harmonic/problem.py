@@ -231,6 +231,29 @@ class Problem:
         f2 = sum(float(np.sum(d.sigma**2 / np.maximum(d.counts, 1))) for d in ds) / nb
         return r2, f2, 10 * math.log10(max(r2, 1e-300) / max(f2, 1e-300))
 
+    def state_table(self, ev: dict[str, Any]) -> dict[str, Any]:
+        """The state of every phase bin (x, ẋ, ẍ, travel since the reversal, direction, x a quarter period earlier,
+        the model force) and the residual of evaluation ``ev``, split into training and held-out tests, for the
+        model-free check (:mod:`chainid.gap.core.openworld`)."""
+        rows: dict[str, list[Any]] = {"Xt": [], "rt": [], "Xh": [], "rh": [], "uh": []}
+        hold = {d.test for d in self.hold}
+        for d in self.data:
+            g = d.grid
+            xb, vb, ab = d.gridmean(g["x"]), d.gridmean(g["xd"]), d.gridmean(g["xdd"])
+            B = d.counts.size
+            psi = 2 * math.pi * (np.arange(B) + 0.5) / B
+            travel = np.where(vb > 0, xb - (d.x0 - d.A), (d.x0 + d.A) - xb)
+            r = ev["res"][d.test]
+            X = np.column_stack([xb, vb, ab, travel, np.sign(vb), d.x0 - d.A * np.cos(psi), d.Fbar - r])
+            k = "h" if d.test in hold else "t"
+            rows["X" + k].append(X)
+            rows["r" + k].append(r)
+            if k == "h":
+                rows["uh"].append(np.full(B, d.test))
+        cat = lambda k: np.concatenate(rows[k]) if rows[k] else np.zeros(0)  # noqa: E731
+        return {"X_train": cat("Xt"), "r_train": cat("rt"), "X_hold": cat("Xh"), "r_hold": cat("rh"),
+                "unit_hold": cat("uh"), "names": ["x", "xd", "xdd", "travel", "direction", "x_lag", "load"]}
+
     # --------------------------------------------------------------------- fit
     def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
         out = []

@@ -34,7 +34,7 @@ import numpy as np
 
 from chainid.model.effects import SPECS, STIFFNESS_SIDE, columns, make_effect, modify_model, play_operator
 
-__all__ = ["Base", "split_name", "amplitude_names", "amplitude_bounds", "shape_names", "build"]
+__all__ = ["Base", "ColumnCache", "split_name", "amplitude_names", "amplitude_bounds", "shape_names", "build"]
 
 
 @dataclass
@@ -123,34 +123,64 @@ def _shift(t: np.ndarray, y: np.ndarray, tau: float) -> np.ndarray:
     return np.interp(t - tau, t, y) if tau else y
 
 
-def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, idx: np.ndarray | None = None
-          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+class ColumnCache:
+    """Memo of a problem's design pieces that do not change between evaluations: the motion of a view at a lag,
+    the play output, the chain's spring force at its stiffness-side shapes, and each effect's columns at its own
+    shapes (searching a new effect's shapes re-evaluates only that effect).  At most ``size`` entries (oldest
+    dropped)."""
+
+    def __init__(self, size: int = 2048):
+        self.size = size
+        self.store: dict[tuple, Any] = {}
+
+    def get(self, key: tuple, make: Any) -> Any:
+        if key in self.store:
+            return self.store[key]
+        val = make()
+        if len(self.store) >= self.size:
+            self.store.pop(next(iter(self.store)))
+        self.store[key] = val
+        return val
+
+
+def _view(d: Any, idx: np.ndarray | None, tau: float) -> tuple[np.ndarray, ...]:
+    sel = slice(None) if idx is None else idx
+    v_err = _shift(d.t, d.kin.v_spread(d.t), tau)[sel] if getattr(d, "kin", None) is not None else np.zeros(0)
+    return (_shift(d.t, d.x, tau)[sel], _shift(d.t, d.xd, tau)[sel], _shift(d.t, d.xdd, tau)[sel], v_err)
+
+
+def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, idx: np.ndarray | None = None,
+          cache: ColumnCache | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Fixed force f [N], columns Φ (n, p) and target y = F [N] of an effect set on record ``d`` at ``shapes``.
 
     ``d`` is a :class:`chainid.gap.timedomain.data.TimeData` (its smooth kinematics, features, covariates);
     ``idx`` the samples of the view (None: all; the memory operators run over them in order).  With per-record
-    offsets (a linear base) f, Φ and y lose their mean over the view.
+    offsets (a linear base) f, Φ and y lose their mean over the view.  ``cache`` keeps pieces between calls.
     """
+    cache = cache or ColumnCache(0)
     tau = float(shapes.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
-    sel = slice(None) if idx is None else idx
-    x = _shift(d.t, d.x, tau)[sel]
-    xd = _shift(d.t, d.xd, tau)[sel]
-    xdd = _shift(d.t, d.xdd, tau)[sel]
-    y = np.asarray(d.F, float)[sel]
-    v_err = _shift(d.t, d.kin.v_spread(d.t), tau)[sel] if getattr(d, "kin", None) is not None else 0.0
+    key = (d.test, "all" if idx is None else "sub", tau)
+    x, xd, xdd, v_err = cache.get(key + ("view",), lambda: _view(d, idx, tau))
+    if not v_err.size:
+        v_err = 0.0
+    y = np.asarray(d.F, float)[slice(None) if idx is None else idx]
     amps = amplitude_names(base, names)
     Phi = np.zeros((y.size, len(amps)))
     col = {k: j for j, k in enumerate(amps)}
     eff = _effects(names)
     play_b = 0.5 * shapes.get("backlash.b", 0.0) if "backlash" in eff else 0.0
-    xp = play_operator(x, play_b, periodic=False) if play_b > 0 else x
+    xp = cache.get(key + ("play", play_b), lambda: play_operator(x, play_b, periodic=False)) if play_b > 0 else x
     if base.kind == "chain":
-        model = base.model
-        for n in eff:
-            if n in STIFFNESS_SIDE:
-                model = modify_model(n, _params_of(shapes, n), model)
-        Fk = np.asarray(model.force(xp), float)
-        f = Fk + float(model.mass_kg) * xdd * 1e-3
+        side = tuple((n, tuple(sorted(_params_of(shapes, n).items()))) for n in eff if n in STIFFNESS_SIDE)
+
+        def spring() -> np.ndarray:
+            model = base.model
+            for n, pp in side:
+                model = modify_model(n, dict(pp), model)
+            return np.asarray(model.force(xp), float)
+
+        Fk = cache.get(key + ("spring", play_b, side), spring)
+        f = Fk + float(base.model.mass_kg) * xdd * 1e-3
     else:
         Fk = None
         f = np.zeros_like(y) if base.mass_kg is None else float(base.mass_kg) * xdd * 1e-3
@@ -158,6 +188,16 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
         if "mass.m" in col:
             Phi[:, col["mass.m"]] = xdd * 1e-3
     Phi[:, col["damping.c"]] = xd
+
+    def effect_cols(n: str) -> dict[str, np.ndarray]:
+        p = _params_of(shapes, n)
+        if n == "hardening":
+            p["x_ref"] = base.refs.get("x_mid", 0.0)
+        shape_key = tuple(sorted((k, v) for k, v in p.items() if k not in {a.name for a in SPECS[n].params
+                                                                            if a.amplitude}))
+        return cache.get(key + ("effect", n, play_b if n == "friction" else 0.0, shape_key),
+                         lambda: columns(n, p, x, xd, xdd, Fk, periodic=False, v_err=v_err))
+
     for n in eff:
         spec = SPECS[n]
         if n == "damping_law":
@@ -166,20 +206,14 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
             continue
         if spec.kind not in ("force", "mass"):
             continue
-        p = _params_of(shapes, n)
-        if n == "hardening":
-            p["x_ref"] = base.refs.get("x_mid", 0.0)
-        for a, c in columns(n, p, x, xd, xdd, Fk, periodic=False, v_err=v_err).items():
+        for a, c in effect_cols(n).items():
             if f"{n}.{a}" in col:
                 Phi[:, col[f"{n}.{a}"]] = c
     for t in names:
         if "@" not in t:
             continue
         e, par, cov = split_name(t)
-        if f"{e}.{par}" in col:
-            src = Phi[:, col[f"{e}.{par}"]]
-        else:  # the effect itself is not in the set: its amplitude lives only through the covariate
-            src = columns(e, _params_of(shapes, e), x, xd, xdd, Fk, periodic=False, v_err=v_err)[par]
+        src = Phi[:, col[f"{e}.{par}"]] if f"{e}.{par}" in col else effect_cols(e)[par]
         Phi[:, col[t]] = (d.covariates.get(cov, math.nan) - base.refs.get(f"cov:{cov}", 0.0)) * src
     if base.offsets:
         f = f - f.mean()

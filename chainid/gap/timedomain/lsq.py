@@ -55,16 +55,17 @@ class Blocks:
         h = np.zeros((n_blocks, p))
         s = np.zeros(n_blocks)
         n = np.zeros(n_blocks)
-        order = np.argsort(block, kind="stable")
+        contiguous = block.size < 2 or bool(np.all(block[1:] >= block[:-1]))
+        order = np.arange(block.size) if contiguous else np.argsort(block, kind="stable")
         bounds = np.searchsorted(block[order], np.arange(n_blocks + 1))
         for b in range(n_blocks):
-            idx = order[bounds[b]:bounds[b + 1]]
-            A = Phi[idx]
-            r = y[idx]
+            sl = slice(bounds[b], bounds[b + 1])
+            A = Phi[sl] if contiguous else Phi[order[sl]]
+            r = y[sl] if contiguous else y[order[sl]]
             G[b] = weight * (A.T @ A)
             h[b] = weight * (A.T @ r)
             s[b] = weight * float(r @ r)
-            n[b] = idx.size
+            n[b] = r.size
         return cls(G, h, s, np.full(n_blocks, weight), n)
 
     @classmethod

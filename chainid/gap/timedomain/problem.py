@@ -27,7 +27,8 @@ import numpy as np
 
 from chainid.gap.core.candidate import Candidate, jackknife_sd
 from chainid.gap.timedomain.data import TimeData, split_blocks
-from chainid.gap.timedomain.design import (Base, amplitude_bounds, amplitude_names, build, shape_names, split_name)
+from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, shape_names,
+                                           split_name)
 from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
 from chainid.gap.timedomain.search import search
 from chainid.model.effects import EFFECT_NAMES, SPECS
@@ -101,6 +102,7 @@ class TimeProblem:
         self.law_reason = "time domain: viscous c·ẋ (a damping law over record features is the effect damping_law)"
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.tdata])))
         self.F_mean = {d.test: float(np.mean(d.F)) for d in self.tdata}
+        self._cache = ColumnCache()
 
     # ------------------------------------------------------------------ set-up
     def _lag_range(self) -> float:
@@ -147,7 +149,7 @@ class TimeProblem:
         stats, parts = [], []
         for d in self.tdata:
             idx = d.fit_idx if subset else None
-            f, Phi, y = build(self.base, names, shapes, d, idx)
+            f, Phi, y = build(self.base, names, shapes, d, idx, self._cache)
             blk = d.block if idx is None else d.block[idx]
             stats.append(Blocks.from_columns(Phi, y - f, blk, d.n_blocks, 1.0 / d.sigma**2))
             parts.append((f, Phi, y))
@@ -165,12 +167,13 @@ class TimeProblem:
 
     # ------------------------------------------------------------------ fit
     def fit(self, names: Sequence[str], start: dict[str, float] | None = None,
-            polish_only: bool = False) -> Candidate:
+            polish_only: bool = False, weights: np.ndarray | None = None) -> Candidate:
         """Fit an effect set on the training blocks: shape parameters searched on the fit subset (amplitudes
-        profiled out), then every amplitude on all training samples."""
+        profiled out), then every amplitude on all training samples.  ``weights``: a multiplicity per block in
+        stacking order (a resample), instead of 1 per training block."""
         names = list(names)
         keys = shape_names(self.base, names, self.scales)
-        mult = self._train_mult()
+        mult = self._train_mult() if weights is None else np.asarray(weights, float)
 
         def profile(shapes: dict[str, float]) -> tuple[Blocks, np.ndarray]:
             bl = Blocks.stack(self._blocks(names, shapes, True)[0])
@@ -184,9 +187,11 @@ class TimeProblem:
             stats, parts = self._blocks(names, shapes, True)
             a = self._solve(names, Blocks.stack(stats), mult)
             out = []
+            off = 0
             for d, (f, Phi, y) in zip(self.tdata, parts):
-                m = self._mask[d.test][d.fit_idx]
-                out.append(((y - f - Phi @ a)[m]) / d.sigma)
+                w = np.sqrt(mult[off + d.block[d.fit_idx]])  # the block's multiplicity on each sample
+                out.append((y - f - Phi @ a) * w / d.sigma)
+                off += d.n_blocks
             return np.concatenate(out)
 
         shapes, at_bound = search(keys, cost, resid, dict(start or {}), f_band=self.f_band, polish_only=polish_only)
@@ -245,7 +250,7 @@ class TimeProblem:
         if len(loo_a) >= 2:
             sd = dict(zip(amps, (float(s) for s in jackknife_sd(np.array(loo_a)))))
         return {"res": res, "force": force, "var": var, "sse": sse, "sse_loo": sse_loo, "amplitudes": amps,
-                "sd": sd, "time": {"res": res, "force": force, "c": params.get("damping.c", 0.0)}}
+                "sd": sd, "blocks": bl, "time": {"res": res, "force": force, "c": params.get("damping.c", 0.0)}}
 
     def noise_floor(self, d: TimeData, params: dict[str, float]) -> float:
         """The residual variance [N²] any model reaches on record ``d``: σ_F² plus the kinematics' errors through
@@ -321,6 +326,29 @@ class TimeProblem:
         cand.param_sd = {k: v for k, v in ev["sd"].items()}
         cand._ev = ev  # type: ignore[attr-defined]
         return cand
+
+    def state_table(self, ev: dict[str, Any]) -> dict[str, Any]:
+        """The state of every sample (x, ẋ, ẍ, travel since reversal, direction, x a quarter band-edge period
+        earlier, the model force, the covariates) and the residual of evaluation ``ev``, split into training and
+        held-out rows, for the model-free check (:mod:`chainid.gap.core.openworld`)."""
+        from chainid.gap.timedomain.data import travel_since_reversal
+
+        rows: dict[str, list[Any]] = {"Xt": [], "rt": [], "Xh": [], "rh": [], "uh": []}
+        for d in self.tdata:
+            lag = np.interp(d.t - 0.25 / max(d.f_band, 1e-9), d.t, d.x)
+            cols = [d.x, d.xd, d.xdd, travel_since_reversal(d.x, d.xd), np.sign(d.xd), lag, ev["force"][d.test]]
+            cols += [np.full(d.t.size, d.covariates.get(c, np.nan)) for c in self.covariates]
+            X = np.column_stack(cols)
+            m = self._mask[d.test]
+            rows["Xt"].append(X[m])
+            rows["rt"].append(ev["res"][d.test][m])
+            rows["Xh"].append(X[~m])
+            rows["rh"].append(ev["res"][d.test][~m])
+            rows["uh"].append(np.array([f"{d.test}#{b}" for b in d.block[~m]]))
+        cat = lambda k: np.concatenate(rows[k]) if rows[k] else np.zeros(0)  # noqa: E731
+        return {"X_train": cat("Xt"), "r_train": cat("rt"), "X_hold": cat("Xh"), "r_hold": cat("rh"),
+                "unit_hold": cat("uh"), "names": ["x", "xd", "xdd", "travel", "direction", "x_lag", "load"]
+                + list(self.covariates)}
 
     # ------------------------------------------------------------------ models
     def model_for(self, p: dict[str, float]) -> Any:

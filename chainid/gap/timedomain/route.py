@@ -21,7 +21,10 @@ from typing import Any, Sequence
 from chainid.gap.core import selection as fw
 from chainid.gap.core.candidate import Candidate
 from chainid.gap.core.interpret import interpretation, separating_test
-from chainid.gap.core.verdict import contract, decide
+from chainid.gap.core.openworld import open_world
+from chainid.gap.core.resample import attach, resample
+from chainid.infra.progress import stage
+from chainid.gap.core.verdict import contract, decide, overfit_warning, trusted_path
 from chainid.gap.timedomain.data import prepare_time
 from chainid.gap.timedomain.problem import TimeProblem
 from chainid.gap.timedomain.where import drift, localise_time
@@ -54,8 +57,8 @@ def _tests(prob: TimeProblem, base_c: Candidate, left: Candidate) -> list[dict[s
 
 def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, holdout_blocks: int = 0,
                  effects: Sequence[str] | None = None, max_combo: int = 3, excluded: Sequence[dict[str, str]] = (),
-                 quiet: bool = False, mass_kg: float | None = None, warn: list[str] | None = None
-                 ) -> dict[str, Any]:
+                 quiet: bool = False, mass_kg: float | None = None, warn: list[str] | None = None,
+                 resamples: int = 0, seed: int = 0) -> dict[str, Any]:
     """Diagnose records in the time domain (see the module docstring); returns the JSON contract dict.
 
     Parameters
@@ -66,12 +69,16 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     holdout_blocks : K > 0: every record in K contiguous blocks, the last one held out
     effects, max_combo : the library restricted, the most effects in the chain
     mass_kg : the given mass of a linear base [kg] (None: fitted)
+    resamples, seed : resamples of the training blocks for the chain's stability and the parameters' intervals
+        (:mod:`chainid.gap.core.resample`; 0: none)
     """
     warn = list(warn or [])
     if not quiet:
         for r in records:
             print(f"chainid diagnose: test {r.test}: time-domain route", file=sys.stderr)
+    stage("preparing", f"{len(records)} records")
     prob = build_problem(records, holdout, holdout_blocks, model, mass_kg)
+    stage("baseline")
     base_c = fw.baseline_candidate(prob)
     bev = base_c._ev  # type: ignore[attr-defined]
     where = localise_time(prob.tdata, bev["res"], bev["force"])
@@ -82,7 +89,10 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     lib = fw.library(prob, effects) + prob.covariate_terms()
     fwd = fw.forward_select(prob, lib, base_c, base_c.nrmse_holdout, max_effects=int(max_combo))
     path: list[Candidate] = fwd["path"]
-    final = path[-1] if len(path) > 1 else None
+    ok_path, bad = trusted_path(path)
+    if bad is not None:
+        warn.append(overfit_warning(path, bad))
+    final = ok_path[-1] if len(ok_path) > 1 else None
     left = final if final is not None else base_c
     lev = left._ev  # type: ignore[attr-defined]
     stat = drift(prob.tdata, lev["res"])
@@ -110,6 +120,13 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     summary = {"route": "time"} | contract(prob, prob.model, base_c, noise, fwd, verdict, interp, residual, where,
                                            list(excluded), confounded, warn, list(holdout),
                                            _tests(prob, base_c, left))
+    stage("model-free check")
+    summary["open_world"] = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]))
+    if resamples:
+        stage("resampling", f"{resamples} resamples")
+        from chainid.gap.timedomain import resampling
+
+        attach(summary, resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo)))
     summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
     summary["base"] = {"model": prob.base.kind, "mass_given_kg": mass_kg, "offsets": "per test" if prob.base.offsets
                        else "none", "covariates": list(prob.covariates)}

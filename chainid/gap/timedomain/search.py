@@ -8,7 +8,8 @@ fit, so the cost J(θ) — the weighted training sum of squares — depends on �
    from a uniform grid over its whole range at :data:`LAG_POINTS_PER_PERIOD` points per period of the band edge
    (a global search: a lag of a quarter period is found as surely as a small one).  Parameters of effects
    fitted before start where they were.  At most :data:`MAX_GRID` combinations (a regular sub-sample beyond).
-2. **Polish.**  The best :data:`N_POLISH` grid points are polished by a bounded least-squares fit of the whitened
+2. **Polish.**  The best :data:`N_POLISH` grid points (the second when its cost is within ``POLISH_WITHIN`` of the
+   best's) are polished by a bounded least-squares fit of the whitened
    residual over θ (``scipy.optimize.least_squares``, finite-difference Jacobian; the amplitudes re-solved at
    every θ); the lowest cost wins.
 
@@ -28,8 +29,9 @@ __all__ = ["grid_values", "search", "MAX_GRID", "N_POLISH", "LAG_POINTS_PER_PERI
 
 #: most grid combinations evaluated for a new effect
 MAX_GRID = 72
-#: grid points polished
+#: grid points polished (the second only when its cost is within ``POLISH_WITHIN`` of the best's)
 N_POLISH = 2
+POLISH_WITHIN = 1.5
 #: lag grid density: points per period of the band edge
 LAG_POINTS_PER_PERIOD = 16
 #: most lag grid points
@@ -95,7 +97,8 @@ def search(keys: Sequence[tuple[str, float, float]], cost: Callable[[dict[str, f
         new = [k for k in names if base[k] is None]
         if len(names) == 1 and len(new) == 1:  # one parameter: a bounded Brent search between the grid neighbours
             return _line(keys[0], [cands[i][names[0]] for i in order], cost)
-        cands = [cands[i] for i in order[:N_POLISH]]
+        best_cost = costs[order[0]]
+        cands = [cands[i] for i in order[:N_POLISH] if costs[i] <= POLISH_WITHIN * best_cost]
     best = None
     for c in cands:
         u0 = to_u(c)
@@ -112,7 +115,7 @@ def search(keys: Sequence[tuple[str, float, float]], cost: Callable[[dict[str, f
             return resid(to_p(u))
 
         res = least_squares(fun, u0[free], bounds=(0.0, 1.0), diff_step=1e-3, x_scale=1.0,
-                            max_nfev=max_nfev or (8 if polish_only else 15 + 10 * int(free.sum())))
+                            max_nfev=max_nfev or (8 if polish_only else 10 + 6 * int(free.sum())))
         u = u0.copy()
         u[free] = res.x
         p = to_p(u)
