@@ -96,12 +96,13 @@ def _table(res: dict[str, Any]) -> str:
     def f(v: Any) -> str:
         return "-" if v is None else f"{v:.4g}"
 
-    rows = [f"{'test':>8}  {'mode':>12}  {'NRMSE base':>10}  {'NRMSE model':>11}  {'shrinkage':>9}"]
+    w = max([8, len("pooled")] + [len(str(r["test"])) for r in res["tests"]])  # the longest id sets the column
+    rows = [f"{'test':<{w}}  {'mode':>12}  {'NRMSE base':>10}  {'NRMSE model':>11}  {'shrinkage':>9}"]
     for r in res["tests"]:
-        rows.append(f"{r['test']:>8}  {r['mode']:>12}  {f(r['nrmse_baseline']):>10}  {f(r['nrmse_model']):>11}  "
+        rows.append(f"{r['test']:<{w}}  {r['mode']:>12}  {f(r['nrmse_baseline']):>10}  {f(r['nrmse_model']):>11}  "
                     f"{f(r['shrinkage']):>9}")
     p = res["pooled"]
-    rows.append(f"{'pooled':>8}  {'':>12}  {f(p['nrmse_baseline']):>10}  {f(p['nrmse_model']):>11}  "
+    rows.append(f"{'pooled':<{w}}  {'':>12}  {f(p['nrmse_baseline']):>10}  {f(p['nrmse_model']):>11}  "
                 f"{f(p['shrinkage']):>9}   (damping: {res['damping_used']})")
     return "\n".join(rows)
 

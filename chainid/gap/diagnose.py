@@ -197,10 +197,12 @@ def diagnose(
         if not hold_ok:
             raise ValueError(f"--holdout: every held-out test was excluded ({', '.join(holdout)}); "
                              f"reasons: {'; '.join(e['reason'] for e in excluded if e['test'] in holdout)}")
+        fit_mass = model is None and mass_kg is None
         if model is None:
             model = fit_linear_model(usable, hold_ok, mass_kg or 0.0)
         res = diagnose_harmonic(data, hold_ok, model, effects=effects, max_combo=max_combo, damping_law=damping_law,
-                                uncertainty=uncertainty, excluded=excluded, resamples=resamples, seed=seed)
+                                uncertainty=uncertainty, excluded=excluded, resamples=resamples, seed=seed,
+                                fit_mass=fit_mass)
     evaluation["route"] = "time" if res.get("route") == "time" else "harmonic"
     stage("models")
     for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation

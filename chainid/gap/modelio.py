@@ -42,9 +42,9 @@ from chainid.gap.harmonic.prepare import Unusable, prepare_test
 def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> AugmentedModel:
     """The augmented model of a scored candidate (a diagnosis step) on problem ``prob`` (either route)."""
     p = cand.params
-    names = cand.names
+    names = [e for e in dict.fromkeys(n.split("@", 1)[0] for n in cand.names) if "." not in e]  # effects of the terms
     effects = [(n, {k.split(".", 1)[1]: float(v) for k, v in p.items() if k.startswith(n + ".") and "@" not in k})
-               for n in names if n not in NOT_FORCE and "@" not in n]
+               for n in names if n not in NOT_FORCE]
     delay = float(p.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
     info = dict(info or {})
     if getattr(prob, "hprob", True) is None:  # the time-domain route: viscous c, or c following record features
@@ -53,7 +53,7 @@ def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> A
                 k: float(p[f"damping_law.{k}"]) for k in ("b_w", "b_A", "w_ref", "A_ref")})
         else:
             damping = Damping("viscous", {"c": float(p.get("damping.c", 0.0))})
-        terms = {t: float(p[t]) for t in names if "@" in t}
+        terms = {k: float(v) for k, v in p.items() if "@" in k}  # every amplitude's slope over a covariate
         refs = {t.split("@", 1)[1]: float(p[f"covariate.{t.split('@', 1)[1]}.ref"]) for t in terms}
         return AugmentedModel(prob.model_for(p), effects, damping, delay, info=info, offsets=prob.base.offsets,
                               covariate_terms=terms, covariate_refs=refs)
@@ -215,15 +215,18 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
             if keep:
                 series[r.test] = (r.t, r.x, r.F, Fm, Fb)
         nb, nm = _nrmse(sb, var), _nrmse(sm, var)
+        own = model.damping.form == "law" and fitted and r.test in model.damping.per_test
         rows.append({"test": r.test, "nrmse_baseline": nb, "nrmse_model": nm, "shrinkage": _shrink(nm, nb),
-                     "mode": mode})
+                     "mode": mode, "damping": "fitted c_e" if own else model.damping.form})
         tot["b"] += sb
         tot["m"] += sm
         tot["v"] += var
     pb, pm = _nrmse(tot["b"], tot["v"]), _nrmse(tot["m"], tot["v"])
-    used = model.damping.form  # a law: the law, or the per-test c_e it was fitted on
-    if used == "law":
-        used = "per-test fitted c_e" if fitted else "law"
+    used = model.damping.form  # a law: the law, or the per-test c_e it was fitted on (only those tests have one)
+    if used == "law" and fitted:
+        n_own = sum(row["damping"] == "fitted c_e" for row in rows)
+        used = (f"per-test fitted c_e on {n_own} test(s) the law was fitted on; the law on the other "
+                f"{len(rows) - n_own}" if n_own < len(rows) else "per-test fitted c_e")
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
            "model": model_to_dict(model), "damping_used": used,
            "warnings": negative_damping(model, prepared, fitted)}

@@ -37,6 +37,8 @@ from chainid.model.effects import EFFECT_NAMES, parse_effect
 #: the effects of the harmonic single-effect family, in the order their cases (and seeds) are drawn
 GRID_EFFECTS = ("stiffness_level", "friction", "hysteresis", "contact_law", "slack", "backlash",
                 "machine_compliance", "sensor_delay", "damping_law")
+#: the second release's effects on the harmonic plans (a smaller grid: two strengths, one noise, one plan)
+NEW_GRID_EFFECTS = ("stribeck", "bouc_wen", "deadband", "fixture_mass")
 
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
     """The 11-test plan of the benchmark: ω ∈ {1, 2, 4} rad/s × A ∈ {0.1, 0.2, 0.3} mm at x0 = 2 mm,
@@ -103,7 +105,7 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
     hooks = []
     for eff, lv in zip(case["effects"], case["levels"]):
         if eff in EFFECT_NAMES:
-            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax), true))
+            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax, float(np.median(x0s))), true))
         else:
             hooks.append(_outside_hook(eff, lv, S))
 
@@ -208,6 +210,11 @@ def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
         for nz in noises:
             for kind, lv in outside:
                 add("outside", [kind], [kind], [lv], nz, ch, "grid3x3")
+    # the second release's effects on the chain (appended: every earlier case keeps its seed)
+    for ch in ([] if small else chains):
+        for e in NEW_GRID_EFFECTS:
+            for lv in (1.0, 3.0):
+                add("single", [e], [e], [lv], 0.01, ch, "grid3x3")
     return cases
 
 

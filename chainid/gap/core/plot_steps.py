@@ -1,4 +1,5 @@
-"""The explanation chain as a figure: held-out NRMSE after each step, down to the noise floor."""
+"""Figures of both routes: the explanation chain (held-out NRMSE after each step, down to the noise floor) and the
+model-free check (the learner's partial dependence of what is left on the state)."""
 
 from __future__ import annotations
 
@@ -37,5 +38,36 @@ def waterfall_figure(result: dict[str, Any]) -> Any:
     ax.set_xticklabels(names, rotation=15, fontsize=8)
     ax.set_ylabel("held-out NRMSE")
     ax.set_title(f"explanation chain: {result.get('verdict', '')}", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def open_world_figure(result: dict[str, Any]) -> Any:
+    """Partial dependence of the model-free learner's prediction of what is left [N] on x, ẋ and the travel since
+    the last reversal (:mod:`chainid.gap.core.openworld`), with its verdict as the title; a note when there is no
+    learner.  Returns the Figure."""
+    import matplotlib.pyplot as plt
+
+    ow = result.get("open_world") or {}
+    model, X = ow.get("_model"), ow.get("_X")
+    fig, axs = plt.subplots(1, 3, figsize=(10.5, 3.2))
+    names = ow.get("features") or []
+    for ax, feat, label in zip(axs, ("x", "xd", "travel"), ("x [mm]", "ẋ [mm/s]", "travel since reversal [mm]")):
+        ax.set_xlabel(label)
+        if model is None or feat not in names or X is None:
+            ax.text(0.5, 0.5, "no learner fitted", ha="center", va="center", transform=ax.transAxes, fontsize=8)
+            continue
+        from sklearn.inspection import partial_dependence
+
+        j = names.index(feat)
+        pdp = partial_dependence(model, X, [j], grid_resolution=40, percentiles=(0.02, 0.98))
+        ax.plot(pdp["grid_values"][0], pdp["average"][0], "C3-")
+        ax.axhline(0.0, color="0.6", lw=0.6)
+    axs[0].set_ylabel("predicted residual [N]")
+    share = ow.get("predictable_share")
+    title = ow.get("message", "model-free check")
+    if share is not None:
+        title = f"{title} (held-out predictable share {100 * share:.0f} %)"
+    fig.suptitle(title, fontsize=8)
     fig.tight_layout()
     return fig

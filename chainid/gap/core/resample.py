@@ -26,7 +26,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.core.selection import passes, pick, step_test
+from chainid.gap.core.selection import passes, pick, step_test, term_prefix
 
 __all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "attach"]
 
@@ -61,7 +61,7 @@ def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, 
         ok = []
         for c in cands:
             new = [n for n in c.names if n not in chain][-1:]
-            pinned = any(k.startswith(new[0] + ".") for k in c.at_bound) if new else True
+            pinned = any(k.startswith(term_prefix(new[0])) for k in c.at_bound) if new else True
             if not pinned and set(c.loto_num) == set(cur.loto_num) and passes(step_test(cur, c)):
                 ok.append(c)
         if not ok:

@@ -105,10 +105,24 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1) + u**2)
 
 
+def term_prefix(term: str) -> str:
+    """The parameter prefix of a chain term: ``effect.`` for an effect and for ``effect@cov`` (the effect with its
+    amplitudes following a covariate); the term itself for a slope ``effect.param@cov``."""
+    head = term.split("@", 1)[0]
+    return head + "." if "." not in head else term
+
+
+def pinned_params(c: Candidate) -> list[str]:
+    """The parameters of the candidate's newest term pinned at a bound of their physical range."""
+    if not c.names:
+        return []
+    new = term_prefix(c.names[-1])
+    return [k for k in c.at_bound if k.startswith(new)]
+
+
 def _pinned_new(c: Candidate) -> bool:
     """Whether a parameter of the candidate's newest effect is pinned at a bound of its physical range."""
-    new = c.names[-1] + "." if c.names else ""
-    return any(k.startswith(new) for k in c.at_bound)
+    return bool(pinned_params(c))
 
 
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
@@ -189,8 +203,6 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         path.append(chosen)
         cur = chosen
         remaining.remove(chosen.names[-1])
-        # a chosen effect opens its covariate terms (an amplitude that follows an operating condition)
-        remaining += [t for t in getattr(prob, "followups", lambda n: [])(chosen.names[-1]) if t not in remaining]
     swaps: list[str] = []
     if len(path) > 2:
         final, swaps = _exchange(prob, path[-1], names, base_hold)
@@ -211,8 +223,7 @@ def rejections(cands: Sequence[Candidate]) -> list[dict[str, Any]]:
     for c in sorted(cands, key=lambda c: c.nrmse_loto):
         st = getattr(c, "step_test", None) or {}
         if _pinned_new(c):
-            new = c.names[-1] + "."
-            pins = [k for k in c.at_bound if k.startswith(new)]
+            pins = pinned_params(c)
             reason = (f"parameter(s) {', '.join(pins)} at the bound of their physical range: its form does not fit "
                       "what is left")
         elif st and not st["delta_loto"] > Z * st["se_jackknife"]:
@@ -280,7 +291,7 @@ def _two_for_one(prob: Problem, full: Candidate, allowed: Sequence[str], base_ho
         for i, a in enumerate(others):
             for b in others[i + 1:]:
                 names = [k for k in full.names if k != n] + [a, b]
-                start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
+                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
                 c = _fit_score(prob, names, start, base_hold)
                 if c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and not c.at_bound:
                     out.append({"report": {"step": len(full.names), "pair": [n, f"{a}+{b}"],
@@ -339,7 +350,7 @@ def _exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold:
                 if m == n or m in full.names or m not in allowed:
                     continue
                 names = [m if k == n else k for k in full.names]
-                start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
+                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
                 c = _fit_score(prob, names, start, base_hold)
                 # rule 4 holds for a swap too: a member whose parameters sit at a bound of their physical range
                 # does not fit (Dahl hysteresis with x_h at its floor is Coulomb friction under another name)
@@ -387,7 +398,7 @@ def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[st
         best_drop = None
         for n in full.names:
             rest = [m for m in full.names if m != n]
-            start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
+            start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
             c = _fit_score(prob, rest, start, base_hold)
             if not passes(step_test(c, full)):
                 if best_drop is None or c.nrmse_loto < best_drop[1].nrmse_loto:

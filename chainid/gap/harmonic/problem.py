@@ -25,7 +25,7 @@ from scipy.optimize import least_squares
 
 from chainid.gap.core.candidate import MIN_TRAIN, Candidate, jackknife_sd  # noqa: F401  (re-exported)
 from chainid.gap.harmonic import law_choice as L
-from chainid.model.effects import EFFECT_NAMES, make_effect, undamped_force
+from chainid.model.effects import EFFECT_NAMES, make_effect, pinned, undamped_force
 from chainid.gap.harmonic.prepare import TestData
 
 def _ce(d: TestData, Fn: np.ndarray, v: np.ndarray) -> float:
@@ -64,12 +64,15 @@ class Problem:
         Held-out test ids.
     damping_law : str
         Baseline law name or "auto" (:func:`chainid.gap.harmonic.law_choice.choose`).
+    fit_mass : bool
+        A linear baseline fits its moving mass (>= 0) with its spring (False: the model's mass, e.g. ``--mass``).
     """
 
     def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto",
-                 require_hold: bool = True):
+                 require_hold: bool = True, fit_mass: bool = False):
         self.data = list(data)
         self.model = model
+        self.fit_mass = bool(fit_mass) and not hasattr(model, "hertz_scale")
         ids = [d.test for d in self.data]
         unknown = [h for h in holdout if h not in ids]
         if unknown:
@@ -149,7 +152,8 @@ class Problem:
         if "spring.k" in p:
             from chainid.model.base import LinearModel
 
-            return LinearModel(max(p["spring.k"], 0.0), p["spring.x_ref"], mass=float(getattr(self.model, "mass_kg", 0.0)))
+            m = max(float(p["spring.m"]), 0.0) if "spring.m" in p else float(getattr(self.model, "mass_kg", 0.0))
+            return LinearModel(max(p["spring.k"], 0.0), p["spring.x_ref"], mass=m)
         return self.model
 
     def applicable(self) -> list[str]:
@@ -271,6 +275,11 @@ class Problem:
             lo += [0.0, xr - 2 * xs]
             hi += [max(10 * k0, 10 * self.F_scale / xs), xr + 2 * xs]
             x0 += [k0, xr]
+            if self.fit_mass:  # m·ω² up to 10 times the force scale over the displacement scale
+                keys.append("spring.m")
+                lo.append(0.0)
+                hi.append(10.0 * self.F_scale * 1e3 / (xs * self.omega_max ** 2))
+                x0.append(0.0)
         for n in names:
             if n == "damping_law":
                 continue
@@ -338,7 +347,7 @@ class Problem:
             # a parameter pinned at a physical bound (other than a zero lower bound, "effect absent")
             # (the re-fitted linear spring of a --model linear baseline is not an effect: its x_ref is free)
             at_bound = [k for k, v, a in zip(keys, ub, lo_a)
-                        if (v >= 1 - 1e-6 or (v <= 1e-6 and a != 0.0)) and not k.startswith("spring.")]
+                        if not k.startswith("spring.") and pinned(k, float(v), float(a))]
             return Candidate("+".join(names), p, len(keys), at_bound=at_bound)
         finally:
             self.train = saved

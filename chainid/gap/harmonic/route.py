@@ -32,7 +32,8 @@ __all__ = ["diagnose_harmonic", "jackknife"]
 
 def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, effects: Sequence[str] | None,
                       max_combo: int, damping_law: str, uncertainty: bool,
-                      excluded: Sequence[dict[str, str]] = (), resamples: int = 0, seed: int = 0) -> dict[str, Any]:
+                      excluded: Sequence[dict[str, str]] = (), resamples: int = 0, seed: int = 0,
+                      fit_mass: bool = False) -> dict[str, Any]:
     """Diagnose a set of prepared harmonic tests (:class:`chainid.gap.harmonic.prepare.TestData`).
 
     Parameters
@@ -42,13 +43,14 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     model : baseline stiffness model (chain model or fitted linear spring)
     effects, max_combo, damping_law, uncertainty, resamples, seed : as :func:`chainid.gap.diagnose.diagnose`
     excluded : tests left out, with their reason (reported)
+    fit_mass : a linear baseline fits its moving mass (``model=None`` and no ``--mass``)
 
     Returns
     -------
     dict
         The JSON contract of ``chainid diagnose`` (:func:`chainid.gap.core.verdict.contract`).
     """
-    prob = Problem(data, model, hold, damping_law)
+    prob = Problem(data, model, hold, damping_law, fit_mass=fit_mass)
     warn: list[str] = [f"test {e['test']} excluded: {e['reason']}" for e in excluded]
     if prob.law == "polynomial" and damping_law == "polynomial":
         ok, msg = damping_separable(prob.train)
@@ -94,7 +96,7 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     out = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded,
                    warn, list(hold), tests)
     stage("model-free check")
-    out["open_world"] = open_world(prob.state_table(left._ev), bool(residual["at_noise_floor"]))  # type: ignore
+    out["open_world"] = open_world(prob.state_table(left._ev), bool(residual["at_noise_floor"]), keep_model=True)  # type: ignore
     if resamples:
         stage("resampling", f"{resamples} resamples")
         from chainid.gap.harmonic import resampling

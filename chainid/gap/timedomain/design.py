@@ -14,7 +14,8 @@ m·ẍ) and φ_j the columns of the free amplitudes a_j (:mod:`chainid.gap.timed
   over the record's samples);
 * every force- and mass-kind effect's amplitudes (:func:`chainid.model.effects.columns`);
 * ``damping_law``: the damping's slopes over record features, (ω_r − w_ref)·ẋ and (A_r − A_ref)·ẋ;
-* a covariate term ``effect.param@cov``: the column of that amplitude times (cov_r − cov_ref).
+* a covariate term ``effect.param@cov``: the column of that amplitude times (cov_r − cov_ref); ``effect@cov``: the
+  effect with every amplitude following the covariate (its columns, and each times (cov_r − cov_ref)).
 
 ``sensor_delay`` evaluates the whole model on the motion at t − τ (the force lags the displacement by τ).  The
 memory operators run over the samples of the view in order (the whole record, or its fit subset).  The sign of
@@ -34,7 +35,7 @@ import numpy as np
 
 from chainid.model.effects import SPECS, STIFFNESS_SIDE, columns, make_effect, modify_model, play_operator
 
-__all__ = ["Base", "ColumnCache", "split_name", "amplitude_names", "amplitude_bounds", "shape_names", "build"]
+__all__ = ["Base", "ColumnCache", "split_name", "effect_of", "amplitude_names", "amplitude_bounds", "shape_names", "build"]
 
 
 @dataclass
@@ -58,16 +59,29 @@ class Base:
 
 
 def split_name(term: str) -> tuple[str, str | None, str | None]:
-    """``effect`` → (effect, None, None); ``effect.param@cov`` (a covariate term) → (effect, param, cov)."""
+    """``effect`` → (effect, None, None); ``effect@cov`` (every amplitude of the effect following a covariate) →
+    (effect, None, cov); ``effect.param@cov`` (one amplitude following it) → (effect, param, cov)."""
     if "@" in term:
         head, cov = term.split("@", 1)
         eff, _, par = head.partition(".")
-        return eff, par, cov
+        return eff, (par or None), cov
     return term, None, None
 
 
+def effect_of(term: str) -> str | None:
+    """The library effect a term adds: itself, or the effect of ``effect@cov``; None for ``effect.param@cov``
+    (a slope of an amplitude already in the model)."""
+    eff, par, _ = split_name(term)
+    return eff if par is None else None
+
+
 def _effects(names: Sequence[str]) -> list[str]:
-    return [n for n in names if "@" not in n]
+    out: list[str] = []
+    for n in names:
+        e = effect_of(n)
+        if e is not None and e not in out:
+            out.append(e)
+    return out
 
 
 def amplitude_names(base: Base, names: Sequence[str]) -> list[str]:
@@ -84,7 +98,14 @@ def amplitude_names(base: Base, names: Sequence[str]) -> list[str]:
         out += [f"{n}.{p.name}" for p in spec.params if p.amplitude and p.fitted
                 and not (n == "friction" and p.name == "mu" and base.kind != "chain")
                 and not (n == "stribeck" and p.name == "dF" and base.offsets)]
-    out += [t for t in names if "@" in t]
+    for t in names:
+        eff, par, cov = split_name(t)
+        if cov is None:
+            continue
+        if par is not None:
+            out.append(t)
+        else:  # every amplitude of the effect follows the covariate
+            out += [f"{a}@{cov}" for a in list(out) if a.startswith(eff + ".") and "@" not in a]
     return out
 
 
@@ -126,20 +147,39 @@ def _shift(t: np.ndarray, y: np.ndarray, tau: float) -> np.ndarray:
 class ColumnCache:
     """Memo of a problem's design pieces that do not change between evaluations: the motion of a view at a lag,
     the play output, the chain's spring force at its stiffness-side shapes, and each effect's columns at its own
-    shapes (searching a new effect's shapes re-evaluates only that effect).  At most ``size`` entries (oldest
-    dropped)."""
+    shapes (searching a new effect's shapes re-evaluates only that effect).  At most ``max_bytes`` of arrays
+    (the oldest entries dropped first)."""
 
-    def __init__(self, size: int = 2048):
-        self.size = size
+    def __init__(self, max_bytes: int = 400 * 2**20):
+        self.max_bytes = max_bytes
         self.store: dict[tuple, Any] = {}
+        self.sizes: dict[tuple, int] = {}
+        self.nbytes = 0
+
+    @staticmethod
+    def _size(val: Any) -> int:
+        if isinstance(val, np.ndarray):
+            return val.nbytes
+        if isinstance(val, dict):
+            return sum(ColumnCache._size(v) for v in val.values())
+        if isinstance(val, (tuple, list)):
+            return sum(ColumnCache._size(v) for v in val)
+        return 64
 
     def get(self, key: tuple, make: Any) -> Any:
         if key in self.store:
             return self.store[key]
         val = make()
-        if len(self.store) >= self.size:
-            self.store.pop(next(iter(self.store)))
+        size = self._size(val)
+        if size > self.max_bytes:
+            return val
+        while self.store and self.nbytes + size > self.max_bytes:
+            old = next(iter(self.store))
+            self.store.pop(old)
+            self.nbytes -= self.sizes.pop(old)
         self.store[key] = val
+        self.sizes[key] = size
+        self.nbytes += size
         return val
 
 
@@ -157,7 +197,7 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
     ``idx`` the samples of the view (None: all; the memory operators run over them in order).  With per-record
     offsets (a linear base) f, Φ and y lose their mean over the view.  ``cache`` keeps pieces between calls.
     """
-    cache = cache or ColumnCache(0)
+    cache = cache if cache is not None else ColumnCache(0)
     tau = float(shapes.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
     key = (d.test, "all" if idx is None else "sub", tau)
     x, xd, xdd, v_err = cache.get(key + ("view",), lambda: _view(d, idx, tau))
@@ -209,7 +249,7 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
         for a, c in effect_cols(n).items():
             if f"{n}.{a}" in col:
                 Phi[:, col[f"{n}.{a}"]] = c
-    for t in names:
+    for t in amps:
         if "@" not in t:
             continue
         e, par, cov = split_name(t)

@@ -114,20 +114,20 @@ class TimeProblem:
 
     def applicable(self) -> list[str]:
         """Library effects for this base: chain-only effects need the chain, linear-only ones a linear device;
-        ``damping_law`` needs >= ``MIN_LAW_RECORDS`` training records with distinct features."""
+        ``damping_law`` needs >= ``MIN_LAW_RECORDS`` training records with distinct features; with covariates, every
+        force effect as ``effect@cov`` (its amplitudes following the operating condition)."""
         kind = self.base.kind
         out = [n for n in EFFECT_NAMES if kind in SPECS[n].bases]
         feats = {(round(d.omega_c, 6), round(d.A, 6)) for d in self.train}
         if len(feats) < MIN_LAW_RECORDS:
             out = [n for n in out if n != "damping_law"]
-        return out
-
-    def followups(self, name: str) -> list[str]:
-        """Covariate terms a newly chosen effect opens: each of its amplitudes times each covariate."""
-        if not self.covariates or "@" in name:
-            return []
-        amps = [a for a in amplitude_names(self.base, [name]) if a.startswith(name + ".")]
-        return [f"{a}@{c}" for a in amps for c in self.covariates]
+        # with operating conditions, a force effect comes with its amplitudes following each of them (it nests the
+        # effect at one condition: slopes of 0)
+        if not self.covariates:
+            return out
+        amp = ("force", "mass")
+        return ([n for n in out if SPECS[n].kind not in amp]
+                + [f"{n}@{c}" for n in out if SPECS[n].kind in amp for c in self.covariates])
 
     def covariate_terms(self) -> list[str]:
         """Covariate terms of the base open from the start: the dashpot (and the spring of a linear device)."""

@@ -25,6 +25,8 @@ from typing import Callable, Sequence
 import numpy as np
 from scipy.optimize import least_squares
 
+from chainid.model.effects import pinned
+
 __all__ = ["grid_values", "search", "MAX_GRID", "N_POLISH", "LAG_POINTS_PER_PERIOD"]
 
 #: most grid combinations evaluated for a new effect
@@ -124,8 +126,7 @@ def search(keys: Sequence[tuple[str, float, float]], cost: Callable[[dict[str, f
             best = (p, cp)
     p = best[0]
     ub = to_u(p)
-    at_bound = [k for k, v, a, b in zip(names, ub, lo, hi)
-                if b > a and (v >= 1 - 1e-6 or (v <= 1e-6 and a != 0.0))]
+    at_bound = [k for k, v, a, b in zip(names, ub, lo, hi) if b > a and pinned(k, float(v), float(a))]
     return p, at_bound
 
 
@@ -162,7 +163,7 @@ def _line(key: tuple[str, float, float], ranked: list[float], cost: Callable[[di
     v = best[0]
     span = hi - lo if hi > lo else 1.0
     u = (v - lo) / span
-    at = [name] if hi > lo and (u >= 1 - 1e-6 or (u <= 1e-6 and lo != 0.0)) else []
+    at = [name] if hi > lo and pinned(name, u, lo) else []
     return {name: v}, at
 
 

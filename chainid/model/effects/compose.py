@@ -13,12 +13,14 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any, Callable, Sequence
 
+import math
+
 import numpy as np
 
-from chainid.model.effects.forms import is_chain
+from chainid.model.effects.forms import columns, is_chain, play_operator, series_compliance_force
 from chainid.model.effects.library import STIFFNESS_SIDE, make_effect
 
-__all__ = ["modify_model", "undamped_force"]
+__all__ = ["modify_model", "effect_force", "undamped_force"]
 
 
 def modify_model(name: str, p: dict[str, float], model: Any) -> Any:
@@ -68,6 +70,49 @@ def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, 
     for n, pp in rest:
         if n in ("damping_law", "sensor_delay"):
             continue
-        Fe, _, _ = make_effect(n).force(pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err)
+        Fe, _, _ = effect_force(make_effect(n), pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err)
         Fn += Fe - base
     return Fn
+
+
+def effect_force(eff: Any, p: dict[str, float], model: Any, t: np.ndarray, x: np.ndarray, xd: np.ndarray,
+                 xdd: np.ndarray, omega: float, A: float, x0: float, xfun: Callable | None = None,
+                 periodic: bool = True, v_err: float | np.ndarray = 0.0
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Undamped force [N], the velocity the damping acts on [mm/s], and an extra c_e factor [N·s/mm] of one
+    effect ``eff`` (:class:`.library.Effect`) with parameters ``p`` on ``model``.
+
+    Returns ``(F_nodamp, xd_damp, extra_c)`` with the model force F = F_nodamp + (c_e + extra_c)·xd_damp.
+    ``periodic``: the memory operators return the periodic steady state of a series that is one period (the
+    diagnosis' phase grid); False runs them forward from their stated initial state, for any x(t).  ``v_err``
+    [mm/s]: the RMS error of an estimated velocity (the sign of sliding, :func:`sliding_sign`).
+    """
+    m = float(getattr(model, "mass_kg", 0.0))
+    inert = m * xdd * 1e-3
+    Fk = np.asarray(model.force(x), dtype=float)
+    name = eff.name
+    if eff.kind in ("force", "mass"):
+        q = dict(eff.fixed) | p
+        F = inert + Fk + sum(q.get(a, 0.0) * c for a, c in columns(name, q, x, xd, xdd, Fk, periodic, v_err).items())
+    elif name == "backlash":
+        F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0), periodic)), dtype=float)
+    elif name == "slack" and not is_chain(model):
+        F = inert + np.asarray(model.force(x - p.get("s", 0.0)), dtype=float)
+    elif name == "machine_compliance" and not is_chain(model):
+        F = inert + series_compliance_force(model, x, p.get("c", 0.0))
+    elif eff.kind == "stiffness":  # the changed chain model, in one place (raises without a chain)
+        F = inert + np.asarray(modify_model(name, p, model).force(x), dtype=float)
+    elif name == "sensor_delay":
+        tau = p.get("tau", 0.0)
+        if xfun is None:
+            raise ValueError("sensor_delay needs the displacement function xfun(t)")
+        xs, xds, xdds = xfun(t - tau)
+        F = m * xdds * 1e-3 + np.asarray(model.force(xs), dtype=float)
+        return F, xds, np.zeros_like(t)
+    elif name == "damping_law":
+        ke = float(np.asarray(model.stiffness(np.array([x0])), dtype=float)[0])
+        extra = p.get("eta", 0.0) * ke / omega + 4.0 * p.get("F_f", 0.0) / (math.pi * omega * A)
+        return inert + Fk, xd, np.full_like(t, extra)
+    else:  # pragma: no cover
+        raise ValueError(f"unknown effect {name!r}")
+    return F, xd, np.zeros_like(t)

@@ -1,10 +1,11 @@
-"""The force of each library effect: unit columns times amplitudes, on any sampled motion.
+"""The force shapes of each library effect: unit columns times amplitudes, on any sampled motion.
 
 An effect's force is linear in its *amplitude* parameters (:mod:`.library`): for given shape parameters it is
 Σ amplitude·column, each column a unit force shape on the motion (a Coulomb sign, a Dahl or Bouc–Wen state, a
 dead-band penetration, a cubic).  :func:`columns` gives those columns — the time-domain fit solves for the
 amplitudes by least squares — and :func:`effect_force` the effect's whole undamped force on a base model (the
-harmonic route's phase grid, the augmented model, ``simulate --effect``).
+harmonic route's phase grid, the augmented model, ``simulate --effect``; :mod:`.compose` puts them on a base
+model).
 
 Memory operators (:mod:`chainid.model.operators`) run on the whole series: ``periodic`` for one period of a
 steady cycle (the operator's periodic steady state), otherwise forward from their stated initial state.
@@ -21,7 +22,7 @@ import numpy as np
 
 from chainid.model import operators as ops
 
-__all__ = ["columns", "effect_force", "play_operator", "dahl_operator", "bouc_wen_operator", "stick_slip",
+__all__ = ["columns", "play_operator", "dahl_operator", "bouc_wen_operator", "stick_slip",
            "sliding_sign", "coulomb_sign", "series_compliance_force", "is_chain"]
 
 #: sgn(ẋ) of Coulomb sliding with 0 at a reversal (one implementation: :func:`chainid.model.operators.coulomb_sign`)
@@ -149,51 +150,3 @@ def columns(name: str, p: dict[str, float], x: np.ndarray, xd: np.ndarray, xdd: 
         return {"m_f": np.asarray(xdd, float) * 1e-3}
     raise ValueError(f"effect {name!r} has no force columns (a stiffness-side, play, delay or damping effect)")
 
-
-def _amplitude_force(name: str, p: dict[str, float], cols: dict[str, np.ndarray]) -> np.ndarray:
-    return sum(p.get(a, 0.0) * c for a, c in cols.items())
-
-
-def effect_force(eff: Any, p: dict[str, float], model: Any, t: np.ndarray, x: np.ndarray, xd: np.ndarray,
-                 xdd: np.ndarray, omega: float, A: float, x0: float, xfun: Callable | None = None,
-                 periodic: bool = True, v_err: float | np.ndarray = 0.0
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Undamped force [N], the velocity the damping acts on [mm/s], and an extra c_e factor [N·s/mm] of one
-    effect ``eff`` (:class:`.library.Effect`) with parameters ``p`` on ``model``.
-
-    Returns ``(F_nodamp, xd_damp, extra_c)`` with the model force F = F_nodamp + (c_e + extra_c)·xd_damp.
-    ``periodic``: the memory operators return the periodic steady state of a series that is one period (the
-    diagnosis' phase grid); False runs them forward from their stated initial state, for any x(t).  ``v_err``
-    [mm/s]: the RMS error of an estimated velocity (the sign of sliding, :func:`sliding_sign`).
-    """
-    from chainid.model.effects.compose import modify_model
-
-    m = float(getattr(model, "mass_kg", 0.0))
-    inert = m * xdd * 1e-3
-    Fk = np.asarray(model.force(x), dtype=float)
-    name = eff.name
-    if eff.kind in ("force", "mass"):
-        q = dict(eff.fixed) | p
-        F = inert + Fk + _amplitude_force(name, q, columns(name, q, x, xd, xdd, Fk, periodic, v_err))
-    elif name == "backlash":
-        F = inert + np.asarray(model.force(play_operator(x, 0.5 * p.get("b", 0.0), periodic)), dtype=float)
-    elif name == "slack" and not is_chain(model):
-        F = inert + np.asarray(model.force(x - p.get("s", 0.0)), dtype=float)
-    elif name == "machine_compliance" and not is_chain(model):
-        F = inert + series_compliance_force(model, x, p.get("c", 0.0))
-    elif eff.kind == "stiffness":  # the changed chain model, in one place (raises without a chain)
-        F = inert + np.asarray(modify_model(name, p, model).force(x), dtype=float)
-    elif name == "sensor_delay":
-        tau = p.get("tau", 0.0)
-        if xfun is None:
-            raise ValueError("sensor_delay needs the displacement function xfun(t)")
-        xs, xds, xdds = xfun(t - tau)
-        F = m * xdds * 1e-3 + np.asarray(model.force(xs), dtype=float)
-        return F, xds, np.zeros_like(t)
-    elif name == "damping_law":
-        ke = float(np.asarray(model.stiffness(np.array([x0])), dtype=float)[0])
-        extra = p.get("eta", 0.0) * ke / omega + 4.0 * p.get("F_f", 0.0) / (math.pi * omega * A)
-        return inert + Fk, xd, np.full_like(t, extra)
-    else:  # pragma: no cover
-        raise ValueError(f"unknown effect {name!r}")
-    return F, xd, np.zeros_like(t)

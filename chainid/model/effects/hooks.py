@@ -13,6 +13,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from chainid.model.effects.compose import effect_force
 from chainid.model.effects.library import DEFAULTS, EFFECT_NAMES, SPECS, describe_range, make_effect
 
 __all__ = ["parse_spec", "parse_effect", "check_params"]
@@ -103,7 +104,7 @@ def parse_effect(spec: str, model: Any) -> Callable[..., np.ndarray]:
         A = 0.5 * (float(np.max(x)) - float(np.min(x)))
         omega = float(np.max(np.abs(xd))) / A if A > 0 else 1.0
         x0 = 0.5 * (float(np.max(x)) + float(np.min(x)))
-        Fn, xd_damp, extra = eff.force(p, model, t, x, xd, xdd, omega, max(A, 1e-12), x0,
+        Fn, xd_damp, extra = effect_force(eff, p, model, t, x, xd, xdd, omega, max(A, 1e-12), x0,
                                        _xfun_from_series(t, x, xd, xdd), periodic=False)
         return Fn + damp + extra * xd_damp
 

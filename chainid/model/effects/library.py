@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 __all__ = ["Scales", "Param", "EffectSpec", "SPECS", "EFFECT_NAMES", "STIFFNESS_SIDE", "DEFAULTS", "Effect",
-           "make_effect", "valid_range", "describe_range", "applies_to"]
+           "make_effect", "valid_range", "describe_range", "applies_to", "pinned"]
 
 
 @dataclass(frozen=True)
@@ -62,6 +62,9 @@ class Param:
     default: float
     amplitude: bool = False
     fitted: bool = True
+    #: whether the fit's lower / upper bound is a limit the form may legitimately reach (True) or a sign that the
+    #: form does not fit when a parameter is pinned there (False; a lower bound of 0, "absent", never pins)
+    limits: tuple[bool, bool] = (False, False)
 
 
 @dataclass(frozen=True)
@@ -76,8 +79,9 @@ class EffectSpec:
 
 
 def _P(name: str, unit: str, valid: tuple[float, float], bounds: Bound, guess: Callable[[Scales], float],
-       default: float, amplitude: bool = False, fitted: bool = True) -> Param:
-    return Param(name, unit, valid, bounds, guess, default, amplitude, fitted)
+       default: float, amplitude: bool = False, fitted: bool = True, limits: tuple[bool, bool] = (False, False)
+       ) -> Param:
+    return Param(name, unit, valid, bounds, guess, default, amplitude, fitted, limits)
 
 
 INF = math.inf
@@ -109,8 +113,8 @@ SPECS: dict[str, EffectSpec] = {s.name: s for s in (
     EffectSpec("bouc_wen", "force", (
         _P("F_y", "N", (0.0, F_MAX), lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
         _P("x_y", "mm", (1e-9, 1e6), lambda s: (1e-3 * s.x, 10 * s.x), lambda s: 0.3 * s.x, 0.05),
-        _P("n", "-", (0.1, 20.0), lambda s: (0.5, 6.0), lambda s: 1.5, 1.0),
-        _P("r", "-", (0.0, 1.0), lambda s: (0.0, 1.0), lambda s: 0.75, 1.0)),
+        _P("n", "-", (0.1, 20.0), lambda s: (0.3, 8.0), lambda s: 1.5, 1.0),
+        _P("r", "-", (0.0, 1.0), lambda s: (0.0, 1.0), lambda s: 0.75, 1.0, limits=(True, True))),
         "Bouc–Wen hysteresis with shape: force F_y·z, dz/dx = (1/x_y)·[1 − (r·sgn(ẋz) + 1 − r)·|z|^n] (yield "
         "travel x_y, knee sharpness n, unloading shape r; Dahl is n = 1, r = 1)"),
     EffectSpec("contact_law", "stiffness", (
@@ -127,7 +131,7 @@ SPECS: dict[str, EffectSpec] = {s.name: s for s in (
         _P("k_d", "N/mm^p", (0.0, F_MAX), lambda s: (0.0, 100.0 * s.F / min(s.x, 1.0) ** 4),
            lambda s: s.F / s.x, 0.0, amplitude=True),
         _P("g", "mm", (0.0, 1e6), lambda s: (0.0, 1.5 * s.x), lambda s: 0.5 * s.x, 0.0),
-        _P("p", "-", (1.0, 6.0), lambda s: (1.0, 4.0), lambda s: 1.5, 1.0),
+        _P("p", "-", (1.0, 6.0), lambda s: (1.0, 4.0), lambda s: 1.5, 1.0, limits=(True, False)),
         _P("x_c", "mm", (-1e9, 1e9), lambda s: (s.x_mid - s.x, s.x_mid + s.x), lambda s: s.x_mid, 0.0)),
         "backlash with hardening contacts (end stops): a dead band of half-width g about x_c, then power-law "
         "stiffening k_d·(|x − x_c| − g)^p on each side"),
@@ -186,6 +190,20 @@ def valid_range(effect: str, param: str) -> tuple[float, float]:
             return p.valid
     raise ValueError(f"effect {effect!r}: unknown parameter {param!r}; valid: "
                      f"{', '.join(p.name for p in spec.params)}")
+
+
+def pinned(key: str, u: float, lo: float) -> bool:
+    """Whether a fitted ``effect.param`` at unit-box position u (0 its lower, 1 its upper fit bound) is pinned at a
+    bound in the sense of the step rule (its form does not fit there): at the upper bound, or at a nonzero lower
+    bound — unless the library declares that end a legitimate limit of the form (``Param.limits``)."""
+    eff, _, par = key.partition(".")
+    spec = SPECS.get(eff)
+    lim = next((p.limits for p in spec.params if p.name == par), (False, False)) if spec else (False, False)
+    if u >= 1 - 1e-6:
+        return not lim[1]
+    if u <= 1e-6 and lo != 0.0:
+        return not lim[0]
+    return False
 
 
 def describe_range(lo: float, hi: float) -> str:
@@ -250,13 +268,6 @@ class Effect:
             lo, hi = self.bounds[self.param_names.index(k)]
             if not (math.isfinite(v) and lo <= v <= hi):
                 raise ValueError(f"effect {self.name!r}: {k} = {v!r} is out of range; valid range {lo:g} to {hi:g}")
-
-    def force(self, p, model, t, x, xd, xdd, omega, A, x0, xfun=None, periodic=True, v_err=0.0):  # noqa: ANN001, ANN201
-        """Undamped force [N], the velocity the damping acts on [mm/s] and an extra c_e [N·s/mm] of this effect
-        on ``model`` (:func:`chainid.model.effects.forms.effect_force`)."""
-        from chainid.model.effects.forms import effect_force
-
-        return effect_force(self, p, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err)
 
 
 def make_effect(name: str, F_scale: float = 1e4, x_scale: float = 1.0, omega_max: float = 10.0, *,
