@@ -154,6 +154,10 @@ def _effect(name: str, p: dict[str, float], out: dict[str, Any], els: list, wher
             raise ValueError(f"{where}: a second {name} effect; valid: one (one play or dead band per segment)")
         if name == "backlash":
             out[key] = p.get("b", 0.0)
+            if out[key] > 0:
+                notes.append(f"{where}: the library's backlash (the spring on the play output, b = {out[key]:.6g} mm) "
+                             "is not passive: it returns b·(F at the upper reversal − F at the lower) per cycle, "
+                             "booked as negative dissipation")
         elif p.get("k_d", 0.0) > 0:
             out[key] = (p["k_d"], p.get("g", 0.0), p.get("p", 1.0), p.get("x_c", 0.0))
     elif name == "fixture_mass":
