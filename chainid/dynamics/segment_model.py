@@ -103,6 +103,10 @@ def _at_conditions(m: Any, covariates: dict[str, float] | None, src: str, notes:
         notes.append(f"covariate(s) {', '.join(extra)} given but the model has no term over them: not used")
     if not need:
         return m
+    spring = [t for t in m.covariate_terms if t.startswith("spring.")]
+    if spring:
+        raise ValueError(f"{src}: covariate term(s) {', '.join(spring)} act on a linear spring; a chain base has none "
+                         "(valid: effect.param@cov, damping.c@cov)")
     missing = [c for c in need if c not in cov]
     if missing:
         terms = ", ".join(t for t in m.covariate_terms if t.partition("@")[2] in missing)
@@ -157,7 +161,7 @@ def _effect(name: str, p: dict[str, float], out: dict[str, Any], els: list, wher
             if out[key] > 0:
                 notes.append(f"{where}: the library's backlash (the spring on the play output, b = {out[key]:.6g} mm) "
                              "is not passive: it returns b·(F at the upper reversal − F at the lower) per cycle, "
-                             "booked as negative dissipation")
+                             "booked as negative dissipation, and can make the line's own oscillations grow")
         elif p.get("k_d", 0.0) > 0:
             out[key] = (p["k_d"], p.get("g", 0.0), p.get("p", 1.0), p.get("x_c", 0.0))
     elif name == "fixture_mass":

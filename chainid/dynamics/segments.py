@@ -117,20 +117,26 @@ def _element_energy(kd, e, s, f, x):
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def _elastic(j, e, de, ys, y, cl, ch, hx, hd, sp):
+def _elastic(j, e, de, ys, y, cl, ch, hx, hd, sp, tangent):
     """(spring force at the argument a [N], a [mm], dead band force [N], spring tangent if its argument moved
-    [N/mm], dead band tangent [N/mm], play loss [N·mm], first element column after the play) of segment j."""
+    [N/mm] (with ``tangent``), dead band tangent [N/mm], play loss [N·mm], first element column after the play) of
+    segment j."""
     beta, s = sp[j, 0], sp[j, 1]
     q0, a, loss = 0, e - s, 0.0
     fd, kdb = deadband(e - sp[j, 5], sp[j, 2], sp[j, 3], sp[j, 4])
     moved = True
+    rest = 0.0
     if hd.shape[1] > 0 and hd[j, 0] == 4:
         yp = play_step(ys[j, 0], e, hx[j, 0])
         y[j, 0] = yp
         q0, a, moved = 1, yp - s, yp != ys[j, 0]
-        loss = spring_force(ys[j, 0] - s, cl[j], ch[j], beta) * (de - (yp - ys[j, 0]))
+        rest = de - (yp - ys[j, 0])  # the travel over which the play held the spring's argument
     f = spring_force(a, cl[j], ch[j], beta)
-    kf = spring_stiffness(a, cl[j], ch[j], beta) if moved else 0.0
+    if not moved:
+        loss = f * rest
+    elif abs(rest) > 1e-12 * (abs(e) + hx[j, 0]):  # the step that engages (not round-off of an engaged step)
+        loss = spring_force(ys[j, 0] - s, cl[j], ch[j], beta) * rest
+    kf = spring_stiffness(a, cl[j], ch[j], beta) if (moved and tangent) else 0.0
     return f, a, fd, kf, kdb, loss, q0
 
 
@@ -176,7 +182,7 @@ def segment_tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, 
         de = (u[j] - us[j]) - (u[j + 1] - us[j + 1])
         ev = v[j] - v[j + 1]
         if ext:
-            f, a, fd, kf, kdb, loss, q0 = _elastic(j, e, de, ys, y, cl, ch, hx, hd, sp)
+            f, a, fd, kf, kdb, loss, q0 = _elastic(j, e, de, ys, y, cl, ch, hx, hd, sp, tangent)
         else:
             f, a, fd, kf, kdb, loss, q0 = Fk[j], e, 0.0, 0.0, 0.0, 0.0, 0
         zsum, slip, kz, cz = 0.0, 0.0, 0.0, 0.0

@@ -209,3 +209,18 @@ def test_stribeck_follows_its_law_outside_the_stick_and_does_not_drift():
     k = 4000  # samples per cycle: after the first reversal (t > T/4) the loop repeats to round-off
     np.testing.assert_allclose(extra[2 * k // 4 + k:2 * k + 1], extra[2 * k // 4:k + 1], rtol=0, atol=1e-9 * F0)
     assert np.diff(res.dissipated).min() >= 0.0 and res.energy_balance()["relative_error"] < 1e-5
+
+
+@pytest.mark.parametrize("scheme", ["explicit", "implicit"])
+def test_fixture_mass_adds_its_inertia_to_the_drive_force_only(scheme):
+    """drive_mass_kg = 5 (effect fixture_mass) on the driven node of a 4-mass line (20 links, 5 kN, sine A = 0.2 mm,
+    ω = 2π·40 rad/s): the drive force is (m_0 + 5 kg)·a_0·1e-3 + T_1 with a_0 = −A·ω²·sin(ωt) by hand and m_0 = half
+    a 5-link segment (0.5 kg); the tensions are those of the same line without it (the drive is prescribed)."""
+    w, Am = 2 * math.pi * 40, 0.2
+    kw = dict(n_links=20, n_masses=4, pretension_N=5000.0)
+    res = simulate(ChainLine(drive_mass_kg=5.0, **kw), Drive("sine", A=Am, omega=w), 0.1, n_out=50, scheme=scheme)
+    ref = simulate(ChainLine(**kw), Drive("sine", A=Am, omega=w), 0.1, n_out=50, scheme=scheme)
+    np.testing.assert_array_equal(res.tension, ref.tension)
+    a0 = -Am * w * w * np.sin(w * res.t)
+    np.testing.assert_allclose(res.drive_force, 1e-3 * (0.5 + 5.0) * a0 + res.tension[:, 0], rtol=1e-12, atol=1e-9)
+    assert res.energy_balance()["relative_error"] < 1e-3

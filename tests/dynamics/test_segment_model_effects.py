@@ -100,6 +100,10 @@ def test_covariate_terms_are_resolved_at_the_given_conditions(tmp_path):
         segment_kwargs(p)
     with pytest.raises(ValueError, match=r"effect 'hysteresis': F_h = -10.0 is out of range"):
         segment_kwargs(p, covariates={"i": 7.0})  # F_h = 50 − 60
+    p = _file(tmp_path, '[covariates.refs]\np = 2.0\n[covariates.terms]\n"spring.k@p" = 3.0\n', name="k.toml")
+    with pytest.raises(ValueError, match=r"covariate term\(s\) spring.k@p act on a linear spring; a chain base has "
+                                         "none"):
+        segment_kwargs(p, covariates={"p": 1.0})
 
 
 def test_feature_damping_is_resolved_at_the_operating_point(tmp_path):
