@@ -142,7 +142,8 @@ class ChainLine:
     coulomb_N : float
         Coulomb friction force with stick of the specimen [N], >= 0.
     coulomb_stiffness : float, optional
-        Stick stiffness of the Coulomb element for the specimen [N/mm], > 0; default 1/c_lin of the specimen.
+        Stick stiffness of the Coulomb element for the specimen [N/mm], > 0; default 1/c_lin of the specimen
+        (c_lin/ea_scale + compliance).
     ea_scale, hertz_scale : float
         Factors on the links' linear compliance (c_lin/ea_scale; 0.001 to 1000) and on the contact coefficient
         (c_hertz·hertz_scale; > 0), as :class:`chainid.model.base.ChainModel`.
