@@ -19,6 +19,7 @@ import numpy as np
 from chainid.dynamics.drives import Drive
 from chainid.dynamics.energy import balance
 from chainid.dynamics.integrators import run
+from chainid.dynamics import line_tables
 from chainid.dynamics.model import ChainLine
 
 __all__ = ["SCHEMES", "SimResult", "SimulationError", "simulate", "stable_step", "core_arguments", "estimate",
@@ -68,6 +69,10 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
     peak_force : float, optional
         The largest segment tension expected [N], > 0.  ``None``: the load-independent bound k_e <= 1/c_lin
         (k_e grows with the load towards the link stiffness 1/c_lin; the Hertz contact only softens it).
+        The memory elements add their stiffest tangent (:func:`.line_tables.element_stiffness`).  A dead band
+        with p > 1 stiffens without bound: its tangent is taken where its force is ``peak_force``, or without it
+        twice the static load (pretension + resistance + load steps: a suddenly applied load doubles it); a run
+        that still exceeds its stable step fails its checks and is refined (``refine``) or refused.
 
     Returns
     -------
@@ -80,11 +85,16 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
     else:
         peak_force = _number("peak_force", peak_force, "> 0 N")
         uu = np.cbrt(peak_force)
-        k = 3.0 * uu / (2.0 * c_h + 3.0 * c_lin * uu)
-    hf, hx, hd = line.segment_element_table()
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k_el = np.where(hx > 0, hf / np.where(hx > 0, hx, 1.0), 0.0) * np.where(hd == 1, 2.0, 1.0)
-    k = k + k_el.sum(axis=1)  # elements in parallel at their stiffest (Jenkins sticking; Dahl at a reversal 2F_h/x_h)
+        if line.contact_exponent is None:
+            k = 3.0 * uu / (2.0 * c_h + 3.0 * c_lin * uu)
+        else:  # x = c_lin·F + c_h·F^β: k = 1/(c_lin + β·c_h·F^(β−1))
+            beta = float(line.contact_exponent)
+            k = 1.0 / (c_lin + beta * c_h * peak_force ** (beta - 1.0))
+    k = k + line_tables.element_stiffness(line)  # elements in parallel at their stiffest
+    if line.deadband:  # no load-independent bound: the tangent at the peak force (default: twice the static load)
+        F_ref = peak_force if peak_force is not None else 2.0 * max(
+            line.static_tension_at_speed() + sum(abs(ld.force_N) for ld in line.loads), 1.0)
+        k = k + line_tables.deadband_stiffness(line, float(F_ref))
     c = line.segment_damping()
     m = line.node_masses()
     N = line.n_masses
@@ -118,7 +128,7 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
     n_rec = n_steps // out_every + 1
     nn, N = line.n_nodes, line.n_masses
     c_lin, c_h = line.segment_coefficients()
-    hf, hx, hd = line.segment_element_table()
+    hf, hx, hd, hq, tabs = line.segment_element_arrays()
     code, p = drive.params(line.chain.pitch)
     loads = line.loads
     u_init, v_init = np.zeros(nn), np.zeros(nn)
@@ -130,8 +140,9 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
             tgt[:] = a
     if line.far_end == "fixed":
         u_init[-1] = v_init[-1] = 0.0
-    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hx, hd,
-            line.pretension_elongation(), line.resistance_per_node(), float(line.resistance_v_eps),
+    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hx, hd, hq,
+            line.spring_table(), tabs, line.extended_spring(), line.pretension_elongation(),
+            line.resistance_per_node(), float(line.resistance_v_eps),
             np.array([ld.node for ld in loads], dtype=np.int64), np.array([ld.force_N for ld in loads], dtype=float),
             np.array([ld.t_on for ld in loads], dtype=float), line.far_end == "tensioner",
             float(line.pretension_N), float(line.tensioner_stiffness), code, p, float(dt), int(n_steps),
@@ -159,7 +170,8 @@ def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "expli
         arrays).
     """
     nn, N = line.n_nodes, line.n_masses
-    n_el = len(line.specimen_elements()) + len(line.dahl)
+    n_el = (len(line.specimen_elements()) + len(line.dahl) + len(line.stribeck) + len(line.bouc_wen)
+            + (line.backlash_mm > 0))
     work = float(n_steps) * nn * (IMPLICIT_COST if scheme == "implicit" else 1.0)
     mem = 8.0 * (float(n_rec) * (3 * nn + N + 5) + 40 * nn + 4 * N * n_el)
     return {"node_steps": work, "seconds": work / NODE_STEPS_PER_S, "bytes": mem}

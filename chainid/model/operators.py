@@ -18,6 +18,9 @@ Operators (units: x mm, force N, energy N·mm = 1e-3 J):
   stick spring of stiffness F_c/x_s (stick travel x_s [mm]); force = F_c·(x − y)/x_s with y = play(x, x_s),
   dissipation F_c·|Δy|.  x_s → 0 is Coulomb friction with stick (see :func:`coulomb_sign`);
   loop area of a cycle of amplitude A > x_s: 4·F_c·(A − x_s);
+* :func:`stribeck_step` — velocity-weakening (Stribeck) friction for a time-stepper: a Jenkins element whose slip
+  force F_c + dF_s·exp(−(v/v_s)²) ± dF follows the speed v at the end of the step (rate dependent: a step function
+  only, the speed comes from the stepper);
 * :func:`dahl` — Dahl hysteresis: dz/dx = (F_h/x_h)(1 − sgn(ẋ)·z/F_h), solved exactly between samples
   (x piecewise linear); stored energy z²/(2k₀), k₀ = F_h/x_h, so the dissipation rate is z²|ẋ|/F_h ≥ 0;
   loop area of a symmetric cycle of amplitude A: 4·F_h·(A − x_h·tanh(A/x_h));
@@ -53,7 +56,8 @@ except Exception:  # pragma: no cover
             return f
         return deco if not (a and callable(a[0])) else a[0]
 
-__all__ = ["play_step", "jenkins_step", "dahl_step", "bouc_wen_step", "bouc_wen_table", "iwan_step", "play",
+__all__ = ["play_step", "jenkins_step", "stribeck_step", "dahl_step", "bouc_wen_step", "bouc_wen_table", "iwan_step",
+           "play",
            "jenkins", "dahl", "bouc_wen", "iwan",
            "iwan_for_loss", "coulomb_sign", "dahl_cycle_energy", "jenkins_cycle_energy"]
 
@@ -77,6 +81,34 @@ def jenkins_step(y: float, x: float, F_c: float, x_s: float) -> tuple[float, flo
     """
     yn = play_step(y, x, x_s)
     return yn, F_c * (x - yn) / x_s, F_c * abs(yn - y)
+
+
+@njit()
+def stribeck_step(y: float, x: float, v: float, k: float, F_c: float, dF_s: float, v_s: float,
+                  dF: float) -> tuple[float, float, float]:  # pragma: no cover - numba
+    """One step of Stribeck friction regularised by an elastic stick (a Jenkins element whose slip force weakens
+    with the sliding speed), for a time-stepper.
+
+    The slider at ``y`` [mm] is joined to ``x`` [mm] by a stick spring ``k`` [N/mm] (> 0); it slips when the spring
+    force k·(x − y) leaves the band [−(f − dF), f + dF] with f = F_c + dF_s·exp(−(v/v_s)²) at the speed ``v``
+    [mm/s] of x at the end of the step: the static force F_s = F_c + dF_s at rest, the kinetic F_c when fast
+    (v_s [mm/s] > 0), and a direction asymmetry dF [N] (|dF| ≤ F_c: slip force F_c + dF moving +x).  While the
+    band holds the spring, nothing slips (no sign of v is ever taken: the force near v = 0 is the stick spring's,
+    continuous, so a time-stepper neither chatters nor drifts).  Sliding, the force is ±(band edge), the library's
+    sgn(ẋ)·[F_c + dF_s·exp(−(ẋ/v_s)²)] + dF.
+
+    Returns (slider position [mm], force [N], dissipated energy over the step [N·mm] = force·Δy ≥ 0).
+    """
+    w = math.exp(-(v / v_s) * (v / v_s))
+    f = F_c + dF_s * w
+    z = k * (x - y)
+    yn = y
+    if z > f + dF:
+        yn = x - (f + dF) / k
+    elif z < -(f - dF):
+        yn = x + (f - dF) / k
+    zn = k * (x - yn)
+    return yn, zn, zn * (yn - y)
 
 
 @njit()
