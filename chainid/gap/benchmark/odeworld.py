@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import time
 import warnings
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -63,8 +64,9 @@ def _covariate(case: dict[str, Any], nrec: int, effects: dict[str, dict[str, flo
                     "values": values.tolist()}
 
 
-def build(case: dict[str, Any]) -> tuple[list[Any], list[str], dict[str, Any]]:
-    """The records of a case, its held-out ids and its truth (see the module docstring)."""
+def build(case: dict[str, Any], clean: bool = False) -> tuple[list[Any], list[str], dict[str, Any]]:
+    """The records of a case, its held-out ids and its truth (see the module docstring); ``clean``: the logger
+    adds no noise and no ADC steps (lag, offsets and drift stay; the truth still states the noise it would add)."""
     rng = np.random.default_rng(case["seed"])
     base = case["base"]
     b = oc.draw_base(base, rng)
@@ -89,6 +91,7 @@ def build(case: dict[str, Any]) -> tuple[list[Any], list[str], dict[str, Any]]:
     T = np.array([r["n"] / r["fs"] for r in plan])
     starts = np.concatenate([[0.0], np.cumsum(1.1 * T)[:-1]])
     recs, meas = [], []
+    noise_rng = np.random.default_rng([case["seed"], 1])  # its own stream: a clean build draws the same case
     for i, (r, s) in enumerate(zip(plan, shapes)):
         eff = {n: dict(p) for n, p in effects.items() if n not in ("sensor_delay", "damping_law")}
         if cov_values is not None:
@@ -105,7 +108,8 @@ def build(case: dict[str, Any]) -> tuple[list[Any], list[str], dict[str, Any]]:
                      q_F=1.5 * Fr / 4096 if rng.random() < 0.3 else 0.0,
                      offset_F=float(rng.uniform(-0.05, 0.05)) * sc["S"] if case.get("offsets") else 0.0,
                      drift=_drift(outside, starts[i], T.mean()))
-        recs.append(measure(f"r{i + 1}", s, tr, log, rng))
+        recs.append(measure(f"r{i + 1}", s, tr, replace(log, sigma_F=0.0, sigma_x=0.0, q_F=0.0) if clean else log,
+                            noise_rng))
         meas.append({"kind": s.kind, "fs": s.fs, "n": s.n, "f_lo": s.f_lo, "f_hi": s.f_hi, "c": float(c_r[i]),
                      "sigma_F": log.sigma_F, "sigma_x": log.sigma_x, "q_F": log.q_F, "offset_F": log.offset_F,
                      "drift": list(log.drift), **{k: v for k, v in s.info.items() if k in (
