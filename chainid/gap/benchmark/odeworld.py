@@ -95,7 +95,11 @@ def build(case: dict[str, Any], clean: bool = False) -> tuple[list[Any], list[st
     for i, (r, s) in enumerate(zip(plan, shapes)):
         eff = {n: dict(p) for n, p in effects.items() if n not in ("sensor_delay", "damping_law")}
         if cov_values is not None:
-            eff[cov_truth["effect"]][cov_truth["param"]] = cov_truth["p0"] + cov_truth["p1"] * cov_values[i]
+            p = eff[cov_truth["effect"]]
+            new = cov_truth["p0"] + cov_truth["p1"] * cov_values[i]
+            if cov_truth["effect"] == "stribeck" and cov_truth["param"] == "F_c":
+                p["F_s"] += new - p["F_c"]  # the amplitude F_s − F_c stays
+            p[cov_truth["param"]] = new
         dev = _device(b, base, eff, outside, float(c_r[i]))
         hmax = max(1.0 / r["fs"], 1.0 / (8.0 * s.f_hi))
         if force:
