@@ -91,6 +91,7 @@ def test_summary_rates_per_family_strong_subset_and_breakdowns():
     assert "single" in text and "67 % (2/3)" in text and "100 % (1/1)" in text
     md = sc.markdown_table(s)
     assert "| control | 33 % (1/3) | 0 % (0/1) |" in md
+    assert "| family | chain14 | damper |" in md and "| single | 1/1 | 1/2 |" in md and "| control | 1/3 | – |" in md
 
 
 def test_run_case_reads_the_diagnosis_result_and_scores_it(monkeypatch):

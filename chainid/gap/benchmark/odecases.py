@@ -209,7 +209,7 @@ def effect_params(name: str, level: float, sc: dict[str, float], rng: np.random.
     if name == "slack":
         return {"s": 0.1 * level * A}
     if name == "sensor_delay":
-        return {"tau": sign * 0.05 * level / (2 * math.pi * sc["f_hi"])}
+        return {"tau": sign * 0.15 * level / (2 * math.pi * sc["f_hi"])}  # 0.15 rad at the band edge
     if name == "damping_law":
         return {"spread": 0.2 * min(level, 1.5)}
     raise ValueError(f"effect {name!r} has no strength rule in the ODE world")

@@ -142,8 +142,8 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
-def _pct(v: Any) -> str:
-    return "n/a" if v is None else f"{100 * v:.0f} %"
+def _pct(v: Any, digits: int = 0) -> str:
+    return "n/a" if v is None else f"{100 * v:.{digits}f} %"
 
 
 def format_table(s: dict[str, Any]) -> str:
@@ -163,7 +163,7 @@ def format_table(s: dict[str, Any]) -> str:
         for f, r in s["families"].items()))
     if s["params"]:
         lines.append("parameters of named true effects: " + "; ".join(
-            f"{k} n={v['n']} median rel. error {_pct(v['median_rel_error'])}, 90 % interval covers "
+            f"{k} n={v['n']} median rel. error {_pct(v['median_rel_error'], 1)}, 90 % interval covers "
             f"{_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["params"].items()))
     if s["errors"]:
         lines.append(f"{len(s['errors'])} case(s) raised an error, e.g. {s['errors'][0]['error']}")
@@ -173,10 +173,21 @@ def format_table(s: dict[str, Any]) -> str:
 
 
 def markdown_table(s: dict[str, Any]) -> str:
-    """The family rates as a Markdown table (for ``benchmarks/RESULTS_ode.md``)."""
+    """Markdown tables (for ``benchmarks/RESULTS_ode.md``): the family rates, right/n per family × base, and the
+    parameters of named true effects."""
     lines = ["| family | right (all) | right (residual >= 3 σ) | verdicts |", "|---|---|---|---|"]
     for f, r in s["families"].items():
         v = ", ".join(f"`{k}` {n}" for k, n in r["verdicts"].items())
         lines.append(f"| {f} | {_pct(r['rate'])} ({r['right']}/{r['n']}) | {_pct(r['strong']['rate'])} "
                      f"({r['strong']['right']}/{r['strong']['n']}) | {v} |")
+    bases = sorted({b for r in s["families"].values() for b in r["by_base"]})
+    lines += ["", "| family | " + " | ".join(bases) + " |", "|---|" + "---|" * len(bases)]
+    for f, r in s["families"].items():
+        cells = [f"{r['by_base'][b]['right']}/{r['by_base'][b]['n']}" if b in r["by_base"] else "–" for b in bases]
+        lines.append(f"| {f} | " + " | ".join(cells) + " |")
+    if s.get("params"):
+        lines += ["", "| parameter | n | median relative error | 90 % interval covers the truth |", "|---|---|---|---|"]
+        for k, v in s["params"].items():
+            lines.append(f"| `{k}` | {v['n']} | {_pct(v['median_rel_error'], 1)} | {_pct(v['coverage'])} of "
+                         f"{v['n_interval']} |")
     return "\n".join(lines)
