@@ -147,3 +147,9 @@ def test_bad_friction_parameters_are_refused_with_the_field():
         Device("linear", k=1.0, effects={"friction": {"F_c": 5.0, "dF": 6.0, "x_s": 0.01}})
     with pytest.raises(ValueError, match=r"Device.base = 'rubber' is invalid; valid: chain, linear"):
         Device("rubber")
+    with pytest.raises(ValueError, match=r"bouc_wen.n = 9.0 is out of range; valid range >= 0.5 and <= 8"):
+        Device("linear", k=1.0, effects={"bouc_wen": {"F_y": 1.0, "x_y": 0.1, "n": 9.0, "r": 0.5}})
+    with pytest.raises(ValueError, match=r"backlash.b = 0.0 is out of range; valid range > 0"):
+        Device("linear", k=1.0, effects={"backlash": {"b": 0.0}})
+    with pytest.raises(ValueError, match=r"stribeck.F_s = 1.0 is out of range; valid range >= F_c = 2.0 N"):
+        Device("linear", k=1.0, effects={"stribeck": {"F_c": 2.0, "F_s": 1.0, "v_s": 1.0, "v_e": 0.01}})

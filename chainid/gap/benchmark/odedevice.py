@@ -123,7 +123,28 @@ class Device:
         """Internal states (the chatter slider has two)."""
         return sum(n in self.effects or n in self.outside for n in STATE_EFFECTS) + ("chatter" in self.outside)
 
+    def _check(self) -> None:
+        """Refuse parameters the ODEs cannot run with, naming the effect, the field, the value and the range."""
+        rules = {"stribeck": {"F_c": (0, None), "v_s": (0, None, True), "v_e": (0, None, True)},
+                 "hysteresis": {"F_h": (0, None), "x_h": (0, None, True)},
+                 "bouc_wen": {"F_y": (0, None), "x_y": (0, None, True), "n": (0.5, 8), "r": (0, 1)},
+                 "backlash": {"b": (0, None, True)}, "deadband": {"k_d": (0, None), "g": (0, None), "p": (1, 4)},
+                 "fixture_mass": {"m_f": (0, None)}, "relaxation": {"k_m": (0, None), "tau_m": (0, None, True)},
+                 "chatter": {"k_s": (0, None, True), "m_s": (0, None, True), "c_s": (0, None), "F_c": (0, None),
+                             "v_s": (0, None, True), "v_e": (0, None, True)}}
+        for name, p in {**self.effects, **self.outside}.items():
+            for key, (lo, hi, *strict) in rules.get(name, {}).items():
+                v = p.get(key)
+                ok = v is not None and math.isfinite(v) and (v > lo if strict else v >= lo) and (hi is None or v <= hi)
+                if not ok:
+                    rng = f"{'>' if strict else '>='} {lo:g}" + (f" and <= {hi:g}" if hi is not None else "")
+                    raise ValueError(f"{name}.{key} = {v!r} is out of range; valid range {rng}")
+        if "stribeck" in self.effects and self.effects["stribeck"]["F_s"] < self.effects["stribeck"]["F_c"]:
+            raise ValueError(f"stribeck.F_s = {self.effects['stribeck']['F_s']!r} is out of range; valid range "
+                             f">= F_c = {self.effects['stribeck']['F_c']!r} N (static above kinetic)")
+
     def _params(self) -> np.ndarray:
+        self._check()
         P = np.zeros(N_P)
         P[K], P[XREF], P[C], P[LINEAR] = self.k, self.x_ref, self.c, float(self.base == "linear")
         e, o = self.effects, self.outside
