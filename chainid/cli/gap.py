@@ -94,16 +94,33 @@ def check_workers(n: int | None) -> None:
         raise ValueError(f"--workers = {n} is invalid: valid range >= 1 (more than {MAX_WORKERS} are capped)")
 
 
+#: the simulated worlds of ``benchmark-gap --generator``
+GENERATORS = ("sim", "ode", "both")
+#: the sim generator's excitations when --excitations is not given
+SIM_EXCITATIONS = "harmonic,random,sweep,startup,quake,transfer"
+
+
+def _check_generator(args: argparse.Namespace) -> None:
+    if args.generator not in GENERATORS:
+        raise ValueError(f"--generator {args.generator!r} is unknown; valid: {', '.join(GENERATORS)}")
+    if args.generator == "ode" and (args.chain or args.excitations is not None):
+        raise ValueError("--chain and --excitations choose the sim generator's cases; the ODE world "
+                         "(--generator ode) has its own bases and excitations")
+    if args.seed < 0:
+        raise ValueError(f"--seed = {args.seed} is out of range; valid range >= 0")
+
+
 def cmd_benchmark(args: argparse.Namespace) -> int:
     from chainid.gap.benchmark.grid import run_benchmark
 
     try:
         check_workers(args.workers)
+        _check_generator(args)
         if args.json:  # before the grid runs (minutes)
             from chainid.infra.fileio import check_output_file
 
             check_output_file(args.json, force=args.force, what="--json")
-        exc = tuple(e.strip() for e in args.excitations.split(",") if e.strip())
+        exc = tuple(e.strip() for e in (args.excitations or SIM_EXCITATIONS).split(",") if e.strip())
         from chainid.gap.benchmark.grid import grid
 
         grid(True, 0, exc)  # an unknown excitation is refused before the run
@@ -112,9 +129,26 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
             from chainid.chain.spec import load_chain
 
             chain = load_chain(args.chain)
-        run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed,
-                      scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress,
-                      excitations=exc, chain=chain)
+        both = args.generator == "both"
+        out = {}
+        if args.generator in ("sim", "both"):
+            if both:
+                print("== generator sim (the project's simulator) ==")
+            out["sim"] = run_benchmark(small=args.small, json_path=None if both else args.json, overwrite=args.force,
+                                       seed=args.seed, scheduler=args.scheduler, n_workers=args.workers,
+                                       progress=not args.no_progress, excitations=exc, chain=chain)
+        if args.generator in ("ode", "both"):
+            from chainid.gap.benchmark.odeworld import run_world
+
+            if both:
+                print("\n== generator ode (the independent ODE world) ==")
+            out["ode"] = run_world(small=args.small, seed=args.seed, jobs=args.workers,
+                                   json_path=None if both else args.json, overwrite=args.force,
+                                   scheduler=args.scheduler, progress=not args.no_progress)
+        if both and args.json:
+            from chainid.infra.fileio import write_json
+
+            write_json({"generator": "both", **out}, args.json, force=args.force, what="--json")
     except ValueError as exc:
         print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
         return 2
@@ -172,10 +206,14 @@ def add_subparsers(subparsers: Any) -> None:
     b.add_argument("--json", metavar="FILE", help="write the JSON summary")
     b.add_argument("--seed", type=int, default=0,
                    help="seed of the benchmark's random effects, noise and plans (default 0, the README's runs)")
-    b.add_argument("--excitations", default="harmonic,random,sweep,startup,quake,transfer", metavar="LIST",
-                   help="which excitations run, comma separated: harmonic (steady test plans), random, sweep, "
-                        "startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, score "
-                        "random, and back); default all")
+    b.add_argument("--generator", default="sim", choices=GENERATORS,
+                   help="which simulated world: sim (the project's simulator, default), ode (an independently "
+                        "written world: effects as ODE states integrated with LSODA, multisine/filtered-noise/chirp/"
+                        "harmonic excitations, force-driven resonant devices), both (each reported apart)")
+    b.add_argument("--excitations", default=None, metavar="LIST",
+                   help="sim generator: which excitations run, comma separated: harmonic (steady test plans), random, "
+                        "sweep, startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, "
+                        "score random, and back); default all")
     b.add_argument("--chain", metavar="FILE.toml|PRESET",
                    help="run every case on this chain (TOML file or preset, e.g. studless:76:grade=R4), its "
                         "displacements scaled to the 14x50 chain's nominal stress (default: the built-in 14x50 "
