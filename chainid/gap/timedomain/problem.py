@@ -42,6 +42,24 @@ MIN_LAW_RECORDS = 3
 SIGMA2_REL_SD = 2.9
 
 
+def distinct_covariates(records: Sequence[TimeData], names: Sequence[str]) -> list[str]:
+    """The covariates that vary over ``records`` and are not (correlation above 0.999) an affine function of one kept
+    before (a set pressure and the measured mean pressure of the same tests are one operating condition)."""
+    kept: list[str] = []
+    for c in names:
+        v = np.array([d.covariates[c] for d in records], float)
+        if not np.all(np.isfinite(v)) or np.ptp(v) == 0:
+            continue
+        dup = False
+        for k in kept:
+            u = np.array([d.covariates[k] for d in records], float)
+            r = np.corrcoef(u, v)[0, 1]
+            dup = dup or bool(abs(r) > 0.999)
+        if not dup:
+            kept.append(c)
+    return kept
+
+
 class TimeProblem:
     """Time-domain records with a base model; fits and scores effect sets (see the module docstring).
 
@@ -88,7 +106,7 @@ class TimeProblem:
                 "w_ref": float(np.mean([d.omega_c for d in train_recs])),
                 "A_ref": float(np.mean([d.A for d in train_recs]))}
         refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
-        self.covariates = [c for c in covs if len({d.covariates[c] for d in train_recs}) >= 2]
+        self.covariates = distinct_covariates(train_recs, covs)
         self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs)
         allF = np.concatenate([d.F - d.F.mean() for d in self.tdata])
         self.F_scale = float(np.std(allF)) or 1.0

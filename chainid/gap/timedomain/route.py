@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import sys
+from types import SimpleNamespace
 from typing import Any, Sequence
 
 from chainid.gap.core import selection as fw
@@ -117,7 +118,10 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     interp = interpretation(path, prob, verdict)
     noise = {"excess_rms_N": excess, "noise_sigma_N": sig, "noise_floor_N": math.sqrt(f2),
              "chi2_ratio": r2 / f2 if f2 > 0 else None, "db_over_noise": db0}
-    summary = {"route": "time"} | contract(prob, prob.model, base_c, noise, fwd, verdict, interp, residual, where,
+    base_model = prob.model if prob.is_chain else SimpleNamespace(
+        name="linear device: m·ẍ + c·ẋ + k·x, a force offset per test" + (f", m = {mass_kg:g} kg given" if mass_kg
+                                                                           is not None else ""))
+    summary = {"route": "time"} | contract(prob, base_model, base_c, noise, fwd, verdict, interp, residual, where,
                                            list(excluded), confounded, warn, list(holdout),
                                            _tests(prob, base_c, left))
     stage("model-free check")
