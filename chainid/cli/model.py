@@ -50,7 +50,7 @@ def save_models(res: dict[str, Any], path: str, save_steps: bool, data_file: str
     models = res["_models"]
     for m in models:
         m.info["provenance"] = prov
-    out = [save_model(models[-1], path, overwrite=force)]
+    out = [save_model(res.get("_model", models[-1]), path, overwrite=force)]
     if save_steps:
         out += [save_model(m, p, overwrite=force) for m, p in zip(models, step_paths(path, len(models)))]
     return out

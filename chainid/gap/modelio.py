@@ -35,6 +35,7 @@ from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
 from chainid.model.timedamping import Damping
 from chainid.gap.core import noise as nz
+from chainid.gap.core.verdict import trusted_path
 from chainid.gap.core.kinematics import estimate
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
 
@@ -87,7 +88,8 @@ def step_fields(prob: Any, cand: Any, model: AugmentedModel | None = None) -> di
 def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[str]:
     """Make a diagnosis result runnable, on either route: every step gets its fitted parameters
     (:func:`step_fields`), ``summary["model"]`` the last step's model in the model file's keys and
-    ``summary["_models"]`` the model of every step (what ``--save-model`` / ``--save-steps`` write).
+    ``summary["_models"]`` the model of every step (``--save-steps``), ``summary["_model"]`` the verdict's (the
+    chain without a step that raised the held-out error: what ``--save-model`` writes).
 
     Parameters
     ----------
@@ -105,13 +107,15 @@ def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[s
     models = step_models(summary, {"evaluation": evaluation})
     for st, cand, m in zip(summary["steps"], summary["_path"], models):
         st.update(step_fields(prob, cand, m))  # every fitted parameter: base, law coefficients, mass, delay
-    summary["model"] = model_to_dict(models[-1])  # the last step's model, in the model file's keys
+    final = models[len(trusted_path(summary["_path"])[0]) - 1]  # the verdict's chain: no over-fitted step
+    summary["model"] = model_to_dict(final)  # in the model file's keys
     summary["_models"] = models
+    summary["_model"] = final
     if hasattr(prob, "tdata"):  # a time-domain problem: its records and its harmonic part's tests
         data = list(prob.tdata) + (list(prob.hprob.data) if prob.hprob is not None else [])
     else:
         data = list(prob.data)
-    msgs = negative_damping(models[-1], data)
+    msgs = negative_damping(final, data)
     summary["warnings"].extend(msgs)
     return msgs
 
@@ -243,8 +247,14 @@ def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False) -
     kin = estimate(rec.t, rec.x, nz.excitation_band(rec.t, rec.x))
     m = model.at_conditions(getattr(rec, "covariates", None))
     F = np.asarray(m.force(rec.t, kin.x, xd=kin.xd, xdd=kin.xdd, v_err=kin.v_spread(rec.t)), float)
+    Fm = np.asarray(rec.F, float)
+    out = np.zeros(F.size, bool)
+    if model.delay_s:  # the lagged motion before the record's start (after its end) is unknown: no residual there
+        ts = np.asarray(rec.t, float) - model.delay_s
+        out = (ts < rec.t[0]) | (ts > rec.t[-1])
     if model.offsets:
-        F = F + float(np.mean(np.asarray(rec.F, float) - F))
+        F = F + float(np.mean((Fm - F)[~out])) if (~out).any() else F
+    F = np.where(out, Fm, F)
     return (F, kin) if with_kinematics else F
 
 

@@ -33,7 +33,7 @@ import numpy as np
 
 from chainid.gap.core.noise import force_noise
 from chainid.gap.core.selection import at_noise_floor
-from chainid.gap.core.verdict import MIN_SHRINK
+from chainid.gap.core.verdict import MIN_SHRINK, trusted_path
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
 from chainid.gap.modelio import time_force
 from chainid.gap.timedomain.data import MIN_SAMPLES
@@ -97,7 +97,8 @@ def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
         refit), ``pooled``, ``chain``, ``transfers`` (bool) and ``verdict_text``.
     """
     path, models = result["_path"], result["_models"]
-    base, final = path[0], path[-1]
+    ok = trusted_path(path)[0]  # the verdict's chain: no over-fitted step
+    base, final = path[0], ok[-1]
     time_only = result.get("route") == "time"
     if not other:
         raise ValueError("--validate: the other set has no records")
@@ -105,7 +106,7 @@ def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
     tot = {k: 0.0 for k in ("b", "m", "br", "mr", "v", "r2", "f2", "n", "s2")}
     for rec in other:
         sb = _score(models[0], rec, n_bins, steady_tol, time_only)
-        sm = _score(models[-1], rec, n_bins, steady_tol, time_only) if final is not base else sb
+        sm = _score(models[len(ok) - 1], rec, n_bins, steady_tol, time_only) if final is not base else sb
         v = sb["var"]
         nr = lambda s: math.sqrt(s / v) if v > 0 else float("nan")  # noqa: E731
         row = {"test": rec.test, "route": sb["route"], "nrmse_baseline": nr(sb["sse"]), "nrmse_model": nr(sm["sse"]),

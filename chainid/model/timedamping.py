@@ -99,17 +99,17 @@ def design(kind: str, w: np.ndarray, A: np.ndarray, ke: np.ndarray) -> np.ndarra
 
 def record_features(t: np.ndarray, x: np.ndarray) -> tuple[float, float]:
     """The features a ``feature`` damping law reads of a record: the band centre ω_c [rad/s] — Σ ω·P(ω)/Σ P(ω) over
-    the detrended, Hann-windowed displacement spectrum above its white noise floor (the median power of the upper
-    half) — and the half range A [mm] of x.  For a sine: its angular frequency and amplitude."""
+    the displacement's periodogram (mean removed, no window: a window's taper and a detrending both shift the
+    power of the lowest lines) above its white noise floor (the median power of the upper half) — and the half
+    range A [mm] of x.  For a sine: its angular frequency and amplitude; for a sum of lines: their power-weighted
+    mean frequency."""
     t = np.asarray(t, float)
     x = np.asarray(x, float)
     n = x.size
     if n < 8:
         raise ValueError(f"a record needs >= 8 samples for its features; got {n}")
     dt = float(np.median(np.diff(t)))
-    u = np.arange(n)
-    y = (x - np.polyval(np.polyfit(u, x, 1), u)) * np.hanning(n)
-    P = np.abs(np.fft.rfft(y)) ** 2
+    P = np.abs(np.fft.rfft(x - float(np.mean(x)))) ** 2
     f = np.fft.rfftfreq(n, dt)
     Pc = np.maximum(P - float(np.median(P[P.size // 2:])), 0.0)
     Pc[0] = 0.0

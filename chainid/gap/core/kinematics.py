@@ -11,21 +11,22 @@ by the error it predicts, and the error it predicts is reported (it enters the n
    smooth across the wrap as inside, :func:`is_periodic`): spectral derivatives, ẋ = IFFT(i2πf·X(f)) with the
    spectrum cut above ``CUT_FACTOR``·f_band.  Exact for a band-limited periodic signal: no bias; the noise of x
    inside the kept band passes with gain 2πf.
-2. *Any other record*: a zero-phase 4th-order Butterworth low-pass (run forward and backward, gain |H(f)|²) at
-   f_cut = c·f_band, then central differences on the record's own time stamps (gain D(f) = fs·sin(2πf/fs) of the
-   true 2πf).  The factor c is chosen among :data:`CUT_CHOICES` to minimise the predicted mean squared error of ẋ,
-
-       E(c) = Σ_f |1 − |H_c(f)|²·D(f)/(2πf)|²·(2πf)²·S(f)  +  σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df,
-
-   the bias on the record's own signal spectrum S(f) (its Hann-windowed periodogram where it stands above the
-   largest value white noise would reach, the floor removed) plus the
-   noise σ_x of x (robust scale of its second difference, as :func:`chainid.gap.core.noise.force_noise`) carried
-   through the filter and the difference.  The bound reported is √E(c) [mm/s].
-3. *Edges*: the filter runs on the record extended at each end by its odd reflection about a denoised end value
-   (a straight line fitted over 1/f_cut), so a noisy first sample does not launch a transient.
+2. *Any other record*: zero-phase 4th-order Butterworth low-passes (run forward and backward, gain |H(f)|²) at
+   f_cut = c·f_band for every c of :data:`CUT_CHOICES` from the one whose predicted error on the record's own
+   spectrum is least (:func:`error_budget`), then five-point differences (gain D(f) = fs·(8·sin θ − sin 2θ)/6,
+   θ = 2πf/fs: a relative error of θ⁴/30 against the central difference's θ²/6).  Each estimate's noise is the
+   white noise σ_x of x (:func:`displacement_noise`) through the filter and the difference,
+   σ_c² = σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df.  Every sample takes the most smoothed estimate that agrees with
+   all the less smoothed ones within ±``ICI_GAMMA`` of their noise (the intersection of confidence intervals,
+   :func:`adaptive`): a smoother estimate where it is unbiased, a sharper one where the motion changes fast (an
+   onset, a reversal, an edge).  The error reported per sample is σ_c·√(1 + Γ²/3) (the noise and a bias the
+   intersection keeps within ±Γσ_c).
+3. *Edges*: the filters run on the record extended at each end by its odd reflection about a denoised end value
+   (a quadratic fitted over an eighth of the band edge's period), so a noisy first sample does not launch a
+   transient.
 4. *Rest*: where the smooth speed and acceleration both stay within ``REST_SIGMAS`` noise standard deviations of
    zero for at least half a period of f_cut, the record shows no motion and ẋ is 0 (a contact at rest is stuck);
-   a reversal passes through zero speed with an acceleration and keeps its estimate.  ẍ is the difference of the
+   a reversal passes through zero speed with an acceleration and keeps its estimate.  ẍ is the derivative of the
    unzeroed ẋ.
 
 Units: t s, x mm, ẋ mm/s, ẍ mm/s², f Hz.
@@ -41,7 +42,7 @@ import numpy as np
 from chainid.gap.core.noise import force_noise, sample_rate
 
 __all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
-           "filtered", "error_budget", "adaptive", "displacement_noise"]
+           "filtered", "error_budget", "adaptive", "displacement_noise", "derivative"]
 
 #: the spectral derivative keeps this many times the band edge
 CUT_FACTOR = 4.0
@@ -80,13 +81,12 @@ class Kinematics:
         return self.err_v_t if self.err_v_t is not None else self.err_v
 
     def v_spread(self, t: np.ndarray) -> np.ndarray:
-        """The spread of the velocity a sample stands for [mm/s]: its predicted error and the change of ẋ over the
-        sample's own interval, √(e_v² + (ẍ·Δt)²/12) (a force channel averages over its sample; a sliding contact
-        reverses somewhere inside one).  The sign of sliding friction is its expectation under this spread
-        (:func:`chainid.model.effects.forms.sliding_sign`)."""
+        """The velocity's predicted RMS error per sample [mm/s] (an array; :meth:`v_error` broadcast): the spread
+        under which the sign of sliding friction is taken (:func:`chainid.model.effects.forms.sliding_sign`).  A force
+        channel samples the force at an instant (after its anti-alias filter), so only the estimate's own error
+        softens the sign."""
         if self._spread is None or self._spread.size != np.size(t):
-            dt = np.gradient(np.asarray(t, float))
-            self._spread = np.sqrt(np.asarray(self.v_error(), float) ** 2 + (np.asarray(self.xdd) * dt) ** 2 / 12.0)
+            self._spread = np.broadcast_to(np.asarray(self.v_error(), float), np.shape(t)).copy()
         return self._spread
 
     def info(self) -> dict[str, float | str]:
@@ -180,8 +180,29 @@ def filtered(t: np.ndarray, x: np.ndarray, f_cut: float, f_band: float | None = 
         xs = sosfiltfilt(sos, _pad_odd(x, m, k), padtype=None)[m:m + x.size]
     else:
         xs = x.copy()
-    xd = np.gradient(xs, t)
-    return xs, xd, np.gradient(xd, t)
+    xd = derivative(xs, t)
+    return xs, xd, derivative(xd, t)
+
+
+def derivative(y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """dy/dt by five-point differences on a uniform grid (second-order one-sided differences at the two samples at
+    each end); ``np.gradient`` on the time stamps when the sampling is not uniform (a step off the median by more
+    than 1 %)."""
+    y = np.asarray(y, float)
+    t = np.asarray(t, float)
+    dt = np.diff(t)
+    h = float(np.median(dt))
+    if y.size < 5 or np.max(np.abs(dt - h)) > 0.01 * h:
+        return np.gradient(y, t)
+    d = np.gradient(y, h, edge_order=2)
+    d[2:-2] = (y[:-4] - 8.0 * y[1:-3] + 8.0 * y[3:-1] - y[4:]) / (12.0 * h)
+    return d
+
+
+def _stencil_gain(w: np.ndarray, fs: float) -> np.ndarray:
+    """The five-point difference's gain at angular frequency w [rad/s] (true: w)."""
+    th = w / fs
+    return fs * (8.0 * np.sin(th) - np.sin(2.0 * th)) / 6.0
 
 
 def error_budget(f: np.ndarray, S: np.ndarray, fs: float, f_cut: float, sigma_x: float, order: int = 1,
@@ -192,7 +213,7 @@ def error_budget(f: np.ndarray, S: np.ndarray, fs: float, f_cut: float, sigma_x:
     ``S`` is the signal's one-sided power per bin [mm²] at frequencies ``f`` [Hz] (the periodogram with the noise
     floor removed), σ_x the white noise of x [mm].  ``spectral_cut``: the spectral estimator cut at f_cut [Hz]
     (bias: the signal above the cut); else a 4th-order Butterworth at f_cut run forward and backward, then central
-    differences (bias: |w^k − |H|²·D^k|² on the signal, D = fs·sin(2πf/fs) the central difference's gain).
+    differences (bias: |w^k − |H|²·D^k|² on the signal, D the five-point difference's gain, :func:`derivative`).
     """
     if order not in (0, 1, 2):
         raise ValueError(f"order = {order!r} is out of range; valid: 0, 1 or 2")
@@ -206,10 +227,10 @@ def error_budget(f: np.ndarray, S: np.ndarray, fs: float, f_cut: float, sigma_x:
         noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid(ww[kk] ** (2 * order), ff[kk])) if kk.sum() > 1 else 0.0
         return math.sqrt(bias + noise), math.sqrt(noise)
     H2 = _butter_gain2(w / (2 * np.pi), f_cut, fs)
-    D = (fs * np.sin(w / fs)) ** order
+    D = _stencil_gain(w, fs) ** order
     bias = float(np.sum(np.abs(w ** order - H2 * D) ** 2 * S))
     H2f = _butter_gain2(ff, f_cut, fs)
-    noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid((fs * np.sin(ww / fs)) ** (2 * order) * H2f ** 2, ff))
+    noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid(_stencil_gain(ww, fs) ** (2 * order) * H2f ** 2, ff))
     return math.sqrt(bias + noise), math.sqrt(noise)
 
 

@@ -25,7 +25,7 @@ from scipy.optimize import least_squares
 
 from chainid.gap.core.candidate import MIN_TRAIN, Candidate, jackknife_sd  # noqa: F401  (re-exported)
 from chainid.gap.harmonic import law_choice as L
-from chainid.model.effects import EFFECT_NAMES, make_effect, pinned, undamped_force
+from chainid.model.effects import EFFECT_NAMES, identifiable, make_effect, pinned, undamped_force
 from chainid.gap.harmonic.prepare import TestData
 
 def _ce(d: TestData, Fn: np.ndarray, v: np.ndarray) -> float:
@@ -285,6 +285,8 @@ class Problem:
                 continue
             e = self.effects[n]
             for k, (a, b), g in zip(e.param_names, e.bounds, e.x0_guess):
+                if not identifiable(n, k, "chain" if self.is_chain else "linear"):
+                    continue  # held at its neutral value on this base
                 keys.append(f"{n}.{k}")
                 lo.append(a)
                 hi.append(b)

@@ -136,12 +136,19 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     kin = estimate(t, rec.x, fb)
     xs, xd, xdd = kin.x, kin.xd, kin.xdd
     F = np.asarray(rec.F, float)
-    sigma = max(nz.force_noise(F), 1e-6 * float(np.std(F)) + 1e-9)
+    sigma_hf = nz.hf_floor(t, F, fb)
+    # two estimates of the force noise, each an upper bound where the other fails: the robust second difference
+    # takes in a force curved on the sample scale (a record sampled a few times its band), the spectrum above the
+    # band takes in broadband force content (friction switching); the smaller is the noise
+    sigma = nz.force_noise(F)
+    if math.isfinite(sigma_hf) and sigma_hf > 0:
+        sigma = min(sigma, sigma_hf)
+    sigma = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
     block = np.minimum((np.arange(t.size) * n_blocks) // t.size, n_blocks - 1).astype(np.int64)
     q = max(1, min(int(fs / (FIT_SAMPLES_PER_PERIOD * fb)), int(math.ceil(t.size / FIT_MAX))))
     cov = {str(k): float(v) for k, v in dict(getattr(rec, "covariates", None) or {}).items()}
     return TimeData(rec.test, t, xs, xd, xdd, F, np.asarray(rec.x, float), sigma, fb, fs,
-                    nz.hf_floor(t, F, fb), block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
+                    sigma_hf, block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
                     covariates=cov, omega_c=record_features(t, xs)[0], f_low=low_edge(t, xs))
 
 

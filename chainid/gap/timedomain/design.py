@@ -17,8 +17,9 @@ m·ẍ) and φ_j the columns of the free amplitudes a_j (:mod:`chainid.gap.timed
 * a covariate term ``effect.param@cov``: the column of that amplitude times (cov_r − cov_ref); ``effect@cov``: the
   effect with every amplitude following the covariate (its columns, and each times (cov_r − cov_ref)).
 
-``sensor_delay`` evaluates the whole model on the motion at t − τ (the force lags the displacement by τ).  The
-memory operators run over the samples of the view in order (the whole record, or its fit subset).  The sign of
+``sensor_delay`` evaluates the whole model on the motion at t − τ (the force lags the displacement by τ); the
+samples whose t − τ falls outside the record (the motion there is unknown) carry no residual.  The memory
+operators run over the samples of the view in order (the whole record, or its fit subset).  The sign of
 sliding friction is its expectation given the estimated velocity and its spread over the sample
 (:meth:`chainid.gap.core.kinematics.Kinematics.v_spread`, :func:`chainid.model.effects.forms.sliding_sign`).
 
@@ -33,7 +34,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.model.effects import SPECS, STIFFNESS_SIDE, columns, make_effect, modify_model, play_operator
+from chainid.model.effects import (SPECS, STIFFNESS_SIDE, columns, identifiable, make_effect, modify_model,
+                                   play_operator)
 
 __all__ = ["Base", "ColumnCache", "split_name", "effect_of", "amplitude_names", "amplitude_bounds", "shape_names", "build"]
 
@@ -96,8 +98,7 @@ def amplitude_names(base: Base, names: Sequence[str]) -> list[str]:
         if spec.kind not in ("force", "mass"):
             continue
         out += [f"{n}.{p.name}" for p in spec.params if p.amplitude and p.fitted
-                and not (n == "friction" and p.name == "mu" and base.kind != "chain")
-                and not (n == "stribeck" and p.name == "dF" and base.offsets)]
+                and identifiable(n, p.name, base.kind)]
     for t in names:
         eff, par, cov = split_name(t)
         if cov is None:
@@ -259,4 +260,10 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
         f = f - f.mean()
         y = y - y.mean()
         Phi = Phi - Phi.mean(axis=0)
+    if tau:  # samples whose lagged motion falls before the record's start (or after its end) are not modelled
+        ts = np.asarray(d.t, float)[slice(None) if idx is None else idx] - tau
+        out = (ts < d.t[0]) | (ts > d.t[-1])
+        if out.any():
+            Phi[out] = 0.0
+            y = np.where(out, f, y)
     return f, Phi, y

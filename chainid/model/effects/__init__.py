@@ -14,9 +14,10 @@ from chainid.model.effects.forms import (bouc_wen_operator, columns, coulomb_sig
                                          stick_slip)
 from chainid.model.effects.hooks import check_params, parse_effect, parse_spec
 from chainid.model.effects.library import (DEFAULTS, EFFECT_NAMES, SPECS, STIFFNESS_SIDE, Effect, EffectSpec, Param,
-                                           Scales, applies_to, make_effect, pinned, valid_range)
+                                           Scales, applies_to, identifiable, make_effect, pinned,
+                                           valid_range)
 
 __all__ = ["EFFECT_NAMES", "STIFFNESS_SIDE", "DEFAULTS", "SPECS", "Effect", "EffectSpec", "Param", "Scales",
-           "make_effect", "valid_range", "applies_to", "pinned", "parse_effect", "parse_spec", "check_params", "modify_model",
+           "make_effect", "valid_range", "applies_to", "pinned", "identifiable", "parse_effect", "parse_spec", "check_params", "modify_model",
            "undamped_force", "columns", "effect_force", "play_operator", "dahl_operator", "bouc_wen_operator",
            "coulomb_sign", "sliding_sign", "stick_slip", "series_compliance_force", "is_chain"]

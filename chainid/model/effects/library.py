@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 __all__ = ["Scales", "Param", "EffectSpec", "SPECS", "EFFECT_NAMES", "STIFFNESS_SIDE", "DEFAULTS", "Effect",
-           "make_effect", "valid_range", "describe_range", "applies_to", "pinned"]
+           "make_effect", "valid_range", "describe_range", "applies_to", "pinned", "identifiable"]
 
 
 @dataclass(frozen=True)
@@ -213,6 +213,16 @@ def describe_range(lo: float, hi: float) -> str:
     if lo == 0.0:
         return f">= 0 and <= {hi:g}"
     return f"{lo:g} to {hi:g}"
+
+
+def identifiable(effect: str, param: str, base: str) -> bool:
+    """Whether an effect's parameter can be told apart on a base kind (``chain`` or ``linear``): a load-dependent
+    friction μ·|F_k| needs the chain's own spring force (on a linear spring it is the spring times a sign), and a
+    direction asymmetry (a constant force while sliding) needs a base with an absolute zero of force — a linear
+    device's preload or force offset absorbs it."""
+    if base != "chain" and (effect, param) in (("friction", "mu"), ("stribeck", "dF")):
+        return False
+    return True
 
 
 def applies_to(effect: str, base: str) -> bool:
