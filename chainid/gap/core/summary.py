@@ -119,6 +119,8 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
         shrink = 1.0 - left / b["nrmse_holdout"] if left is not None and b["nrmse_holdout"] else float("nan")
         lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {left:.4g} (shrinkage {100 * shrink:.0f} %); "
                      f"{_left(result)}")
+    for cd in result.get("covariate_dependence") or []:
+        lines.append(f"  operating condition: {cd['text']}")
     ow = result.get("open_world") or {}
     if ow.get("message"):
         lines.append(f"  model-free check: {ow['message']}")

@@ -96,7 +96,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     ``noise`` holds the baseline's excess_rms_N, noise_sigma_N, chi2_ratio and db_over_noise.  The private
     keys ``_problem``, ``_best`` and ``_path`` carry the fitted objects (plots, transfer).
     """
-    from chainid.gap.core.interpret import mechanism, step_dict, step_text
+    from chainid.gap.core.interpret import covariate_dependence, mechanism, step_dict, step_text
 
     path = fwd["path"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
@@ -124,6 +124,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "confounded": confounded,
         "left_nrmse_holdout": left.nrmse_holdout,
         "fit_holdout_pct": 100.0 * (1.0 - left.nrmse_holdout),
+        "covariate_dependence": covariate_dependence(left.params),
         "overfitted": bad is not None,
         "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,

@@ -12,8 +12,8 @@ blocks (whole records when held out): a training block's leave-one-block-out err
 amplitude without that block (the shape parameters kept), from the blocks' Gram matrices.  Records are weighted by
 1/σ², σ the record's force noise.
 
-The noise floor a model could reach on a record is σ_F² plus the kinematics' predicted errors carried through
-the fitted base (:mod:`chainid.gap.core.kinematics`): (c·e_v)² + (m·e_a·1e-3)² + (k·e_x)².
+The noise floor is each record's force noise σ_F² (the kinematics' predicted errors carried through the fitted
+base, (c·e_v)² + (m·e_a·1e-3)² + (k·e_x)², :mod:`chainid.gap.core.kinematics`, are reported beside it).
 
 NRMSE = RMS(residual)/RMS(F − mean F of the record) over the unit's samples.  Units: mm, N, s, kg.
 """
@@ -271,8 +271,14 @@ class TimeProblem:
                 "sd": sd, "blocks": bl, "time": {"res": res, "force": force, "c": params.get("damping.c", 0.0)}}
 
     def noise_floor(self, d: TimeData, params: dict[str, float]) -> float:
-        """The residual variance [N²] any model reaches on record ``d``: σ_F² plus the kinematics' errors through
-        the fitted base (c·e_v, m·e_a, k·e_x)."""
+        """The residual variance [N²] a right model leaves on record ``d``: its force noise σ_F².  (The kinematics'
+        own errors through the fitted base, :meth:`kinematic_floor`, are reported beside it, not counted: a fitted
+        mass or dashpot that stands in for a missing effect would raise the floor to meet the misfit.)"""
+        return d.sigma**2
+
+    def kinematic_floor(self, d: TimeData, params: dict[str, float]) -> float:
+        """σ_F² plus the kinematics' predicted errors through the fitted base [N²]: (c·e_v)² + (m·e_a·1e-3)² +
+        (k·e_x)² (:mod:`chainid.gap.core.kinematics`) — what even the true model would leave on these kinematics."""
         kin = d.kin
         if kin is None:
             return d.sigma**2

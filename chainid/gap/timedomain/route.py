@@ -19,6 +19,8 @@ import sys
 from types import SimpleNamespace
 from typing import Any, Sequence
 
+import numpy as np
+
 from chainid.gap.core import selection as fw
 from chainid.gap.core.candidate import Candidate
 from chainid.gap.core.interpret import interpretation, separating_test
@@ -102,9 +104,12 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     if chatter is not None and not any(f.get("kind") == "chatter" for f in where):
         where.insert(0, chatter | {"finding": "after the chain: " + chatter["finding"]})
     r2l, f2l, dbl = prob.noise_db(lev, "hold")
+    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
+    kin_floor = math.sqrt(sum(prob.kinematic_floor(d, left.params) * hold_n[d.test] for d in prob.tdata)
+                          / max(sum(hold_n.values()), 1))
     residual = {"db_over_noise": dbl, "nrmse_holdout": left.nrmse_holdout, "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)),
                 "stationary": stat["stationary"], "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"],
-                "finding": stat["finding"], "noise_floor_N": math.sqrt(f2l),
+                "finding": stat["finding"], "noise_floor_N": math.sqrt(f2l), "kinematic_floor_N": kin_floor,
                 "at_noise_floor": fw.at_noise_floor(r2l, f2l, math.sqrt(f2l), prob.n_cells("hold"),
                                                     prob.floor_rel_sd("hold")),
                 "chatter": bool(chatter), "where": left_where}
