@@ -374,7 +374,9 @@ def cmd_audit(args: argparse.Namespace) -> int:
             model = _model(args)
         except ImportError:
             model = None
-            print("warning: stiffness model unavailable; finding (c) without k_e", file=sys.stderr)
+            from chainid.infra.runlog import warn
+
+            warn("stiffness model unavailable; finding (c) without k_e")
         rep = audit(model)
         text = format_audit(rep)
     print(text)

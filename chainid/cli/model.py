@@ -59,6 +59,7 @@ def save_models(res: dict[str, Any], path: str, save_steps: bool, data_file: str
 def cmd_predict(args: argparse.Namespace) -> int:
     """``chainid predict``: a saved model on records → per-test and pooled NRMSE of baseline and model."""
     from chainid.infra.fileio import check_output_dir, check_output_file, write_json
+    from chainid.infra.runlog import warn
     from chainid.gap.modelio import predict
     from chainid.model.modelfile import load_model
 
@@ -76,7 +77,7 @@ def cmd_predict(args: argparse.Namespace) -> int:
         for w in res["warnings"]:
             if getattr(args, "strict", False):
                 raise ValueError(f"{w} (--strict)")
-            print(f"chainid predict: warning: {w}", file=sys.stderr)
+            warn(w)
         print(_table(res))
         if args.json:
             write_json({k: v for k, v in res.items() if not k.startswith("_")}, args.json, force=args.force)

@@ -219,14 +219,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:
         from chainid.cli.common import check_io
+        from chainid.infra.runlog import collecting
 
-        check_io(args)  # an output that is an input of the same run: refused before any work
-        if getattr(args, "json", None) == "-":  # the JSON alone on stdout, every other line on stderr
-            from chainid.infra.fileio import json_to_stdout
+        check_io(args)  # an output that is an input of the same run (or of another output): refused before any work
+        with collecting(args.command):  # warnings: once on stderr, and in every JSON the run writes
+            if getattr(args, "json", None) == "-":  # the JSON alone on stdout, every other line on stderr
+                from chainid.infra.fileio import json_to_stdout
 
-            with json_to_stdout():
-                return int(args.func(args) or 0)
-        return int(args.func(args) or 0)
+                with json_to_stdout():
+                    return int(args.func(args) or 0)
+            return int(args.func(args) or 0)
     except ValueError as exc:
         print(f"chainid {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -4,7 +4,6 @@ reads (with progress and the unit-slip warnings)."""
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
 __all__ = ["add_reader_options", "reader_spec", "load_records", "chain_for_checks"]
@@ -89,8 +88,10 @@ def load_records(args: argparse.Namespace, paths: Any, chain: Any = None, doc: d
     msgs = plausibility_warnings(recs, chain, getattr(args, "variant", "paper") or "paper")
     if msgs and getattr(args, "strict", False):
         raise ValueError("--strict: implausible records: " + "; ".join(msgs))
+    from chainid.infra.runlog import warn
+
     for m in msgs:
-        print(f"warning: {m}", file=sys.stderr)
+        warn(m)  # on stderr and in the run's JSON warnings
     if doc is not None and msgs:
         doc.setdefault("warnings", []).extend(msgs)
     return recs

@@ -411,6 +411,8 @@ def write_json(doc: Any, target: str | os.PathLike[str] | None, force: bool = Fa
                what: str = "--json") -> Path | None:
     """Write ``doc`` as strict JSON to ``target`` atomically ("-" = stdout, None = nothing).
 
+    Inside a CLI run, a dict ``doc`` gets the run's warnings (:func:`chainid.infra.runlog.merge_warnings`).
+
     Returns
     -------
     Path or None
@@ -418,7 +420,9 @@ def write_json(doc: Any, target: str | os.PathLike[str] | None, force: bool = Fa
     """
     if target is None:
         return None
-    text = dumps_json(doc)
+    from chainid.infra.runlog import merge_warnings
+
+    text = dumps_json(merge_warnings(doc))  # a CLI run's warnings printed on stderr are in its JSON too
     if str(target) == "-":
         out = _JSON_STDOUT[-1] if _JSON_STDOUT else sys.stdout
         out.write(text + "\n")
