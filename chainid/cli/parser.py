@@ -72,7 +72,7 @@ def cmd_generate(args: argparse.Namespace) -> int:
     try:
         res = emit.generate(out, check=args.check)
     except RuntimeError as exc:  # SymPy version mismatch
-        print(f"chainid generate: {exc}", file=sys.stderr)
+        print(f"chainid generate: error: {exc}", file=sys.stderr)
         return 2
     for fname, status in res.items():
         print(f"{status:>9}  {out / fname}")
@@ -211,10 +211,20 @@ def _refuse_repeats(parser: argparse.ArgumentParser) -> None:
             action.__class__ = _once(type(action))
 
 
+def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
+    """The parser of subcommand ``command`` (its errors read ``chainid COMMAND: error: ...``)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction) and command in action.choices:
+            return action.choices[command]
+    return parser
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``chainid`` command."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # named by the subcommand (argparse's own message would say "chainid: error:")
+        _subparser(parser, args.command).error(f"unrecognized arguments: {' '.join(extra)}")
     vars(args).pop("_given_once", None)  # (the bookkeeping of _refuse_repeats)
     args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:

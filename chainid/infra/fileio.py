@@ -45,6 +45,7 @@ from chainid.infra.jsonio import dumps_json, json_default, to_jsonable
 __all__ = [
     "OutputError",
     "check_inputs_not_outputs",
+    "check_outputs_distinct",
     "replace_file",
     "EXIT_INTERRUPTED",
     "check_output_file",
@@ -149,6 +150,37 @@ def check_inputs_not_outputs(outputs: Any, inputs: Any) -> None:
             if same:
                 raise OutputError(f"{what_o} {out!r} is the input {what_i} {inp!r} of this run; refusing to "
                                   "overwrite an input (give another output file)")
+
+
+def check_outputs_distinct(outputs: Any) -> None:
+    """Refuse two outputs of one run that name the same file (the second write would replace the first).
+
+    Parameters
+    ----------
+    outputs : iterable of (what, path)
+        Option name and path; None and ``"-"`` are skipped, and so is a character device (``/dev/null``, a
+        terminal: written through, never replaced).  The same file: the same real path, or
+        ``os.path.samefile`` when both exist (hard links included).
+
+    Raises
+    ------
+    OutputError
+        Naming both options and the path.
+    """
+    seen: list[tuple[str, str]] = []
+    for what, path in outputs:
+        if path is None or str(path) == "-" or _special_kind(Path(path)) == "character device":
+            continue
+        p = os.fspath(path)
+        for what0, p0 in seen:
+            same = os.path.realpath(p) == os.path.realpath(p0)
+            if not same and os.path.exists(p) and os.path.exists(p0):
+                with contextlib.suppress(OSError):
+                    same = os.path.samefile(p, p0)
+            if same:
+                raise OutputError(f"{what} {p!r} is the same file as {what0} {p0!r}: one run cannot write both "
+                                  "there; give two different files")
+        seen.append((what, p))
 
 
 def check_output_file(path: str | os.PathLike[str], force: bool = False, what: str = "output") -> Path:
