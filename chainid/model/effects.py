@@ -364,19 +364,20 @@ def parse_effect(spec: str, model: Any) -> Callable[..., np.ndarray]:
     ValueError
         Unknown name/parameter, or a value out of its physical range.
     """
+    from chainid.model.ranges import EFFECT_RANGES, check_number
+
     name, params = parse_spec(spec)
     eff = make_effect(name)
     for k, v in params.items():
         if k not in eff.param_names:
             raise ValueError(f"effect {name!r}: unknown parameter {k!r}; valid: {', '.join(eff.param_names)}")
-        if not math.isfinite(v):
-            raise ValueError(f"effect {name!r}: {k} = {v!r} must be finite")
-        if k in ("F_c", "mu", "x_s", "F_h", "b", "c", "eta", "F_f") and v < 0:
-            raise ValueError(f"effect {name!r}: {k} = {v!r} is out of range; valid range >= 0")
-        if k in ("x_h", "scale") and v <= 0:
-            raise ValueError(f"effect {name!r}: {k} = {v!r} is out of range; valid range > 0")
-        if k == "beta" and not 0.2 <= v <= 1.5:
-            raise ValueError(f"effect {name!r}: beta = {v!r} is out of range; valid range 0.2 to 1.5")
+        # the physical ranges of the one table (chainid.model.ranges): an error outside the valid range, a
+        # warning outside the plausible one
+        _, w = check_number(v, EFFECT_RANGES[name][k], f"effect {name!r}: {k}")
+        if w:
+            import warnings
+
+            warnings.warn(w, UserWarning, stacklevel=2)
     p = dict(DEFAULTS[name])
     p.update(params)
 
