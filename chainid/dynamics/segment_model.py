@@ -115,25 +115,27 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
                          f"pretension: slip force {F_c:.6g} N")
         _add_jenkins(out, els, F_c, p.get("x_s", 0.0), where, k_link, notes)
     d = m.damping
+    from chainid.model.passivity import OperatingPoint, check_passive
+
+    x0 = float(kernels.displacement(pretension_N, chain, base.variant)) if pretension_N > 0 else 0.0
     if d.form == "law":
         for name, v in (("omega", omega), ("amplitude", amplitude)):
             if v is None or not (math.isfinite(v) and v > 0):
                 raise ValueError(f"{src}: the damping is an identified law c_e(ω, A); give its operating point: "
                                  f"{name} = {v!r} is invalid: valid range > 0 (--segment-omega rad/s, "
                                  "--segment-amplitude mm)")
-        x0 = float(kernels.displacement(pretension_N, chain, base.variant)) if pretension_N > 0 else 0.0
         ke = d.k_e if d.k_e is not None else float(kernels.stiffness(max(x0, 1e-6), chain, base.variant))
         d = d.resolve(float(omega), float(amplitude), ke, x0=x0)
         notes.append(f"damping law {m.damping.law!r} resolved by rule {m.damping.rule!r} at omega = {omega:g} rad/s, "
                      f"A = {amplitude:g} mm, k_e = {ke:.6g} N/mm: {d.form} {d.params}")
+    # the one rule for a negative dashpot (chainid.model.passivity): refused at the operating point
+    check_passive(m, [OperatingPoint("the operating point", float(omega or 0.0), float(amplitude or 0.0), x0)],
+                  what=src, hint="a law extrapolated beyond its tests can turn negative: choose an operating point "
+                                 "inside them (--segment-omega, --segment-amplitude)")
     p = d.params
     where = f"{src}: damping ({d.form})"
     if d.form == "viscous":
         out["damping"] = float(p.get("c", 0.0))
-        if not out["damping"] >= 0:
-            at = f" at omega = {omega:g} rad/s, A = {amplitude:g} mm" if m.damping.form == "law" else ""
-            raise ValueError(f"{where}: c = {out['damping']:.6g} N·s/mm{at} is invalid: valid range >= 0 (a law "
-                             "extrapolated beyond its tests can turn negative: choose an operating point inside them)")
     elif d.form == "hysteretic":
         F_c, x_s = iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", 32)))
         els += [(float(f) / float(x), float(f)) for f, x in zip(F_c, x_s) if f > 0]

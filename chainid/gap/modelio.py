@@ -4,7 +4,8 @@
   parameters, the re-fitted linear spring of a ``--model linear`` baseline, the damping law re-identified at
   that step with its coefficients and per-test c_e, the delay, the mass).
 * :func:`predict` — ``chainid predict``: per-test and pooled NRMSE of a model file's baseline and model.
-* :func:`negative_damping` — a warning where the damping resolves to a negative dashpot.
+* :func:`negative_damping` — the diagnosis' warning where the damping resolves to a negative dashpot (a run of
+  such a model is refused: :mod:`chainid.model.passivity`).
 
 **Which damping ``predict`` uses.**  For a steady harmonic test (one :func:`chainid.gap.prepare.prepare_test`
 accepts) the model is evaluated exactly as the diagnosis evaluates a held-out test: on the test's phase
@@ -33,7 +34,8 @@ import numpy as np
 
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
-from chainid.model.timedamping import Damping
+from chainid.model.passivity import OperatingPoint, check_passive, describe, negative_dashpots
+from chainid.model.timedamping import Damping, dominant
 from chainid.gap import noise as nz
 from chainid.gap.prepare import Unusable, prepare_test
 
@@ -131,19 +133,11 @@ def negative_damping(model: AugmentedModel, data: Sequence[Any], fitted: bool = 
     """Warnings for the prepared harmonic tests ``data`` (TestData) at which the model's damping resolves to a
     viscous c < 0 [N·s/mm]: a negative dashpot feeds energy in, which no passive device does — the named effects
     over-explain the dissipation there, or the law is extrapolated (Eq. 21 is a fitted surface).  One message
-    naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none."""
-    bad = []
-    for d in data:
-        dmp = model.damping.resolve(d.omega, d.A, model.ke(d.x0), d.test, fitted, d.x0)
-        if dmp.form == "viscous" and dmp.params.get("c", 0.0) < 0:
-            bad.append((dmp.params["c"], d))
-    if not bad:
-        return []
-    c, d = min(bad, key=lambda b: b[0])
-    ids = ", ".join(b[1].test for b in bad)
-    return [f"the damping gives a negative viscous c at test(s) {ids} (lowest c = {c:.4g} N·s/mm at "
-            f"ω = {d.omega:.4g} rad/s, A = {d.A:.4g} mm): the model feeds energy in there, which a passive device "
-            "cannot; the effects over-explain the dissipation or the law is extrapolated"]
+    naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none (the test of
+    :func:`chainid.model.passivity.negative_dashpots`; a run of such a model is refused by
+    :func:`chainid.model.passivity.check_passive`)."""
+    bad = negative_dashpots(model, [OperatingPoint(d.test, d.omega, d.A, d.x0, d.test) for d in data], fitted)
+    return [describe(bad)] if bad else []
 
 
 def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] | None = None,
@@ -167,7 +161,13 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     -------
     dict
         ``{"tests": [{"test", "nrmse_baseline", "nrmse_model", "shrinkage", "mode"}], "pooled": {...},
-        "model": {...}, "warnings": [...]}`` (warnings: :func:`negative_damping` on the harmonic tests).
+        "model": {...}, "warnings": [...]}`` (the list stays in the contract; the run's warnings are added to it).
+
+    Raises
+    ------
+    ValueError
+        A test id not in the records, no records, or a damping (of the model or its baseline) that is a
+        negative dashpot at a record's operating point (:func:`chainid.model.passivity.check_passive`).
     """
     ids = [r.test for r in records]
     if tests:
@@ -179,23 +179,27 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         raise ValueError("no records to predict")
     ev = dict(model.info.get("evaluation", {}))
     base = model.baseline or model
-    rows, series, prepared = [], {}, []
+    rows, series = [], {}
     tot = {"b": 0.0, "m": 0.0, "v": 0.0}
+    prepared = {r.test: _prepared(r, ev) for r in records}
+    kin = {r.test: nz.record_kinematics(r.t, r.x) for r in records if prepared[r.test] is None}
+    points = [OperatingPoint(d.test, d.omega, d.A, d.x0, d.test) for d in prepared.values() if d is not None]
+    for test, (_, xs, _, _) in kin.items():  # a transient: its dominant ω and A, as AugmentedModel.force resolves
+        r = next(r for r in records if r.test == test)
+        w, A, x0 = dominant(r.t, xs)
+        points.append(OperatingPoint(test, w, max(A, 1e-12), x0, test))
+    check_passive(model, points, fitted=fitted, what="the model", with_baseline=True,
+                  hint="a run with a negative dashpot is refused; --tests predicts the other tests")
     for r in records:
-        try:
-            d = prepare_test(r, n_bins=int(ev.get("n_bins", 64)), allow_compression=bool(ev.get("allow_compression", True)),
-                             steady_tol=ev.get("steady_tol"))
-        except Unusable:
-            d = None
+        d = prepared[r.test]
         if d is not None:
-            prepared.append(d)
             Fm, Fb = model.cycle_force(d, fitted), base.cycle_force(d, fitted)
             (sm, var), (sb, _) = _sse_var(d.Fbar, Fm, d.counts), _sse_var(d.Fbar, Fb, d.counts)
             mode = "steady-cycle"
             if keep:
                 series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
         else:  # on the diagnosis' smooth kinematics (zero-phase low-pass above the excitation band)
-            _, xs, xd, xdd = nz.record_kinematics(r.t, r.x)
+            _, xs, xd, xdd = kin[r.test]
             Fm, Fb = model.force(r.t, xs, xd=xd, xdd=xdd), base.force(r.t, xs, xd=xd, xdd=xdd)
             w = np.ones_like(r.F)
             (sm, var), (sb, _) = _sse_var(r.F, Fm, w), _sse_var(r.F, Fb, w)
@@ -213,11 +217,19 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     if used == "law":
         used = "per-test fitted c_e" if fitted else "law"
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
-           "model": model_to_dict(model), "damping_used": used,
-           "warnings": negative_damping(model, prepared, fitted)}
+           "model": model_to_dict(model), "damping_used": used, "warnings": []}
     if keep:
         out["_series"] = series
     return out
+
+
+def _prepared(r: Any, ev: dict[str, Any]) -> Any:
+    """The prepared steady harmonic test of a record (as the diagnosis prepares it), or None (a transient)."""
+    try:
+        return prepare_test(r, n_bins=int(ev.get("n_bins", 64)), allow_compression=bool(ev.get("allow_compression", True)),
+                            steady_tol=ev.get("steady_tol"))
+    except Unusable:
+        return None
 
 
 def _nrmse(sse: float, var: float) -> float | None:

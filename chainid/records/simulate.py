@@ -458,7 +458,18 @@ def simulate_model(plan: Sequence[TestSpec], model: Any, *, seed: int | None = 0
     ``model`` is a :class:`chainid.augmented.AugmentedModel`: its force F(t) = model.force(t, x) (exact ẋ, ẍ
     of the planned motion; memory operators from their initial state at t = 0; a damping law resolved at
     each record's dominant ω and A) replaces Eq. 1; noise and the other options as :func:`simulate`.
+
+    Raises
+    ------
+    ValueError
+        The model's damping is a negative dashpot at a planned test's ω [rad/s], A [mm], x0 [mm]
+        (:func:`chainid.model.passivity.check_passive`: such records would come from an active device).
     """
+    from chainid.model.passivity import OperatingPoint, check_passive
+
+    check_passive(model, [OperatingPoint(s.test, s.omega, s.A, s.x0, s.test) for s in plan], what="the model",
+                  hint="the planned tests are its operating points")
+
     def hook(t: np.ndarray, x: np.ndarray, xd: np.ndarray, xdd: np.ndarray, F: np.ndarray) -> np.ndarray:
         return model.force(t, x, xd=xd, xdd=xdd)
 
