@@ -281,8 +281,10 @@ def simulate_test(
     mass_kg : float, optional
         Default model.mass_kg; >= 0 kg.
     allow_compression : bool, optional
-        Accept a noise-free force below 0 N.  Default: False for a chain model
-        (:class:`~chainid.model.base.ChainModel`, as the reader), True otherwise.
+        Accept a noise-free force below 0 N where the chain is slack (F_k(x) = 0: its damper and inertia would
+        push through a chain that transmits nothing).  Default: False for a chain model
+        (:class:`~chainid.model.base.ChainModel`), True otherwise.  A taut chain's force may dip below zero
+        through its damping (the spring force stays positive): always accepted.
 
     Returns
     -------
@@ -293,7 +295,7 @@ def simulate_test(
     ------
     ValueError
         An option out of range (naming it, its value and the valid range), a
-        non-finite force, or a compressive force on a chain.
+        non-finite force, or a compressive force where a chain is slack.
     """
     _check_options(n_cycles, samples_per_cycle, ramp_rate, taper_cycles, noise_x, noise_F, mass_kg)
     gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
@@ -329,10 +331,14 @@ def simulate_test(
     if allow_compression is None:
         allow_compression = not _is_chain(model)
     if not allow_compression and F.min() < 0:
-        i = int(np.argmin(F))
-        raise ValueError(f"test {spec.test!r}: the force goes compressive (F = {F[i]:.6g} N at x = {x[i]:.6g} mm; "
-                         f"x0 = {x0:g} mm, A = {A:g} mm): a chain carries no compression, valid range A < x0 "
-                         f"with F >= 0 (or a linear model, --model linear)")
+        # a taut chain's force can dip below zero through its damping and inertia (the spring stays in tension);
+        # where the chain is slack (F_k = 0) nothing is transmitted, so a force there is the model's artefact
+        slack = (F < 0) & (np.asarray(model.force(x), dtype=float) <= 0)
+        if slack.any():
+            i = int(np.argmin(np.where(slack, F, np.inf)))
+            raise ValueError(f"test {spec.test!r}: the force goes compressive where the chain is slack (F = "
+                             f"{F[i]:.6g} N at x = {x[i]:.6g} mm, F_k = 0; x0 = {x0:g} mm, A = {A:g} mm): a slack "
+                             f"chain transmits nothing, valid range A < x0 (or a linear model, --model linear)")
     xm = x + (gen.normal(0.0, noise_x, t.size) if noise_x > 0 else 0.0)
     Fm = F + (gen.normal(0.0, noise_F, t.size) if noise_F > 0 else 0.0)
     return Record(spec.test, t, xm, Fm)
