@@ -488,7 +488,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     add_subparsers(sub)
     args = parser.parse_args(argv)
-    return int(args.func(args))
+    from chainid.infra.runlog import collecting
+
+    with collecting(args.command):  # warnings as in chainid.cli.main: once on stderr and in the JSON
+        return int(args.func(args))
 
 
 if __name__ == "__main__":  # pragma: no cover
