@@ -1,0 +1,20 @@
+"""Case functions for worker-process tests (importable by spawned workers: ``tests/`` is on their PYTHONPATH).
+
+``announce_and_block(folder)`` writes the worker's pid as an empty file ``folder/<pid>`` (the test reads it as
+"this case is running in that process") and then blocks until ``folder/release`` exists (or 600 s pass).
+"""
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+
+def announce_and_block(folder: str) -> int:
+    d = Path(folder)
+    (d / f"{os.getpid()}.tmp").write_text("")
+    os.replace(d / f"{os.getpid()}.tmp", d / str(os.getpid()))  # appears whole
+    deadline = time.monotonic() + 600
+    while not (d / "release").exists() and time.monotonic() < deadline:
+        time.sleep(0.05)  # (a wait for an event, not a timing assumption)
+    return os.getpid()
