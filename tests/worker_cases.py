@@ -18,3 +18,15 @@ def announce_and_block(folder: str) -> int:
     while not (d / "release").exists() and time.monotonic() < deadline:
         time.sleep(0.05)  # (a wait for an event, not a timing assumption)
     return os.getpid()
+
+
+def announce_then_run_case(case):
+    """``chainid.gap.benchmark.run_case`` after announcing the worker (a file ``<pid>`` in the folder named by
+    the environment variable CHAINID_TEST_ANNOUNCE)."""
+    from chainid.gap.benchmark import run_case
+
+    d = Path(os.environ["CHAINID_TEST_ANNOUNCE"])
+    if not (d / str(os.getpid())).exists():
+        (d / f"{os.getpid()}.tmp").write_text("")
+        os.replace(d / f"{os.getpid()}.tmp", d / str(os.getpid()))
+    return run_case(case)
