@@ -43,7 +43,7 @@ def test_predict_names_the_negative_viscous_c_and_where():
     with pytest.raises(ValueError) as e:
         predict(_model(-2.5), _records())
     msg = str(e.value)
-    assert "h0, h1" in msg and "c = -2.5 N·s/mm" in msg and "valid: c >= 0 N·s/mm" in msg
+    assert "h0, h1" in msg and "c = -2.5 N·s/mm" in msg and "is invalid: valid range >= 0 N·s/mm" in msg
     # the lowest c is the same at both tests (a constant law): the first is named, ω = 2π·0.5
     assert f"ω = {2 * math.pi * 0.5:.4g} rad/s" in msg and "A = 0.5 mm" in msg
 

@@ -129,7 +129,7 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
         notes.append(f"damping law {m.damping.law!r} resolved by rule {m.damping.rule!r} at omega = {omega:g} rad/s, "
                      f"A = {amplitude:g} mm, k_e = {ke:.6g} N/mm: {d.form} {d.params}")
     # the one rule for a negative dashpot (chainid.model.passivity): refused at the operating point
-    check_passive(m, [OperatingPoint("the operating point", float(omega or 0.0), float(amplitude or 0.0), x0)],
+    check_passive(m, [OperatingPoint("the operating point", omega, amplitude, x0)],
                   what=src, hint="a law extrapolated beyond its tests can turn negative: choose an operating point "
                                  "inside them (--segment-omega, --segment-amplitude)")
     p = d.params

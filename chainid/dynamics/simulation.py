@@ -36,6 +36,9 @@ DEFAULT_MAX_MEMORY = 2 * 1024**3
 DEFAULT_MAX_WORK = 2e10
 #: Cost of an implicit node-step in explicit node-steps (Newton: 2-4 iterations of kernel + tangent + solve).
 IMPLICIT_COST = 8.0
+#: Node-steps one Newton iteration of the implicit scheme costs per node (measured: 2e7 iterations·nodes/s
+#: against 3.8e7 explicit node-steps/s); the work actually done counts in these units against ``max_work``
+ITERATION_COST = 2.0
 #: Nominal speed of the explicit loop [node-steps/s] for the time estimate (benchmarks/dynamics_bench.py).
 NODE_STEPS_PER_S = 3e7
 
@@ -138,7 +141,7 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
             int(out_every), int(levels), float(tol_abs), float(tol_rel), int(max_it), float(dt_explicit))
     t_out, Fd_out = np.zeros(n_rec), np.zeros(n_rec)
     T_out, u_out, v_out, en_out = np.zeros((n_rec, N)), np.zeros((n_rec, nn)), np.zeros((n_rec, nn)), np.zeros((n_rec, 4))
-    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out, np.zeros(6))
+    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out, np.zeros(8))
 
 
 def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "explicit") -> dict:
@@ -187,6 +190,8 @@ class SimResult:
     shortest_substep_s : the shortest sub-step taken [s]
     explicit_fallbacks : implicit sub-steps taken by the explicit scheme (Newton stuck at a damper jump)
     slack_substeps : sub-steps that ended with a segment carrying nothing (snap loads possible)
+    work : work done by the run [node-steps: free nodes × sub-steps (explicit) or × Newton iterations ×
+        ITERATION_COST (implicit)]
     warnings : messages of the checks (energy balance)
     """
 
@@ -215,6 +220,7 @@ class SimResult:
     peak_change: float = math.nan
     explicit_fallbacks: int = 0
     slack_substeps: int = 0
+    work: float = 0.0
 
     def energy_balance(self) -> dict:
         """The energy balance at its worst output time (see :func:`chainid.dynamics.energy.balance`)."""
@@ -281,6 +287,9 @@ def simulate(
         a RuntimeWarning, and the message in ``SimResult.warnings``).
     max_work, max_memory : float or None
         Refuse runs whose estimate (:func:`estimate`) exceeds this many node-steps / bytes (None: no limit).
+        ``max_work`` also bounds the work actually done, over every refinement: the sub-steps and Newton
+        iterations of a stiff implicit run (a stiff hysteretic element halving its steps) are counted as they are
+        taken, and a run that reaches the limit stops with a ValueError naming it.
     refine : int
         0 .. 10: adaptive step on an error estimate.  While the energy-balance error exceeds
         :data:`BALANCE_TOL`, or (when a segment went slack: snap loads) the peak tension changed by more
@@ -337,10 +346,11 @@ def simulate(
                        "use a smaller dt or scheme='implicit'")
     dt0 = dt
     prev: SimResult | None = None
+    spent = [0.0]  # work done by the runs so far [node-steps] (max_work bounds them all)
     for attempt in range(refine + 1):
         try:
             res = _run_once(line, drive, t_end, dt, dts, scheme, n_out, initial_u, initial_v, substep_levels,
-                            max_work, max_memory)
+                            max_work, max_memory, spent)
         except SimulationError as exc:  # non-finite or Newton failure: the strongest error estimate there is
             if attempt == refine:
                 hint = (f"; peak_force = {peak_force:g} N sets the stable step: give the expected peak"
@@ -389,8 +399,12 @@ def simulate(
 
 def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float, scheme: str, n_out: int,
               initial_u: np.ndarray | None, initial_v: np.ndarray | None, levels: int,
-              max_work: float | None, max_memory: float | None) -> SimResult:
-    """One run at step ``dt`` (checked against the limits first); raises SimulationError on a failed run."""
+              max_work: float | None, max_memory: float | None, spent: list[float] | None = None) -> SimResult:
+    """One run at step ``dt`` (checked against the limits first); raises SimulationError on a failed run.
+
+    ``spent``: a one-item list with the work of the earlier runs [node-steps], updated with this run's; the
+    kernel stops when the total reaches ``max_work`` (ValueError naming the limit and --max-work)."""
+    spent = [0.0] if spent is None else spent
     steps = t_end / dt if dt > 0 else math.inf
     n_rec = min(float(n_out), steps) + 1
     est = estimate(line, steps, n_rec, scheme)
@@ -411,7 +425,17 @@ def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float
     args, outs = core_arguments(line, drive, dt, n_steps, out_every, initial_u, initial_v, levels=levels,
                                 dt_explicit=0.9 * dts)
     t_out, T_out, Fd_out, u_out, v_out, en_out, stats = outs
-    status, peak = run(scheme == "implicit", *args, *outs)
+    cost = ITERATION_COST if scheme == "implicit" else 1.0  # node-steps per counted unit of the kernel
+    budget = 0.0 if max_work is None else max(float(max_work) - spent[0], 1.0) / cost
+    status, peak = run(scheme == "implicit", *args, *outs, budget=budget)
+    spent[0] += float(stats[6]) * cost
+    if status == 3:
+        raise ValueError(f"the run stopped at t = {stats[7] * dt:.4g} s of t_end = {t_end:g} s after about "
+                         f"{spent[0]:.3g} node-steps of work ({int(stats[0])} sub-steps taken, {int(stats[1])} rejected, "
+                         f"Newton iterations up to {int(stats[2])} per sub-step; the estimate was "
+                         f"{est['node_steps']:.3g}): over max_work = {max_work:.3g} node-steps: valid range <= the "
+                         "limit; raise --max-work (max_work), or use the explicit scheme, a smaller dt or softer "
+                         "elements (a stiff hysteretic element makes the implicit scheme halve its sub-steps)")
     if status == 1:
         raise SimulationError(f"the {scheme} integration produced non-finite values (dt = {dt:.3g} s, "
                               f"dt_stable = {dts:.3g} s): no result")
@@ -426,7 +450,7 @@ def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float
         scheme=scheme, n_steps=n_steps,
         positions=np.concatenate([[0.0], np.cumsum(line.segment_lengths())]),
         substeps=int(stats[0]), rejected=int(stats[1]), shortest_substep_s=float(stats[3] * dt),
-        explicit_fallbacks=int(stats[4]), slack_substeps=int(stats[5]),
+        explicit_fallbacks=int(stats[4]), slack_substeps=int(stats[5]), work=float(stats[6]) * cost,
     )
     if not res.energy_balance()["finite"]:
         raise SimulationError(f"the {scheme} integration produced non-finite energies (dt = {dt:.3g} s): no result")

@@ -32,8 +32,8 @@ class OperatingPoint:
     per-test c_e is looked up by (``fitted``)."""
 
     label: str
-    omega: float
-    A: float
+    omega: float | None
+    A: float | None
     x0: float
     test: str | None = None
 
@@ -66,9 +66,10 @@ def describe(bad: list[tuple[OperatingPoint, float]]) -> str:
     """One sentence: the points, the lowest c and its ω, A."""
     p, c = min(bad, key=lambda b: b[1])
     ids = ", ".join(b[0].label for b in bad)
-    return (f"the damping gives a negative viscous c at test(s) {ids} (lowest c = {c:.4g} N·s/mm at "
-            f"ω = {p.omega:.4g} rad/s, A = {p.A:.4g} mm): the model feeds energy in there, which a passive device "
-            "cannot; the effects over-explain the dissipation or the law is extrapolated")
+    at = f" at ω = {p.omega:.4g} rad/s, A = {p.A:.4g} mm" if p.omega is not None and p.A is not None else ""
+    return (f"the damping gives a negative viscous c at test(s) {ids} (lowest c = {c:.4g} N·s/mm{at}): the model "
+            "feeds energy in there, which a passive device cannot; the effects over-explain the dissipation or the "
+            "law is extrapolated")
 
 
 def check_passive(model: Any, points: Iterable[OperatingPoint], *, fitted: bool = False, what: str = "model",
@@ -89,5 +90,6 @@ def check_passive(model: Any, points: Iterable[OperatingPoint], *, fitted: bool 
             continue
         bad = negative_dashpots(m, points, fitted)
         if bad:
-            raise ValueError(f"{who}: {describe(bad)}; valid: c >= 0 N·s/mm at every operating point of the run"
-                             + (f" ({hint})" if hint else ""))
+            c = min(b[1] for b in bad)
+            raise ValueError(f"{who}: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at "
+                             "every operating point of the run" + (f" ({hint})" if hint else ""))
