@@ -385,6 +385,7 @@ def simulate(
         if res.dt > dts_peak:
             msgs.append(f"peak tension {peak:.4g} N exceeded peak_force = {peak_force:.4g} N and dt = {res.dt:.3g} s "
                         f"is above the stable step {dts_peak:.3g} s there: rerun with peak_force >= {peak:.4g} N")
+    msgs += resolution_warnings(drive, line.chain.pitch, res.dt, float(res.t[1] - res.t[0]) if res.t.size > 1 else t_end)
     if eb["relative_error"] > BALANCE_TOL:
         msgs.append(f"energy balance error {eb['relative_error']:.3g} at t = {eb['worst_t_s']:.6g} s exceeds "
                     f"{BALANCE_TOL:g} ({scheme}, dt = {res.dt:.3g} s): the result is not converged; use a smaller dt "
@@ -395,6 +396,32 @@ def simulate(
         warnings.warn(m, RuntimeWarning, stacklevel=2)
     res.warnings = msgs
     return res
+
+
+#: a periodic drive needs at least this many time steps per period to be followed (the Verlet/Newmark phase
+#: error per period is about (2π/N)²/12: 0.8 % at N = 20), and its output at least 2 samples per period
+MIN_STEPS_PER_PERIOD = 20
+
+
+def resolution_warnings(drive: Drive, pitch: float, dt: float, dt_out: float) -> list[str]:
+    """Warnings when the drive's period (:meth:`Drive.period` [s]) is not resolved by the time step ``dt`` [s]
+    (fewer than :data:`MIN_STEPS_PER_PERIOD` steps) or by the output interval ``dt_out`` [s] (fewer than 2 samples:
+    the stored series alias the drive)."""
+    T = drive.period(pitch)
+    if not math.isfinite(T):
+        return []
+    what = (f"the drive ({drive.law}, ω = {drive.omega:.4g} rad/s" if drive.law == "sine"
+            else f"the drive ({drive.law}, v = {drive.v:.4g} mm/s, one pitch") + f": period {T:.3g} s)"
+    out = []
+    if dt > T / MIN_STEPS_PER_PERIOD:
+        out.append(f"{what} is not resolved by the time step dt = {dt:.3g} s ({T / dt:.3g} steps per period; valid "
+                   f">= {MIN_STEPS_PER_PERIOD}): the chain does not follow the drive and the result is meaningless; "
+                   f"give dt <= {T / MIN_STEPS_PER_PERIOD:.3g} s (--dt) or a slower drive")
+    elif dt_out > T / 2:
+        out.append(f"{what} is sampled every {dt_out:.3g} s by the outputs ({T / dt_out:.3g} per period; valid >= 2): "
+                   "the stored tension series alias the drive (the peak and the energies are computed at every "
+                   "step and are not affected); use a shorter t_end for a resolved series")
+    return out
 
 
 def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float, scheme: str, n_out: int,
