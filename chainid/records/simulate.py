@@ -152,18 +152,30 @@ def grid_plan(
     return [TestSpec(f"{prefix}{i}", float(w), float(xm), float(A)) for i, (w, xm, A) in enumerate(specs, start=1)]
 
 
+#: Most tests one simulated series holds (a rig's test series has tens to hundreds; each test is a record of
+#: thousands of samples): a larger plan is refused before any work, naming the limit
+MAX_PLAN_TESTS = 10_000
+
+
+def _too_many(n: int, where: str) -> ValueError:
+    return ValueError(f"{where}: the plan has {n} tests: valid range <= {MAX_PLAN_TESTS} tests in one series; split "
+                      "the plan into several series")
+
+
 def read_plan(path: str | Path) -> list[TestSpec]:
     """Read a plan CSV ``test,omega,x0,A`` (omega rad/s, x0 mm, A mm).
 
     Raises
     ------
     ValueError
-        Missing columns, non-numeric value (with line number), or values out of range.
+        Missing columns, non-numeric value (with line number), a repeated test id, values out of range, or
+        more than :data:`MAX_PLAN_TESTS` tests (refused as soon as the reading passes the limit).
     """
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"plan file {str(p)!r} does not exist")
     out = []
+    ids: set[str] = set()
     with p.open(newline="") as fh:
         reader = csv.DictReader(ln for ln in fh if not ln.lstrip().startswith("#"))
         cols = [c.strip() for c in (reader.fieldnames or [])]
@@ -178,8 +190,11 @@ def read_plan(path: str | Path) -> list[TestSpec]:
                     vals[c] = float(row[c])
                 except ValueError:
                     raise ValueError(f"{p}, row {i}: test {row['test']!r}: {c} = {row[c]!r} is not a number") from None
-            if any(sp.test == row["test"] for sp in out):
+            if row["test"] in ids:
                 raise ValueError(f"{p}, row {i}: test id {row['test']!r} is repeated; test ids must be unique")
+            if len(out) >= MAX_PLAN_TESTS:
+                raise _too_many(sum(1 for _ in reader) + len(out) + 1, str(p))
+            ids.add(row["test"])
             out.append(TestSpec(row["test"], **vals))
     if not out:
         raise ValueError(f"{p}: plan has no tests")
@@ -374,10 +389,12 @@ def simulate(
     Raises
     ------
     ValueError
-        Repeated test ids, an estimate beyond ``max_memory``, or an invalid option
-        (see :func:`simulate_test`); raised before anything large is allocated.
+        Repeated test ids, more than :data:`MAX_PLAN_TESTS` tests, an estimate beyond ``max_memory``, or an
+        invalid option (see :func:`simulate_test`); raised before anything large is allocated.
     """
     plan = list(plan)
+    if len(plan) > MAX_PLAN_TESTS:
+        raise _too_many(len(plan), "plan")
     seen: set[str] = set()
     for sp in plan:
         if sp.test in seen:
