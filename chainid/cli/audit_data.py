@@ -32,7 +32,9 @@ def audit_data(args: argparse.Namespace, model_of: Callable[[argparse.Namespace]
     from chainid.damping.audit_data import audit_records, format_audit_data
     from chainid.damping.identify import linear_model_from_records
 
-    records = load_records(args, args.data, chain_for_checks(args))
+    from chainid.records.validate import check_channels
+
+    records = load_records(args, args.data, chain_for_checks(args), check=check_channels)
     model = model_of(args)
     if model is None:
         model = linear_model_from_records(records, float(args.mass or 0.0), None, steady_tol=steady_tol)

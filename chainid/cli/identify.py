@@ -133,7 +133,9 @@ def cmd_identify(args: argparse.Namespace) -> int:
     # per-test analysis problems are reported (and the test left out) by identify_records
     from chainid.cli.readopts import chain_for_checks, load_records
 
-    records = load_records(args, args.data, chain_for_checks(args))
+    from chainid.records.validate import check_channels
+
+    records = load_records(args, args.data, chain_for_checks(args), check=check_channels)
     if args.plots:
         from chainid.damping.plots import plot_names
 

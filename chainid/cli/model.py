@@ -71,7 +71,10 @@ def cmd_predict(args: argparse.Namespace) -> int:
         model = load_model(args.model)
         from chainid.cli.readopts import load_records
 
-        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None))
+        from chainid.records.validate import check_channels
+
+        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None),
+                            check=check_channels)
         tests = [s.strip() for s in args.tests.split(",") if s.strip()] if args.tests else None
         res = predict(model, recs, tests, fitted=args.fitted_damping, keep=bool(args.plots))
         for w in res["warnings"]:

@@ -26,6 +26,10 @@ from chainid.gap.problem import MIN_TRAIN, Candidate, Problem, damping_separable
 from chainid.gap.stationarity import check as stationarity_check
 from chainid.gap.verdict import MIN_SHRINK, NONSTAT_FRACTION, contract, decide  # noqa: F401  (the verdict rule, one place)
 from chainid.gap.where import localise
+# the one rule for records no analysis can work on (magnitudes, a dead force or displacement channel) is the
+# records' validation: identify, audit, predict and the diagnosis use it alike
+from chainid.records.validate import MAX_ABS_F_N, MAX_ABS_X_MM  # noqa: F401  (re-exported)
+from chainid.records.validate import check_channels as check_magnitudes
 
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
@@ -53,33 +57,6 @@ def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, stead
                 raise ValueError(f"test {r.test!r} cannot be used (--strict): {exc}") from None
             excluded.append({"test": r.test, "reason": str(exc)})
     return data, excluded
-
-
-#: Largest |F| [N] and |x| [mm] the diagnosis takes: beyond, sums of squares overflow float64 (a chain's
-#: breaking load is below 1e8 N; F ~ 1e154 N is a unit or parsing error, not a measurement).
-MAX_ABS_F_N = 1e12
-MAX_ABS_X_MM = 1e9
-
-
-def check_magnitudes(records: Sequence[Any]) -> None:
-    """Data errors the diagnosis cannot work on: |F| or |x| beyond :data:`MAX_ABS_F_N` / :data:`MAX_ABS_X_MM`,
-    or a force that does not vary within a test (F ≡ 0: a dead channel, nothing to diagnose).
-
-    Raises
-    ------
-    ValueError
-        Naming the test, the column, the value and the valid range.
-    """
-    for r in records:
-        for col, v, lim, unit in (("F", r.F, MAX_ABS_F_N, "N"), ("x", r.x, MAX_ABS_X_MM, "mm")):
-            if v.size and np.all(np.isfinite(v)):
-                big = float(np.max(np.abs(v)))
-                if big > lim:
-                    raise ValueError(f"test {r.test!r}: |{col}| = {big:.4g} {unit} is out of range; valid range "
-                                     f"|{col}| <= {lim:g} {unit} (check the column's unit)")
-        if r.F.size and np.all(np.isfinite(r.F)) and float(np.ptp(r.F)) == 0.0:
-            raise ValueError(f"test {r.test!r}: the force F is constant ({float(r.F[0]):g} N in all {r.F.size} "
-                             "samples): a dead channel, nothing to diagnose; valid records have a varying F")
 
 
 def diagnose(
@@ -152,8 +129,8 @@ def diagnose(
     ------
     ValueError
         Unknown holdout id, all tests held out, fewer than 3 usable training tests, compressive records with a
-        chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force
-        (:func:`check_magnitudes`).
+        chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force or displacement
+        (:func:`check_magnitudes`, i.e. :func:`chainid.records.validate.check_channels`).
     """
     if not 1 <= int(max_combo) <= 3:
         raise ValueError(f"max_combo = {max_combo!r} is out of range; valid range 1 to 3")

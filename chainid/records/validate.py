@@ -18,7 +18,7 @@ Units: t [s], x [mm], F [N], omega [rad/s].
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -28,7 +28,41 @@ from chainid.signal.steady import TOL_MAX, select_steady
 if TYPE_CHECKING:  # pragma: no cover
     from chainid.records.record import Record
 
-__all__ = ["check_data", "validate_record", "analyse_record", "try_analyse", "RecordWarning"]
+__all__ = ["check_data", "check_channels", "validate_record", "analyse_record", "try_analyse", "RecordWarning",
+           "MAX_ABS_F_N", "MAX_ABS_X_MM"]
+
+#: Largest |F| [N] and |x| [mm] the analyses take: beyond, sums of squares overflow float64 (a chain's
+#: breaking load is below 1e8 N; F ~ 1e154 N is a unit or parsing error, not a measurement).
+MAX_ABS_F_N = 1e12
+MAX_ABS_X_MM = 1e9
+
+
+def check_channels(records: Any) -> None:
+    """The one rule for records no analysis can work on (``identify``, ``audit --data``, ``diagnose``,
+    ``predict``): |F| or |x| beyond :data:`MAX_ABS_F_N` / :data:`MAX_ABS_X_MM`, a force that does not vary within
+    a test (F ≡ const: a dead force channel) or a displacement that does not vary (x ≡ const: no motion, a dead
+    displacement channel; a damping fitted to it is c_e = F/0, e.g. 7e14 N·s/mm).  NaN is judged elsewhere
+    (:func:`check_data`).
+
+    Raises
+    ------
+    ValueError
+        Naming the test, the column, the value and the valid range.
+    """
+    for r in records:
+        for col, v, lim, unit in (("F", r.F, MAX_ABS_F_N, "N"), ("x", r.x, MAX_ABS_X_MM, "mm")):
+            if v.size and np.all(np.isfinite(v)):
+                big = float(np.max(np.abs(v)))
+                if big > lim:
+                    raise ValueError(f"test {r.test!r}: |{col}| = {big:.4g} {unit} is out of range; valid range "
+                                     f"|{col}| <= {lim:g} {unit} (check the column's unit)")
+        if r.F.size and np.all(np.isfinite(r.F)) and float(np.ptp(r.F)) == 0.0:
+            raise ValueError(f"test {r.test!r}: the force F is constant ({float(r.F[0]):g} N in all {r.F.size} "
+                             "samples): a dead channel, nothing to diagnose; valid records have a varying F")
+        if r.x.size and np.all(np.isfinite(r.x)) and float(np.ptp(r.x)) == 0.0:
+            raise ValueError(f"test {r.test!r}: the displacement x is constant ({float(r.x[0]):g} mm in all "
+                             f"{r.x.size} samples): no motion, nothing to identify (a dead displacement channel); "
+                             "valid records have a varying x")
 
 
 class RecordWarning(UserWarning):
