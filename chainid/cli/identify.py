@@ -312,10 +312,15 @@ def _simulate_model_file(args: argparse.Namespace, plan: Sequence[Any]) -> int:
     from chainid.records import write_records
     from chainid.records.simulate import simulate_model
 
-    clash = [o for o, v in (("--effect", args.effect), ("--params", args.params), ("--k", args.k)) if v is not None]
+    given = getattr(args, "given", None)  # the options on the command line (chainid.cli.main), else by value
+    opts = (("--chain", "chain", args.chain is not None), ("--variant", "variant", args.variant != "paper"),
+            ("--law", "law", False), ("--params", "params", args.params is not None),
+            ("--effect", "effect", args.effect is not None), ("--k", "k", args.k is not None),
+            ("--x-ref", "x_ref", args.x_ref != 0.0), ("--mass", "mass", args.mass is not None))
+    clash = [o for o, dest, set_ in opts if (dest in given if given is not None else set_)]
     if clash:
-        raise ValueError(f"--model {args.model!r} is a model file: {', '.join(clash)} do not apply (the file holds "
-                         "the effects, damping and base)")
+        raise ValueError(f"--model {args.model!r} is a model file: {', '.join(clash)} cannot be given with it (the "
+                         "file holds the chain, its kernel variant, the effects, the damping, the base and the mass)")
     model = load_model(args.model)
     ramp = None if args.ramp_rate <= 0 else args.ramp_rate
     recs = simulate_model(plan, model, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,

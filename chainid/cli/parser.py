@@ -225,7 +225,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args, extra = parser.parse_known_args(argv)
     if extra:  # named by the subcommand (argparse's own message would say "chainid: error:")
         _subparser(parser, args.command).error(f"unrecognized arguments: {' '.join(extra)}")
-    vars(args).pop("_given_once", None)  # (the bookkeeping of _refuse_repeats)
+    # (the bookkeeping of _refuse_repeats): the options given on the command line, by destination, for commands
+    # that refuse an option that does not apply (simulate --model M.toml --chain P)
+    args.given = frozenset(vars(args).pop("_given_once", None) or ())
     args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:
         from chainid.cli.common import check_io
