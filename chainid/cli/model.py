@@ -13,7 +13,8 @@ import sys
 from pathlib import Path
 from typing import Any, Sequence
 
-#: figure names of ``predict --plots`` per test (overlay and residual over t and over x)
+#: figure names of ``predict --plots`` per test (overlay and residual over t and over x; the id made portable
+#: and injective by :func:`plot_name`)
 PLOT_NAME = "predict_{test}.png"
 
 
@@ -76,6 +77,9 @@ def cmd_predict(args: argparse.Namespace) -> int:
         recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None),
                             check=check_channels)
         tests = [s.strip() for s in args.tests.split(",") if s.strip()] if args.tests else None
+        if args.plots:  # the figures' names are known now: an existing one is refused before the work
+            check_output_dir(args.plots, "--plots", [plot_name(r.test) for r in recs if not tests or r.test in tests],
+                             force=args.force)
         res = predict(model, recs, tests, fitted=args.fitted_damping, keep=bool(args.plots))
         for w in res["warnings"]:
             if getattr(args, "strict", False):
@@ -109,6 +113,15 @@ def _table(res: dict[str, Any]) -> str:
     return "\n".join(rows)
 
 
+def plot_name(test: str) -> str:
+    """File name of a test's figure: ``predict_<id>.png``, the id made portable by
+    :func:`chainid.infra.fileio.safe_filename` (an id it changes gets a hash of itself: "T 1", "T_1" and "T/1"
+    give three names, never one figure over another)."""
+    from chainid.infra.fileio import safe_filename
+
+    return safe_filename(str(test), prefix="predict_", suffix=".png")
+
+
 def plot_predictions(series: dict[str, Any], outdir: str, force: bool = False) -> list[Path]:
     """Per test: measured and predicted force over t and over x, and the residual over t and over x (PNG)."""
     import matplotlib
@@ -140,7 +153,7 @@ def plot_predictions(series: dict[str, Any], outdir: str, force: bool = False) -
         ax[1, 1].plot(x, F - Fm, ".", ms=2, label="model")
         ax[1, 1].set(xlabel="x [mm]", ylabel="residual [N]", title="residual over x")
         fig.tight_layout()
-        p = d / PLOT_NAME.format(test="".join(c if c.isalnum() or c in "-_." else "_" for c in str(test)))
+        p = d / plot_name(test)
         save_figure(fig, p, force=force, dpi=90)
         plt.close(fig)
         out.append(p)
