@@ -178,3 +178,12 @@ def test_the_augmented_model_checks_the_same_table():
     with pytest.raises(ValueError, match=r"delay_s = 1000000000.0 is out of range"):
         AugmentedModel(LinearModel(100.0, 0.0), [], delay_s=1e9)
     assert {n for n in EFFECT_NAMES if n not in NOT_FORCE} <= set(EFFECT_RANGES)
+
+
+def test_the_readme_states_the_ranges_table():
+    from pathlib import Path
+
+    from chainid.model.ranges import range_table
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    assert range_table() in readme
