@@ -188,8 +188,11 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         r = next(r for r in records if r.test == test)
         w, A, x0 = dominant(r.t, xs)
         points.append(OperatingPoint(test, w, max(A, 1e-12), x0, test))
+    everywhere = len(negative_dashpots(model, points, fitted)) == len(points)
     check_passive(model, points, fitted=fitted, what="the model", with_baseline=True,
-                  hint="a run with a negative dashpot is refused; --tests predicts the other tests")
+                  hint="a run with a negative dashpot is refused; " + (
+                      "diagnose again with another --damping-law or fewer effects" if everywhere
+                      else "--tests predicts the other tests"))
     for r in records:
         d = prepared[r.test]
         if d is not None:
