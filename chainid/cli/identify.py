@@ -272,7 +272,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     _check_simulate_options(args)
     plan = paper_plan() if args.plan in (None, "paper") else read_plan(args.plan)
     if args.model not in ("chain", "linear"):
-        return _simulate_model_file(args, plan)
+        from chainid.cli.model import simulate_model_file
+
+        return simulate_model_file(args, plan)
     if args.model == "linear" and args.k is None:
         raise ValueError("--model linear needs --k [N/mm] (and --x-ref [mm]) for simulation")
     model = _model(args)
@@ -303,33 +305,6 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     effect = f", effect {args.effect}" if args.effect else ""
     print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}{effect}, noise x {args.noise_x} mm, "
           f"F {args.noise_F} N, seed {args.seed})")
-    return 0
-
-
-def _simulate_model_file(args: argparse.Namespace, plan: Sequence[Any]) -> int:
-    """``simulate --model M.toml``: records of the plan from an augmented model file."""
-    from chainid.model.modelfile import load_model
-    from chainid.records import write_records
-    from chainid.records.simulate import simulate_model
-
-    given = getattr(args, "given", None)  # the options on the command line (chainid.cli.main), else by value
-    opts = (("--chain", "chain", args.chain is not None), ("--variant", "variant", args.variant != "paper"),
-            ("--law", "law", False), ("--params", "params", args.params is not None),
-            ("--effect", "effect", args.effect is not None), ("--k", "k", args.k is not None),
-            ("--x-ref", "x_ref", args.x_ref != 0.0), ("--mass", "mass", args.mass is not None))
-    clash = [o for o, dest, set_ in opts if (dest in given if given is not None else set_)]
-    if clash:
-        raise ValueError(f"--model {args.model!r} is a model file: {', '.join(clash)} cannot be given with it (the "
-                         "file holds the chain, its kernel variant, the effects, the damping, the base and the mass)")
-    model = load_model(args.model)
-    ramp = None if args.ramp_rate <= 0 else args.ramp_rate
-    recs = simulate_model(plan, model, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
-                          ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F,
-                          max_memory=args.max_memory * 1024**3)
-    write_records(args.out, recs, overwrite=args.force)
-    names = "+".join(n for n, _ in model.effects) or "no effects"
-    print(f"wrote {len(recs)} test(s) to {args.out} (model {args.model}: {names}, damping {model.damping.form}, "
-          f"delay {model.delay_s:g} s, noise x {args.noise_x} mm, F {args.noise_F} N, seed {args.seed})")
     return 0
 
 
