@@ -76,6 +76,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
                 "tests/test_records_contracts.py",
                 "tests/test_records.py", "tests/test_simulate.py", "tests/test_steady.py",
                 "tests/test_readers.py", "tests/test_readers_readme.py", "tests/records/test_chain_force_dips.py",
+                "tests/records/test_plan_bound.py", "tests/records/test_dead_channels.py",
                 "tests/test_gap_benchmark_time.py::test_excitation_closed_forms",
                 "tests/test_gap_benchmark_time.py::test_excitation_derivatives_are_exact"),
     "damping": ("tests/test_damping_pins.py", "tests/test_damping_pins3.py", "tests/test_identify.py",
@@ -100,7 +101,8 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_time_origin.py::test_diagnose_same_tests_at_any_origin", "tests/gap/test_kinematics_rest.py"),
     "dynamics": ("tests/test_dynamics_pins.py", "tests/test_dynamics_bounds_pins.py", "tests/test_dynamics_pins2.py", "tests/test_dynamics_checks.py",
                  "tests/test_dynamics_damping.py", "tests/test_dynamics.py", "tests/test_cli_dynamics.py",
-                 "tests/test_dynamics_waves.py",
+                 "tests/test_dynamics_waves.py", "tests/dynamics/test_work_bound.py",
+                 "tests/dynamics/test_drive_resolution.py",
                  "--deselect=tests/test_dynamics.py::test_one_segment_reproduces_the_paper_test_model"),
     "infra": ("tests/test_fileio.py", "tests/test_infra_pins.py", "tests/test_infra_pins2.py", "tests/test_parallel.py",
               "tests/test_numba_cache.py", "tests/test_files_ours.py", "tests/test_parallel_limits.py",
@@ -121,6 +123,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
             "tests/test_cli_contracts.py", "tests/test_cli_bounds.py", "tests/test_files_ours.py", "tests/test_presets.py",
             "tests/test_audit_data.py", "tests/cli/test_error_lines.py", "tests/cli/test_stiffness_load_warnings.py",
             "tests/cli/test_warnings_in_json.py", "tests/cli/test_model_file_commands.py",
+            "tests/cli/test_simulate_model_options.py", "tests/cli/test_predict_plot_names.py",
             # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
             # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
             "--deselect=tests/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output"),
