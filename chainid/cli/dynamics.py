@@ -203,6 +203,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
 
     from chainid.cli.chains import warn_loads
     from chainid.cli.common import write_json
+    from chainid.infra.runlog import warn
     from chainid.chain.spec import load_chain
     from chainid.dynamics import ChainLine, Drive, simulate
     from chainid.dynamics.modes import modes
@@ -251,8 +252,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
             _say(args, f"{r['pretension_N']:13.6g} {r['v']:8.4g} {r['n_masses']:5d} {r['peak_tension_N']:10.5g} "
                  f"{r['dynamic_factor']:10.4g} {r['drive_tension_ripple_N']:9.4g}")
             for m in r.get("warnings", []):
-                print(f"warning: case P = {r['pretension_N']:g} N, v = {r['v']:g} mm/s, N = {r['n_masses']}: {m}",
-                      file=sys.stderr)
+                warn(f"case P = {r['pretension_N']:g} N, v = {r['v']:g} mm/s, N = {r['n_masses']}: {m}")
     else:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # reported below from res.warnings
@@ -272,12 +272,12 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
              f"{eb['elastic']:.6g} + dissipated {eb['dissipated']:.6g} (balance error {eb['relative_error']:.2g} "
              f"at its worst, t = {eb['worst_t_s']:.4g} s)")
         for m in res.warnings:
-            print(f"warning: {m}", file=sys.stderr)
+            warn(m)
         doc.setdefault("warnings", []).extend(res.warnings)
         seen = {_limit_kind(m) for m in loads_before}
         for m in load_warnings(res.peak_tension, chain):  # limits the peak exceeds beyond those already named
             if _limit_kind(m) not in seen:
-                print(f"warning: peak tension: {m}", file=sys.stderr)
+                warn(f"peak tension: {m}")
                 doc["warnings"].append(f"peak tension: {m}")
         if args.plots:
             from chainid.dynamics import plots

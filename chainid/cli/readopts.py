@@ -5,7 +5,6 @@ unit-slip warnings)."""
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
 __all__ = ["add_reader_options", "reader_spec", "load_records", "chain_for_checks"]
@@ -160,10 +159,12 @@ def load_records(args: argparse.Namespace, paths: Any, chain: Any = None, doc: d
         + grouped(log.warnings)
     if msgs and getattr(args, "strict", False):
         raise ValueError("--strict: implausible records: " + "; ".join(msgs))
+    from chainid.infra.runlog import warn
+
     for m in grouped(log.notes):
         print(f"note: {m}", file=sys.stderr)
     for m in msgs:
-        print(f"warning: {m}", file=sys.stderr)
+        warn(m)  # on stderr and in the run's JSON warnings
     if doc is not None and msgs:
         doc.setdefault("warnings", []).extend(msgs)
     return recs

@@ -201,15 +201,17 @@ def _record(k, t, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D, t_out,
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens,
         Ft, kt, code, p, dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, dt_explicit, t_out, T_out, Fd_out,
-        u_out, v_out, en_out, stats, kind=0):
+        u_out, v_out, en_out, stats, kind=0, budget=0.0):
     """Integrate ``n_steps`` steps of ``dt`` [s] (see the module docstring); returns (status, peak [N]).
 
     status 0: done; 1: non-finite state (stopped at the last good output); 2: Newton did not converge at the
     shortest sub-step dt/2^levels, which is above ``dt_explicit`` (the explicit stable step; below it, such a
     sub-step is taken by the explicit scheme: Newton cannot converge where a segment's damper force jumps
-    as it goes taut).  ``stats`` receives [accepted sub-steps, rejected sub-steps, largest Newton iteration
-    count, shortest sub-step / dt, explicit fallback sub-steps, sub-steps ending with a segment that carries
-    nothing (slack or clipped)].
+    as it goes taut); 3: the work done exceeded ``budget`` [node-steps: free nodes × (Newton iterations of
+    every implicit sub-step tried, or 1 per explicit sub-step)], when ``budget`` > 0.  ``stats`` (>= 8 entries)
+    receives [accepted sub-steps, rejected sub-steps, largest Newton iteration count, shortest sub-step / dt,
+    explicit fallback sub-steps, sub-steps ending with a segment that carries nothing (slack or clipped),
+    work done [node-steps], whole steps done].
     """
     nn = u.shape[0]
     N = nn - 1
@@ -251,6 +253,8 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
     unit = 1 << levels
     hu = unit
     n_acc, n_rej, it_max, hu_min, n_fb, n_slack = 0, 0, 0, unit, 0, 0
+    work = 0.0
+    n_done = 0
     for n in range(n_steps):
         done = 0
         while done < unit:
@@ -263,9 +267,14 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
                     Fref = max(Fref, S[6][j])
                 ok, dW, dD, pk, low, its = _implicit_step(h, t1, c, S, X, lin, tol_abs + tol_rel * Fref, max_it)
                 it_max = max(it_max, its)
+                work += its * max(last, 1)
             else:
                 dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, kind)
                 ok = True
+                work += max(last, 1)
+            if budget > 0.0 and work > budget:
+                status = 3
+                break
             if not ok and hu > 1:
                 hu //= 2
                 n_rej += 1
@@ -295,6 +304,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
                 hu *= 2
         if status:
             break
+        n_done = n + 1
         if (n + 1) % out_every == 0:
             if not math.isfinite(peak + W + D + S[0][last] + S[1][last]):
                 status = 1
@@ -307,14 +317,17 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
     stats[3] = hu_min / unit
     stats[4] = n_fb
     stats[5] = n_slack
+    if stats.shape[0] > 7:
+        stats[6] = work
+        stats[7] = n_done
     return status, peak
 
 
-def explicit_core(*args, kind: int = 0):
+def explicit_core(*args, kind: int = 0, budget: float = 0.0):
     """The explicit scheme through :func:`run` (arguments as :func:`run` without ``implicit``)."""
-    return run(False, *args, kind=kind)
+    return run(False, *args, kind=kind, budget=budget)
 
 
-def implicit_core(*args):
+def implicit_core(*args, budget: float = 0.0):
     """The implicit scheme through :func:`run` (arguments as :func:`run` without ``implicit``)."""
-    return run(True, *args)
+    return run(True, *args, budget=budget)

@@ -216,9 +216,6 @@ def _damping(d: Any, out: dict[str, Any], els: list, src: str, k_link: float, at
     where = f"{src}: damping ({d.form})"
     if d.form == "viscous":
         out["damping"] = float(p.get("c", 0.0))
-        if not out["damping"] >= 0:
-            raise ValueError(f"{where}: c = {out['damping']:.6g} N·s/mm{at} is invalid: valid range >= 0 (a law "
-                             "extrapolated beyond its tests can turn negative: choose an operating point inside them)")
     elif d.form == "hysteretic":
         F_c, x_s = iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", 32)))
         els += [(float(f) / float(x), float(f)) for f, x in zip(F_c, x_s) if f > 0]
@@ -287,6 +284,12 @@ def segment_kwargs(path: str | Path, *, pretension_N: float = 0.0, omega: float 
         notes.append(f"the model's delay tau = {m.delay_s:.6g} s is a measurement lag; the chain is simulated "
                      "without it")
     d = _operating_point(m.damping, base, src, pretension_N, omega, amplitude, notes)
+    from chainid.model.passivity import OperatingPoint, check_passive
+
+    # the one rule for a negative dashpot (chainid.model.passivity): refused at the operating point
+    check_passive(m, [OperatingPoint("the operating point", omega, amplitude, _x0_ke(base, pretension_N)[0])],
+                  what=src, hint="a law extrapolated beyond its tests can turn negative: choose an operating point "
+                                 "inside them (--segment-omega, --segment-amplitude)")
     at = f" at omega = {omega:g} rad/s, A = {amplitude:g} mm" if m.damping.form in ("law", "feature") else ""
     _damping(d, out, els, src, k_link, at, notes)
     out["hysteresis"] = tuple(els)

@@ -27,6 +27,10 @@ from chainid.gap.core.candidate import MIN_TRAIN
 from chainid.gap.core.verdict import MIN_SHRINK, NONSTAT_FRACTION  # noqa: F401  (the verdict rule, one place)
 from chainid.gap.harmonic.route import diagnose_harmonic
 from chainid.infra.progress import stage
+# the one rule for records no analysis can work on (magnitudes, a dead force or displacement channel) is the
+# records' validation: identify, audit, predict and the diagnosis use it alike
+from chainid.records.validate import MAX_ABS_F_N, MAX_ABS_X_MM  # noqa: F401  (re-exported)
+from chainid.records.validate import check_channels as check_magnitudes
 
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str], mass_kg: float = 0.0) -> Any:
@@ -54,33 +58,6 @@ def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, stead
                 raise ValueError(f"test {r.test!r} cannot be used (--strict): {exc}") from None
             excluded.append({"test": r.test, "reason": str(exc)})
     return data, excluded
-
-
-#: Largest |F| [N] and |x| [mm] the diagnosis takes: beyond, sums of squares overflow float64 (a chain's
-#: breaking load is below 1e8 N; F ~ 1e154 N is a unit or parsing error, not a measurement).
-MAX_ABS_F_N = 1e12
-MAX_ABS_X_MM = 1e9
-
-
-def check_magnitudes(records: Sequence[Any]) -> None:
-    """Data errors the diagnosis cannot work on: |F| or |x| beyond :data:`MAX_ABS_F_N` / :data:`MAX_ABS_X_MM`,
-    or a force that does not vary within a test (F ≡ 0: a dead channel, nothing to diagnose).
-
-    Raises
-    ------
-    ValueError
-        Naming the test, the column, the value and the valid range.
-    """
-    for r in records:
-        for col, v, lim, unit in (("F", r.F, MAX_ABS_F_N, "N"), ("x", r.x, MAX_ABS_X_MM, "mm")):
-            if v.size and np.all(np.isfinite(v)):
-                big = float(np.max(np.abs(v)))
-                if big > lim:
-                    raise ValueError(f"test {r.test!r}: |{col}| = {big:.4g} {unit} is out of range; valid range "
-                                     f"|{col}| <= {lim:g} {unit} (check the column's unit)")
-        if r.F.size and np.all(np.isfinite(r.F)) and float(np.ptp(r.F)) == 0.0:
-            raise ValueError(f"test {r.test!r}: the force F is constant ({float(r.F[0]):g} N in all {r.F.size} "
-                             "samples): a dead channel, nothing to diagnose; valid records have a varying F")
 
 
 def diagnose(
@@ -161,8 +138,8 @@ def diagnose(
     ------
     ValueError
         Unknown holdout id, all tests held out, fewer than 3 usable training tests, compressive records with a
-        chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force
-        (:func:`check_magnitudes`).
+        chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force or displacement
+        (:func:`check_magnitudes`, i.e. :func:`chainid.records.validate.check_channels`).
     """
     holdout = _check_args(records, holdout, max_combo, holdout_blocks, validate, mass_kg)
     holdout_blocks = int(holdout_blocks)

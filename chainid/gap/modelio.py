@@ -4,7 +4,8 @@
   parameters, the re-fitted linear spring of a ``--model linear`` baseline, the damping law re-identified at
   that step with its coefficients and per-test c_e, the delay, the mass).
 * :func:`predict` — ``chainid predict``: per-test and pooled NRMSE of a model file's baseline and model.
-* :func:`negative_damping` — a warning where the damping resolves to a negative dashpot.
+* :func:`negative_damping` — the diagnosis' warning where the damping resolves to a negative dashpot (a run of
+  such a model is refused: :mod:`chainid.model.passivity`).
 
 **Which damping ``predict`` uses.**  For a steady harmonic test (one :func:`chainid.gap.harmonic.prepare.prepare_test`
 accepts) the model is evaluated exactly as the diagnosis evaluates a held-out test: on the test's phase
@@ -33,10 +34,11 @@ import numpy as np
 
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
-from chainid.model.timedamping import Damping
+from chainid.model.passivity import OperatingPoint, check_passive, describe, negative_dashpots
+from chainid.model.timedamping import Damping, dominant, record_features
 from chainid.gap.core import noise as nz
 from chainid.gap.core.verdict import trusted_path
-from chainid.gap.core.kinematics import estimate
+from chainid.gap.core.kinematics import Kinematics, estimate
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
 
 
@@ -144,20 +146,11 @@ def negative_damping(model: AugmentedModel, data: Sequence[Any], fitted: bool = 
     """Warnings for the prepared harmonic tests ``data`` (TestData) at which the model's damping resolves to a
     viscous c < 0 [N·s/mm]: a negative dashpot feeds energy in, which no passive device does — the named effects
     over-explain the dissipation there, or the law is extrapolated (Eq. 21 is a fitted surface).  One message
-    naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none."""
-    bad = []
-    for d in data:
-        w = getattr(d, "omega_c", d.omega) if model.damping.form == "feature" else d.omega
-        dmp = model.damping.resolve(w, d.A, model.ke(d.x0), d.test, fitted, d.x0)
-        if dmp.form == "viscous" and dmp.params.get("c", 0.0) < 0:
-            bad.append((dmp.params["c"], d))
-    if not bad:
-        return []
-    c, d = min(bad, key=lambda b: b[0])
-    ids = ", ".join(b[1].test for b in bad)
-    return [f"the damping gives a negative viscous c at test(s) {ids} (lowest c = {c:.4g} N·s/mm at "
-            f"ω = {d.omega:.4g} rad/s, A = {d.A:.4g} mm): the model feeds energy in there, which a passive device "
-            "cannot; the effects over-explain the dissipation or the law is extrapolated"]
+    naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none (the test of
+    :func:`chainid.model.passivity.negative_dashpots`; a run of such a model is refused by
+    :func:`chainid.model.passivity.check_passive`)."""
+    bad = negative_dashpots(model, [_point(model, d) for d in data], fitted)
+    return [describe(bad)] if bad else []
 
 
 def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] | None = None,
@@ -181,7 +174,13 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     -------
     dict
         ``{"tests": [{"test", "nrmse_baseline", "nrmse_model", "shrinkage", "mode"}], "pooled": {...},
-        "model": {...}, "warnings": [...]}`` (warnings: :func:`negative_damping` on the harmonic tests).
+        "model": {...}, "warnings": [...]}`` (the list stays in the contract; the run's warnings are added to it).
+
+    Raises
+    ------
+    ValueError
+        A test id not in the records, no records, or a damping (of the model or its baseline) that is a
+        negative dashpot at a record's operating point (:func:`chainid.model.passivity.check_passive`).
     """
     ids = [r.test for r in records]
     if tests:
@@ -194,25 +193,36 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     ev = dict(model.info.get("evaluation", {}))
     time_only = ev.get("route") == "time"  # a time-route model: every record sample by sample, as diagnosed
     base = model.baseline or model
-    rows, series, prepared = [], {}, []
+    rows, series = [], {}
     tot = {"b": 0.0, "m": 0.0, "v": 0.0}
+    prepared = {r.test: None if time_only else _prepared(r, ev) for r in records}
+    kin = {r.test: estimate(r.t, r.x, nz.excitation_band(r.t, r.x)) for r in records if prepared[r.test] is None}
+    points: dict[str, OperatingPoint] = {}
     for r in records:
-        d = None
-        if not time_only:
-            try:
-                d = prepare_test(r, n_bins=int(ev.get("n_bins", 64)),
-                                 allow_compression=bool(ev.get("allow_compression", True)), steady_tol=ev.get("steady_tol"))
-            except Unusable:
-                d = None
+        d = prepared[r.test]
+        points[r.test] = _point(model, d) if d is not None else _record_point(model, r, kin[r.test])
+    bad = []
+    for r in records:  # every record at its own operating conditions (a damping may follow a covariate)
+        m = model.at_conditions(getattr(r, "covariates", None))
+        bad += negative_dashpots(m, [points[r.test]], fitted)
+        check_passive(m.baseline or m, [points[r.test]], fitted=fitted, what="the model's baseline")
+    if bad:
+        everywhere = len(bad) == len(records)
+        c = min(b[1] for b in bad)
+        raise ValueError(f"the model: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at "
+                         "every operating point of the run (a run with a negative dashpot is refused; " + (
+                             "diagnose again with another --damping-law or fewer effects" if everywhere
+                             else "--tests predicts the other tests") + ")")
+    for r in records:
+        d = prepared[r.test]
         if d is not None:
-            prepared.append(d)
             Fm, Fb = model.cycle_force(d, fitted), base.cycle_force(d, fitted)
             (sm, var), (sb, _) = _sse_var(d.Fbar, Fm, d.counts), _sse_var(d.Fbar, Fb, d.counts)
             mode = "steady-cycle"
             if keep:
                 series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
         else:  # on the diagnosis' smooth kinematics (the estimator chosen by the record's spectrum)
-            Fm, Fb = time_force(model, r), time_force(base, r)
+            Fm, Fb = time_force(model, r, kin=kin[r.test]), time_force(base, r, kin=kin[r.test])
             w = np.ones_like(r.F)
             (sm, var), (sb, _) = _sse_var(r.F, Fm, w), _sse_var(r.F, Fb, w)
             mode = "time-domain"
@@ -232,19 +242,18 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
         used = (f"per-test fitted c_e on {n_own} test(s) the law was fitted on; the law on the other "
                 f"{len(rows) - n_own}" if n_own < len(rows) else "per-test fitted c_e")
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
-           "model": model_to_dict(model), "damping_used": used,
-           "warnings": negative_damping(model, prepared, fitted)}
+           "model": model_to_dict(model), "damping_used": used, "warnings": []}
     if keep:
         out["_series"] = series
     return out
 
 
-def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False) -> Any:
+def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False, kin: Kinematics | None = None) -> Any:
     """The model force [N] on a record evaluated as the time-domain route evaluates it: on the record's smooth
     kinematics (:func:`chainid.gap.core.kinematics.estimate`), at the record's operating conditions, and with the
     record's own force offset when the model's offsets are per test (nuisance parameters).  With
-    ``with_kinematics`` also the kinematics used."""
-    kin = estimate(rec.t, rec.x, nz.excitation_band(rec.t, rec.x))
+    ``with_kinematics`` also the kinematics used (``kin``: the record's kinematics when already estimated)."""
+    kin = kin if kin is not None else estimate(rec.t, rec.x, nz.excitation_band(rec.t, rec.x))
     m = model.at_conditions(getattr(rec, "covariates", None))
     F = np.asarray(m.force(rec.t, kin.x, xd=kin.xd, xdd=kin.xdd, v_err=kin.v_spread(rec.t)), float)
     Fm = np.asarray(rec.F, float)
@@ -256,6 +265,33 @@ def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False) -
         F = F + float(np.mean((Fm - F)[~out])) if (~out).any() else F
     F = np.where(out, Fm, F)
     return (F, kin) if with_kinematics else F
+
+
+def _prepared(r: Any, ev: dict[str, Any]) -> Any:
+    """The prepared steady harmonic test of a record (as the diagnosis prepares it), or None (a transient)."""
+    try:
+        return prepare_test(r, n_bins=int(ev.get("n_bins", 64)), allow_compression=bool(ev.get("allow_compression", True)),
+                            steady_tol=ev.get("steady_tol"))
+    except Unusable:
+        return None
+
+
+def _point(model: AugmentedModel, d: Any) -> OperatingPoint:
+    """The operating point of a prepared test (TestData: ω, A, x0) or of a time record (TimeData: its band centre
+    and half range for a ``feature`` damping, else its dominant ω and A)."""
+    w = getattr(d, "omega_c", d.omega) if model.damping.form == "feature" else d.omega
+    return OperatingPoint(d.test, w, d.A, d.x0, d.test)
+
+
+def _record_point(model: AugmentedModel, rec: Any, kin: Kinematics) -> OperatingPoint:
+    """A transient record's operating point as :meth:`AugmentedModel.force` resolves its damping."""
+    if model.damping.form == "feature":
+        w, A = record_features(rec.t, kin.x)
+        return OperatingPoint(rec.test, w, max(A, 1e-12), float(np.mean(kin.x)), rec.test)
+    w, A, x0 = dominant(rec.t, kin.x)
+    return OperatingPoint(rec.test, w, max(A, 1e-12), x0, rec.test)
+
+
 
 
 def _nrmse(sse: float, var: float) -> float | None:

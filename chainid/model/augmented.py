@@ -27,13 +27,13 @@ Units: t s, x mm, F N, m kg (m·ẍ·1e-3 = N), τ s.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import numpy as np
 
 from chainid.model.effects import DEFAULTS, EFFECT_NAMES, make_effect, undamped_force
+from chainid.model.ranges import EFFECT_RANGES, MODEL_RANGES, check_number
 from chainid.model.timedamping import Damping, dominant, record_features
 
 #: effects that are not force terms of the model (the delay is ``delay_s``; ``damping_law`` is the law choice)
@@ -93,15 +93,14 @@ class AugmentedModel:
             if unknown:
                 raise ValueError(f"effect {name!r}: unknown parameter(s) {sorted(unknown)}; "
                                  f"valid: {', '.join(list(eff.param_names) + list(eff.fixed))}")
-            bad = [k for k, v in params.items() if not math.isfinite(float(v))]
-            if bad:
-                raise ValueError(f"effect {name!r}: {bad[0]} = {params[bad[0]]!r} must be finite")
-            out.append((name, dict(DEFAULTS[name]) | {k: float(v) for k, v in params.items()}))
+            # the valid ranges of the one table (chainid.model.ranges); implausible values are the loader's warnings
+            checked = {k: check_number(v, EFFECT_RANGES[name][k], f"effect {name!r}: {k}")[0]
+                       for k, v in params.items()}
+            out.append((name, dict(DEFAULTS[name]) | checked))
         self.effects = out
-        if not math.isfinite(float(self.delay_s)):
-            raise ValueError(f"delay_s = {self.delay_s!r} must be finite [s]")
-        if self.mass_kg is not None and not (math.isfinite(self.mass_kg) and self.mass_kg >= 0):
-            raise ValueError(f"mass_kg = {self.mass_kg!r} is out of range; valid range >= 0 kg")
+        self.delay_s = check_number(self.delay_s, MODEL_RANGES["delay_s"], "delay_s")[0]
+        if self.mass_kg is not None:
+            self.mass_kg = check_number(self.mass_kg, MODEL_RANGES["mass_kg"], "mass_kg")[0]
         for term, v in self.covariate_terms.items():
             head, at, cov = term.partition("@")
             if not at or "." not in head or not cov:

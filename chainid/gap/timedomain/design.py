@@ -113,10 +113,12 @@ def amplitude_names(base: Base, names: Sequence[str]) -> list[str]:
 def amplitude_bounds(names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
     """Bounds of the amplitudes ``names``: >= 0 where the library says so (a dashpot, a mass, a friction force,
     a spring of a passive device), free otherwise (slopes, cubic terms, an asymmetry)."""
+    from chainid.model.ranges import EFFECT_RANGES
+
     nonneg = {"spring.k", "mass.m", "damping.c"}
     for n, s in SPECS.items():
         for p in s.params:
-            if p.amplitude and p.valid[0] >= 0.0:
+            if p.amplitude and EFFECT_RANGES[n][p.name].lo >= 0.0:
                 nonneg.add(f"{n}.{p.name}")
     lo = np.array([0.0 if k in nonneg else -np.inf for k in names])
     return lo, np.full(len(names), np.inf)

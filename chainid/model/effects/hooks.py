@@ -14,7 +14,7 @@ from typing import Any, Callable
 import numpy as np
 
 from chainid.model.effects.compose import effect_force
-from chainid.model.effects.library import DEFAULTS, EFFECT_NAMES, SPECS, describe_range, make_effect
+from chainid.model.effects.library import DEFAULTS, EFFECT_NAMES, SPECS, make_effect
 
 __all__ = ["parse_spec", "parse_effect", "check_params"]
 
@@ -44,23 +44,26 @@ def parse_spec(spec: str) -> tuple[str, dict[str, float]]:
 
 
 def check_params(name: str, params: dict[str, float], where: str = "effect") -> None:
-    """Every parameter of effect ``name`` known, finite and inside its physical validity range.
+    """Every parameter of effect ``name`` known and inside its physical validity range (the one table of
+    :mod:`chainid.model.ranges`); a value outside the plausible range is a warning.
 
     Raises
     ------
     ValueError
         Naming the effect, the parameter, the value and the valid range.
     """
+    import warnings
+
+    from chainid.model.ranges import EFFECT_RANGES, check_number
+
     spec = SPECS[name]
-    valid = {p.name: p.valid for p in spec.params}
+    known = [p.name for p in spec.params]
     for k, v in params.items():
-        if k not in valid:
-            raise ValueError(f"{where} {name!r}: unknown parameter {k!r}; valid: {', '.join(valid)}")
-        if not math.isfinite(v):
-            raise ValueError(f"{where} {name!r}: {k} = {v!r} must be finite")
-        lo, hi = valid[k]
-        if not lo <= v <= hi:
-            raise ValueError(f"{where} {name!r}: {k} = {v!r} is out of range; valid range {describe_range(lo, hi)}")
+        if k not in known:
+            raise ValueError(f"{where} {name!r}: unknown parameter {k!r}; valid: {', '.join(known)}")
+        _, w = check_number(v, EFFECT_RANGES[name][k], f"{where} {name!r}: {k}")
+        if w:
+            warnings.warn(w, UserWarning, stacklevel=3)
 
 
 def _xfun_from_series(t: np.ndarray, x: np.ndarray, xd: np.ndarray, xdd: np.ndarray) -> Callable:

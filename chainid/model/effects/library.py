@@ -1,9 +1,10 @@
 """The effect library: named, physically parameterised, bounded additions to the base model (paper Eq. 1).
 
-Every effect is declared once here (:data:`SPECS`): its parameters with their units, their physical validity
-range (what a model file or ``--effect`` may hold), the bounds and start value of a fit (set from the data's
-scales), whether each enters the force linearly (an *amplitude*: a column of the time-domain fit) or not (a
-*shape*), what part of the model the effect changes (its *kind*), and the bases it applies to.  The force of
+Every effect is declared once here (:data:`SPECS`): its parameters with their units, the bounds and start value of a
+fit (set from the data's scales), whether each enters the force linearly (an *amplitude*: a column of the time-domain fit) or not (a
+*shape*), what part of the model the effect changes (its *kind*), and the bases it applies to.  The physical
+validity range of every parameter (what a model file or ``--effect`` may hold) is the one table of
+:mod:`chainid.model.ranges`.  The force of
 each effect is in :mod:`.forms`; the composition of several in :mod:`.compose`.  The selection method is kept
 apart (:mod:`chainid.gap.core.selection`), as a library of candidate terms is kept apart from the way a model is
 chosen from it.
@@ -23,7 +24,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 __all__ = ["Scales", "Param", "EffectSpec", "SPECS", "EFFECT_NAMES", "STIFFNESS_SIDE", "DEFAULTS", "Effect",
-           "make_effect", "valid_range", "describe_range", "applies_to", "pinned", "identifiable"]
+           "make_effect", "valid_range", "applies_to", "pinned", "identifiable"]
 
 
 @dataclass(frozen=True)
@@ -52,11 +53,11 @@ Bound = Callable[[Scales], tuple[float, float]]
 
 @dataclass(frozen=True)
 class Param:
-    """One parameter of an effect: name, unit, physical validity range, fit bounds and start, neutral default."""
+    """One parameter of an effect: name, unit, fit bounds and start, neutral default (its physical validity range is
+    in the one table of :mod:`chainid.model.ranges`)."""
 
     name: str
     unit: str
-    valid: tuple[float, float]
     bounds: Bound
     guess: Callable[[Scales], float]
     default: float
@@ -78,94 +79,91 @@ class EffectSpec:
     bases: tuple[str, ...] = ("chain", "linear")
 
 
-def _P(name: str, unit: str, valid: tuple[float, float], bounds: Bound, guess: Callable[[Scales], float],
-       default: float, amplitude: bool = False, fitted: bool = True, limits: tuple[bool, bool] = (False, False)
-       ) -> Param:
-    return Param(name, unit, valid, bounds, guess, default, amplitude, fitted, limits)
+def _P(name: str, unit: str, bounds: Bound, guess: Callable[[Scales], float], default: float,
+       amplitude: bool = False, fitted: bool = True, limits: tuple[bool, bool] = (False, False)) -> Param:
+    return Param(name, unit, bounds, guess, default, amplitude, fitted, limits)
 
 
 INF = math.inf
-#: largest force-like parameter a model file may hold [N] (a chain's breaking load is below 1e8 N)
-F_MAX = 1e9
 
 SPECS: dict[str, EffectSpec] = {s.name: s for s in (
     EffectSpec("stiffness_level", "stiffness", (
-        _P("scale", "-", (1e-3, 1e3), lambda s: (0.2, 5.0), lambda s: 1.0, 1.0),),
+        _P("scale", "-", lambda s: (0.2, 5.0), lambda s: 1.0, 1.0),),
         "stiffness level of the base model: factor on the links' linear axial stiffness EA (compliance "
         "c_lin/scale); < 1 softer, > 1 stiffer", ("chain",)),
     EffectSpec("friction", "force", (
-        _P("F_c", "N", (0.0, F_MAX), lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
-        _P("mu", "-", (0.0, 10.0), lambda s: (0.0, 0.5), lambda s: 0.0, 0.0, amplitude=True),
-        _P("x_s", "mm", (0.0, 1e6), lambda s: (0.0, 0.5 * s.x), lambda s: 0.0, 0.0)),
+        _P("F_c", "N", lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
+        _P("mu", "-", lambda s: (0.0, 0.5), lambda s: 0.0, 0.0, amplitude=True),
+        _P("x_s", "mm", lambda s: (0.0, 0.5 * s.x), lambda s: 0.0, 0.0)),
         "Coulomb sliding friction (F_c + mu·|F_k|)·sgn(ẋ) with elastic stick travel x_s after reversal (Jenkins "
         "element), rate-independent"),
     EffectSpec("stribeck", "force", (
-        _P("F_c", "N", (0.0, F_MAX), lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
-        _P("dF_s", "N", (0.0, F_MAX), lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
-        _P("v_s", "mm/s", (1e-9, 1e9), lambda s: (1e-3 * s.v, s.v), lambda s: 0.1 * s.v, 1.0),
-        _P("dF", "N", (-F_MAX, F_MAX), lambda s: (-5 * s.F, 5 * s.F), lambda s: 0.0, 0.0, amplitude=True)),
+        _P("F_c", "N", lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
+        _P("dF_s", "N", lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
+        _P("v_s", "mm/s", lambda s: (1e-3 * s.v, s.v), lambda s: 0.1 * s.v, 1.0),
+        _P("dF", "N", lambda s: (-5 * s.F, 5 * s.F), lambda s: 0.0, 0.0, amplitude=True)),
         "velocity-weakening (Stribeck) friction sgn(ẋ)·[F_c + dF_s·exp(−(ẋ/v_s)²)] + dF·|sgn(ẋ)|: static force "
         "F_s = F_c + dF_s above the kinetic F_c, direction asymmetry dF (slip force F_c + dF moving +x)"),
     EffectSpec("hysteresis", "force", (
-        _P("F_h", "N", (0.0, F_MAX), lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
-        _P("x_h", "mm", (1e-9, 1e6), lambda s: (1e-3 * s.x, 10 * s.x), lambda s: 0.3 * s.x, 0.05)),
+        _P("F_h", "N", lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
+        _P("x_h", "mm", lambda s: (1e-3 * s.x, 10 * s.x), lambda s: 0.3 * s.x, 0.05)),
         "Dahl hysteresis: z → ±F_h over a travel x_h after each reversal"),
     EffectSpec("bouc_wen", "force", (
-        _P("F_y", "N", (0.0, F_MAX), lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
-        _P("x_y", "mm", (1e-9, 1e6), lambda s: (1e-3 * s.x, 10 * s.x), lambda s: 0.3 * s.x, 0.05),
-        _P("n", "-", (0.1, 20.0), lambda s: (0.3, 8.0), lambda s: 1.5, 1.0),
-        _P("r", "-", (0.0, 1.0), lambda s: (0.0, 1.0), lambda s: 0.75, 1.0, limits=(True, True))),
+        _P("F_y", "N", lambda s: (0.0, 5 * s.F), lambda s: 0.05 * s.F, 0.0, amplitude=True),
+        _P("x_y", "mm", lambda s: (1e-3 * s.x, 10 * s.x), lambda s: 0.3 * s.x, 0.05),
+        _P("n", "-", lambda s: (0.3, 8.0), lambda s: 1.5, 1.0),
+        _P("r", "-", lambda s: (0.0, 1.0), lambda s: 0.75, 1.0, limits=(True, True))),
         "Bouc–Wen hysteresis with shape: force F_y·z, dz/dx = (1/x_y)·[1 − (r·sgn(ẋz) + 1 − r)·|z|^n] (yield "
         "travel x_y, knee sharpness n, unloading shape r; Dahl is n = 1, r = 1)"),
     EffectSpec("contact_law", "stiffness", (
-        _P("scale", "-", (1e-3, 1e3), lambda s: (0.05, 5.0), lambda s: 1.0, 1.0),
-        _P("beta", "-", (0.2, 1.5), lambda s: (0.3, 1.2), lambda s: 2.0 / 3.0, 2.0 / 3.0)),
+        _P("scale", "-", lambda s: (0.05, 5.0), lambda s: 1.0, 1.0),
+        _P("beta", "-", lambda s: (0.3, 1.2), lambda s: 2.0 / 3.0, 2.0 / 3.0)),
         "contact compliance c_hertz·scale with exponent beta (Hertz: 1, 2/3)", ("chain",)),
     EffectSpec("slack", "stiffness", (
-        _P("s", "mm", (-1e6, 1e6), lambda s: (-5.0 * s.x, 5.0 * s.x), lambda s: 0.0, 0.0),),
+        _P("s", "mm", lambda s: (-5.0 * s.x, 5.0 * s.x), lambda s: 0.0, 0.0),),
         "displacement offset s (permanent elongation, clearance, sensor zero)", ("chain",)),
     EffectSpec("backlash", "play", (
-        _P("b", "mm", (0.0, 1e6), lambda s: (0.0, 2.0 * s.x), lambda s: 0.1 * s.x, 0.0),),
+        _P("b", "mm", lambda s: (0.0, 2.0 * s.x), lambda s: 0.1 * s.x, 0.0),),
         "dead band b of travel after each reversal (play in series with the spring)"),
     EffectSpec("deadband", "force", (
-        _P("k_d", "N/mm^p", (0.0, F_MAX), lambda s: (0.0, 100.0 * s.F / min(s.x, 1.0) ** 4),
+        _P("k_d", "N/mm^p", lambda s: (0.0, 100.0 * s.F / min(s.x, 1.0) ** 4),
            lambda s: s.F / s.x, 0.0, amplitude=True),
-        _P("g", "mm", (0.0, 1e6), lambda s: (0.0, 1.5 * s.x), lambda s: 0.5 * s.x, 0.0),
-        _P("p", "-", (1.0, 6.0), lambda s: (1.0, 4.0), lambda s: 1.5, 1.0, limits=(True, False)),
-        _P("x_c", "mm", (-1e9, 1e9), lambda s: (s.x_mid - s.x, s.x_mid + s.x), lambda s: s.x_mid, 0.0)),
+        _P("g", "mm", lambda s: (0.0, 1.5 * s.x), lambda s: 0.5 * s.x, 0.0),
+        _P("p", "-", lambda s: (1.0, 4.0), lambda s: 1.5, 1.0, limits=(True, False)),
+        _P("x_c", "mm", lambda s: (s.x_mid - s.x, s.x_mid + s.x), lambda s: s.x_mid, 0.0)),
         "backlash with hardening contacts (end stops): a dead band of half-width g about x_c, then power-law "
         "stiffening k_d·(|x − x_c| − g)^p on each side"),
     EffectSpec("hardening", "force", (
-        _P("k3", "N/mm^3", (-F_MAX, F_MAX), lambda s: (-100 * s.F / s.x ** 3, 100 * s.F / s.x ** 3),
+        _P("k3", "N/mm^3", lambda s: (-100 * s.F / s.x ** 3, 100 * s.F / s.x ** 3),
            lambda s: 0.0, 0.0, amplitude=True),
-        _P("k2", "N/mm^2", (-F_MAX, F_MAX), lambda s: (-100 * s.F / s.x ** 2, 100 * s.F / s.x ** 2),
+        _P("k2", "N/mm^2", lambda s: (-100 * s.F / s.x ** 2, 100 * s.F / s.x ** 2),
            lambda s: 0.0, 0.0, amplitude=True),
-        _P("x_ref", "mm", (-1e9, 1e9), lambda s: (s.x_mid, s.x_mid), lambda s: s.x_mid, 0.0, fitted=False)),
+        _P("x_ref", "mm", lambda s: (s.x_mid, s.x_mid), lambda s: s.x_mid, 0.0, fitted=False)),
         "nonlinear spring of a non-chain base: k3·(x − x_ref)³ + k2·(x − x_ref)² about the training data's mean "
         "displacement x_ref (k3 > 0 hardening, < 0 softening; k2 an asymmetry)", ("linear",)),
     EffectSpec("machine_compliance", "stiffness", (
-        _P("c", "mm/N", (0.0, 1.0), lambda s: (0.0, 1e-2), lambda s: 1e-6, 0.0),),
+        _P("c", "mm/N", lambda s: (0.0, 1e-2), lambda s: 1e-6, 0.0),),
         "series compliance c of test machine / fixture", ("chain",)),
     EffectSpec("fixture_mass", "mass", (
-        _P("m_f", "kg", (0.0, 1e6), lambda s: (0.0, 10.0 * s.F * 1e3 / max(s.x * s.omega ** 2, 1e-9)),
+        _P("m_f", "kg", lambda s: (0.0, 10.0 * s.F * 1e3 / max(s.x * s.omega ** 2, 1e-9)),
            lambda s: 0.0, 0.0, amplitude=True),),
         "extra moving mass m_f (fixture, load cell, clamp) of a chain base: m_f·ẍ", ("chain",)),
     EffectSpec("sensor_delay", "delay", (
-        _P("tau", "s", (-1e3, 1e3), lambda s: (-s.lag, s.lag), lambda s: 0.0, 0.0),),
+        _P("tau", "s", lambda s: (-s.lag, s.lag), lambda s: 0.0, 0.0),),
         "channel lag: the force lags the displacement by tau (tau < 0: the displacement lags the force)"),
     EffectSpec("damping_law", "damping", (
-        _P("eta", "-", (0.0, 100.0), lambda s: (0.0, 2.0), lambda s: 0.0, 0.0),
-        _P("F_f", "N", (0.0, F_MAX), lambda s: (0.0, 5 * s.F), lambda s: 0.0, 0.0)),
+        _P("eta", "-", lambda s: (0.0, 2.0), lambda s: 0.0, 0.0),
+        _P("F_f", "N", lambda s: (0.0, 5 * s.F), lambda s: 0.0, 0.0)),
         "extra damping form: hysteretic eta·k_e(x0)/ω + Coulomb-equivalent 4F_f/(πωA) (harmonic route); on any "
         "excitation, a damping law over record features c = c0 + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref)"),
 )}
 
 #: the damping law of the time-domain route (its own parameters: slopes over record features)
 TIME_DAMPING_LAW = EffectSpec("damping_law", "damping", (
-    _P("b_w", "N·s²/mm", (-F_MAX, F_MAX), lambda s: (-INF, INF), lambda s: 0.0, 0.0, amplitude=True),
-    _P("b_A", "N·s/mm²", (-F_MAX, F_MAX), lambda s: (-INF, INF), lambda s: 0.0, 0.0, amplitude=True),
-    _P("w_ref", "rad/s", (0.0, 1e9), lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False),
-    _P("A_ref", "mm", (0.0, 1e9), lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False)),
+    _P("b_w", "N·s²/mm", lambda s: (-INF, INF), lambda s: 0.0, 0.0, amplitude=True),
+    _P("b_A", "N·s/mm²", lambda s: (-INF, INF), lambda s: 0.0, 0.0, amplitude=True),
+    _P("w_ref", "rad/s", lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False),
+    _P("A_ref", "mm", lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False)),
     "the record's viscous damping follows a law over record features: c_r = c0 + b_w·(ω_r − w_ref) + "
     "b_A·(A_r − A_ref), ω_r the band centre [rad/s], A_r the half range of x [mm]")
 
@@ -181,15 +179,16 @@ DEFAULTS: dict[str, dict[str, float]] = {n: {p.name: p.default for p in s.params
 
 
 def valid_range(effect: str, param: str) -> tuple[float, float]:
-    """The physical validity range (inclusive) of an effect's parameter, in its unit (model files, --effect)."""
-    spec = SPECS.get(effect)
-    if spec is None:
+    """The physical validity range (lo, hi) of an effect's parameter, in its unit, from the one table of
+    :mod:`chainid.model.ranges` (model files, --effect)."""
+    from chainid.model.ranges import EFFECT_RANGES
+
+    if effect not in SPECS:
         raise ValueError(f"effect = {effect!r} is unknown; valid: {', '.join(EFFECT_NAMES)}")
-    for p in spec.params + (TIME_DAMPING_LAW.params if effect == "damping_law" else ()):
-        if p.name == param:
-            return p.valid
-    raise ValueError(f"effect {effect!r}: unknown parameter {param!r}; valid: "
-                     f"{', '.join(p.name for p in spec.params)}")
+    rng = EFFECT_RANGES[effect].get(param)
+    if rng is None:
+        raise ValueError(f"effect {effect!r}: unknown parameter {param!r}; valid: {', '.join(EFFECT_RANGES[effect])}")
+    return rng.lo, rng.hi
 
 
 def pinned(key: str, u: float, lo: float) -> bool:
@@ -204,15 +203,6 @@ def pinned(key: str, u: float, lo: float) -> bool:
     if u <= 1e-6 and lo != 0.0:
         return not lim[0]
     return False
-
-
-def describe_range(lo: float, hi: float) -> str:
-    """A validity range in words: ``> 0`` for the strictly positive sentinel lower bound 1e-9, else ``lo to hi``."""
-    if lo == 1e-9:
-        return f"> 0 and <= {hi:g}"
-    if lo == 0.0:
-        return f">= 0 and <= {hi:g}"
-    return f"{lo:g} to {hi:g}"
 
 
 def identifiable(effect: str, param: str, base: str) -> bool:
