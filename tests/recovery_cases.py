@@ -44,12 +44,13 @@ def linear_random(extra: Callable[[sd.MotionFn, np.ndarray], np.ndarray] | None 
                   covariates: list[dict] | None = None, rest: float = 0.0) -> list:
     """Records of the linear device under random motion; ``extra(motion, t)`` the effect's force [N] (it may use
     the exact motion); ``delay`` [s]: the force channel lags the displacement (F_meas(t) = F(t − delay));
-    ``rest`` [s] > 0: the device rests at 0 for that long, then the motion fades in over as long again."""
+    ``rest`` [s] > 0: the device rests at 0 for that long at each end of the record, the motion fading in and out
+    over as long again."""
     t = sd.sample_times(n, fs)
     recs = []
     for i, mo in enumerate(sd.random_motions(n_rec, n, fs, band[0], band[1], rms, 0.0, seed)):
         if rest > 0:
-            mo = sd.onset(mo, rest, rest)
+            mo = sd.between_rests(mo, rest, n / fs - rest, rest)
         te = t - delay
         x, xd, xdd = mo(te)
         F = k * x + c * xd + m * xdd * 1e-3 + _preload(i)
@@ -138,3 +139,61 @@ def final_params(res: dict) -> dict:
 def rel_err(got: float, truth: float) -> float:
     """|got − truth|/|truth|."""
     return abs(got - truth) / abs(truth)
+
+
+# ---------------------------------------------------------------------------------------------------- shared sets
+def damping_dominated_set() -> tuple[list, list, None]:
+    """A damping-dominated linear device F = 1·x + 2·ẋ + preload (c·ẋ about 75× the spring's dynamic force): random
+    motion 0.5–10 Hz, RMS 1 mm, 1 kHz, 5 records of 5 000 samples, σ_x = 2 µm, σ_F = 0.5 N."""
+    return linear_random(k=1.0, c=2.0, band=(0.5, 10.0), fs=1000.0, n=5000, sigma_x=2e-3, sigma_F=0.5), ["r4"], None
+
+
+def stribeck_set() -> tuple[list, list, None]:
+    """Linear device + Stribeck friction F_c = 2 N, F_s = 3.5 N, v_s = 3 mm/s on the true velocity."""
+    return linear_random(lambda mo, t: sd.stribeck_force(mo(t)[1], 2.0, 1.5, 3.0)), ["r4"], None
+
+
+def fixture_mass_set() -> tuple[list, list, object]:
+    """The chain with a 20 kg fixture: random motion 1–20 Hz at 1 kHz, 5 records of 5 000 samples."""
+    recs, model = chain_random(extra_mass=20.0, band=(1.0, 20.0), fs=1000.0, n=5000)
+    return recs, ["r4"], model
+
+
+#: the resonant device: m [kg], k [N/mm], c [N·s/mm] (ω_n = 100 rad/s, 15.9 Hz; damping ratio 0.05)
+RES_M, RES_K, RES_C = 2.0, 20.0, 0.02
+
+
+def resonant_set() -> tuple[list, list, None]:
+    """The resonant device force-driven from rest by a random multisine 2–30 Hz (RMS 5 N), 1 kHz, 5 records of
+    6 000 samples, σ_x = 0.1 µm, σ_F = 0.05 N, a preload per record."""
+    fs, n = 1000.0, 6000
+    t = sd.sample_times(n, fs)
+    recs = []
+    for i in range(5):
+        force = sd.force_sines(n / fs, 2.0, 30.0, 5.0, seed=50 + i)
+        x, _, _ = sd.resonant_response(force, t, RES_M, RES_C, RES_K)
+        recs.append(sd.noisy(f"r{i}", t, x, force(t) + _preload(i), 1e-4, 0.05, seed=i))
+    return recs, ["r4"], None
+
+
+#: coil currents [A] of the covariate set and the friction law F_c = F0 + F1·i [N, N/A]
+COV_I = (0.0, 0.25, 0.5, 0.75, 1.0)
+COV_F0, COV_F1 = 1.0, 2.0
+
+
+def covariate_friction_records(seed: int = 0, ids: Callable[[int, float], str] | None = None) -> list:
+    """Linear device + Coulomb friction (F0 + F1·i)·sgn(ẋ) at the currents :data:`COV_I` (``Record.covariates``
+    {"i": value}); ``ids(k, i)`` names the records (default r0 … r4)."""
+    t = sd.sample_times(N_LIN, FS_LIN)
+    recs = []
+    for k, mo in enumerate(sd.random_motions(len(COV_I), N_LIN, FS_LIN, BAND_LIN[0], BAND_LIN[1], RMS_LIN, 0.0, seed)):
+        x, xd, _ = mo(t)
+        F = K_LIN * x + C_LIN * xd + _preload(k) + (COV_F0 + COV_F1 * COV_I[k]) * np.sign(xd)
+        recs.append(sd.noisy(ids(k, COV_I[k]) if ids else f"r{k}", t, x, F, SX_LIN, SF_LIN, seed * 100 + k,
+                             {"i": COV_I[k]}))
+    return recs
+
+
+def covariate_set() -> tuple[list, list, None]:
+    """:func:`covariate_friction_records` with r2 (i = 0.5 A) held out."""
+    return covariate_friction_records(), ["r2"], None

@@ -83,6 +83,17 @@ def onset(carrier: MotionFn, t_on: float, ramp: float, x0: float = 0.0) -> Motio
     return windowed(carrier, lambda t: smoothstep(t, t_on, t_on + ramp), x0)
 
 
+def between_rests(carrier: MotionFn, t_on: float, t_off: float, ramp: float, x0: float = 0.0) -> MotionFn:
+    """Rest at x0 until t_on, the carrier (about 0) faded in over ``ramp`` [s], faded out to end at t_off, rest."""
+
+    def window(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        a, a1, a2 = smoothstep(t, t_on, t_on + ramp)
+        b, b1, b2 = smoothstep(-np.asarray(t, float), -t_off, -t_off + ramp)
+        return a * b, a1 * b - a * b1, a2 * b - 2 * a1 * b1 + a * b2
+
+    return windowed(carrier, window, x0)
+
+
 def chirp(f0: float, f1: float, t_start: float, t_end: float, amp: float, ramp: float, x0: float = 0.0) -> MotionFn:
     """Rest, a linear chirp f0 → f1 [Hz] of amplitude ``amp`` [mm] between t_start and t_end faded in and out over
     ``ramp`` [s], rest again: exact derivatives."""

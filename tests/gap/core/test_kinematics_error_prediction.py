@@ -107,3 +107,29 @@ def test_acceleration_error_is_within_a_factor_two_of_its_prediction(name):
     *_, kin = _estimated(name, 1e-3)
     ratio = float(np.sqrt(np.mean((kin.xdd - xdd) ** 2))) / kin.err_a
     assert 0.5 <= ratio <= 2.0, (name, ratio)
+
+
+def _narrowband(periodic: bool):
+    """12–20 Hz multisine, RMS 0.5 mm, 1 kHz, 6 000 samples, σ_x = 0.1 µm (a resonant response's band)."""
+    fs, n = 1000.0, 6000
+    t = sd.sample_times(n, fs)
+    x, xd, xdd = sd.multisine(n / fs, 12.0, 20.0, 0.5, 0.0, seed=4, periodic=periodic)(t)
+    xm = x + np.random.default_rng(1).normal(0.0, 1e-4, n)
+    return t, x, xd, xdd, estimate(t, xm, excitation_band(t, xm))
+
+
+def test_velocity_error_on_a_periodic_narrowband_record():
+    t, x, xd, xdd, kin = _narrowband(True)
+    assert kin.method == "spectral"
+    assert 0.5 <= float(np.sqrt(np.mean((kin.xd - xd) ** 2))) / kin.err_v <= 2.0
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "narrowband 12-20 Hz at 1 kHz, not periodic: the filter estimator's velocity error is 0.138 mm/s against a "
+    "predicted err_v 0.0185 (7.5x), acceleration 60.5 vs 7.5 mm/s^2 (8.1x). Cause: the central difference's gain "
+    "sin(2*pi*f/fs)/(2*pi*f/fs) is a bias common to every cut, which the ICI cannot see and its per-sample error "
+    "(the noise sd times sqrt(1 + G^2/3)) leaves out; the central difference of the exact x alone is off by "
+    "0.131 mm/s. It makes the resonant device's floor too low"))
+def test_velocity_error_on_a_narrowband_record_is_within_a_factor_two_of_its_prediction():
+    t, x, xd, xdd, kin = _narrowband(False)
+    assert 0.5 <= float(np.sqrt(np.mean((kin.xd - xd) ** 2))) / kin.err_v <= 2.0
