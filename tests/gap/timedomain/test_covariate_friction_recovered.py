@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
 import pytest
 
 import recovery_cases as rc
@@ -42,13 +41,13 @@ def _write_csv(path, recs) -> None:
         fh.write("test,t,x,F\n")
         for r in recs:
             for row in zip(r.t, r.x, r.F):
-                fh.write(f"{r.test},{row[0]!r},{row[1]!r},{row[2]!r}\n")
+                fh.write(f"{r.test},{float(row[0])!r},{float(row[1])!r},{float(row[2])!r}\n")
 
 
 def test_friction_following_a_covariate_read_from_test_ids(tmp_path, capsys):
     from chainid.cli import main
 
-    recs = rc.covariate_friction_records(seed=1, ids=lambda k, i: f"run_i{i:g}")
+    recs = rc.covariate_friction_records(ids=lambda k, i: f"run_i{i:g}")  # the records of the test above
     data = tmp_path / "runs.csv"
     _write_csv(data, recs)
     out = tmp_path / "dg.json"
@@ -59,4 +58,19 @@ def test_friction_following_a_covariate_read_from_test_ids(tmp_path, capsys):
     doc = json.loads(out.read_text())
     assert {t["test"]: t["covariates"] for t in doc["tests"]} == {f"run_i{i:g}": {"i": i} for i in rc.COV_I}
     _check(doc)
-    assert np.isfinite(doc["steps"][-1]["params"]["friction.F_c"])
+    # the same samples as Record objects with covariates: the same diagnosis
+    api = rc.final_params(rc.diagnosed("covariate", rc.covariate_set)[0])
+    got = rc.final_params(doc)
+    for k in ("friction.F_c", "friction.F_c@i", "damping.c", "covariate.i.ref"):
+        assert got[k] == pytest.approx(api[k], rel=1e-9, abs=1e-12), k
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "a second noise realisation of the same set (seed 1): verdict 'stribeck+friction'. The chain first takes "
+    "friction, then friction.F_c@i (LOTO 0.0172); the family exchange (selection._exchange) swaps friction for "
+    "stribeck with v_s = 0.33 mm/s and a static excess dF_s = 1.74 N the truth does not have (pure Coulomb; the "
+    "softened sign of sliding leaves a misfit at reversals a tiny v_s imitates), and keeps the term friction.F_c@i "
+    "whose effect has left the chain: the saved model holds stribeck plus a covariate term on friction's column"))
+def test_friction_following_a_covariate_on_a_second_noise_realisation():
+    res = rc.diagnosed("covariate_seed1", lambda: (rc.covariate_friction_records(seed=1), ["r2"], None))[0]
+    _check(res)
