@@ -178,8 +178,13 @@ def deadband_force(x: np.ndarray, k_d: float, g: float, p: float, x_c: float) ->
 
 
 def stribeck_force(v: np.ndarray, F_c: float, dF_s: float, v_s: float) -> np.ndarray:
-    """Velocity-weakening friction sgn(v)·[F_c + dF_s·exp(−(v/v_s)²)] on the true velocity [N]."""
+    """Velocity-weakening friction sgn(v)·[F_c + dF_s·exp(−(v/v_s)²)] on the true velocity [N].
+
+    The law is set-valued at v = 0 (stiction: any force in [−F_c − dF_s, F_c + dF_s]); a sample that falls on a
+    reversal (|v| at round-off, 1e-12 of the largest |v|, as a sine sampled on its grid puts one at each turning
+    point) takes the set's midpoint 0, not the sign of the round-off."""
     v = np.asarray(v, float)
+    v = np.where(np.abs(v) <= 1e-12 * max(float(np.max(np.abs(v), initial=0.0)), 1e-300), 0.0, v)
     return np.sign(v) * (F_c + dF_s * np.exp(-(v / v_s) ** 2))
 
 

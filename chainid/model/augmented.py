@@ -27,6 +27,7 @@ Units: t s, x mm, F N, m kg (m·ẍ·1e-3 = N), τ s.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 

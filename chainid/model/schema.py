@@ -27,11 +27,12 @@ key                             type
                                 ``coefficients`` array of numbers, ``k_e`` number, ``rule`` string,
                                 ``per_test`` table of numbers
 ``covariates``                  table: ``refs`` (table: operating condition → reference value) and ``terms``
-                                (table: ``"effect.param@condition"`` → slope per unit of the condition; the
+                                (table: ``"effect.param@condition"``, or ``damping.c@…``, ``spring.k@…`` → slope per unit of the condition; the
                                 parameter is p0 + slope·(condition − ref), each condition with a ref)
 ``baseline``                    table: ``base``, ``mass_kg``, ``delay_s``, ``effects``, ``damping``,
                                 ``covariates`` as above
-``evaluation``                  table: ``n_bins`` integer, ``steady_tol`` number, ``allow_compression`` true/false
+``evaluation``                  table: ``n_bins`` integer, ``steady_tol`` number, ``allow_compression`` true/false,
+                                ``route`` = ``"harmonic"`` or ``"time"`` (how the diagnosis compared the records)
 ``provenance``                  table of strings: ``data_sha256`` (64 hex digits), ``data_file``, ``command``,
                                 ``chainid_version``, ``date``
 ==============================  =============================================================================
@@ -58,7 +59,7 @@ TOP_KEYS = ("format_version", "kind", "units", "base", "mass_kg", "effects", "da
 PART_KEYS = ("base", "mass_kg", "delay_s", "effects", "damping", "covariates")
 CHAIN_MODS = ("slack", "compliance", "hertz_scale", "contact_exponent", "ea_scale", "contact_ref_force")
 DAMPING_KEYS = ("form", "params", "law", "coefficients", "k_e", "rule", "per_test")
-EVALUATION_KEYS = ("n_bins", "steady_tol", "allow_compression")
+EVALUATION_KEYS = ("n_bins", "steady_tol", "allow_compression", "route")
 PROVENANCE_KEYS = ("data_sha256", "data_file", "command", "chainid_version", "date")
 
 
@@ -222,10 +223,12 @@ class _Check:
             if m is None:
                 raise ValueError(f"{where}: the key {k!r} is invalid: valid keys are \"effect.param@condition\"")
             eff, par, cov = m.groups()
-            if eff not in names:
-                raise ValueError(f"{where}: effect {eff!r} is not in the model's effects (valid: "
-                                 f"{', '.join(sorted(str(n) for n in names)) or 'none'})")
-            if par not in EFFECT_RANGES.get(eff, {}):
+            if (eff, par) in (("damping", "c"), ("spring", "k")):  # the base's viscous c, a linear base's k
+                pass
+            elif eff not in names:
+                raise ValueError(f"{where}: effect {eff!r} is not in the model's effects (valid: damping.c, "
+                                 f"spring.k, {', '.join(sorted(str(n) for n in names)) or 'no effect'})")
+            elif par not in EFFECT_RANGES.get(eff, {}):
                 raise ValueError(f"{where}: {par!r} is not a parameter of effect {eff!r} (valid: "
                                  f"{', '.join(EFFECT_RANGES.get(eff, {}))})")
             if cov not in refs:
@@ -255,6 +258,8 @@ class _Check:
             self.num(e["n_bins"], MODEL_RANGES["n_bins"], "evaluation.n_bins")
         if e.get("steady_tol") is not None:
             self.num(e["steady_tol"], MODEL_RANGES["steady_tol"], "evaluation.steady_tol")
+        if "route" in e:
+            _string(e["route"], "evaluation.route", ("harmonic", "time"))
         if "allow_compression" in e and not isinstance(e["allow_compression"], bool):
             v = e["allow_compression"]
             raise ValueError(f"evaluation.allow_compression = {v!r} is invalid ({_kind(v)}): valid values are "

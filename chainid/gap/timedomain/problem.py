@@ -31,7 +31,7 @@ from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, 
                                            split_name)
 from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
 from chainid.gap.timedomain.search import search
-from chainid.model.effects import EFFECT_NAMES, SPECS
+from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
 
 __all__ = ["TimeProblem"]
 
@@ -277,18 +277,26 @@ class TimeProblem:
         return d.sigma**2
 
     def kinematic_floor(self, d: TimeData, params: dict[str, float]) -> float:
-        """σ_F² plus the kinematics' predicted errors through the fitted base [N²]: (c·e_v)² + (m·e_a·1e-3)² +
-        (k·e_x)² (:mod:`chainid.gap.core.kinematics`) — what even the true model would leave on these kinematics."""
+        """σ_F² plus the kinematics' predicted errors through the fitted model [N²]: (c·e_v)² + (m·e_a·1e-3)² +
+        (k·e_x)² (:mod:`chainid.gap.core.kinematics`), and for sliding friction the variance of its sign where the
+        direction is uncertain, F_s²·mean(1 − s²) with s = erf(ẋ̂/(√2·e_v)) the expected sign
+        (:func:`chainid.model.effects.forms.sliding_sign`) and F_s the breakaway force (friction F_c, Stribeck
+        F_c + dF_s) — what even the true model would leave on these kinematics."""
         kin = d.kin
         if kin is None:
             return d.sigma**2
+        F_s = abs(params.get("friction.F_c", 0.0)) + abs(params.get("stribeck.F_c", 0.0) + params.get("stribeck.dF_s", 0.0))
+        sign_var = 0.0
+        if F_s > 0.0 and d.xd.size:
+            s = sliding_sign(d.xd, False, kin.v_spread(d.t))
+            sign_var = F_s**2 * float(np.mean(1.0 - s**2))
         c = params.get("damping.c", 0.0)
         m = params.get("mass.m", self.base.mass_kg or 0.0) + (self.model.mass_kg if self.is_chain else 0.0)
         m += params.get("fixture_mass.m_f", 0.0)
         k = params.get("spring.k", 0.0)
         if self.is_chain:
             k = float(np.asarray(self.model.stiffness(np.array([max(d.x0, 1e-6)])), float)[0])
-        return d.sigma**2 + (c * kin.err_v) ** 2 + (m * 1e-3 * kin.err_a) ** 2 + (k * kin.err_x) ** 2
+        return d.sigma**2 + (c * kin.err_v) ** 2 + (m * 1e-3 * kin.err_a) ** 2 + (k * kin.err_x) ** 2 + sign_var
 
     def floor_rel_sd(self, split: str = "hold") -> float:
         """Relative standard deviation of a split's noise floor from the estimate of each record's force noise:

@@ -110,6 +110,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     residual = {"db_over_noise": dbl, "nrmse_holdout": left.nrmse_holdout, "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)),
                 "stationary": stat["stationary"], "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"],
                 "finding": stat["finding"], "noise_floor_N": math.sqrt(f2l), "kinematic_floor_N": kin_floor,
+                "db_over_kinematic_floor": 10.0 * math.log10(r2l / kin_floor**2) if r2l > 0 and kin_floor > 0 else None,
                 "at_noise_floor": fw.at_noise_floor(r2l, f2l, math.sqrt(f2l), prob.n_cells("hold"),
                                                     prob.floor_rel_sd("hold")),
                 "chatter": bool(chatter), "where": left_where}

@@ -40,11 +40,6 @@ def test_chain_control_is_none_at_the_noise_floor():
     assert rc.final_params(res)["damping.c"] == pytest.approx(rc.C_CHAIN, rel=0.02)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "chain control at 200 Hz (band 0.3-4 Hz, 50 samples per period of the band edge): verdict none but the "
-    "baseline at -1.17 dB, beyond 1 dB: the force noise estimate 1.4826*MAD(second difference of F)/sqrt(6) is "
-    "5.68-5.95 N for a true 5 N (+16 %; sigma_hf from the spectrum says 4.88-5.06 N): it takes in the chain "
-    "force's own second difference, about (2*pi*f/fs)^2 * 1 100 N RMS"))
 def test_chain_control_at_200_hz_is_at_the_noise_floor():
     res, recs, _ = rc.diagnosed("ctl_chain_200", _chain(200.0, 4000))
     assert res["verdict"] == "none", res["chain_text"]

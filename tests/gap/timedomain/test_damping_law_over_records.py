@@ -86,9 +86,10 @@ def test_damping_law_slopes_within_5_percent_on_grid_lines():
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "12 random lines per band, 20 s: the band centre the diagnosis reads (Hann-windowed spectrum of the finite "
-    "record) differs from the lines' power-weighted mean by up to 9.5 % (r0: 5.30 vs 5.85 rad/s, r1: 6.23 vs 5.74), "
-    "so b_w = 0.0123 against 0.01094 (+12 %); b_A 0.04958 vs 0.0505 (-1.8 %) and the per-record c within 3 %"))
+    "12 random lines per band, 20 s, lines off the record's frequency grid: the band centre the diagnosis reads (the "
+    "periodogram of the finite record, leakage included) is not the lines' power-weighted mean the simulation "
+    "defines the law on, so b_w = 0.01198 against 0.01094 (+9.5 %; +12 % with a Hann window); the per-record c is "
+    "within 3 %, and on lines on the grid the slopes are within 0.1 %"))
 def test_damping_law_slopes_within_5_percent_on_random_lines():
     res, truth = _diagnosed(False)
     p = rc.final_params(res)

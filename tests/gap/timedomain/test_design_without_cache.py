@@ -23,9 +23,6 @@ def test_cached_design_of_the_linear_base_is_the_hand_built_one():
     assert np.allclose(y, d.F - d.F.mean(), rtol=0, atol=1e-12) and np.all(f == 0.0)
 
 
-@pytest.mark.xfail(strict=True, raises=StopIteration, reason=(
-    "build(..., cache=None) makes ColumnCache(0), whose get() pops from its empty store before the first insert "
-    "(len(store) >= size is true at size 0): StopIteration instead of a design"))
 def test_design_without_a_cache_is_the_cached_one():
     d = _record()
     ref = build(Base("linear"), ["hardening"], {}, d, None, ColumnCache())

@@ -15,10 +15,11 @@ import sim_devices as sd
 pytestmark = pytest.mark.slow
 
 
-def _named(res: dict, effect: str) -> None:
-    """The verdict names the effect, and the named chain explains the held-out data to the noise floor."""
+def _named(res: dict, effect: str, floor: str = "db_over_noise") -> None:
+    """The verdict names the effect, and the named chain explains the held-out data to the noise floor
+    (``floor="db_over_kinematic_floor"``: to the floor the estimated kinematics leave even the true model)."""
     assert effect in res["verdict"].split("+"), res["chain_text"]
-    assert res["residual"]["db_over_noise"] <= 1.0, res["chain_text"]
+    assert res["residual"][floor] <= 1.0, res["chain_text"]
 
 
 def _bouc_wen():
@@ -38,15 +39,12 @@ def _delay(tau: float, rest: float = 0.0):
     return lambda: (rc.linear_random(delay=tau, rest=rest), ["r4"], None)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "stribeck F_c = 2, F_s = 3.5, v_s = 3 mm/s: named, but F_s = 3.876 (+10.7 %) and v_s = 2.53 (-16 %), residual "
-    "+9.5 dB over the noise. Cause: the sign of sliding is softened by the velocity's spread including "
-    "(xdd*dt)^2/12 (Kinematics.v_spread), ~1.3 mm/s at a reversal, for a point-sampled force; at the true v_s the "
-    "same columns with the spread err_v alone give F_c 2.000, dF_s 1.509 and 0.138 N RMS (noise 0.1 N), with the "
-    "(xdd*dt) term dF_s 1.745 and 0.317 N RMS (1.68 N RMS on samples with |v| < 0.5 mm/s)"))
 def test_stribeck_recovered_on_random_excitation():
+    """The force jumps by 2·(F_c + dF_s) = 7 N at each reversal, sampled at an instant; where the estimated ẋ
+    cannot tell the direction (|ẋ| within its error) even the true law leaves the sign's variance (4 dB over σ_F
+    here), so the named chain is held to the kinematic floor, which counts it."""
     res, _, _ = rc.diagnosed("rand_stribeck", rc.stribeck_set)
-    _named(res, "stribeck")
+    _named(res, "stribeck", "db_over_kinematic_floor")
     p = rc.final_params(res)
     assert rc.rel_err(p["stribeck.F_c"], 2.0) <= 0.10, p
     assert rc.rel_err(p["stribeck.F_c"] + p["stribeck.dF_s"], 3.5) <= 0.10, p
@@ -97,16 +95,15 @@ def test_sensor_delay_of_a_quarter_period_recovered_after_a_rest(tau):
     assert rc.rel_err(p["sensor_delay.tau"], tau) <= 0.10, p
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "motion running before the record starts (as on a rig), band 0.2-4 Hz: tau = +0.125 s comes out 0.1058 "
-    "(-15 %) with damping.c pinned at 0 (truth 0.2), residual +18.9 dB over the noise; tau = -0.125 s comes out "
-    "-0.115 (-8 %) with a mass of 2.17 kg (truth 0) and c 0.296 (+48 %), residual +13.8 dB. Cause: the model "
-    "evaluates x(t - tau) by np.interp, which holds x(t0) for the first tau*fs samples (x(t_end) for the last ones "
-    "when tau < 0): 25 samples per record whose model force is wrong by about k*travel - at the true tau 0.69 N "
-    "RMS against 0.11 N with the first 40 samples left out - so the fit bends tau, m and c to shrink them. With "
-    "rests at both ends the same lags come out 0.1277 and -0.1222 at the noise floor. Samples whose lagged motion "
-    "lies outside the record should be left out of the fit and the score"))
-@pytest.mark.parametrize("tau", [0.125, -0.125], ids=["force_lags", "displacement_lags"])
+_MID_MOTION_FORCE_LAGS = pytest.mark.xfail(strict=True, reason=(
+    "motion running before the record starts, band 0.2-4 Hz, force lagging by 0.125 s: tau = 0.12496, c = 0.1996, "
+    "k = 10.0008 (all within 0.2 %), but the held-out residual is 1.5 dB over the noise (kinematic floor the same); "
+    "71 % of the residual's power lies below 0.2 Hz, under the excitation band, spread through the record (not at "
+    "its ends): a slow error of the estimated displacement the delay shift exposes, not yet traced"))
+
+
+@pytest.mark.parametrize("tau", [pytest.param(0.125, marks=_MID_MOTION_FORCE_LAGS), -0.125],
+                         ids=["force_lags", "displacement_lags"])
 def test_sensor_delay_of_a_quarter_period_recovered_mid_motion(tau):
     res, _, _ = rc.diagnosed(f"rand_delay_{tau}", _delay(tau))
     _named(res, "sensor_delay")

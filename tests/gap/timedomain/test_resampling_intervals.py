@@ -35,12 +35,6 @@ def _diagnose(seed: int, resamples: int) -> dict:
                         resamples=resamples, seed=seed)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the 90 % interval of friction.F_c misses the truth 2 N in each of the first 6 realisations (then the test "
-    "is decided): F_c = 2.037, 2.033, 2.033, 2.034, 2.033, 2.031, intervals about +-0.004 wide, e.g. [2.033, "
-    "2.041], [2.030, 2.036] (100 resamples): a +1.7 % bias of about 8 half-widths. Cause: the softened sign of "
-    "sliding (Kinematics.v_spread's (xdd*dt)^2/12 term); on seed 0 the same columns with the spread err_v alone "
-    "give F_c = 2.000 and 0.104 N RMS (with the term: 2.037 and 0.196 N; noise 0.1 N)"))
 def test_ninety_percent_interval_covers_the_truth_in_15_of_20_realisations():
     covered = missed = 0
     for seed in range(N_REAL):

@@ -24,13 +24,6 @@ def test_resonant_device_mass_spring_and_damper_fitted():
     assert rc.rel_err(p["damping.c"], rc.RES_C) <= 0.10, p
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the exact linear device with no effect is called 'unexplained': baseline +1.32 dB over the floor (held-out "
-    "NRMSE 0.0146; m, k, c fitted within 1 %), no library effect passes the step rule. The floor is too low: the "
-    "true model on the diagnosis' kinematics leaves 0.10-0.20 N RMS per record against floors of 0.063 N (+3.7 to "
-    "+10 dB) because the filter estimator's errors are 7x (v: 0.14 vs 0.02 mm/s) and 5-10x (a) their predictions "
-    "in the interior - the central-difference bias at the 16 Hz resonance, 0.139 mm/s on the exact x - and larger "
-    "at the ends (the force starts from rest with a jump in acceleration); sigma_F is also read 0.060 for 0.05 N"))
 def test_resonant_device_with_no_effect_is_none():
     res = _res()
     assert res["verdict"] == "none", res["chain_text"]

@@ -91,10 +91,6 @@ def test_a_step_that_raises_the_held_out_error_is_marked_and_kept_out_of_the_ver
     assert any(w.startswith("over-fitted: step 2") for w in res["warnings"]), res["warnings"]
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the model the diagnosis returns (res['model'], res['_models'][-1]: what --save-model writes) is the last step "
-    "of the whole path, the over-fitted one included: effects ['hardening', 'hysteresis'] while the verdict is "
-    "'hardening' (chainid.gap.modelio.attach_models builds a model per step of _path and takes the last)"))
 def test_the_returned_model_is_the_verdicts_not_the_over_fitted_step():
     res = _overfitted()
     assert [e["name"] for e in res["model"]["effects"]] == [res["steps"][1]["effect"]], res["model"]["effects"]
