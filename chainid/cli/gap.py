@@ -116,6 +116,8 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
     try:
         check_workers(args.workers)
         _check_generator(args)
+        if args.resamples != 0 and not 20 <= args.resamples <= 10000:
+            raise ValueError(f"--resamples = {args.resamples} is out of range; valid: 0 (none) or 20 to 10000")
         if args.json:  # before the grid runs (minutes)
             from chainid.infra.fileio import check_output_file
 
@@ -136,7 +138,8 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
                 print("== generator sim (the project's simulator) ==")
             out["sim"] = run_benchmark(small=args.small, json_path=None if both else args.json, overwrite=args.force,
                                        seed=args.seed, scheduler=args.scheduler, n_workers=args.workers,
-                                       progress=not args.no_progress, excitations=exc, chain=chain)
+                                       progress=not args.no_progress, excitations=exc, chain=chain,
+                                       resamples=args.resamples)
         if args.generator in ("ode", "both"):
             from chainid.gap.benchmark.odeworld import run_world
 
@@ -144,7 +147,8 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
                 print("\n== generator ode (the independent ODE world) ==")
             out["ode"] = run_world(small=args.small, seed=args.seed, jobs=args.workers,
                                    json_path=None if both else args.json, overwrite=args.force,
-                                   scheduler=args.scheduler, progress=not args.no_progress)
+                                   scheduler=args.scheduler, progress=not args.no_progress,
+                                   resamples=args.resamples)
         if both and args.json:
             from chainid.infra.fileio import write_json
 
@@ -223,6 +227,9 @@ def add_subparsers(subparsers: Any) -> None:
                         "when dask is installed, else a process pool), processes, serial")
     b.add_argument("--workers", type=int, default=None,
                    help="worker processes (default: the machine's cores; at most the cases and 4 x cores, <= 64)")
+    b.add_argument("--resamples", type=int, default=0, metavar="N",
+                   help="resample every diagnosis N times (default 0: none; >= 20): the steps' stability and the "
+                        "percentile intervals, whose coverage of the truth the ode generator reports per effect")
     b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
     b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     b.set_defaults(func=cmd_benchmark)

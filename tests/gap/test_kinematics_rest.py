@@ -1,5 +1,6 @@
-"""Smooth kinematics of a record with rests (``chainid.gap.noise.kinematics``): ẋ is zeroed where the record is at
-rest, but ẍ is the derivative of the unzeroed ẋ, so no spike appears where motion starts or stops.
+"""Smooth kinematics of a record with rests (:func:`chainid.gap.core.kinematics.estimate`, the band from
+:func:`chainid.gap.core.noise.excitation_band`): ẋ is zeroed where the record is at rest, but ẍ is the derivative
+of the unzeroed ẋ, so no spike appears where motion starts or stops.
 
 The motion is a closed form: at rest, a cosine speed ramp to v over Tr, constant speed, a cosine ramp back to
 rest; its acceleration is a_max·sin(π(t − t_k)/Tr) on the ramps (a_max = π·v/(2·Tr)) and 0 elsewhere.  With
@@ -13,7 +14,8 @@ import math
 import numpy as np
 import pytest
 
-from chainid.gap.noise import record_kinematics  # (moves to chainid.gap.core.noise with the gap reorganisation)
+from chainid.gap.core.kinematics import estimate
+from chainid.gap.core.noise import excitation_band
 
 FS, V, TR = 1000.0, 10.0, 0.5  # Hz, mm/s, s
 A_MAX = math.pi * V / (2 * TR)
@@ -38,7 +40,8 @@ def _motion() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def test_no_acceleration_spike_where_motion_starts_or_stops(sigma_mm):
     t, x, a = _motion()
     xn = x + np.random.default_rng(0).normal(0.0, sigma_mm, t.size)
-    _, xs, xd, xdd = record_kinematics(t, xn)
+    kin = estimate(t, xn, excitation_band(t, xn))
+    xd, xdd = kin.xd, kin.xdd
     rest = (t < 0.9) | (t > 4.1)
     assert np.count_nonzero(xd[rest] == 0.0) > 0.9 * np.count_nonzero(rest)  # the rests are recognised
     assert np.all(xd[(t > 1.6) & (t < 3.4)] != 0.0)  # the motion is not

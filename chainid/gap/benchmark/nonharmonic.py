@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark.chain import case_chain, scale_motion, x_scale
+from chainid.gap.benchmark.report import open_world_row
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the non-harmonic excitation families
@@ -316,7 +317,7 @@ def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"],
             "ranked_first": (res.get("ranking") or [{}])[0].get("effect"),
-            "chatter": any(f.get("kind") == "chatter" for f in where)}
+            "chatter": any(f.get("kind") == "chatter" for f in where), "open_world": open_world_row(res)}
 
 
 def _error(case: dict[str, Any], exc: Exception, t0: float) -> dict[str, Any]:
@@ -332,7 +333,8 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
     t0 = time.perf_counter()
     try:
         recs, dev = records(case)
-        res = diagnose(recs, [case["hold"]], dev["nominal"], uncertainty=False, quiet=True)
+        res = diagnose(recs, [case["hold"]], dev["nominal"], uncertainty=False, quiet=True,
+                       resamples=int(case.get("resamples", 0)), seed=int(case.get("seed", 0)))
         snr = effect_snr(dev["motions"], dev["true"], dev["hooks"], dev["c_records"], dev["sigmas"])
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         return _error(case, exc, t0)

@@ -14,7 +14,12 @@ last step's ``params``) is compared with the truth: the relative error |est − 
 reported interval covers the truth — ``params_ci90`` [lo, hi] when given, else est ± 1.645·``params_sd`` (a 90 %
 normal interval); no interval, no coverage.  A covariate's parameter is compared with its law at the mean operating
 condition of the records.  Effects the verdict shares a physics with count by their canonical name
-(:data:`chainid.gap.benchmark.report.CANONICAL`).
+(:data:`chainid.gap.benchmark.report.CANONICAL`).  Coverage is also pooled per effect (every parameter of that
+effect), the calibration table of the resampled intervals.
+
+The model-free check (``open_world``, :mod:`chainid.gap.core.openworld`) is scored apart: it should flag a missing
+effect on ``outside`` cases and stay silent on controls and on cases whose verdict is right (the library explains
+them): :func:`open_world_rates`.
 """
 
 from __future__ import annotations
@@ -25,7 +30,7 @@ import numpy as np
 
 from chainid.gap.benchmark.report import CANONICAL
 
-__all__ = ["FAMILIES", "OUTSIDE_SHRINK", "SNR_MIN", "score_row", "verdict_names", "summarise", "format_table",
+__all__ = ["FAMILIES", "OUTSIDE_SHRINK", "SNR_MIN", "score_row", "verdict_names", "summarise", "format_table", "coverage_by_effect", "open_world_rates",
            "markdown_table"]
 
 FAMILIES = ("control", "single", "pair", "outside", "covariate")
@@ -134,12 +139,45 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
                                       / max(1, sum(p["covered"] is not None for p in v)))
                          if any(p["covered"] is not None for p in v) else None}
                      for k, v in sorted(ps.items())}
+    out["coverage_by_effect"] = coverage_by_effect(ps)
+    out["open_world"] = open_world_rates(rows)
     out["errors"] = [{"label": r.get("label"), "error": r["verdict"]} for r in rows if r["score"]["error"]]
     out["misses"] = [{"label": r.get("label"), "family": r["family"], "verdict": r["verdict"],
                       "snr": r.get("snr"), "shrinkage": r.get("shrinkage")} for r in rows if not r["score"]["right"]]
     out["median_seconds"] = float(np.median([r["seconds"] for r in rows])) if rows else None
     out["median_sim_seconds"] = float(np.median([r["sim_seconds"] for r in rows])) if rows else None
     return out
+
+
+def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
+    """Per effect (the part of ``effect.param`` before the dot): the parameters with an interval and the share whose
+    90 % interval covers the truth (calibrated: 85–95 %)."""
+    out: dict[str, Any] = {}
+    for key, v in ps.items():
+        eff = key.split(".", 1)[0]
+        e = out.setdefault(eff, {"n_interval": 0, "covered": 0})
+        for p in v:
+            if p["covered"] is not None:
+                e["n_interval"] += 1
+                e["covered"] += bool(p["covered"])
+    return {k: v | {"coverage": v["covered"] / v["n_interval"] if v["n_interval"] else None}
+            for k, v in sorted(out.items())}
+
+
+def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """How often the model-free check flags a missing effect: on ``outside`` cases (it should, >= 90 %), on
+    controls and on cases with a right verdict in the other families (it should not, >= 90 % silent)."""
+    def flagged(r: dict[str, Any]) -> bool:
+        return bool((r.get("open_world") or {}).get("missing_effect"))
+
+    ok = [r for r in rows if not r["score"]["error"]]
+    outside = [r for r in ok if r["family"] == "outside"]
+    control = [r for r in ok if r["family"] == "control"]
+    explained = [r for r in ok if r["family"] in ("single", "pair", "covariate") and r["score"]["right"]]
+    rate = lambda rr, f: (sum(f(r) for r in rr) / len(rr)) if rr else None  # noqa: E731
+    return {"outside_flagged": rate(outside, flagged), "outside_n": len(outside),
+            "control_silent": rate(control, lambda r: not flagged(r)), "control_n": len(control),
+            "explained_silent": rate(explained, lambda r: not flagged(r)), "explained_n": len(explained)}
 
 
 def _pct(v: Any, digits: int = 0) -> str:
@@ -165,6 +203,14 @@ def format_table(s: dict[str, Any]) -> str:
         lines.append("parameters of named true effects: " + "; ".join(
             f"{k} n={v['n']} median rel. error {_pct(v['median_rel_error'], 1)}, 90 % interval covers "
             f"{_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["params"].items()))
+    if s.get("coverage_by_effect"):
+        lines.append("90 % intervals cover the truth, per effect: " + "; ".join(
+            f"{k} {_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["coverage_by_effect"].items()))
+    ow = s.get("open_world")
+    if ow:
+        lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}; "
+                     f"silent on controls {_pct(ow['control_silent'])} of {ow['control_n']}, on right verdicts "
+                     f"{_pct(ow['explained_silent'])} of {ow['explained_n']}")
     if s["errors"]:
         lines.append(f"{len(s['errors'])} case(s) raised an error, e.g. {s['errors'][0]['error']}")
     lines.append(f"median diagnosis {s['median_seconds']:.1f} s, median simulation {s['median_sim_seconds']:.1f} s"
@@ -190,4 +236,14 @@ def markdown_table(s: dict[str, Any]) -> str:
         for k, v in s["params"].items():
             lines.append(f"| `{k}` | {v['n']} | {_pct(v['median_rel_error'], 1)} | {_pct(v['coverage'])} of "
                          f"{v['n_interval']} |")
+    if s.get("coverage_by_effect"):
+        lines += ["", "| effect | intervals | 90 % interval covers the truth |", "|---|---|---|"]
+        lines += [f"| `{k}` | {v['n_interval']} | {_pct(v['coverage'])} |" for k, v in s["coverage_by_effect"].items()]
+    ow = s.get("open_world")
+    if ow:
+        lines += ["", "| model-free check | rate | cases |", "|---|---|---|",
+                  f"| flags a missing effect on `outside` cases | {_pct(ow['outside_flagged'])} | {ow['outside_n']} |",
+                  f"| silent on controls | {_pct(ow['control_silent'])} | {ow['control_n']} |",
+                  f"| silent on right verdicts (single, pair, covariate) | {_pct(ow['explained_silent'])} | "
+                  f"{ow['explained_n']} |"]
     return "\n".join(lines)

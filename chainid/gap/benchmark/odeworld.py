@@ -156,6 +156,8 @@ def _holdout(case: dict[str, Any], n: int, cov: np.ndarray | None, rng: np.rando
 
 
 def _result_row(res: dict[str, Any]) -> dict[str, Any]:
+    from chainid.gap.benchmark.report import open_world_row
+
     steps = res.get("steps") or []
     last = steps[-1] if steps else {}
     b = res["baseline"]
@@ -163,7 +165,9 @@ def _result_row(res: dict[str, Any]) -> dict[str, Any]:
             "shrinkage": last.get("shrinkage") if len(steps) > 1 else (res.get("best") or {}).get("shrinkage"),
             "steps": [s["effect"] for s in steps[1:]], "params": last.get("params") or {},
             "params_sd": last.get("params_sd") or {}, "params_ci90": last.get("params_ci90") or {},
-            "route": res.get("route", "harmonic"), "excluded": [e["test"] for e in res.get("excluded", [])]}
+            "route": res.get("route", "harmonic"), "excluded": [e["test"] for e in res.get("excluded", [])],
+            "open_world": open_world_row(res)}
+
 
 
 def run_case(case: dict[str, Any]) -> dict[str, Any]:
@@ -178,12 +182,14 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
         model = ChainModel(oc.chain_spec(truth["base"])) if truth["base"]["kind"] == "chain" else None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            res = diagnose(recs, hold, model, uncertainty=False, quiet=True)
+            res = diagnose(recs, hold, model, uncertainty=False, quiet=True, resamples=int(case.get("resamples", 0)),
+                           seed=int(case.get("seed", 0)))
         row = {**case, **_result_row(res), "truth": truth, "holdout": hold, "sim_seconds": t_sim,
                "seconds": time.perf_counter() - t0 - t_sim}
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         row = {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "snr": float("nan"), "shrinkage": None,
                "steps": [], "params": {}, "params_sd": {}, "params_ci90": {}, "truth": None, "holdout": [],
+               "open_world": {"missing_effect": False, "predictable_share": None},
                "sim_seconds": time.perf_counter() - t0, "seconds": 0.0}
     row["score"] = score_row(row)
     return row
@@ -197,7 +203,8 @@ def world_cases(small: bool = False, seed: int = 0) -> list[dict[str, Any]]:
 
 
 def run_world(small: bool = False, seed: int = 0, jobs: int | None = None, json_path: str | None = None,
-              overwrite: bool = False, scheduler: str | None = None, progress: bool = True) -> dict[str, Any]:
+              overwrite: bool = False, scheduler: str | None = None, progress: bool = True,
+              resamples: int = 0) -> dict[str, Any]:
     """Run the ODE world's cases in parallel, print the rates per family, optionally write the JSON (atomically).
 
     Parameters
@@ -216,6 +223,9 @@ def run_world(small: bool = False, seed: int = 0, jobs: int | None = None, json_
         As for :func:`chainid.infra.parallel.run_cases` (None: a dask LocalCluster or a process pool).
     progress : bool
         Progress bar on stderr.
+    resamples : int
+        Resamples of every diagnosis (0: none; >= 20 gives each named parameter its percentile interval
+        ``params_ci90``, whose coverage of the truth the summary reports per effect).
 
     Returns
     -------
@@ -229,12 +239,13 @@ def run_world(small: bool = False, seed: int = 0, jobs: int | None = None, json_
 
     if json_path:
         check_output_file(json_path, force=overwrite, what="--json")
-    cases = world_cases(small, seed)
+    cases = [c | {"resamples": int(resamples)} for c in world_cases(small, seed)]
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=jobs, progress=progress,
                      desc="benchmark-gap (ode)")
     s = summarise(rows)
-    s.update({"generator": "ode", "seed": int(seed), "small": bool(small), "wall_seconds": time.perf_counter() - t0,
+    s.update({"generator": "ode", "seed": int(seed), "small": bool(small), "resamples": int(resamples),
+              "wall_seconds": time.perf_counter() - t0,
               "rows": rows})
     print(format_table(s))
     if json_path:

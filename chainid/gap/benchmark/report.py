@@ -15,6 +15,17 @@ SNR_MIN = 3.0
 CANONICAL = {"machine_compliance": "stiffness_level"}
 
 
+def open_world_row(res: dict[str, Any]) -> dict[str, Any]:
+    """The model-free check of a diagnosis (``res["open_world"]``) as a benchmark row's fields: whether it flags a
+    missing effect, and the held-out share of the residual it predicts."""
+    ow = res.get("open_world") or {}
+    return {"missing_effect": bool(ow.get("missing_effect")), "predictable_share": ow.get("predictable_share")}
+
+
+def _flagged(r: dict[str, Any]) -> bool:
+    return bool((r.get("open_world") or {}).get("missing_effect"))
+
+
 def canon(names: Any) -> set[str]:
     """Canonical effect names of a verdict string or list."""
     if isinstance(names, str):
@@ -93,6 +104,11 @@ def family_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "outside_verdicts": {v: sum(r["verdict"] == v for r in fam["outside"])
                              for v in sorted({r["verdict"] for r in fam["outside"]})},
         "chatter_reported_rate": _rate(chat, lambda r: bool(r.get("chatter"))),
+        # the model-free check: flags a missing effect on outside cases, silent on controls and right verdicts
+        "open_world_outside_flagged_rate": _rate(fam["outside"], _flagged),
+        "open_world_control_silent_rate": _rate(fam["control"], lambda r: not _flagged(r)),
+        "open_world_explained_silent_rate": _rate([r for r in fam["single"] + fam["pair"] if right(r)],
+                                                  lambda r: not _flagged(r)),
         "chatter_n": len(chat),
         "errors": [{"case": {k: r.get(k) for k in ("excitation", "family", "truth", "chain", "plan", "noise", "seed")},
                     "error": r["verdict"]} for r in rows if r["verdict"].startswith("error:")],
@@ -180,6 +196,7 @@ def format_nonharmonic(s: dict[str, Any]) -> list[str]:
                          f"(target >= {100 * t:.0f} %)")
         lines.append(f"  outside the library not named with confidence: {f(nh['outside_not_named_rate'])} "
                      f"{nh['outside_verdicts']}")
+        lines.append("  " + open_world_line(nh))
         if nh.get("misses"):
             lines.append(f"  {len(nh['misses'])} non-harmonic miss(es), e.g.:")
             for m in nh["misses"][:12]:
@@ -196,6 +213,13 @@ def format_nonharmonic(s: dict[str, Any]) -> list[str]:
             lines.append(f"  {d}: {r['n']} cases, median shrinkage {f(r['median_shrinkage'])}, after refit "
                          f"{f(r['median_shrinkage_refit'])}, transfers {f(r['transfers_rate'])}")
     return lines
+
+
+def open_world_line(r: dict[str, Any]) -> str:
+    """The model-free check's rates of a family summary (:func:`family_rates`) in one line."""
+    return (f"model-free check: flags a missing effect on outside cases {_pct(r['open_world_outside_flagged_rate'])}"
+            f" (target >= 90 %); silent on controls {_pct(r['open_world_control_silent_rate'])}, on right single/pair "
+            f"verdicts {_pct(r['open_world_explained_silent_rate'])} (targets >= 90 %)")
 
 
 def format_summary(s: dict[str, Any]) -> str:
@@ -221,6 +245,7 @@ def format_summary(s: dict[str, Any]) -> str:
         f"outside the library not named: {f(s['outside_not_named_rate'])} of {s['outside_n']} "
         f"{s['outside_verdicts']}",
         f"median held-out shrinkage when right: {f(s['median_shrinkage_when_right'])}",
+        open_world_line(s),
         f"median diagnosis time {s['median_seconds']:.2f} s over {s['n_cases']} cases"
         + (f"; wall {s['wall_seconds']:.0f} s" if "wall_seconds" in s else ""),
     ]
