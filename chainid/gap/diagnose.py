@@ -180,7 +180,7 @@ def diagnose(
         res = diagnose_harmonic(data, hold_ok, model, effects=effects, max_combo=max_combo, damping_law=damping_law,
                                 uncertainty=uncertainty, excluded=excluded, resamples=resamples, seed=seed,
                                 fit_mass=fit_mass)
-    evaluation["route"] = "time" if res.get("route") == "time" else "harmonic"
+    evaluation["route"] = res["route"] = "time" if res.get("route") == "time" else "harmonic"
     stage("models")
     for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation
         warnings.warn(msg, stacklevel=2)

@@ -386,7 +386,7 @@ def _rebuild(prob: Problem, base: Candidate, final: Candidate, base_hold: float)
         prev = path[-1]
         ck.step_test = step_test(prev, ck)  # type: ignore[attr-defined]
         path.append(ck)
-        left.remove(ck.names[-1])
+        left.remove(left[0] if len(left) == 1 else ck.names[-1])  # the final fit keeps its own order of names
     return path
 
 

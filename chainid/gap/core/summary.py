@@ -40,9 +40,10 @@ def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = ()
         if v is None or k.startswith("law.") or k.startswith("spring."):
             continue
         s = f"{k}={v:.4g}"
-        if sd.get(k) is not None:
+        at_bound = k in bound or (v == 0 and sd.get(k) == 0)  # a zero estimate that no resample moves sits on a bound
+        if sd.get(k) is not None and not at_bound:
             s += f"±{sd[k]:.2g}"
-        if k in bound:
+        if at_bound:
             s += " (at bound)"
         out.append(s)
     return ", ".join(out)
@@ -52,8 +53,10 @@ def waterfall(result: dict[str, Any]) -> list[str]:
     """The explanation chain as table lines: step, effect, held-out NRMSE, shrinkage, dB over noise, params."""
     lines = [f"  {'step':<5} {'+ effect':<20} {'LOTO':>8} {'held-out':>9} {'fit %':>6} {'shrink':>7} {'dB/noise':>8}"
              "  parameters"]
+    kept = result.get("trusted_steps", len(result.get("steps", [])))
     for i, st in enumerate(result.get("steps", [])):
-        mark = "  << raised the held-out error: over-fitted" if st.get("worsened_holdout") else ""
+        mark = ("" if not st.get("worsened_holdout") else "  << raised the held-out error: over-fitted" if i >= kept
+                else "  << raised the held-out error alone (kept: the next step(s) take it lower)")
         fit = st.get("fit_holdout_pct")
         lines.append(f"  {i:<5} {st['effect']:<20} {st['nrmse_loto']:>8.4g} {st['nrmse_holdout']:>9.4g} "
                      f"{(fit if fit is not None else float('nan')):>6.1f} {100 * (st['shrinkage'] or 0):>6.1f}% "
@@ -110,6 +113,12 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
         lines.append("VERDICT: none — the baseline's held-out residual is consistent with the noise.")
     elif v == "unexplained":
         why = "no library effect passed the step rule or shrinks the held-out gap by half"
+        part = result.get("partial")
+        if part:
+            why = (f"{part['effects']} passed the step rule and holds on the held-out data (held-out NRMSE "
+                   f"{part['nrmse_holdout_before']:.4g} → {part['nrmse_holdout']:.4g}, {100 * part['shrinkage']:.0f} %), "
+                   f"but closes less than {100 * part['min_shrink']:.0f} % of the held-out gap: a part of it, not its "
+                   "cause")
         if (result.get("residual") or {}).get("stationary") is False:
             why = "what is left changes with time within the tests (no static effect explains that)"
         lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")

@@ -18,20 +18,55 @@ NONSTAT_FRACTION = 0.25
 
 
 def trusted_path(path: list[Any]) -> tuple[list[Any], int | None]:
-    """The explanation chain up to (not including) its first step whose held-out NRMSE is higher than the step
-    before's, and that step's index (None when every step lowers or keeps the held-out error).  A step the training
-    data chose but the held-out data refute is over-fitting: the verdict never includes it."""
-    for i in range(1, len(path)):
-        if path[i].nrmse_holdout > path[i - 1].nrmse_holdout:
-            return path[:i], i
-    return list(path), None
+    """The explanation chain up to its step with the lowest held-out NRMSE (the last of equal ones), and the
+    index of the step after it (None when the chain ends there).
+
+    The steps after the held-out minimum were chosen by the training data and refuted by the held-out data:
+    over-fitting, never in the verdict.  A step inside the kept chain that raised the held-out error on its own
+    is kept: the steps after it take the held-out error below every shorter chain's, so the held-out data support
+    the chain as a whole (:func:`joint_notes` says so).  With a non-finite held-out score anywhere the chain is
+    cut at its first rise instead.
+    """
+    h = [c.nrmse_holdout for c in path]
+    if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in h):
+        for i in range(1, len(path)):
+            if not (path[i].nrmse_holdout <= path[i - 1].nrmse_holdout):
+                return path[:i], i
+        return list(path), None
+    lowest = min(h)
+    j = max(i for i, v in enumerate(h) if v <= lowest)
+    return list(path[: j + 1]), (j + 1 if j + 1 < len(path) else None)
 
 
 def overfit_warning(path: list[Any], k: int) -> str:
-    """The warning for a chain whose step ``k`` raised the held-out error."""
+    """The warning for a chain whose step ``k`` (the first after the held-out minimum) raised the held-out error."""
     a, b = path[k - 1].nrmse_holdout, path[k].nrmse_holdout
     return (f"over-fitted: step {k} ({path[k].names[-1]}) raised the held-out NRMSE from {a:.4g} to {b:.4g} "
             f"({100 * (b / a - 1):+.1f} %); the verdict and what is left are those of the chain before it")
+
+
+def partial_explanation(verdict: str, final: Any, base: Any) -> dict[str, Any] | None:
+    """What an ``unexplained`` verdict still explains: the kept chain's effects when they passed the step rule
+    and lower the held-out error, but by less than ``MIN_SHRINK`` of the baseline's (a part of the gap, not its
+    cause); None otherwise."""
+    if verdict != "unexplained" or final is None or not (final.shrinkage and final.shrinkage > 0):
+        return None
+    return {"effects": verdict_name(final.names), "terms": list(final.names), "shrinkage": float(final.shrinkage),
+            "nrmse_holdout_before": float(base.nrmse_holdout), "nrmse_holdout": float(final.nrmse_holdout),
+            "min_shrink": MIN_SHRINK}
+
+
+def joint_notes(ok_path: list[Any]) -> list[str]:
+    """Notes on the steps of the kept chain that raised the held-out error on their own (see :func:`trusted_path`):
+    the held-out data support those effects only together with the steps after them."""
+    out = []
+    for k in range(1, len(ok_path) - 1):
+        a, b = ok_path[k - 1].nrmse_holdout, ok_path[k].nrmse_holdout
+        if b > a:
+            out.append(f"step {k} ({ok_path[k].names[-1]}) alone raised the held-out NRMSE from {a:.4g} to {b:.4g}; "
+                       f"with the step(s) after it the chain reaches {ok_path[-1].nrmse_holdout:.4g}: the held-out "
+                       "data support these effects together, not one by one")
+    return out
 
 
 def verdict_name(names: list[str]) -> str:
@@ -121,6 +156,8 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "verdict": verdict,
         "best": best.to_dict() if best is not None else None,
         "residual": residual,
+        "trusted_steps": len(ok_path),
+        "partial": partial_explanation(verdict, final, base_c),
         "excluded": excluded,
         "confounded": confounded,
         "left_nrmse_holdout": left.nrmse_holdout,

@@ -23,7 +23,7 @@ from chainid.gap.core.openworld import open_world
 from chainid.gap.core.resample import attach, resample
 from chainid.infra.progress import stage
 from chainid.gap.core.stationarity import check as stationarity_check
-from chainid.gap.core.verdict import contract, decide, overfit_warning, trusted_path
+from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
 from chainid.gap.harmonic.problem import Problem, damping_separable
 from chainid.gap.harmonic.where import localise
 
@@ -71,6 +71,7 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     ok_path, bad = trusted_path(path)
     if bad is not None:
         warn.append(overfit_warning(path, bad))
+    warn.extend(joint_notes(ok_path))
     final = ok_path[-1] if len(ok_path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     if uncertainty:

@@ -27,7 +27,7 @@ from chainid.gap.core.interpret import interpretation, separating_test
 from chainid.gap.core.openworld import open_world
 from chainid.gap.core.resample import attach, resample
 from chainid.infra.progress import stage
-from chainid.gap.core.verdict import contract, decide, overfit_warning, trusted_path
+from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
 from chainid.gap.timedomain.data import prepare_time
 from chainid.gap.timedomain.problem import TimeProblem
 from chainid.gap.timedomain.where import drift, localise_time
@@ -95,6 +95,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     ok_path, bad = trusted_path(path)
     if bad is not None:
         warn.append(overfit_warning(path, bad))
+    warn.extend(joint_notes(ok_path))
     final = ok_path[-1] if len(ok_path) > 1 else None
     left = final if final is not None else base_c
     lev = left._ev  # type: ignore[attr-defined]
