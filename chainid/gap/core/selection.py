@@ -28,6 +28,7 @@ as confounded.
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import Any, Sequence
 
@@ -136,6 +137,20 @@ def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     return chosen, [c for c in ties if c is not chosen]
 
 
+def fit_cached(cache: dict[tuple[str, ...], Candidate], fit: Any, names: list[str]) -> Candidate:
+    """The fitted candidate of an effect set, fitted once per set (``fit(names)`` on a miss), whatever the order
+    the chain reaches it in; returned named in ``names``' order (a copy when the cached fit came in another)."""
+    key = tuple(sorted(names))
+    if key not in cache:
+        stage("selection", f"step {len(names)}: {'+'.join(names)}")
+        cache[key] = fit(list(names))
+    hit = cache[key]
+    if hit.names != list(names):  # the same set reached in another order: named in this chain's order
+        hit = copy.copy(hit)
+        hit.name = "+".join(names)
+    return hit
+
+
 def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_hold: float,
                    max_effects: int = 3) -> dict[str, Any]:
     """Run the forward (then backward) selection.
@@ -158,12 +173,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     cache: dict[tuple[str, ...], Candidate] = {}
 
     def cached(cur: Candidate, n: str) -> Candidate:
-        names_k = cur.names + [n]
-        key = tuple(sorted(names_k))
-        if key not in cache:
-            stage("selection", f"step {len(names_k)}: {'+'.join(names_k)}")
-            cache[key] = _fit_score(prob, names_k, cur.params, base_hold)
-        return cache[key]
+        return fit_cached(cache, lambda names_k: _fit_score(prob, names_k, cur.params, base_hold), cur.names + [n])
 
     path = [base]
     cur = base

@@ -167,7 +167,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,
         "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {residual['db_over_noise']:.1f} dB over noise"
-        + _kin_text(residual),
+        + kinematic_floor_text(residual),
         "warnings": warn,
         "holdout": holdout,
         "tests": tests,
@@ -177,11 +177,14 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     }
 
 
-def _kin_text(residual: dict[str, Any]) -> str:
+def kinematic_floor_text(residual: dict[str, Any]) -> str:
     """The residual over the kinematic floor (what even the true model leaves on the estimated ẋ, ẍ), where it
     tells more than the force noise alone: the floor ≥ 1 dB above the noise."""
     kf, nf = residual.get("kinematic_floor_N"), residual.get("noise_floor_N")
     db = residual.get("db_over_kinematic_floor")
     if kf is None or nf is None or db is None or nf <= 0 or 20.0 * math.log10(max(kf, 1e-300) / nf) < 1.0:
         return ""
+    if db < 0:  # the bound from the kinematics' predicted errors is loose here: the fit beats it
+        return (f" (below the kinematic floor {kf:.3g} N by {-db:.1f} dB: the kinematics' predicted error is an upper "
+                "bound here)")
     return f" ({db:+.1f} dB over the kinematic floor {kf:.3g} N)"
