@@ -36,16 +36,17 @@ import os
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
+import chainid
 from chainid.cli import main
 
-shared = Path(os.environ.get("CHAINID_SHARED", Path.cwd().parent / "shared"))
-if not (shared / "realdata").is_dir():
-    shared = Path.cwd().parents[1] / "shared"  # a notebook run from notebooks/ of a worktree
+# the repository (its example reader profiles): $CHAINID_REPO, else the checkout chainid was installed from, else
+# a folder above this notebook's; the shared data: $CHAINID_SHARED, else `shared` next to the repository
+roots = [Path(os.environ["CHAINID_REPO"])] if os.environ.get("CHAINID_REPO") else []
+roots += [Path(chainid.__file__).resolve().parents[1], Path.cwd(), *Path.cwd().parents]
+repo = next((p for p in roots if (p / "examples" / "readers").is_dir()), None)
+shared = Path(os.environ.get("CHAINID_SHARED") or (repo.parent / "shared" if repo else "/nonexistent"))
 real = shared / "realdata" / "pneumatic-seal"
-repo = next(p for p in (Path.cwd(), *Path.cwd().parents) if (p / "examples" / "readers").is_dir())
-have_data = real.is_dir()
+have_data = repo is not None and real.is_dir()
 print("shared data:", real if have_data else "absent (set CHAINID_SHARED); the cells below skip their work")
 work = Path(tempfile.mkdtemp(prefix="chainid_nb07_"))
 
