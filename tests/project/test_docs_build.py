@@ -104,3 +104,24 @@ def test_the_site_builds_strictly(tmp_path):
     gap = (REPO / "benchmarks" / "RESULTS_gap.md").read_text(encoding="utf-8")
     pooled = re.search(r"\| \*\*pooled\*\* \| \*\*([\d.]+ %)\*\*", gap).group(1)
     assert pooled in (site / "guide" / "diagnosis-any-excitation" / "index.html").read_text(encoding="utf-8")
+
+
+def test_the_benchmark_results_state_the_grid_the_command_runs():
+    """benchmarks/RESULTS_gap.md (included by the diagnosis pages) states the case counts of today's
+    ``chainid benchmark-gap``: the full grid and its excitations, and the grid moved onto a chain (``--chain``),
+    counted here from the case list itself."""
+    from collections import Counter
+
+    from chainid.chain.spec import load_chain
+    from chainid.gap.benchmark.grid import grid
+
+    text = " ".join((REPO / "benchmarks" / "RESULTS_gap.md").read_text(encoding="utf-8").split())
+    n = Counter(c["excitation"] for c in grid(seed=0))
+    stated = re.search(r"runs (\d+) cases \((\d+) harmonic, (\d+) non-harmonic, (\d+) transfer\)", text)
+    assert stated is not None
+    assert tuple(map(int, stated.groups())) == (sum(n.values()), n["harmonic"],
+                                                sum(n.values()) - n["harmonic"] - n["transfer"], n["transfer"])
+    assert f"Checked on withheld effects** (`chainid benchmark-gap`, timed by `python benchmarks/gap_bench.py`): " \
+           f"{n['harmonic']} simulated cases" in text
+    on_chain = len(grid(seed=0, chain=load_chain("studless:76:grade=R4")))
+    assert f"keeps one of its two chain slots ({on_chain} cases;" in text
