@@ -19,7 +19,7 @@ from chainid.records.simulate import TestSpec, simulate, simulate_test
 
 MODEL = ChainModel()
 LAW = PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0])
-README = Path(__file__).resolve().parents[1] / "README.md"
+COMMANDS_PAGE = Path(__file__).resolve().parents[1] / "docs" / "reference" / "commands.md"
 
 
 def _data(tmp_path, with_short=True):
@@ -51,9 +51,9 @@ def test_cli_diagnose_excludes_an_unusable_test(tmp_path, capsys):
 
 
 def test_cli_max_combo_default_is_the_documented_one(tmp_path, monkeypatch):
-    """README and --help document ``--max-combo 3``; the CLI must pass 3 when the option is left out.
+    """The commands page (docs/reference/commands.md) and --help document ``--max-combo 3``; the CLI must pass 3 when the option is left out.
     Bug caught: a different default in the parser."""
-    documented = int(re.search(r"\[--max-combo (\d)\]", README.read_text(encoding="utf-8")).group(1))
+    documented = int(re.search(r"\[--max-combo (\d)\]", COMMANDS_PAGE.read_text(encoding="utf-8")).group(1))
     assert documented == 3
     seen = {}
 

@@ -1,4 +1,5 @@
-"""README 'Your own data': the three layouts built here, the documented command lines run as written."""
+"""The user guide's 'Your own data' (docs/guide/reading-records.md): the three layouts built here, the documented
+command lines run as written."""
 from __future__ import annotations
 
 import json
@@ -13,14 +14,14 @@ import pytest
 from chainid.records import read_records
 from chainid.records.record import Record
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+GUIDE = Path(__file__).resolve().parents[1] / "docs" / "guide" / "reading-records.md"
 KIP_N = 4448.2216152605
 FS = 10240.0
 C_E = 5.0  # N.s/mm, viscous damping of the MTS fixtures
 
 
 def _section() -> str:
-    text = README.read_text(encoding="utf-8")
+    text = GUIDE.read_text(encoding="utf-8")
     start = text.index("## Your own data")
     return text[start:text.index("\n## ", start + 1)]
 
@@ -41,7 +42,7 @@ def _chain_ref(test: str, f: float) -> Record:
     from chainid.chain.spec import load_chain
     from chainid.model import kernels
 
-    chain = load_chain("din22252:14x50")  # the README's --chain
+    chain = load_chain("din22252:14x50")  # the guide's --chain
 
     t = np.arange(int(2.0 * FS)) / FS
     w = 2 * math.pi * f
@@ -80,7 +81,7 @@ def test_readme_layouts_and_commands(tmp_path, monkeypatch, capsys):
     wri = [_ref("07", 12.0), _ref("08", 15.0)]
     for r in wri:
         np.savetxt(tmp_path / "wri" / f"run_{r.test}.tsv", np.column_stack([r.F, r.x]), delimiter="\t", fmt="%.17g")
-    # 3. MTS exports with the README's header block: six chain tests (a damping law needs six)
+    # 3. MTS exports with the guide's header block: six chain tests (a damping law needs six)
     (tmp_path / "mts").mkdir()
     mts = [_chain_ref(f"specimen{k}", f) for k, f in enumerate((4.0, 5.0, 6.0, 7.0, 8.0, 9.0), start=1)]
     head = ["MTS TestSuite export", "Station: Frame 1", "Specimen: 3", "Rate: 10240 Hz", "",

@@ -136,12 +136,12 @@ class ChainSpec:
         dimensions, else C.  The grade sets the proof and breaking loads and the yield stress used in every
         load warning.
 
+    Notes
+    -----
     Numbers may be Python or numpy ints and floats (``np.int64(16)``,
     ``np.float32(14)``); bool, str and None are refused; ``n`` may be an
     integral float (``16.0``, as TOML writes it).
 
-    Notes
-    -----
     The limits are physical, so that a unit slip or a typo is refused rather
     than computed:
 

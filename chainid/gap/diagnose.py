@@ -126,6 +126,8 @@ def diagnose(
         intervals of every parameter (:mod:`chainid.gap.core.resample`; 0: none; ``chainid diagnose`` runs
         :data:`chainid.gap.core.resample.RESAMPLES`), and the seed of their draws.
 
+    Notes
+    -----
     The route each set takes is stated in the module docstring.
 
     Returns

@@ -151,6 +151,8 @@ def die_with_parent(parent: int | None = None, interval: float = WATCHDOG_S) -> 
     interval : float
         Seconds between the watchdog's looks at the parent (> 0).
 
+    Notes
+    -----
     Linux: ``prctl(PR_SET_PDEATHSIG, SIGKILL)``; everywhere: a daemon thread that polls ``os.getppid()``.
     """
     expected = os.getppid() if parent is None else int(parent)

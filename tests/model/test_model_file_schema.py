@@ -184,10 +184,10 @@ def test_the_augmented_model_checks_the_same_table():
     assert {n for n in EFFECT_NAMES if n not in NOT_FORCE} <= set(EFFECT_RANGES)
 
 
-def test_the_readme_states_the_ranges_table():
+def test_the_contracts_page_states_the_ranges_table():
     from pathlib import Path
 
     from chainid.model.ranges import range_table
 
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
-    assert range_table() in readme
+    page = (Path(__file__).resolve().parents[2] / "docs" / "reference" / "contracts.md").read_text(encoding="utf-8")
+    assert range_table() in page

@@ -1,5 +1,5 @@
 """The two shared raw sets (../shared/realdata, or $CHAINID_SHARED/realdata; skipped when absent) read by the
-README's one command each with the example reader profiles, checked against this file's own parse of the raw text
+user guide's one command each (docs/guide/reading-records.md) with the example reader profiles, checked against this file's own parse of the raw text
 (plain Python: split lines and fields, the physics of SOURCE.md): the number of tests, their ids, the covariates
 and every sample of t, x, F."""
 from __future__ import annotations
@@ -22,7 +22,7 @@ pytestmark = pytest.mark.skipif(not (REAL / "mr-damper").is_dir() or not (REAL /
 
 
 def _readme_commands() -> list[str]:
-    text = (REPO / "README.md").read_text(encoding="utf-8")
+    text = (REPO / "docs" / "guide" / "reading-records.md").read_text(encoding="utf-8")
     start = text.index("## Rig files as they really are")
     sec = text[start:text.index("\n## ", start + 1)]
     blocks = re.findall(r"```\n(.*?)```", sec, flags=re.S)
