@@ -3,7 +3,10 @@
 A resample gives every training test a multiplicity (a multinomial draw of as many tests as there are; held-out
 tests stay out).  :func:`rescore` scores a fitted candidate on a resample at its fitted parameters: each test's
 c_e is its own projection (as in the fit), the damping law is refitted on the drawn tests by weighted least squares
-and each drawn test's error is that of the law refitted without it, weighted by its multiplicity.  :func:`refit`
+and each drawn test's error is that of the law refitted without it, weighted by its multiplicity.  When the other
+drawn tests are fewer than the law's coefficients (a 5-coefficient law and few distinct tests in the draw), the
+law without that test is fitted on every other training test instead (the plain leave-one-test-out): a resample
+never loses a test, so the steps' stability is not diluted by draws that could score nothing.  :func:`refit`
 polishes a candidate's parameters on the drawn tests (duplicates repeated).
 
 Units: N² for the errors; each parameter's own unit.
@@ -49,8 +52,9 @@ def rescore(prob: Any, cand: Any, mult: np.ndarray) -> tuple[dict[str, float], f
     for i in np.flatnonzero(mult > 0):
         w = mult.copy()
         w[i] = 0.0
-        if np.count_nonzero(w) < X.shape[1]:
-            continue
+        if np.count_nonzero(w) < X.shape[1]:  # the drawn tests do not determine the law: its fit on every other
+            w = np.ones_like(mult)            # training test (the plain leave-one-test-out), never a skipped test
+            w[i] = 0.0
         ci = float(X[i] @ _wfit(X, c, w))
         d = tr[i]
         Fn, v = ev["parts"][d.test]
