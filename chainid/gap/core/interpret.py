@@ -8,7 +8,9 @@ from typing import Any, Sequence
 #: The physical family of each library effect (JSON field ``mechanism``).
 MECHANISM = {"friction": "friction", "hysteresis": "hysteresis", "backlash": "play",
              "slack": "displacement offset", "machine_compliance": "stiffness", "contact_law": "stiffness",
-             "stiffness_level": "stiffness", "sensor_delay": "instrumentation", "damping_law": "damping form"}
+             "stiffness_level": "stiffness", "sensor_delay": "instrumentation", "damping_law": "damping form",
+             "stribeck": "friction", "bouc_wen": "hysteresis", "deadband": "play", "hardening": "stiffness",
+             "fixture_mass": "inertia"}
 
 
 def mechanism(verdict: str, interpretation: str) -> str:
