@@ -1,12 +1,11 @@
-"""Shared fixtures.  The repository root and ../shared are located relative to this file."""
+"""Shared fixtures.  The repository root and the shared data are located by tests/repo_paths.py."""
 from __future__ import annotations
 
 from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED = REPO.parent / "shared"
+from repo_paths import REPO
 
 
 @pytest.fixture(scope="session")

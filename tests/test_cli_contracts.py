@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from chainid.cli import main
+from repo_paths import REPO as ROOT
 from chainid.cli.model import plot_predictions, save_models, step_paths
 from chainid.model.augmented import AugmentedModel
 from chainid.model.base import LinearModel
@@ -23,7 +24,6 @@ from chainid.model.modelfile import load_model
 from chainid.records.files import write_records
 from chainid.records.simulate import TestSpec, simulate
 
-ROOT = Path(__file__).resolve().parents[1]
 SPRING = LinearModel(k=200.0, x_ref=0.0, mass=0.0)
 PTS = [(2.0, 1.0, 0.5), (3.0, 1.0, 0.4), (1.5, 1.0, 0.3)]  # (ω rad/s, x0 mm, A mm)
 

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from chainid import cli
+from repo_paths import REPO
 
-REPO = Path(__file__).resolve().parents[1]
 
 
 def _run(capsys, argv):

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,10 +15,11 @@ from chainid.model.base import ChainModel
 from chainid.model.laws import PolynomialLaw
 from chainid.records.files import write_records
 from chainid.records.simulate import TestSpec, simulate, simulate_test
+from repo_paths import REPO
 
 MODEL = ChainModel()
 LAW = PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0])
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = REPO / "README.md"
 
 
 def _data(tmp_path, with_short=True):

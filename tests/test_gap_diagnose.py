@@ -16,8 +16,9 @@ from chainid.model.effects import parse_effect, play_operator, stick_slip
 from chainid.model.laws import PolynomialLaw
 from chainid.model.base import ChainModel
 from chainid.records.simulate import TestSpec, simulate
+from repo_paths import REALDATA
 
-REAL = Path(__file__).parents[2] / "shared" / "realdata" / "friction-damper" / "brfd_ds2_tension30lb.csv"
+REAL = REALDATA / "friction-damper" / "brfd_ds2_tension30lb.csv"
 HOLD = ["3", "7", "11"]
 
 

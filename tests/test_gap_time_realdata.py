@@ -4,18 +4,14 @@ chatter while sliding.  Skipped when the shared data are absent."""
 from __future__ import annotations
 
 import math
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from chainid.gap import diagnose
+from repo_paths import REALDATA
 
-_ROOTS = [Path(os.environ.get("CHAINID_REALDATA", "/nonexistent")), Path(__file__).parents[2] / "shared" / "realdata"
-          / "friction-damper", Path("/work/shared/realdata/friction-damper")]
-EQ = next((r / "brfd_ds2_earthquake_imperialvalley.csv" for r in _ROOTS
-           if (r / "brfd_ds2_earthquake_imperialvalley.csv").is_file()), Path("/nonexistent"))
+EQ = REALDATA / "friction-damper" / "brfd_ds2_earthquake_imperialvalley.csv"
 
 
 @pytest.mark.skipif(not EQ.is_file(), reason="shared real data not present")

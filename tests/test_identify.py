@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +10,7 @@ from chainid.model.laws import CombinedLaw, CoulombLaw, HystereticLaw, Polynomia
 from chainid.model.predict import inertia_force_N, predict_force
 from chainid.damping.identify import fit_harmonic, identify_records, identify_test
 from chainid.records.simulate import TestSpec, model_force, simulate, simulate_test
+from repo_paths import REALDATA
 
 
 class Lin:
@@ -302,7 +302,7 @@ def test_loop_shape_indicator_viscous_vs_coulomb():
     assert fric.W == pytest.approx(4 * 300.0 * 0.25, rel=0.01)
 
 
-REAL = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "friction-damper" / "brfd_ds2_tension30lb.csv"
+REAL = REALDATA / "friction-damper" / "brfd_ds2_tension30lb.csv"
 
 
 @pytest.mark.skipif(not REAL.is_file(), reason="shared real friction-damper data not present")

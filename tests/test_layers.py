@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from repo_paths import REPO as ROOT
+
 PKG = ROOT / "chainid"
 pytest.importorskip("importlinter")
 grimp = pytest.importorskip("grimp")

@@ -1,11 +1,11 @@
 """The notebooks (jupytext percent format) run top to bottom."""
 from __future__ import annotations
 
-from pathlib import Path
 
 import pytest
+from repo_paths import REPO
 
-NOTEBOOKS = sorted((Path(__file__).resolve().parents[1] / "notebooks").glob("*.py"))
+NOTEBOOKS = sorted((REPO / "notebooks").glob("*.py"))
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])

@@ -25,8 +25,8 @@ import pytest
 
 import chainid
 from chainid.model.base import ChainModel
+from repo_paths import REPO
 
-REPO = Path(__file__).resolve().parents[1]
 
 # F_k at x = 2.2 mm on the built-in chain (two kernels: coefficients, force_array), compared with this
 # process's jitted run of the same kernels (whose values test_kernels checks against closed forms).

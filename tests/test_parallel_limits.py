@@ -22,8 +22,8 @@ import pytest
 from chainid.infra import parallel
 from chainid.infra.parallel import MAX_WORKERS, run_cases, worker_count
 from fake_servers import greeting_listener
+from repo_paths import REPO as ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 ENV = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
 
 

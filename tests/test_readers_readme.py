@@ -12,8 +12,9 @@ import pytest
 
 from chainid.records import read_records
 from chainid.records.record import Record
+from repo_paths import REPO
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = REPO / "README.md"
 KIP_N = 4448.2216152605
 FS = 10240.0
 C_E = 5.0  # N.s/mm, viscous damping of the MTS fixtures
