@@ -194,7 +194,7 @@ def status(mut: Mutation, root: Path = REPO) -> str:
 def run_tests(copy: Path, tests: tuple[str, ...], timeout: float, cache: Path) -> tuple[str, float, str]:
     """Run pytest in the copy; ('pass' | 'fail' | 'timeout', seconds, last output line)."""
     env = {**os.environ, "PYTHONPATH": str(copy), "NUMBA_CACHE_DIR": str(cache), "PYTHONDONTWRITEBYTECODE": "1"}
-    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header", *tests]
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-n", "0", "-p", "no:cacheprovider", "--no-header", *tests]
     t0 = time.perf_counter()
     try:
         out = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True, timeout=timeout)

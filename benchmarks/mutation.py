@@ -309,7 +309,8 @@ FRESH_NUMBA_CACHE = {"dynamics", "model"}
 
 def _test_command(tests: list[str], fresh_cache: bool = False) -> str:
     cmd = " ".join(shlex.quote(a) for a in
-                   [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header", *tests])
+                   [sys.executable, "-m", "pytest", "-x", "-q", "-n", "0", "-p", "no:cacheprovider", "--no-header",
+                    *tests])
     if not fresh_cache:
         return cmd
     script = f'd=$(mktemp -d); NUMBA_CACHE_DIR="$d" {cmd}; rc=$?; rm -rf "$d"; exit $rc'

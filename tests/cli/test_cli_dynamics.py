@@ -59,6 +59,7 @@ def test_huge_damping_is_one_line_not_a_traceback(capsys):
     assert "max_work" in err and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_huge_pretension_warns(tmp_path, capsys):
     out = tmp_path / "r.json"
     assert main(SMALL[:6] + ["1e12"] + SMALL[7:] + ["--refine", "0", "--json", str(out)]) == 0

@@ -179,6 +179,7 @@ def test_simulate_refuses_a_huge_plan_fast_and_max_memory_raises_the_limit(tmp_p
 
 # -- identify --plots: one file per test id, no silent overwrite ----------------------------------------------
 
+@pytest.mark.slow
 def test_identify_plots_names_do_not_collide_and_need_force(tmp_path, capsys):
     from chainid.model.base import model_for
     from chainid.records.files import write_records
@@ -226,6 +227,7 @@ _SLOW_WRITER = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("existing", [None, "old content\n"])
 def test_sigint_mid_write_exits_130_and_leaves_no_partial_output(tmp_path, existing):
     import os

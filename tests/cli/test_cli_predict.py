@@ -11,6 +11,7 @@ from chainid.cli import main
 from chainid.cli.model import plot_predictions
 
 
+@pytest.mark.slow
 def test_predict_plots_show_the_residuals_over_t_and_x(tmp_path):
     import chainid.infra.fileio
 
@@ -81,6 +82,7 @@ def test_predict_bad_model_file_is_one_line_and_exit_2(tmp_path, capsys):
     assert err.startswith(f"chainid predict: error: model file {str(m)!r} is not valid TOML")
 
 
+@pytest.mark.slow
 def test_predict_plots_one_figure_per_chosen_test_with_the_measured_force(tmp_path, capsys, monkeypatch):
     """``predict M D --tests 3,7 --plots DIR`` (a fast stand-in for the slow augmented-model file): one PNG per
     chosen test, ``DIR/predict_<test>.png`` as the docs name it, each announced with "wrote"; the figure's first

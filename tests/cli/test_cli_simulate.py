@@ -17,6 +17,7 @@ def _sim(path, *extra):
     return {r.test: r for r in read_records(path)}
 
 
+@pytest.mark.slow
 def test_friction_effect_adds_coulomb_force_and_is_diagnosed(tmp_path, capsys):
     base = _sim(tmp_path / "base.csv")
     fric = _sim(tmp_path / "fric.csv", "--effect", "friction:F_c=150")

@@ -30,6 +30,7 @@ def _run(capsys, argv):
     return rc, cap.out, cap.err
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv, key", [
     (["identify", "{data}", "--json", "-"], "tests"),
     (["diagnose", "{data}", "--holdout", "3,7", "--max-combo", "1", "--json", "-"], "verdict"),
@@ -63,6 +64,7 @@ def test_json_dash_verify(monkeypatch, capsys):
     assert "status" in err and "agree" in err
 
 
+@pytest.mark.slow
 def test_json_dash_benchmark_gap(monkeypatch, capsys):
     from chainid.gap.benchmark import grid as benchmark
 

@@ -164,6 +164,7 @@ def test_cli_audit_json(tmp_path, capsys):
     assert cli(["audit", "--json", str(p), "--force"]) == 0
 
 
+@pytest.mark.slow
 @needs_models
 def test_cli_simulate_then_identify(tmp_path, capsys):
     data = tmp_path / "sim.csv"

@@ -193,6 +193,7 @@ def test_audit_data_recovers_the_law(records, tmp_path, capsys):
     assert "Eq. 21 fitted to c_e of 9 identified test(s)" in text
 
 
+@pytest.mark.slow
 def test_audit_data_through_the_reading_options(records, tmp_path, capsys):
     """The same tests as a rig writes them: one file per test, time in ms, displacement in inches, force in kN,
     the rig's column names; the audit through --columns/--units/--id-pattern gives the same law."""

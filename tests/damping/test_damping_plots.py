@@ -140,6 +140,7 @@ def test_damping_surface_shows_the_law_and_the_tests(monkeypatch, tmp_path):
     assert ax3.get_zlabel() == "c_e [N·s/mm]"
 
 
+@pytest.mark.slow
 def test_plot_all_writes_one_loop_per_test_and_the_surface_only_for_a_fitted_law(tmp_path):
     """``plot_all``: ``loop_<id>.png`` per identified test in result order, plus ``damping_surface.png`` only when
     the law has fitted parameters (``plot_names`` gives the same names); without ``force`` an existing target is

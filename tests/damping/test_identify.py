@@ -118,6 +118,7 @@ def test_linear_spring_fit_removes_inertia():
     assert [r.c_e for r in res] == pytest.approx([10.0] * 6, rel=0.02)
 
 
+@pytest.mark.slow
 def test_ce_within_1_percent_with_noise_polynomial_law():
     model = Stiffening()
     law = PolynomialLaw([28.02, -651.57, -8386.5, 7394.84, 4378.89])
@@ -130,6 +131,7 @@ def test_ce_within_1_percent_with_noise_polynomial_law():
         assert np.max(np.abs(ce / truth - 1)) < 0.01
 
 
+@pytest.mark.slow
 def test_alpha_within_reported_standard_errors():
     """Polynomial (Eq. 21) law recovered: z = (alpha_hat - alpha)/stderr over 12 seeds x 5
     coefficients behaves like a t variable with 11 dof (16 tests - 5)."""
@@ -305,6 +307,7 @@ def test_loop_shape_indicator_viscous_vs_coulomb():
 REAL = REALDATA / "friction-damper" / "brfd_ds2_tension30lb.csv"
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not REAL.is_file(), reason="shared real friction-damper data not present")
 def test_real_friction_damper_prefers_coulomb():
     """Real BRFD friction-damper loops (tapered records, force changes sign): the steady

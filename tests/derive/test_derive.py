@@ -7,6 +7,8 @@ import pytest
 
 import paper_forms  # tests/paper_forms.py: the paper's closed forms in plain Python
 
+pytestmark = pytest.mark.slow  # the SymPy verification (~100 s) behind most of these tests
+
 # Equation -> expected status.  "differs" rows are the paper's known errors and the model-assumption findings.
 EXPECTED = {
     "1 (F_k = k_e·x)": "differs",  # secant vs tangent stiffness

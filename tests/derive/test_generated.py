@@ -4,7 +4,11 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
 from chainid.derive import emit
+
+pytestmark = pytest.mark.slow  # the SymPy emission (~30 s) and subprocesses
 
 
 _EXPECTED: dict[str, dict[str, str]] = {}

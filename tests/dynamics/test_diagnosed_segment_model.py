@@ -10,6 +10,7 @@ from chainid.records import write_records
 from chainid.records.simulate import simulate
 
 
+@pytest.mark.slow
 def test_diagnosed_friction_model_drives_the_segments(tmp_path, capsys):
     model = ChainModel()
     recs = simulate(grid3x3_plan(prefix=""), model, PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0]), n_cycles=8,

@@ -14,6 +14,7 @@ def _seg_arrays(N, n_el):
     return dict(y=np.zeros((N, n_el)), dv=np.zeros(N), T=np.zeros(N), Fk=np.zeros(N), ks=np.zeros(N), cs=np.zeros(N))
 
 
+@pytest.mark.slow
 def test_segment_tensions_and_newton_tangent_with_jenkins_and_dahl_by_hand():
     """segments.tensions on two segments (e = 0.501 mm after a step of +0.001 mm; dampers 5 N·s/mm; per segment
     a Jenkins element f = 10 N, stick travel 0.01 mm, k = 1000 N/mm, unstressed at the start, and a Dahl element

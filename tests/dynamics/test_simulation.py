@@ -31,6 +31,7 @@ def test_segments_sum_to_the_whole_chain_kernel():
     assert line.node_masses().sum() == pytest.approx(47 * 50e-3 * 4.0, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_variants_share_the_kernel_math():
     """The integrators call stiffness_paper's scalar kernels with a variant's coefficients: same math."""
     from chainid.generated import stiffness_inner_bend as ib
@@ -212,6 +213,7 @@ def test_implicit_and_explicit_agree_on_a_start_up():
     assert b.energy_balance()["relative_error"] < 1e-3
 
 
+@pytest.mark.slow
 def test_cli_dynamics_json_and_plots(tmp_path, capsys):
     import json
 

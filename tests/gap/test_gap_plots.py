@@ -22,6 +22,7 @@ def time_friction():
     return _time_diag(1.0)
 
 
+@pytest.mark.slow
 def test_time_domain_diagnosis_is_invariant_to_the_force_unit(time_friction):
     """NRMSE is dimensionless and every fitted force scales with F: the same records with F × 1e-7 (a force
     channel in other units; each record's Σ(F − F̄)² then far below 1 N²) give the same per-test NRMSE, the same
@@ -52,6 +53,7 @@ def figs(monkeypatch):
     return saved
 
 
+@pytest.mark.slow
 def test_phase_route_figures_show_the_results_numbers(tmp_path, figs):
     """heatmap: each square's colour and label are the test's NRMSE before/after of the JSON ``tests`` (2
     digits), colour scale 0 … the largest baseline NRMSE, held-out squares edged red; residual surface: every
@@ -104,6 +106,7 @@ def test_phase_route_figures_show_the_results_numbers(tmp_path, figs):
 
 
 # ---------------------------------------------------------------- the time-route figures show the result's numbers
+@pytest.mark.slow
 def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, figs):
     """heatmap.png: one pair of bars per record at x ∓ 0.2 (width 0.4), heights the JSON ``tests`` NRMSE before
     and after; loops.png: the held-out record's held-out samples only (measured F over x); residual_phase.png:

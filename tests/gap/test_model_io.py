@@ -12,6 +12,7 @@ from chainid.model.base import LinearModel
 
 
 # ---------------------------------------------------------------- modelio.step_models
+@pytest.mark.slow
 def test_step_models_baseline_is_step_zero_and_step_zero_is_bare():
     """Every step's model is compared with step 0 (the baseline: the base spring and the fitted damping, no effect,
     no delay); step 0's own baseline is that same bare model, so both predict the same force on any record.

@@ -52,6 +52,7 @@ def test_a_dissipating_or_absent_dashpot_gives_no_warning(alpha):
     assert predict(_model(alpha), _records())["warnings"] == []
 
 
+@pytest.mark.slow
 def test_cli_warns_and_strict_refuses(tmp_path):
     path = save_model(_model(-2.5), tmp_path / "m.toml")
     data = tmp_path / "d.csv"

@@ -31,6 +31,7 @@ def records(effect: str | None, noise: float = 20.0, model=MODEL):
                     force_fn=parse_effect(effect, model) if effect else None)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("effect,base", [("friction:F_c=150", "chain"), ("hysteresis:F_h=200,x_h=0.05", "linear")])
 def test_saved_model_reproduces_the_diagnosis_held_out_nrmse(tmp_path, effect, base):
     data = tmp_path / "d.csv"
@@ -58,6 +59,7 @@ def test_saved_model_reproduces_the_diagnosis_held_out_nrmse(tmp_path, effect, b
     assert diag["model"]["effects"][0]["name"] == effect.split(":")[0]
 
 
+@pytest.mark.slow
 def test_simulate_model_then_predict_round_trips_to_the_noise_level(tmp_path):
     data, plan = tmp_path / "d.csv", tmp_path / "plan.csv"
     write_records(data, records("friction:F_c=150"))
@@ -82,6 +84,7 @@ def test_simulate_model_then_predict_round_trips_to_the_noise_level(tmp_path):
         assert out[0.0][tid]["nrmse_model"] < 0.01 * floor  # what the time-domain form leaves without noise (measured <= 0.002)
 
 
+@pytest.mark.slow
 def test_delay_of_0_3_shortest_period_is_recovered_and_signed_in_where():
     from chainid.gap.diagnose import diagnose
 

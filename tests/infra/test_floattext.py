@@ -50,6 +50,7 @@ SPECIAL = [0.0, -0.0, 0.1, -0.1, 1e-5, 1e-4, 0.3, 1.0, 2.0, 100.0, 20000.0, 1.7e
            np.inf, -np.inf, np.nan, 4.35, 0.000123456789, 99999999999999.98, 9.999999999999999e-5]
 
 
+@pytest.mark.slow
 def test_special_values_read_back_identical():
     texts = _check(SPECIAL + [-x for x in SPECIAL])
     assert texts[:4] == ["0.0", "-0.0", "0.1", "-0.1"]
@@ -84,6 +85,7 @@ def test_hypothesis_floats_read_back_identical(x):
     _check([x])
 
 
+@pytest.mark.slow
 def test_a_million_random_doubles_by_float_and_by_pyarrow():
     """10^6 doubles (random bits over all exponents, uniform data, Unix time stamps): float() and pyarrow's
     CSV reader give back the identical float64 of every one."""
@@ -161,6 +163,7 @@ def _left_to_fallback(values) -> np.ndarray:
     return cols[0][ovr == -2]
 
 
+@pytest.mark.slow
 def test_the_kernel_certifies_every_ordinary_double_itself():
     """The documented contract of the fallback: only NaN, ±inf, subnormals, |v| outside [1e-280, 1e280] (and,
     rarely, a power of two) go to Python's repr; every other double is certified by the kernel with 15, 16 or 17

@@ -81,6 +81,7 @@ def readonly_install(tmp_path):
         p.chmod(p.stat().st_mode | stat.S_IWUSR)
 
 
+@pytest.mark.slow
 def test_readonly_install_falls_back_to_a_temp_cache(readonly_install, tmp_path):
     pkg, home = readonly_install
     tmp = tmp_path / "tmp"
@@ -102,6 +103,7 @@ def test_readonly_install_falls_back_to_a_temp_cache(readonly_install, tmp_path)
     assert _files(pkg) == before, "the read-only install was modified"
 
 
+@pytest.mark.slow
 def test_no_writable_folder_at_all_compiles_in_memory(readonly_install, tmp_path):
     pkg, home = readonly_install
     blocked_tmp = str(tmp_path / "blocker" / "tmp")
@@ -112,6 +114,7 @@ def test_no_writable_folder_at_all_compiles_in_memory(readonly_install, tmp_path
     assert len(out["warnings"]) == 1 and "compiled in memory" in out["warnings"][0]
 
 
+@pytest.mark.slow
 def test_truncated_cache_files_are_recompiled_and_nothing_deleted(tmp_path):
     cache = tmp_path / "cache"
     env = _env(PYTHONPATH=str(REPO), NUMBA_CACHE_DIR=str(cache))

@@ -34,6 +34,7 @@ def test_serial_runs_in_this_process():
     assert out == [(os.getpid(), False)] * 3
 
 
+@pytest.mark.slow
 def test_processes_run_in_other_processes_without_dask():
     """scheduler='processes' runs in a process pool, not in this process and not on dask.
     Bugs caught: dispatch to serial or to dask."""
@@ -43,6 +44,7 @@ def test_processes_run_in_other_processes_without_dask():
     assert 1 <= len(pids) <= 2
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not dask_available(), reason="dask.distributed not installed")
 def test_default_runs_on_dask_when_available():
     """scheduler=None (local) with dask installed runs on a dask LocalCluster.
@@ -170,6 +172,7 @@ def _le(n: int) -> bytes:
     return n.to_bytes(8, "little")
 
 
+@pytest.mark.slow
 def test_probe_accepts_lengths_up_to_one_mib(greeter):
     address, payload = greeter
     for n in (1, 300, 1 << 20):
@@ -181,6 +184,7 @@ def test_probe_accepts_lengths_up_to_one_mib(greeter):
             probe_scheduler(address, timeout=3.0)
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not dask_available(), reason="needs dask.distributed")
 @pytest.mark.parametrize("greeting", [
     _le(1 << 20),  # a valid length, then the connection closes (dask: CommClosedError, an OSError)
@@ -243,11 +247,13 @@ def test_serial_in_order():
     assert EXPECTED[:4] == [0, 11, 24, 39]
 
 
+@pytest.mark.slow
 def test_processes_same_as_serial():
     assert run_cases(_square_plus, CASES, scheduler="processes", n_workers=2, progress=False) == EXPECTED
     assert multiprocessing.active_children() == []
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not dask_available(), reason="dask.distributed not installed")
 def test_local_cluster_same_as_serial():
     assert run_cases(_square_plus, CASES, scheduler="local", n_workers=2, progress=False) == EXPECTED
@@ -281,6 +287,7 @@ def test_progress_bar_on_stderr(capsys, monkeypatch):
     assert capsys.readouterr().err == ""
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scheduler", ["serial", "processes"])
 def test_case_exception_propagates_and_workers_stop(scheduler):
     with pytest.raises(RuntimeError, match="case 3 failed"):

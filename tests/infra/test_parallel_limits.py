@@ -35,6 +35,7 @@ def test_worker_count_is_capped_at_cases_and_maximum():
         assert worker_count(100_000, 10**6) == MAX_WORKERS
 
 
+@pytest.mark.slow
 def test_process_pool_starts_no_more_workers_than_cases(monkeypatch):
     import concurrent.futures as cf
 
@@ -87,6 +88,7 @@ def http400_listener():
         yield address
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("server, why", [("http_server", "sent no dask handshake within 5 s"),
                                          ("http400_listener", "answered 'HTTP/1.1'..., not a dask handshake")])
 def test_scheduler_address_that_is_not_dask_fails_fast(request, server, why):
@@ -186,6 +188,7 @@ def _finish(p: subprocess.Popen, kids: list[int]) -> tuple[int, str]:
     return p.returncode, err
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sched", ["processes", "local"])
 def test_sigterm_leaves_no_pool_process(sched):
     p, kids = _start(SLEEPERS.format(sched=sched), 2)
@@ -208,6 +211,7 @@ def _ctrl_c(p: subprocess.Popen) -> None:
             continue
 
 
+@pytest.mark.slow
 def test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback():
     p, kids = _start(SLEEPERS.format(sched="local"), 2)
     _ctrl_c(p)
@@ -216,6 +220,7 @@ def test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback():
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
 
 
+@pytest.mark.slow
 def test_ctrl_c_on_benchmark_gap_exits_130_with_one_line():
     code = """
         import sys

@@ -73,6 +73,7 @@ def test_sigma_max_at_paper_test_load():
     assert practice.sigma_max_MPa(11117.0, PAPER_CHAIN) == pytest.approx(hand, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_sigma_max_against_sympy_hertz_solution():
     sp = pytest.importorskip("sympy")
     from chainid.derive import hertz
@@ -152,6 +153,7 @@ def test_bad_input_raises(call):
         call()
 
 
+@pytest.mark.slow
 def test_report_step_writes_table_and_figures(tmp_path):
     import json
 

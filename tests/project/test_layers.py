@@ -122,6 +122,7 @@ def test_no_private_name_imported_across_modules():
     assert bad == []
 
 
+@pytest.mark.slow
 def test_tests_import_their_helpers_by_module_name():
     """The README's test command is a bare ``pytest -q``, which puts ``tests/`` (not the checkout) on sys.path:
     a test that imports ``tests.x`` passes under ``python -m pytest`` and fails in CI (it did, twice)."""

@@ -5,6 +5,8 @@ from __future__ import annotations
 import pytest
 from repo_paths import REPO
 
+pytestmark = pytest.mark.slow  # each notebook runs in its own kernel (5-45 s)
+
 NOTEBOOKS = sorted((REPO / "notebooks").glob("*.py"))
 
 

@@ -15,6 +15,7 @@ from chainid.records.excitation import band_random, earthquake, sweep
 from spectral_forms import earthquake_band_ratio, kt_cp_displacement
 
 
+@pytest.mark.slow
 def test_random_phases_are_uniform_on_zero_two_pi(monkeypatch):
     """The band-limited random and earthquake programs sum lines with random phases, uniform on [0, 2π) (the
     module docstring): every phase drawn lies in [0, 2π) and their circular mean |mean e^{iφ}| is below 4/√N (N
@@ -197,6 +198,7 @@ def test_earthquake_spectrum_slope_is_kanai_tajimi_clough_penzien():
     assert float(np.max(np.abs(m.x))) == pytest.approx(10.0, rel=1e-9)  # scaled to the peak
 
 
+@pytest.mark.slow
 def test_earthquake_clough_penzien_corner_by_band_power():
     """Power of the displacement in 0.15–0.35 Hz (around the Clough–Penzien corner f_c = 0.2 Hz) over that in
     0.8–1.6 Hz, averaged over six records, against the same ratio of the textbook KT × CP form: within a factor
@@ -251,6 +253,7 @@ def test_generators_refuse_fewer_than_64_or_a_non_integer_sample_count(n):
     assert m.x[0] == pytest.approx(3.0, abs=1e-12)  # x0 + A sin(0)
 
 
+@pytest.mark.slow
 def test_earthquake_above_the_ground_frequency_keeps_the_kanai_tajimi_numerator():
     """Above f_g the Kanai–Tajimi |H|² falls as (1 + 4ζ²r)/r² (r = (f/f_g)²), not as 1/r²: the power of the
     displacement in 4–8 Hz over that in 0.8–1.6 Hz (f_g = 2 Hz, ζ = 0.5, six records normalised and summed)
@@ -321,6 +324,7 @@ def test_exponential_sweep_acceleration_is_the_second_derivative_where_the_sweep
     assert np.max(np.abs(a_fd[sel] - m.xdd[1:-1][sel])) <= 1e-4 * peak
 
 
+@pytest.mark.slow
 def test_earthquake_below_the_corner_follows_the_clough_penzien_high_pass():
     """Below f_c = 0.2 Hz the Clough–Penzien |H|² = r²/((1 − r)² + 4·0.7²·r), r = (f/f_c)², removes the drift of
     a doubly integrated ground motion.  The displacement power in 0.04–0.1 Hz over that in 0.3–0.6 Hz (six

@@ -62,6 +62,7 @@ def _check(out: Path, refs: list[Record]) -> None:
         np.testing.assert_allclose(r.F, e.F, rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_readme_layouts_and_commands(tmp_path, monkeypatch, capsys):
     from chainid.cli import main
 

@@ -194,6 +194,7 @@ def test_validate_nan_in_memory():
         validate_record(r)
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(
     logw=st.floats(-1.0, 2.5),

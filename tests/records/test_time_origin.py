@@ -33,6 +33,7 @@ def _shift(recs, t0):
     return [Record(r.test, r.t + t0, r.x, r.F) for r in recs]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("t0", ORIGINS)
 def test_identify_same_tests_and_ce_at_any_origin(series, t0):
     recs, model = series
@@ -48,6 +49,7 @@ def test_identify_same_tests_and_ce_at_any_origin(series, t0):
         assert b.t_start - t0 == pytest.approx(a.t_start, abs=1e-5)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("t0", (86_400.0, 1.7e9))
 def test_diagnose_same_tests_at_any_origin(series, t0):
     from chainid.gap.diagnose import diagnose
@@ -63,6 +65,7 @@ def test_diagnose_same_tests_at_any_origin(series, t0):
     assert got["verdict"] == ref["verdict"]
 
 
+@pytest.mark.slow
 def test_diagnose_time_route_same_at_unix_time(series):
     """A guard (this route was already origin-independent): every record in the time domain (--holdout-blocks)."""
     from chainid.gap.diagnose import diagnose

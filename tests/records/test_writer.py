@@ -31,6 +31,7 @@ def test_writer_refuses_a_repeated_id_and_an_unknown_format(tmp_path):
         write_canonical(tmp_path / "o.x", [r], fmt="xlsx")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("arrow", [True, False])
 def test_writer_blocks_round_trip_bit_exact(tmp_path, monkeypatch, arrow):
     """Rows over several of the writer's blocks (2^16 plain, 2^19 arrow), and two tests: every float64 reads back

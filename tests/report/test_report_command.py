@@ -58,6 +58,7 @@ def test_fig8_curves_are_the_closed_form_stiffness(tmp_path, monkeypatch):
             assert k[i] == pytest.approx(paper_forms.k_e(x[i], E=210000.0 * f), rel=1e-9), (f, x[i])
 
 
+@pytest.mark.slow
 def test_report_on_builtin_chain(tmp_path, monkeypatch):
     out = tmp_path / "rep"
     figs = _saved_figures(monkeypatch)
@@ -89,6 +90,7 @@ def test_report_on_builtin_chain(tmp_path, monkeypatch):
     assert cli.main(["report", "--out", str(out), "--force"]) == 0
 
 
+@pytest.mark.slow
 def test_report_data_step_with_compressive_records_uses_a_linear_spring(tmp_path):
     """--data records whose force changes sign (not a chain): step 3 says so and fits k, not the chain."""
     import json

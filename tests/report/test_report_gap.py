@@ -67,6 +67,7 @@ def _images(md: str) -> list[str]:
     return re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
 
 
+@pytest.mark.slow
 def test_builtin_markdown_and_figures(builtin):
     folder, md, msgs = builtin
     assert md.startswith("## 4. Gap")
@@ -83,6 +84,7 @@ def test_builtin_markdown_and_figures(builtin):
         json.loads((folder / "json" / name).read_text())
 
 
+@pytest.mark.slow
 def test_figures_show_the_paper_numbers(builtin):
     """The Eq. 26 and Table 1 figures plot the paper's printed numbers (worked out here by hand)."""
     ax = FIGS["eq26_record.png"].axes[0]
@@ -104,6 +106,7 @@ def test_figures_show_the_paper_numbers(builtin):
     np.testing.assert_allclose(np.array(pts), np.array(exp), rtol=1e-5)
 
 
+@pytest.mark.slow
 def test_simulated_blind_diagnosis_finds_hidden_effect(builtin):
     folder, md, _ = builtin
     doc = json.loads((folder / "json" / "gap_simulated.json").read_text())
@@ -199,6 +202,7 @@ def _independent_holdout_nrmse(holdout, params, best_law="polynomial", nb=64):
     return {"baseline": base, "baseline_law": lp, "best": best}
 
 
+@pytest.mark.slow
 def test_simulated_check_quotes_the_diagnosis_jackknife_sd(builtin):
     """Part 4a's check against the hidden truth gives, per friction parameter, the true value, the recovered one and
     the diagnosis's own jack-knife sd (``best.params_sd``), in the JSON and in the markdown table (2 significant
@@ -216,6 +220,7 @@ def test_simulated_check_quotes_the_diagnosis_jackknife_sd(builtin):
     assert rows[0]["sd"] < 150.0  # the hidden friction force at x0 is 150 N
 
 
+@pytest.mark.slow
 def test_eq26_numbers(builtin):
     folder, md, _ = builtin
     d = json.loads((folder / "json" / "gap_eq26.json").read_text())["eq26"]
@@ -249,6 +254,7 @@ def test_eq26_numbers(builtin):
     assert f"{q:.0f} N" in md and "negative damping" in md
 
 
+@pytest.mark.slow
 def test_table1_slopes(builtin):
     folder, md, _ = builtin
     t1 = json.loads((folder / "json" / "gap_eq26.json").read_text())["table1"]
@@ -280,6 +286,7 @@ def _plan(n: int, x0: float = 2.1) -> list[TestSpec]:
 LAW = PolynomialLaw([0.5, 1.0, 100.0, 20.0, 50.0])
 
 
+@pytest.mark.slow
 def test_data_diagnosis(tmp_path):
     from chainid.model.effects import parse_effect
 
@@ -309,6 +316,7 @@ def test_data_too_few_tests_is_skipped(tmp_path):
     assert not _images(md)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("x_ref,reason", [(0.0, "outside a factor 3"),
                                           (2.0, "the median measured force is ≤ 0 N, and a chain carries only "
                                                 "tension")])

@@ -74,6 +74,7 @@ def eq26(tmp_path_factory):
     return md, doc, msgs
 
 
+@pytest.mark.slow
 def test_eq26_in_phase_quadrature_and_harmonics_by_hand(eq26):
     _, doc, msgs = eq26
     d = doc["eq26"]
@@ -112,6 +113,7 @@ def test_eq26_in_phase_quadrature_and_harmonics_by_hand(eq26):
     assert msgs == ["gap: the paper's Eq. 26 record and Table 1"]
 
 
+@pytest.mark.slow
 def test_eq26_markdown_says_the_numbers(eq26):
     md, doc, _ = eq26
     Fk0 = paper_forms.F_of_x(X0)
@@ -137,6 +139,7 @@ def test_eq26_markdown_says_the_numbers(eq26):
     assert re.search(r"\| 1 \| [0-9.]+ \| [0-9.]+ \| [0-9.]+ \| [0-9.]+ \| [0-9.]+ \| [0-9.]+ \| [0-9.]+ \| excluded \|", md)
 
 
+@pytest.mark.slow
 def test_table1_r2_is_the_squared_correlation(eq26):
     """R² of a straight-line least-squares fit is the squared correlation coefficient of (log x, log y)."""
     _, doc, _ = eq26
@@ -166,6 +169,7 @@ def damping_step(tmp_path_factory):
     return folder, md, figs, msgs
 
 
+@pytest.mark.slow
 def test_damping_surface_is_eq28_over_its_grid(damping_step):
     """Fig. 11: c_e of Eq. 28 over ω 0.5–20 (column), A 0.15–0.45 mm. Its extremes by hand: the minimum over ω is
     at ω = 651.57/(2·28.02) = 11.63, of A at the end A = 0.15; the maximum at ω = 0.5 and A = 7394.84/(2·8386.5)."""
@@ -182,6 +186,7 @@ def test_damping_surface_is_eq28_over_its_grid(damping_step):
     assert "(paper: [28.02, −651.57, −8386.50, 7394.84, 4378.89])" in md
 
 
+@pytest.mark.slow
 def test_validation_case_both_readings_of_omega(damping_step):
     """Fig. 12: x = 2.25 + 0.32 sin(14πt); c_e of Eq. 28 at ω = 7 and at 14π; F = F_k(x) + m ẍ + c_e ẋ."""
     folder, _, figs, _ = damping_step
@@ -203,6 +208,7 @@ def test_validation_case_both_readings_of_omega(damping_step):
     assert xs.min() == pytest.approx(x0 - A, abs=1e-4) and xs.max() == pytest.approx(x0 + A, abs=1e-4)
 
 
+@pytest.mark.slow
 def test_practice_section_text(tmp_path):
     from chainid.chain.spec import default_chain
 
@@ -247,6 +253,7 @@ def test_practice_section_text(tmp_path):
         assert r["breaking_load_N"] == pytest.approx(22.3 * r["d_mm"] ** 2 * (44 - 0.08 * r["d_mm"]), rel=1e-3)
 
 
+@pytest.mark.slow
 def test_eq26_figure_plots_the_record_the_model_and_the_residual(eq26):
     _, doc, _ = eq26
     d = doc["eq26"]
@@ -278,6 +285,7 @@ def test_eq26_figure_plots_the_record_the_model_and_the_residual(eq26):
     assert left.lines[2].get_label() == "model + Eq. 27 damping (c_e = 2834.4 N·s/mm)"
 
 
+@pytest.mark.slow
 def test_table1_figure_fits_and_reference_slopes(eq26):
     """log W against log A and ω: the fit line has the fitted slope through the geometric means; the reference
     lines have slopes 1, 2, 3 (A) and 0, 1 (ω); test 1 as printed and with F_ac from its c_e."""
@@ -302,6 +310,7 @@ def test_table1_figure_fits_and_reference_slopes(eq26):
     assert implied.get_ydata()[0] == pytest.approx(math.pi * t1["test1"]["F_ac_implied_by_c_e_N"] * rows[1]["A_mm"])
 
 
+@pytest.mark.slow
 def test_data_step_with_tension_records_keeps_the_chain(tmp_path):
     """Records of the chain itself (F > 0 everywhere): step 3 identifies with the chain model, no linear spring."""
     from chainid.records.files import write_records
@@ -360,6 +369,7 @@ def test_stiffness_step_numbers_and_figures(tmp_path):
     assert labels == [f"n = {n} ({50 * n} mm)" for n in (8, 16, 32, 64)]
 
 
+@pytest.mark.slow
 def test_every_note_placed_in_axes_coordinates_is_inside_its_panel(eq26, damping_step):
     """A note placed with axes coordinates (0..1) outside that range is drawn off its panel, over another one."""
     figs = {**EQ26_FIGS, **damping_step[2]}

@@ -61,6 +61,7 @@ def test_steady_tolerance_floor_and_cap():
     assert steady_tolerance(float("nan")) == TOL_FLOOR
 
 
+@pytest.mark.slow
 def test_shaker_record_wandering_amplitude_kept_adaptive():
     """161 periods at 18 Hz, 10 kHz sampling, amplitude wandering 2 % per cycle (issue 10 case).
 
@@ -217,6 +218,7 @@ def test_cycle_stats_match_per_cycle_lstsq():
         assert sds[i] == pytest.approx(float(np.std(res)), abs=1e-9)
 
 
+@pytest.mark.slow
 def test_long_record_decimated_search_is_accurate():
     """A 400k-sample record takes the decimated candidate search (stride > 1); the final fit uses
     every sample.  Noise 2 um over ~390k kept samples: omega within 1e-6 relative, A and x0 within

@@ -73,6 +73,7 @@ def test_the_time_cases_move_every_displacement_by_the_length_scale() -> None:
     assert dev1["S"] == pytest.approx(lam ** 2 * dev0["S"], rel=1e-9)  # force scale k·A: k × λ, A × λ
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("exc", ["harmonic", "sweep"])
 def test_a_similar_chain_gets_the_same_verdict_and_the_same_signal_to_noise(exc: str) -> None:
     """The cases on a chain twice the paper's are the paper chain's with x × 2 and F × 4: the verdict is the
@@ -87,6 +88,7 @@ def test_a_similar_chain_gets_the_same_verdict_and_the_same_signal_to_noise(exc:
     assert b["shrinkage"] == pytest.approx(a["shrinkage"], abs=1e-3)
 
 
+@pytest.mark.slow
 def test_cli_benchmark_on_a_preset_writes_the_chain_and_its_scale(tmp_path, capsys) -> None:
     out = tmp_path / "b.json"
     rc = main(["benchmark-gap", "--small", "--excitations", "harmonic", "--chain", "studless:76:grade=R4",
@@ -111,6 +113,7 @@ def test_cli_benchmark_refuses_an_unknown_chain_before_running(tmp_path, capsys)
     assert r.err.count("\n") == 1  # one line, no traceback
 
 
+@pytest.mark.slow
 def test_a_transfer_case_on_a_similar_chain_scales_its_harmonic_plan_too() -> None:
     """The transfer case's harmonic set (x̄0 ± 0.1 mm on the paper's chain) moves with the length scale: on a
     chain twice the paper's the other-set shrinkages agree to 1e-5 (measured 3e-8 and 4e-8)."""

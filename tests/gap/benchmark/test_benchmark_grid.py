@@ -177,6 +177,7 @@ def test_outside_library_hooks_by_hand(monkeypatch):
                                -0.1 * 100 * (1 - np.exp(-3 * t / 4.0)), rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_small_benchmark(capsys, tmp_path):
     out = tmp_path / "b.json"
     s = run_benchmark(small=True, scheduler="processes", n_workers=2, progress=False, json_path=str(out),
@@ -209,6 +210,7 @@ def test_canonical_names():
 NON_HARMONIC = ("random", "sweep", "startup", "quake", "transfer")
 
 
+@pytest.mark.slow
 def test_tiny_nonharmonic_benchmark(tmp_path, capsys):
     out = tmp_path / "b.json"
     s = run_benchmark(small=True, scheduler="processes", n_workers=2, progress=False, json_path=str(out),

@@ -211,6 +211,7 @@ def test_time_rows_time_the_case(monkeypatch):
     assert 0.05 <= row["seconds"] <= time.perf_counter() - t0 and row["effect_snr"] == [1.0]
 
 
+@pytest.mark.slow
 def test_records_noise_and_quantisation_by_hand(monkeypatch):
     """``records``: per record a force noise σ = noise·S × 0.8–1.25, a force quantum of 0.5–2 σ on about 30 % of the
     records (README), displacement noise up to 0.003 A; the reported σ of a record is that of its noise plus its

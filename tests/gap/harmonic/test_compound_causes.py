@@ -34,6 +34,7 @@ def records(spec: str | None, noise: float = 20.0, seed: int = 1, true=TRUE):
                     seed=seed, force_fn=hook)
 
 
+@pytest.mark.slow
 def test_mismatch_plus_friction_both_named():
     res = diagnose(records("friction:F_c=150"), HOLD, MODEL)
     assert res["verdict"] == "stiffness_level+friction"
@@ -56,6 +57,7 @@ def test_mismatch_plus_friction_both_named():
     assert res["mechanism"] == "stiffness+friction"
 
 
+@pytest.mark.slow
 def test_masked_sensor_delay_named_with_the_mismatch():
     res = diagnose(records("sensor_delay:tau=0.05", noise=2.0), HOLD, MODEL, uncertainty=False)
     assert set(res["verdict"].split("+")) == {"stiffness_level", "sensor_delay"}
@@ -64,6 +66,7 @@ def test_masked_sensor_delay_named_with_the_mismatch():
     assert p["stiffness_level.scale"] == pytest.approx(0.79, rel=0.01)
 
 
+@pytest.mark.slow
 def test_mismatch_alone_is_one_step():
     res = diagnose(records(None), HOLD, MODEL, uncertainty=False)
     assert res["verdict"] == "stiffness_level"
@@ -71,6 +74,7 @@ def test_mismatch_alone_is_one_step():
     assert res["steps"][1]["params"]["stiffness_level.scale"] == pytest.approx(0.79, rel=0.005)
 
 
+@pytest.mark.slow
 def test_excluded_test_with_reason_and_strict():
     recs = records("friction:F_c=150", true=MODEL)
     rng = np.random.default_rng(3)
@@ -85,6 +89,7 @@ def test_excluded_test_with_reason_and_strict():
         diagnose(recs + [short], HOLD, MODEL, uncertainty=False, strict=True)
 
 
+@pytest.mark.slow
 def test_six_test_plan_two_held_out():
     plan = [TestSpec(str(i), w, 2.0, a) for i, (w, a) in
             enumerate([(1.0, 0.1), (1.0, 0.3), (2.0, 0.2), (4.0, 0.1), (4.0, 0.3), (2.0, 0.15)], 1)]
@@ -102,6 +107,7 @@ def test_six_test_plan_two_held_out():
         diagnose(recs, ["1", "3", "5", "6"], MODEL)
 
 
+@pytest.mark.slow
 def test_cli_steps_json_and_options(tmp_path, capsys):
     from chainid.cli import main
     from chainid.records.files import write_records
@@ -124,6 +130,7 @@ def test_cli_steps_json_and_options(tmp_path, capsys):
     assert exc.value.code == 2
 
 
+@pytest.mark.slow
 def test_confound_of_a_narrow_load_plan_is_reported():
     # EA × 1.4 plus a 0.01 mm offset, on a plan whose mean loads span only x0 = 1.8–2.2 mm: a Hertz law with a
     # fitted exponent describes it as well (one effect).  Either the true pair is named, or the one-effect

@@ -57,6 +57,7 @@ CASES = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("spec,verdict,params", CASES, ids=[c[1] for c in CASES])
 def test_effect_recovered(spec, verdict, params):
     res = diagnose(records(spec), HOLD, MODEL, max_combo=1, uncertainty=False)
@@ -74,6 +75,7 @@ def test_effect_recovered(spec, verdict, params):
     assert {c["effect"]: c for c in res["ranking"]}[verdict]["at_bound"] == []
 
 
+@pytest.mark.slow
 def test_damping_law_and_delay_recovered():
     res = diagnose(records("damping_law:eta=0.3"), HOLD, MODEL, max_combo=1, uncertainty=False)
     assert res["verdict"] == "damping_law"
@@ -86,12 +88,14 @@ def test_damping_law_and_delay_recovered():
     assert res["best"]["params"]["sensor_delay.tau"] == pytest.approx(0.05, rel=0.15)
 
 
+@pytest.mark.slow
 def test_control_gives_none():
     for seed in (2, 3):
         res = diagnose(records(None, seed=seed), HOLD, MODEL, max_combo=1, uncertainty=False)
         assert res["verdict"] == "none", res["baseline"]
 
 
+@pytest.mark.slow
 def test_sub_noise_effect_gives_none():
     """A real but sub-noise effect (Coulomb 10 N under 20 N force noise): the held-out systematic residual is
     below half the noise sigma, so the verdict is `none`, although chi^2 over the 192 held-out bins is well
@@ -109,6 +113,7 @@ def records_with(hook, noise: float = 20.0, seed: int = 1):
     return simulate(plan(), MODEL, LAW, n_cycles=8, samples_per_cycle=128, noise_F=noise, seed=seed, force_fn=hook)
 
 
+@pytest.mark.slow
 def test_negative_slack_recovered():
     """A negative displacement offset (chain pre-stretched / sensor zero): F = F_k(x - s) with s = -0.02 mm."""
     s = -0.02
@@ -123,6 +128,7 @@ def test_negative_slack_recovered():
     assert res["best"]["at_bound"] == []
 
 
+@pytest.mark.slow
 def test_coulomb_equivalent_damping_recovered():
     """Extra damping whose c_e is Coulomb-equivalent, 4 F_f/(pi omega A): the force is (4 F_f/pi) cos psi,
     i.e. (4 F_f/pi) xdot/max|xdot|, added by hand.  The damping-law candidate recovers F_f = 100 N."""
@@ -139,6 +145,7 @@ def test_coulomb_equivalent_damping_recovered():
     assert best["shrinkage"] >= 0.7
 
 
+@pytest.mark.slow
 def test_baseline_law_fitted_on_training_tests_only():
     """No train/held-out leakage: the baseline's damping law is fitted on the training tests only and the
     baseline is scored on the held-out tests.  Corrupting a held-out test's force (300 N in phase with the velocity) must
@@ -165,6 +172,7 @@ def test_baseline_law_fitted_on_training_tests_only():
     assert not np.allclose(train["law_params"], clean["law_params"], rtol=1e-3)
 
 
+@pytest.mark.slow
 def test_out_of_library_drift_not_misnamed():
     def drift(t, x, xd, xdd, F):
         return F + 60.0 * t / t[-1]  # slow drift of the mean force, 60 N over the record
@@ -181,6 +189,7 @@ def test_out_of_library_drift_not_misnamed():
     assert any("non-stationary" in w for w in res["warnings"])
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not REAL.is_file(), reason="shared real data not present")
 def test_real_friction_damper_linear():
     from chainid.records.files import read_records
@@ -230,6 +239,7 @@ def test_inseparable_plan_warns():
     assert "leave-one-out" in res["baseline"]["damping_law_reason"]
 
 
+@pytest.mark.slow
 def test_cli_json_contract(tmp_path):
     from chainid.cli import main
     from chainid.records.files import write_records
@@ -252,6 +262,7 @@ def test_cli_json_contract(tmp_path):
     assert main(["diagnose", str(data), "--holdout", "zz"]) == 2
 
 
+@pytest.mark.slow
 def test_plots(tmp_path, monkeypatch):
     """The four figures show the data they claim: held-out loops over x0 ± A, residuals over a 0–360° phase,
     and the (ω, A) plan in the heat map."""
@@ -300,6 +311,7 @@ def test_plots(tmp_path, monkeypatch):
         assert sorted(map(tuple, np.round(pts, 9))) == sorted((s.omega, s.A) for s in spec.values())
 
 
+@pytest.mark.slow
 def test_small_effect_above_half_the_noise_is_named():
     # F_c = 30 N under σ = 20 N sample noise: the systematic residual (~1 σ) is above the practical floor of
     # half the sample noise, so it is named, not called `none`
@@ -340,6 +352,7 @@ def test_diagnose_baseline_db_is_on_the_holdout(monkeypatch):
     assert min(abs(db - v) for v in train) > 3.0  # every training-split dB is far from it
 
 
+@pytest.mark.slow
 def test_harmonic_diagnosis_baseline_is_invariant_to_the_force_unit():
     """The phase-bin route on 11 steady tests (friction F_c = 150 N, 20 N noise) with F × 1e-7: the baseline
     (linear spring, Eq. 21, per-test NRMSE, dB over noise) is the same to round-off, the noise σ scales by 1e-7,

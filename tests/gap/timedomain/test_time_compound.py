@@ -33,6 +33,7 @@ def _true(effect, case, dev):
     return float(effect_spec(effect, lv, dev["S"], 1.0, 1.0, wmax).split("=")[1])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed,excitation", [(100028, "random"), (101028, "sweep")])
 def test_friction_seen_through_a_lagging_force_channel(seed, excitation):
     case, dev, res = _run(seed)
@@ -48,6 +49,7 @@ def test_friction_seen_through_a_lagging_force_channel(seed, excitation):
     assert p["friction.F_c"] + p["friction.mu"] * Fk == pytest.approx(_true("friction", case, dev), rel=0.15)
 
 
+@pytest.mark.slow
 def test_stiffness_level_and_slack_against_one_contact_law():
     case, dev, res = _run(101026)
     assert case["truth"] == ["stiffness_level", "slack"] and case["excitation"] == "sweep"

@@ -16,6 +16,7 @@ from chainid.records.simulate import grid_plan, simulate
 from transient_forms import chain_set
 
 
+@pytest.mark.slow
 def test_compound_friction_on_a_softer_chain():
     def fric(t, x, xd):
         from chainid.model.effects import stick_slip
@@ -29,6 +30,7 @@ def test_compound_friction_on_a_softer_chain():
     assert p["friction.F_c"] == pytest.approx(60.0, rel=0.10)
 
 
+@pytest.mark.slow
 def test_drift_is_flagged_non_stationary():
     # a force sensor drifting by 80 N over each 20 s record (16 σ), no other effect
     model, recs = chain_set("none", {}, extra=lambda t, x, xd: 80.0 * t / t[-1], seed=20)
@@ -38,6 +40,7 @@ def test_drift_is_flagged_non_stationary():
     assert res["verdict"] == "unexplained"
 
 
+@pytest.mark.slow
 def test_no_drift_is_stationary():
     model, recs = chain_set("friction", {"F_c": 60.0}, seed=30)
     res = diagnose(recs, ["r2"], model, quiet=True)
@@ -45,6 +48,7 @@ def test_no_drift_is_stationary():
     assert not any(f["kind"] == "chatter" for f in res["where"])
 
 
+@pytest.mark.slow
 def test_stick_slip_chatter_is_reported_not_named():
     # friction plus a 30 Hz, 40 N oscillation while the contact slides (|ẋ| > 0.3 of its peak): chatter
     def chatter(t, x, xd):
@@ -67,6 +71,7 @@ def _harmonic(model):
                     force_fn=parse_effect("hysteresis:F_h=80,x_h=0.02", model))
 
 
+@pytest.mark.slow
 def test_transfer_harmonic_to_random_and_back():
     model, rand = chain_set("hysteresis", {"F_h": 80.0, "x_h": 0.02}, seed=50)
     harm = _harmonic(model)
@@ -80,6 +85,7 @@ def test_transfer_harmonic_to_random_and_back():
     assert {r["route"] for r in back["transfer"]["tests"]} == {"harmonic"}
 
 
+@pytest.mark.slow
 def test_transfer_refused_for_a_wrong_chain():
     # fitted on friction records, scored on hysteresis records with a long travel: the chain does not transfer
     model, fr = chain_set("friction", {"F_c": 60.0}, seed=60)
@@ -89,6 +95,7 @@ def test_transfer_refused_for_a_wrong_chain():
     assert res["transfer"]["transfers"] is False, res["transfer"]["verdict_text"]
 
 
+@pytest.mark.slow
 def test_mixed_set_one_problem():
     model, rand = chain_set("hysteresis", {"F_h": 80.0, "x_h": 0.02}, seed=80)
     harm = _harmonic(model)
@@ -107,6 +114,7 @@ def test_holdout_blocks_bad_values():
         diagnose(recs, [], model)
 
 
+@pytest.mark.slow
 def test_coulomb_friction_behind_a_rest_lead_in_is_named_on_a_held_out_record() -> None:
     """The benchmark's small random friction case: its held-out record r4 starts with 323 samples at rest.
     Before the rest rule the noise's velocity sign put ±F_c on them (310 of 3970 samples with the wrong
@@ -140,6 +148,7 @@ CASES = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("effect,p,expect", CASES, ids=[c[0] for c in CASES])
 def test_random_excitation_recovers_each_family(effect, p, expect):
     model, recs = chain_set(effect, p)

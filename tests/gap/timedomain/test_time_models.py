@@ -33,6 +33,7 @@ def sweep_set(tmp_path_factory):
     return case, recs, dev, path
 
 
+@pytest.mark.slow
 def test_a_time_domain_diagnosis_carries_its_models(sweep_set) -> None:
     case, recs, dev, _ = sweep_set
     with warnings.catch_warnings():
@@ -50,6 +51,7 @@ def test_a_time_domain_diagnosis_carries_its_models(sweep_set) -> None:
     assert res["model"]["damping"]["form"] == "viscous"
 
 
+@pytest.mark.slow
 def test_predict_reproduces_the_time_diagnosis_numbers(sweep_set) -> None:
     case, recs, dev, _ = sweep_set
     with warnings.catch_warnings():
@@ -66,6 +68,7 @@ def test_predict_reproduces_the_time_diagnosis_numbers(sweep_set) -> None:
     assert held["nrmse_model"] == pytest.approx(res["steps"][-1]["nrmse_holdout"], rel=1e-9)
 
 
+@pytest.mark.slow
 def test_cli_saves_a_time_domain_model_that_predict_simulate_and_dynamics_run(sweep_set, tmp_path, capsys) -> None:
     case, _, _, data = sweep_set
     m, d = tmp_path / "m.toml", tmp_path / "d.json"

@@ -15,6 +15,7 @@ from repo_paths import REALDATA
 EQ = REALDATA / "friction-damper" / "brfd_ds2_earthquake_imperialvalley.csv"
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not EQ.is_file(), reason="shared real data not present")
 def test_earthquake_records_are_diagnosed_in_the_time_domain():
     from chainid.records.files import read_records

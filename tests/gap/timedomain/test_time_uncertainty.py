@@ -22,6 +22,7 @@ def test_larger_sd_takes_the_larger_per_parameter_and_none_for_pinned():
     assert got == {"a": 1.0, "b": 2.0, "c": 0.7}
 
 
+@pytest.mark.slow
 def test_the_lag_sd_covers_the_simulated_lag_on_a_sweep():
     case = next(c for c in time_grid() if c["seed"] == 101028)
     recs, dev = records(case)
