@@ -22,10 +22,11 @@ def verify_checks():
     return {c.equation: c for c in verify.run_checks()}
 
 
-# Under pytest-xdist (``--dist loadgroup`` in pyproject.toml) each test file goes to one worker as a whole, so a
-# module-scoped fixture (a simulation, a diagnosis) is built once, not once per worker.  The SymPy files of
-# tests/derive/ form one group: the verification and the emission share SymPy's caches in one process (the
-# emission after the verification takes ~1 s instead of ~30 s).
+# Under pytest-xdist (``-n auto --dist loadfile`` in pyproject.toml) each test file goes to one worker as a whole,
+# so a module-scoped fixture (a simulation, a diagnosis) is built once, not once per worker, and tests/derive/ goes
+# to one worker as a whole: the SymPy verification and emission share SymPy's caches in one process (the emission
+# after the verification takes ~1 s instead of ~30 s).  (xdist's own ``loadgroup`` does not group under pytest 9:
+# it renames node ids through ``item._nodeid``, which pytest 9 no longer reads.)
 SAME_WORKER = {"derive": "derive"}
 
 
@@ -34,19 +35,32 @@ def _group(item: pytest.Item) -> str:
     return SAME_WORKER.get(rel.parts[0], rel.as_posix())
 
 
+@pytest.hookimpl(tryfirst=True, optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log):  # noqa: ANN001, ANN201
+    """``--dist loadfile`` with the folders of SAME_WORKER as one unit each; the units in collection order."""
+    if config.getvalue("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    class FileGroups(LoadFileScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            path = nodeid.split("::", 1)[0]
+            parts = path.split("/")
+            if len(parts) > 2 and parts[0] == "tests" and parts[1] in SAME_WORKER:
+                return SAME_WORKER[parts[1]]
+            return path
+
+    return FileGroups(config, log)
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Each test file is one xdist group (tests/derive/ one together), and the groups that hold slow tests go first,
-    the SymPy group before all: the long tests start while the short ones fill the other worker, so no worker is
-    left alone with a long test at the end.  The order within a group is kept."""
-    groups = {}
+    """The test files (tests/derive/ as one) that hold slow tests go first, the SymPy ones before all: under xdist
+    the long tests start while the short ones fill the other worker, so no worker is left alone with a long test
+    at the end.  The order within a file is kept."""
+    groups: dict[str, list[pytest.Item]] = {}
     for it in items:
         groups.setdefault(_group(it), []).append(it)
-    if config.pluginmanager.hasplugin("xdist") and config.getoption("dist", "no") == "loadgroup":
-        for g, its in groups.items():
-            for it in its:
-                if it.get_closest_marker("xdist_group") is None:
-                    it.add_marker(pytest.mark.xdist_group(g))
 
     def rank(g: str) -> tuple[int, int]:
         slow = sum(1 for it in groups[g] if it.get_closest_marker("slow"))
