@@ -23,39 +23,48 @@ def verify_checks():
 
 
 # Under pytest-xdist (``-n auto --dist loadfile`` in pyproject.toml) each test file goes to one worker as a whole,
-# so a module-scoped fixture (a simulation, a diagnosis) is built once, not once per worker, and tests/derive/ goes
-# to one worker as a whole: the SymPy verification and emission share SymPy's caches in one process (the emission
-# after the verification takes ~1 s instead of ~30 s).  (xdist's own ``loadgroup`` does not group under pytest 9:
-# it renames node ids through ``item._nodeid``, which pytest 9 no longer reads.)
-SAME_WORKER = {"derive": "derive"}
+# so a module-scoped fixture (a simulation, a diagnosis) is built once, not once per worker.  The files that run
+# SymPy in the test process go to one worker together: the verification is cached for the process
+# (chainid.derive.verify.run_checks) and the derivation's expressions too (lru_cache), so the emission after the
+# verification takes ~1 s instead of ~30 s, and `chainid report`'s own check of the paper ~10 s instead of ~90 s.
+# (xdist's ``loadgroup`` does not group under pytest 9: it renames node ids through ``item._nodeid``, which
+# pytest 9 no longer reads.)
+SAME_WORKER = {  # path under the repository (a folder ends with /) -> the unit it runs in
+    "tests/derive/": "sympy",
+    "tests/report/test_report_command.py": "sympy",
+    "tests/cli/test_json_stdout.py": "sympy",
+    "tests/cli/test_cli_generate.py": "sympy",
+    "tests/model/test_practice.py": "sympy",
+}
+
+
+def _unit(path: str) -> str:
+    """The scheduling unit of a test file given by its path relative to the repository: its SAME_WORKER group or
+    the file itself."""
+    return next((g for p, g in SAME_WORKER.items() if path == p or (p.endswith("/") and path.startswith(p))), path)
 
 
 def _group(item: pytest.Item) -> str:
-    rel = Path(str(item.path)).relative_to(REPO / "tests")
-    return SAME_WORKER.get(rel.parts[0], rel.as_posix())
+    return _unit(Path(str(item.path)).relative_to(REPO).as_posix())
 
 
 @pytest.hookimpl(tryfirst=True, optionalhook=True)
 def pytest_xdist_make_scheduler(config: pytest.Config, log):  # noqa: ANN001, ANN201
-    """``--dist loadfile`` with the folders of SAME_WORKER as one unit each; the units in collection order."""
+    """``--dist loadfile`` with each SAME_WORKER group as one unit; the units in collection order."""
     if config.getvalue("dist") != "loadfile":
         return None
     from xdist.scheduler import LoadFileScheduling
 
     class FileGroups(LoadFileScheduling):
         def _split_scope(self, nodeid: str) -> str:
-            path = nodeid.split("::", 1)[0]
-            parts = path.split("/")
-            if len(parts) > 2 and parts[0] == "tests" and parts[1] in SAME_WORKER:
-                return SAME_WORKER[parts[1]]
-            return path
+            return _unit(nodeid.split("::", 1)[0])
 
     return FileGroups(config, log)
 
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """The test files (tests/derive/ as one) that hold slow tests go first, the SymPy ones before all: under xdist
+    """The units (files, or a SAME_WORKER group) that hold slow tests go first, the SymPy one before all: under xdist
     the long tests start while the short ones fill the other worker, so no worker is left alone with a long test
     at the end.  The order within a file is kept."""
     groups: dict[str, list[pytest.Item]] = {}
@@ -64,6 +73,6 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
     def rank(g: str) -> tuple[int, int]:
         slow = sum(1 for it in groups[g] if it.get_closest_marker("slow"))
-        return (0 if g == "derive" else 1 if slow else 2), -slow
+        return (0 if g == "sympy" else 1 if slow else 2), -slow
 
     items[:] = [it for g in sorted(groups, key=rank) for it in groups[g]]
