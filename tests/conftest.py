@@ -44,8 +44,12 @@ def _unit(path: str) -> str:
     return next((g for p, g in SAME_WORKER.items() if path == p or (p.endswith("/") and path.startswith(p))), path)
 
 
+def _group_path(item: pytest.Item) -> str:
+    return Path(str(item.path)).relative_to(REPO).as_posix()
+
+
 def _group(item: pytest.Item) -> str:
-    return _unit(Path(str(item.path)).relative_to(REPO).as_posix())
+    return _unit(_group_path(item))
 
 
 @pytest.hookimpl(tryfirst=True, optionalhook=True)
@@ -75,4 +79,6 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         slow = sum(1 for it in groups[g] if it.get_closest_marker("slow"))
         return (0 if g == "sympy" else 1 if slow else 2), -slow
 
+    if "sympy" in groups:  # the verification first: the others then find SymPy's results cached
+        groups["sympy"].sort(key=lambda it: not _group_path(it).startswith("tests/derive/"))
     items[:] = [it for g in sorted(groups, key=rank) for it in groups[g]]
