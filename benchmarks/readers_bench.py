@@ -16,6 +16,15 @@ Usage (from the repository root)::
 
 Each number is the median of ``--repeat`` runs (default 3; reads in fresh processes).  Every ratio is computed
 from numbers measured in the same run.
+
+**Ragged DAQ text** (``--daq MB``, only this part): a DAQ file as the MR damper's logger writes it (6 metadata
+lines, the names ``Sample Number, Date/Time, CHANNEL0, CHANNEL1, Events``, rows of 4 fields and a 5th ``Events``
+field on event rows only: ``DAQ Start``, ``DAQ Pause`` every 10 000 rows) read with the MR reader profile (header
+block, ragged rows, split at the events, zero offset, gains, t from the sampling interval) against a clean CSV of
+the same rows (4 fields each, one name line, ``--fs``) read by the same ``read_any``: wall and CPU, peak RSS, and
+the ratio clean/ragged time (target >= 0.5 at 1 GB)::
+
+    python benchmarks/readers_bench.py --daq 1000      # two ~1 GB files
 """
 from __future__ import annotations
 
@@ -75,15 +84,91 @@ def read_in_child(path: Path, which: str) -> dict:
     return run_child(_CHILD, [str(ROOT), str(path), which], str(ROOT))
 
 
+_DAQ_CHILD = r"""
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+from chainid.records.reader import read_any
+from chainid.records.spec import spec_from_options
+import pyarrow.csv
+""" + PEAK_RSS_BEFORE + r"""
+if sys.argv[3] == "ragged":
+    spec = spec_from_options(skip_rows=6, columns="x=CHANNEL1,F=CHANNEL0", split_events="DAQ Pause",
+                             zero="x=first:20", scale="x=10,F=980.665")
+else:
+    spec = spec_from_options(columns="x=CHANNEL1,F=CHANNEL0", fs=200.0, scale="x=10,F=980.665")
+t0, c0 = time.perf_counter(), time.process_time()
+recs = read_any(sys.argv[2], spec)
+dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+""" + PEAK_RSS_AFTER + r"""
+print(json.dumps({"base": base, "peak": peak, "seconds": dt, "cpu_seconds": cpu, "tests": len(recs),
+                  "rows": sum(r.t.size for r in recs), "checksum": float(sum(float(r.F.sum()) for r in recs))}))
+"""
+
+
+def write_daq(path: Path, clean: Path, mb: float) -> int:
+    """A ragged DAQ file of about ``mb`` MB and the clean CSV of the same rows; returns the rows."""
+    rng = np.random.default_rng(7)
+    n_blk = 10_000
+    i = np.arange(n_blk)
+    v_x = -2.99 + 0.1 * np.sin(2 * np.pi * i / 200.0) + rng.normal(0, 1e-4, n_blk)
+    v_f = 0.8 * np.cos(2 * np.pi * i / 200.0) + rng.normal(0, 1e-3, n_blk)
+    rows = [f"{k + 1:10d},   04/29/2022 12:11:14.596 PM, {a:.4f}, {b:.4f}" for k, a, b in zip(i, v_f, v_x)]
+    body = "\r\n".join(rows[:-1]) + "\r\n" + rows[-1] + ", DAQ Pause\r\n"
+    first = rows[0] + ", DAQ Start\r\n" + "\r\n".join(rows[1:-1]) + "\r\n" + rows[-1] + ", DAQ Pause\r\n"
+    clean_body = "\r\n".join(rows) + "\r\n"
+    n = max(1, int(mb * 1e6 / len(body)))
+    head = ("Header Size:  7\r\nVersion:  2\r\nSampling Interval:  0.005\r\nSampling Rate:  200\r\n"
+            f"Sample Count:  {n * n_blk}\r\nDevice Serial Number:  0\r\n"
+            "Sample Number, Date/Time, CHANNEL0, CHANNEL1, Events\r\n")
+    with path.open("w", newline="") as fh:
+        fh.write(head + first)
+        for _ in range(n - 1):
+            fh.write(body)
+    with clean.open("w", newline="") as fh:
+        fh.write("Sample Number,Date/Time,CHANNEL0,CHANNEL1\r\n")
+        for _ in range(n):
+            fh.write(clean_body)
+    return n * n_blk
+
+
+def daq_main(mb: float, repeat: int) -> dict:
+    """The ragged-DAQ part (see the module docstring)."""
+    res: dict = {}
+    with tempfile.TemporaryDirectory(dir=os.environ.get("TMPDIR")) as d:
+        ragged, clean = Path(d) / "daq.txt", Path(d) / "clean.csv"
+        rows = write_daq(ragged, clean, mb)
+        for which, path in (("clean", clean), ("ragged", ragged)):
+            ms = [run_child(_DAQ_CHILD, [str(ROOT), str(path), which], str(ROOT)) for _ in range(repeat)]
+            m = {k: float(np.median([x[k] for x in ms])) for k in ms[0]}
+            size = path.stat().st_size
+            res[which] = {**m, "file_bytes": size, "peak_over_file": m["peak"] / size,
+                          "mb_per_s": size / 1e6 / m["seconds"]}
+            print(f"read the {which} file ({size / 1e6:.0f} MB, {rows:,d} rows, {int(m['tests'])} test(s)): "
+                  f"{m['seconds']:.2f} s wall / {m['cpu_seconds']:.2f} s CPU ({size / 1e6 / m['seconds']:.0f} MB/s), "
+                  f"peak RSS {m['peak'] / size:.2f}x the file", flush=True)
+        sp = res["clean"]["seconds"] / res["ragged"]["seconds"]
+        cp = res["clean"]["cpu_seconds"] / res["ragged"]["cpu_seconds"]
+        res["ratio_wall"], res["ratio_cpu"] = sp, cp
+        print(f"ragged DAQ speed / clean CSV speed: {sp:.2f} wall, {cp:.2f} CPU (target >= 0.5: "
+              f"{'PASS' if sp >= 0.5 else 'MISS'})")
+    return res
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rows", type=int, default=10_000_000, help="total rows (10 tests)")
+    ap.add_argument("--daq", type=float, metavar="MB", help="only the ragged-DAQ comparison, files of about MB MB")
     ap.add_argument("--repeat", type=int, default=3, help="runs of each measurement (median; default 3)")
     ap.add_argument("--json", metavar="FILE", help="write the numbers as JSON (refuses to overwrite)")
     args = ap.parse_args(argv)
     if args.json and Path(args.json).exists():
         print(f"error: {args.json!r} exists; refusing to overwrite it", file=sys.stderr)
         return 2
+    if args.daq:
+        res = daq_main(args.daq, args.repeat)
+        if args.json:
+            Path(args.json).write_text(json.dumps(res, indent=2) + "\n")
+        return 0
     recs = [shaker(f"T{k}", args.rows // 10, k) for k in range(10)]
     rows = sum(r.t.size for r in recs)
     res: dict = {"rows": rows}

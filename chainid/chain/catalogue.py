@@ -101,7 +101,10 @@ def format_size(v: float) -> str:
 
 
 def _parse_options(parts: list[str], name: str) -> dict[str, Any]:
+    """The ``key=value`` options of a preset name; each key at most once (a repeated key, in any case, is an
+    error: ``studless:76:n=32:n=64`` would otherwise silently mean n = 64)."""
     opts: dict[str, Any] = {}
+    raw: dict[str, str] = {}
     for p in parts:
         if "=" not in p:
             raise ValueError(f"preset {name!r}: option {p!r} is invalid; use key=value with keys {sorted(_OPTIONS)}")
@@ -109,6 +112,10 @@ def _parse_options(parts: list[str], name: str) -> dict[str, Any]:
         k = _OPTION_KEYS.get(k.lower(), k)
         if k not in _OPTIONS:
             raise ValueError(f"preset {name!r}: unknown option {k!r}; valid options are {sorted(_OPTIONS)}")
+        if k in raw:
+            raise ValueError(f"preset {name!r}: option {k!r} is given twice ({k}={raw[k]} and {k}={v}); "
+                             "valid: each option at most once")
+        raw[k] = v
         if k == "grade":
             opts[k] = v
             continue
@@ -132,7 +139,12 @@ def dimensions(name: str, n: int | None = None, grade: str | None = None) -> dic
     Raises
     ------
     ValueError
-        Unknown family or size, d outside the family's range, bad option.
+        Unknown family or size, d outside the family's range, bad or repeated option.
+
+    Notes
+    -----
+    An explicit ``n`` or ``grade`` argument beats the name's ``:n=`` / ``:grade=`` option (the caller's
+    choice is the later, more specific one); ``chainid chains --grade`` says so in a note.
     """
     text = str(name).strip()
     parts = text.split(":")

@@ -32,7 +32,10 @@ def audit_data(args: argparse.Namespace, model_of: Callable[[argparse.Namespace]
     from chainid.damping.audit_data import audit_records, format_audit_data
     from chainid.damping.identify import linear_model_from_records
 
-    records = load_records(args, args.data, chain_for_checks(args))
+    from chainid.records.validate import check_channels
+
+    read_doc: dict[str, Any] = {}
+    records = load_records(args, args.data, chain_for_checks(args), doc=read_doc, check=check_channels)
     model = model_of(args)
     if model is None:
         model = linear_model_from_records(records, float(args.mass or 0.0), None, steady_tol=steady_tol)
@@ -41,4 +44,6 @@ def audit_data(args: argparse.Namespace, model_of: Callable[[argparse.Namespace]
     for e in rep["excluded"]:
         print(f"excluded test {e['test']}: {e['reason']}", file=sys.stderr, flush=True)
     rep["data"] = str(args.data)
+    if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
+        rep.setdefault("warnings", []).extend(read_doc["warnings"])
     return rep, format_audit_data(rep)

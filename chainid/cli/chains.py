@@ -19,20 +19,35 @@ __all__ = ["add_subparsers", "cmd_chains", "warn_loads"]
 def warn_loads(F_max_N: float, chain: Any, doc: dict | None = None) -> list[str]:
     """Print :func:`chainid.model.practice.load_warnings` to stderr (and add them to ``doc["warnings"]``).
 
-    The loads are those of the chain's own grade (:attr:`chainid.chain.spec.ChainSpec.grade`); F_max in N.
+    The loads are those of the chain's own grade (:attr:`chainid.chain.spec.ChainSpec.grade`); F_max in N: the
+    largest force of the request or record (the limits are exceeded by the largest force, never the smallest).
     """
+    from chainid.infra.runlog import warn
     from chainid.model.practice import load_warnings
 
     msgs = load_warnings(F_max_N, chain)
     for m in msgs:
-        print(f"warning: {m}", file=sys.stderr)
+        warn(m)
     if doc is not None and msgs:
         doc.setdefault("warnings", []).extend(msgs)
     return msgs
 
 
-def _selected(args: argparse.Namespace) -> list[Any]:
-    """The presets to show: the names given (any size in range), else the listed sizes of the families."""
+def _named_grade(name: str) -> str | None:
+    """The ``:grade=`` option written in a preset name, or None."""
+    for part in str(name).split(":")[2:]:
+        k, eq, v = part.partition("=")
+        if eq and k.strip().lower() == "grade":
+            return v.strip()
+    return None
+
+
+def _selected(args: argparse.Namespace, notes: list[str] | None = None) -> list[Any]:
+    """The presets to show: the names given (any size in range), else the listed sizes of the families.
+
+    ``--grade`` beats a name's own ``:grade=`` option (as an explicit ``n`` beats ``:n=``); where the two
+    differ a note saying so is appended to ``notes``.
+    """
     from chainid.chain import presets
 
     if args.names:
@@ -41,6 +56,11 @@ def _selected(args: argparse.Namespace) -> list[Any]:
             p = presets.resolve(name, grade=args.grade)
             if args.family and p.family not in args.family:
                 raise ValueError(f"preset {name!r} is of family {p.family!r}, not of --family {args.family}")
+            own = _named_grade(name)
+            if args.grade is not None and own is not None and presets.resolve(name).grade != p.grade:
+                if notes is not None:
+                    notes.append(f"--grade {args.grade} replaces the grade {own} written in {name!r}: "
+                                 f"{p.name} is listed as grade {p.grade}")
             out.append(p)
         return out
     fams = tuple(args.family) if args.family else presets.FAMILIES
@@ -68,8 +88,13 @@ def cmd_chains(args: argparse.Namespace) -> int:
     from chainid.model.practice import breaking_load_N, proof_load_N
 
     check_json_target(args.json, args.force)
-    items = _selected(args)
+    notes: list[str] = []
+    items = _selected(args, notes)
+    for m in notes:
+        print(f"chainid chains: note: {m}", file=sys.stderr)
     doc: dict[str, Any] = {"presets": [], "default_n": presets.data()["defaults"]["n"]}
+    if notes:
+        doc["notes"] = notes
     for p in items:
         c = p.chain
         doc["presets"].append({"name": p.name, "family": p.family, "d_mm": c.d, "pitch_mm": c.pitch,

@@ -37,13 +37,15 @@ OUTPUT_OPTIONS = (("json", "--json"), ("write_side", "--write-side"), ("out", "O
 
 
 def check_io(args: Any) -> None:
-    """Refuse, before any work, an output file of the command that is one of its input files.
+    """Refuse, before any work, an output file of the command that is one of its input files, or two outputs
+    that are one file (``diagnose --save-model X.json --json X.json``).
 
     Every command's options are looked up by name (:data:`INPUT_OPTIONS`, :data:`OUTPUT_OPTIONS`; the step
-    files of ``--save-steps`` too); the check itself is :func:`chainid.infra.fileio.check_inputs_not_outputs`
-    (the same file by ``os.path.samefile``: hard and symbolic links included).
+    files of ``--save-steps`` too); the checks themselves are :func:`chainid.infra.fileio.check_inputs_not_outputs`
+    and :func:`chainid.infra.fileio.check_outputs_distinct` (the same file by its real path or
+    ``os.path.samefile``: hard and symbolic links included).
     """
-    from chainid.infra.fileio import check_inputs_not_outputs
+    from chainid.infra.fileio import check_inputs_not_outputs, check_outputs_distinct
 
     def given(pairs: Any) -> list[tuple[str, Any]]:
         return [(opt, getattr(args, a)) for a, opt in pairs if isinstance(getattr(args, a, None), str)]
@@ -53,4 +55,5 @@ def check_io(args: Any) -> None:
         from chainid.cli.model import step_paths
 
         outs += [("--save-steps", p) for p in step_paths(args.save_model, 4)]
+    check_outputs_distinct(outs)
     check_inputs_not_outputs(outs, given(INPUT_OPTIONS))

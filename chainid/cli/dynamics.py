@@ -11,6 +11,7 @@ other commands.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 import warnings
@@ -46,6 +47,18 @@ def _element(text: str) -> tuple[float, float]:
                                          "2000:150; --dahl F_H_N:X_H_MM, e.g. 120:0.05)") from None
 
 
+def _covariate(text: str) -> tuple[str, float]:
+    name, eq, value = text.partition("=")
+    try:
+        v = float(value)
+    except ValueError:
+        v = math.nan
+    if not (eq and name.strip() and math.isfinite(v)):
+        raise argparse.ArgumentTypeError(f"--segment-covariate {text!r}: expected NAME=VALUE with a finite number, "
+                                         "e.g. i=1.5")
+    return name.strip(), v
+
+
 def _load(text: str):
     from chainid.dynamics import LoadStep
 
@@ -71,14 +84,19 @@ def add_subparsers(subparsers: Any) -> None:
     g.add_argument("--damping", type=float, default=0.0,
                    help="viscous-equivalent c_e of the tested specimen [N·s/mm] (default 0)")
     g.add_argument("--segment-model", dest="segment_model", metavar="M.toml",
-                   help="diagnosed model file of the tested specimen: its chain, kernel variant and "
-                        "time-domain damping go into every segment, scaled in series (see "
+                   help="diagnosed model file of the tested specimen: its chain, kernel (with the stiffness-side "
+                        "effects), effects and time-domain damping go into every segment, scaled in series (see "
                         "chainid.dynamics.segment_model)")
     g.add_argument("--segment-omega", dest="seg_omega", type=float, metavar="RAD_S",
-                   help="operating circular frequency of a model file's damping law (e.g. the first natural "
-                        "frequency or the polygon frequency 2*pi*v/p)")
+                   help="operating circular frequency of a model file's damping law or feature law (e.g. the first "
+                        "natural frequency or the polygon frequency 2*pi*v/p)")
     g.add_argument("--segment-amplitude", dest="seg_amplitude", type=float, metavar="MM",
-                   help="operating elongation amplitude of the specimen for a model file's damping law [mm]")
+                   help="operating elongation amplitude of the specimen for a model file's damping law or feature law "
+                        "[mm]")
+    g.add_argument("--segment-covariate", dest="seg_cov", action="append", type=_covariate, default=[],
+                   metavar="NAME=VALUE",
+                   help="operating condition of a model file's covariate terms (e.g. i=1.5 for a coil current in A; "
+                        "repeatable; required for each covariate the model depends on)")
     g.add_argument("--damping-ref-links", dest="ref_links", type=int, metavar="N",
                    help="links of the specimen the damping data belong to (default: the chain file's n)")
     g.add_argument("--hysteresis", action="append", type=_element, default=[], metavar="K:F",
@@ -150,6 +168,13 @@ def _check_args(args: argparse.Namespace, sweeping: bool) -> None:
     if sweeping and args.plots:
         raise ValueError(f"--plots = {args.plots!r} is invalid with a sweep: figures are drawn for a single run "
                          "(use --json for the sweep table)")
+    seen: set[str] = set()
+    for name, _ in args.seg_cov:
+        if name in seen:
+            raise ValueError(f"--segment-covariate {name!r} is given twice; valid: once per covariate")
+        seen.add(name)
+    if args.seg_cov and not args.segment_model:
+        raise ValueError("--segment-covariate needs --segment-model (the model file whose covariate terms it resolves)")
     if args.segment_model:
         given = [o for o, v in (("--chain", args.chain), ("--variant", args.variant != "paper"),
                                 ("--damping", args.damping), ("--damping-ref-links", args.ref_links),
@@ -178,6 +203,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
 
     from chainid.cli.chains import warn_loads
     from chainid.cli.common import write_json
+    from chainid.infra.runlog import warn
     from chainid.chain.spec import load_chain
     from chainid.dynamics import ChainLine, Drive, simulate
     from chainid.dynamics.modes import modes
@@ -192,7 +218,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
         from chainid.dynamics.segment_model import segment_kwargs
 
         seg, notes = segment_kwargs(args.segment_model, pretension_N=args.pretension, omega=args.seg_omega,
-                                    amplitude=args.seg_amplitude)
+                                    amplitude=args.seg_amplitude, covariates=dict(args.seg_cov))
         kw.update(seg)
         chain = kw["chain"]
         for m in notes:
@@ -226,8 +252,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
             _say(args, f"{r['pretension_N']:13.6g} {r['v']:8.4g} {r['n_masses']:5d} {r['peak_tension_N']:10.5g} "
                  f"{r['dynamic_factor']:10.4g} {r['drive_tension_ripple_N']:9.4g}")
             for m in r.get("warnings", []):
-                print(f"warning: case P = {r['pretension_N']:g} N, v = {r['v']:g} mm/s, N = {r['n_masses']}: {m}",
-                      file=sys.stderr)
+                warn(f"case P = {r['pretension_N']:g} N, v = {r['v']:g} mm/s, N = {r['n_masses']}: {m}")
     else:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # reported below from res.warnings
@@ -247,12 +272,12 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
              f"{eb['elastic']:.6g} + dissipated {eb['dissipated']:.6g} (balance error {eb['relative_error']:.2g} "
              f"at its worst, t = {eb['worst_t_s']:.4g} s)")
         for m in res.warnings:
-            print(f"warning: {m}", file=sys.stderr)
+            warn(m)
         doc.setdefault("warnings", []).extend(res.warnings)
         seen = {_limit_kind(m) for m in loads_before}
         for m in load_warnings(res.peak_tension, chain):  # limits the peak exceeds beyond those already named
             if _limit_kind(m) not in seen:
-                print(f"warning: peak tension: {m}", file=sys.stderr)
+                warn(f"peak tension: {m}")
                 doc["warnings"].append(f"peak tension: {m}")
         if args.plots:
             from chainid.dynamics import plots

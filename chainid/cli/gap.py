@@ -32,7 +32,8 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         from chainid.gap.diagnose import check_magnitudes
 
         chain = chain_for_checks(args)
-        recs = load_records(args, args.data, chain, check=check_magnitudes)
+        read_doc: dict[str, Any] = {}
+        recs = load_records(args, args.data, chain, doc=read_doc, check=check_magnitudes)
         if args.model == "linear":
             model = None
         else:
@@ -43,12 +44,26 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         holdout = [h for h in (args.holdout or "").split(",") if h.strip()]
         if args.holdout is None and not args.holdout_blocks:
             raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
-        other = load_records(args, args.validate, chain, check=check_magnitudes) if args.validate else None
-        res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
-                       allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
-                       holdout_blocks=args.holdout_blocks, validate=other)
-        if model is not None:  # loads beyond the elastic contact or the working load (as stiffness, identify)
-            from chainid.cli.chains import warn_loads
+        other = load_records(args, args.validate, chain, doc=read_doc, check=check_magnitudes, select=False) \
+            if args.validate else None
+        if args.resamples < 0:
+            raise ValueError(f"--resamples = {args.resamples} is invalid; valid range >= 0 (0: no resampling)")
+        import warnings
+
+        from chainid.infra.progress import tracking
+
+        with tracking("chainid diagnose", quiet=getattr(args, "quiet", False)) as stages, \
+                warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the diagnosis' warnings are in its result (printed, and in the JSON)
+            res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
+                           allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
+                           holdout_blocks=args.holdout_blocks, validate=other, mass_kg=args.mass,
+                           resamples=args.resamples, seed=args.seed)
+        res["timing_s"] = stages.times
+        if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
+            res.setdefault("warnings", []).extend(read_doc["warnings"])
+        if model is not None and not getattr(args, "not_a_chain", None):  # loads beyond the elastic contact or
+            from chainid.cli.chains import warn_loads  # the working load (as stiffness, identify)
 
             warn_loads(max(float(r.F.max()) for r in recs), model.chain, res)
         print(summary(res))
@@ -79,16 +94,35 @@ def check_workers(n: int | None) -> None:
         raise ValueError(f"--workers = {n} is invalid: valid range >= 1 (more than {MAX_WORKERS} are capped)")
 
 
+#: the simulated worlds of ``benchmark-gap --generator``
+GENERATORS = ("sim", "ode", "both")
+#: the sim generator's excitations when --excitations is not given
+SIM_EXCITATIONS = "harmonic,random,sweep,startup,quake,transfer"
+
+
+def _check_generator(args: argparse.Namespace) -> None:
+    if args.generator not in GENERATORS:
+        raise ValueError(f"--generator {args.generator!r} is unknown; valid: {', '.join(GENERATORS)}")
+    if args.generator == "ode" and (args.chain or args.excitations is not None):
+        raise ValueError("--chain and --excitations choose the sim generator's cases; the ODE world "
+                         "(--generator ode) has its own bases and excitations")
+    if args.seed < 0:
+        raise ValueError(f"--seed = {args.seed} is out of range; valid range >= 0")
+
+
 def cmd_benchmark(args: argparse.Namespace) -> int:
     from chainid.gap.benchmark.grid import run_benchmark
 
     try:
         check_workers(args.workers)
+        _check_generator(args)
+        if args.resamples != 0 and not 20 <= args.resamples <= 10000:
+            raise ValueError(f"--resamples = {args.resamples} is out of range; valid: 0 (none) or 20 to 10000")
         if args.json:  # before the grid runs (minutes)
             from chainid.infra.fileio import check_output_file
 
             check_output_file(args.json, force=args.force, what="--json")
-        exc = tuple(e.strip() for e in args.excitations.split(",") if e.strip())
+        exc = tuple(e.strip() for e in (args.excitations or SIM_EXCITATIONS).split(",") if e.strip())
         from chainid.gap.benchmark.grid import grid
 
         grid(True, 0, exc)  # an unknown excitation is refused before the run
@@ -97,9 +131,28 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
             from chainid.chain.spec import load_chain
 
             chain = load_chain(args.chain)
-        run_benchmark(small=args.small, json_path=args.json, overwrite=args.force, seed=args.seed,
-                      scheduler=args.scheduler, n_workers=args.workers, progress=not args.no_progress,
-                      excitations=exc, chain=chain)
+        both = args.generator == "both"
+        out = {}
+        if args.generator in ("sim", "both"):
+            if both:
+                print("== generator sim (the project's simulator) ==")
+            out["sim"] = run_benchmark(small=args.small, json_path=None if both else args.json, overwrite=args.force,
+                                       seed=args.seed, scheduler=args.scheduler, n_workers=args.workers,
+                                       progress=not args.no_progress, excitations=exc, chain=chain,
+                                       resamples=args.resamples)
+        if args.generator in ("ode", "both"):
+            from chainid.gap.benchmark.odeworld import run_world
+
+            if both:
+                print("\n== generator ode (the independent ODE world) ==")
+            out["ode"] = run_world(small=args.small, seed=args.seed, jobs=args.workers,
+                                   json_path=None if both else args.json, overwrite=args.force,
+                                   scheduler=args.scheduler, progress=not args.no_progress,
+                                   resamples=args.resamples)
+        if both and args.json:
+            from chainid.infra.fileio import write_json
+
+            write_json({"generator": "both", **out}, args.json, force=args.force, what="--json")
     except ValueError as exc:
         print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
         return 2
@@ -128,6 +181,12 @@ def add_subparsers(subparsers: Any) -> None:
                    choices=("auto", "polynomial", "viscous", "coulomb", "viscous+coulomb", "hysteretic"),
                    help="baseline damping law (default auto: Eq. 21 when the plan separates it, else the "
                         "leave-one-out best simple law)")
+    p.add_argument("--mass", type=float, default=None, metavar="KG",
+                   help="the moving mass of a linear base [kg], given instead of fitted (--model linear)")
+    p.add_argument("--resamples", type=int, default=200, metavar="N",
+                   help="resamples of the training tests and time blocks for the stability of every step and the "
+                        "90 %% intervals of every parameter (default 200; 0: none)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the resamples' draws (default 0)")
     p.add_argument("--allow-compression", dest="allow_compression", action="store_true",
                    help="accept compressive forces with the chain model (which carries none)")
     p.add_argument("--steady-tol", dest="steady_tol", type=float, default=None, metavar="TOL",
@@ -151,10 +210,14 @@ def add_subparsers(subparsers: Any) -> None:
     b.add_argument("--json", metavar="FILE", help="write the JSON summary")
     b.add_argument("--seed", type=int, default=0,
                    help="seed of the benchmark's random effects, noise and plans (default 0, the README's runs)")
-    b.add_argument("--excitations", default="harmonic,random,sweep,startup,quake,transfer", metavar="LIST",
-                   help="which excitations run, comma separated: harmonic (steady test plans), random, sweep, "
-                        "startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, score "
-                        "random, and back); default all")
+    b.add_argument("--generator", default="sim", choices=GENERATORS,
+                   help="which simulated world: sim (the project's simulator, default), ode (an independently "
+                        "written world: effects as ODE states integrated with LSODA, multisine/filtered-noise/chirp/"
+                        "harmonic excitations, force-driven resonant devices), both (each reported apart)")
+    b.add_argument("--excitations", default=None, metavar="LIST",
+                   help="sim generator: which excitations run, comma separated: harmonic (steady test plans), random, "
+                        "sweep, startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, "
+                        "score random, and back); default all")
     b.add_argument("--chain", metavar="FILE.toml|PRESET",
                    help="run every case on this chain (TOML file or preset, e.g. studless:76:grade=R4), its "
                         "displacements scaled to the 14x50 chain's nominal stress (default: the built-in 14x50 "
@@ -164,6 +227,9 @@ def add_subparsers(subparsers: Any) -> None:
                         "when dask is installed, else a process pool), processes, serial")
     b.add_argument("--workers", type=int, default=None,
                    help="worker processes (default: the machine's cores; at most the cases and 4 x cores, <= 64)")
+    b.add_argument("--resamples", type=int, default=0, metavar="N",
+                   help="resample every diagnosis N times (default 0: none; >= 20): the steps' stability and the "
+                        "percentile intervals, whose coverage of the truth the ode generator reports per effect")
     b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
     b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     b.set_defaults(func=cmd_benchmark)

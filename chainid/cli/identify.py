@@ -133,7 +133,10 @@ def cmd_identify(args: argparse.Namespace) -> int:
     # per-test analysis problems are reported (and the test left out) by identify_records
     from chainid.cli.readopts import chain_for_checks, load_records
 
-    records = load_records(args, args.data, chain_for_checks(args))
+    from chainid.records.validate import check_channels
+
+    read_doc: dict[str, Any] = {}
+    records = load_records(args, args.data, chain_for_checks(args), doc=read_doc, check=check_channels)
     if args.plots:
         from chainid.damping.plots import plot_names
 
@@ -192,8 +195,10 @@ def cmd_identify(args: argparse.Namespace) -> int:
         "law": None,
         "excluded": [{"test": e["test"], "reason": e["reason"]} for e in excluded],
     }
-    if getattr(model, "chain", None) is not None:  # record force beyond the chain's elastic/working range
-        from chainid.cli.chains import warn_loads
+    if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
+        out["warnings"] = list(read_doc["warnings"])
+    if getattr(model, "chain", None) is not None and not getattr(args, "not_a_chain", None):
+        from chainid.cli.chains import warn_loads  # record force beyond the chain's elastic/working range
 
         warn_loads(max(float(r.F.max()) for r in records), model.chain, out)
     if args.write_side:
@@ -270,7 +275,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     _check_simulate_options(args)
     plan = paper_plan() if args.plan in (None, "paper") else read_plan(args.plan)
     if args.model not in ("chain", "linear"):
-        return _simulate_model_file(args, plan)
+        from chainid.cli.model import simulate_model_file
+
+        return simulate_model_file(args, plan)
     if args.model == "linear" and args.k is None:
         raise ValueError("--model linear needs --k [N/mm] (and --x-ref [mm]) for simulation")
     model = _model(args)
@@ -301,28 +308,6 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     effect = f", effect {args.effect}" if args.effect else ""
     print(f"wrote {len(recs)} test(s) to {args.out} (law {law.name} {params}{effect}, noise x {args.noise_x} mm, "
           f"F {args.noise_F} N, seed {args.seed})")
-    return 0
-
-
-def _simulate_model_file(args: argparse.Namespace, plan: Sequence[Any]) -> int:
-    """``simulate --model M.toml``: records of the plan from an augmented model file."""
-    from chainid.model.modelfile import load_model
-    from chainid.records import write_records
-    from chainid.records.simulate import simulate_model
-
-    clash = [o for o, v in (("--effect", args.effect), ("--params", args.params), ("--k", args.k)) if v is not None]
-    if clash:
-        raise ValueError(f"--model {args.model!r} is a model file: {', '.join(clash)} do not apply (the file holds "
-                         "the effects, damping and base)")
-    model = load_model(args.model)
-    ramp = None if args.ramp_rate <= 0 else args.ramp_rate
-    recs = simulate_model(plan, model, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
-                          ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F,
-                          max_memory=args.max_memory * 1024**3)
-    write_records(args.out, recs, overwrite=args.force)
-    names = "+".join(n for n, _ in model.effects) or "no effects"
-    print(f"wrote {len(recs)} test(s) to {args.out} (model {args.model}: {names}, damping {model.damping.form}, "
-          f"delay {model.delay_s:g} s, noise x {args.noise_x} mm, F {args.noise_F} N, seed {args.seed})")
     return 0
 
 
@@ -374,7 +359,9 @@ def cmd_audit(args: argparse.Namespace) -> int:
             model = _model(args)
         except ImportError:
             model = None
-            print("warning: stiffness model unavailable; finding (c) without k_e", file=sys.stderr)
+            from chainid.infra.runlog import warn
+
+            warn("stiffness model unavailable; finding (c) without k_e")
         rep = audit(model)
         text = format_audit(rep)
     print(text)
@@ -486,7 +473,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     add_subparsers(sub)
     args = parser.parse_args(argv)
-    return int(args.func(args))
+    from chainid.infra.runlog import collecting
+
+    with collecting(args.command):  # warnings as in chainid.cli.main: once on stderr and in the JSON
+        return int(args.func(args))
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,4 +1,5 @@
-"""CLI: ``chainid predict MODEL DATA`` and the model-file outputs of ``diagnose`` (``--save-model``, ``--save-steps``).
+"""CLI: ``chainid predict MODEL DATA``, the model-file outputs of ``diagnose`` (``--save-model``, ``--save-steps``)
+and ``simulate --model M.toml`` (:func:`simulate_model_file`).
 
 ``chainid predict M.toml DATA.csv [--tests IDS] [--fitted-damping] [--json F] [--plots DIR]`` prints per-test
 and pooled NRMSE of the model file's baseline and of the model, and the shrinkage (see
@@ -13,7 +14,8 @@ import sys
 from pathlib import Path
 from typing import Any, Sequence
 
-#: figure names of ``predict --plots`` per test (overlay and residual over t and over x)
+#: figure names of ``predict --plots`` per test (overlay and residual over t and over x; the id made portable
+#: and injective by :func:`plot_name`)
 PLOT_NAME = "predict_{test}.png"
 
 
@@ -50,15 +52,43 @@ def save_models(res: dict[str, Any], path: str, save_steps: bool, data_file: str
     models = res["_models"]
     for m in models:
         m.info["provenance"] = prov
-    out = [save_model(models[-1], path, overwrite=force)]
+    out = [save_model(res.get("_model", models[-1]), path, overwrite=force)]
     if save_steps:
         out += [save_model(m, p, overwrite=force) for m, p in zip(models, step_paths(path, len(models)))]
     return out
 
 
+def simulate_model_file(args: argparse.Namespace, plan: Sequence[Any]) -> int:
+    """``simulate --model M.toml``: records of the plan from an augmented model file."""
+    from chainid.model.modelfile import load_model
+    from chainid.records import write_records
+    from chainid.records.simulate import simulate_model
+
+    given = getattr(args, "given", None)  # the options on the command line (chainid.cli.main), else by value
+    opts = (("--chain", "chain", args.chain is not None), ("--variant", "variant", args.variant != "paper"),
+            ("--law", "law", False), ("--params", "params", args.params is not None),
+            ("--effect", "effect", args.effect is not None), ("--k", "k", args.k is not None),
+            ("--x-ref", "x_ref", args.x_ref != 0.0), ("--mass", "mass", args.mass is not None))
+    clash = [o for o, dest, set_ in opts if (dest in given if given is not None else set_)]
+    if clash:
+        raise ValueError(f"--model {args.model!r} is a model file: {', '.join(clash)} cannot be given with it (the "
+                         "file holds the chain, its kernel variant, the effects, the damping, the base and the mass)")
+    model = load_model(args.model)
+    ramp = None if args.ramp_rate <= 0 else args.ramp_rate
+    recs = simulate_model(plan, model, seed=args.seed, n_cycles=args.cycles, samples_per_cycle=args.samples_per_cycle,
+                          ramp_rate=ramp, taper_cycles=args.taper_cycles, noise_x=args.noise_x, noise_F=args.noise_F,
+                          max_memory=args.max_memory * 1024**3)
+    write_records(args.out, recs, overwrite=args.force)
+    names = "+".join(n for n, _ in model.effects) or "no effects"
+    print(f"wrote {len(recs)} test(s) to {args.out} (model {args.model}: {names}, damping {model.damping.form}, "
+          f"delay {model.delay_s:g} s, noise x {args.noise_x} mm, F {args.noise_F} N, seed {args.seed})")
+    return 0
+
+
 def cmd_predict(args: argparse.Namespace) -> int:
     """``chainid predict``: a saved model on records → per-test and pooled NRMSE of baseline and model."""
     from chainid.infra.fileio import check_output_dir, check_output_file, write_json
+    from chainid.infra.runlog import warn
     from chainid.gap.modelio import predict
     from chainid.model.modelfile import load_model
 
@@ -69,14 +99,19 @@ def cmd_predict(args: argparse.Namespace) -> int:
             check_output_dir(args.plots, "--plots", (), force=args.force)
         model = load_model(args.model)
         from chainid.cli.readopts import load_records
+        from chainid.records.validate import check_channels
 
-        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None))
-        tests = [s.strip() for s in args.tests.split(",") if s.strip()] if args.tests else None
-        res = predict(model, recs, tests, fitted=args.fitted_damping, keep=bool(args.plots))
+        read_doc: dict[str, Any] = {}
+        recs = load_records(args, args.data, getattr(getattr(model, "base", None), "chain", None), doc=read_doc,
+                            check=check_channels)
+        if args.plots:  # the figures' names are known now (--tests applied by the reader): refuse before the work
+            check_output_dir(args.plots, "--plots", [plot_name(r.test) for r in recs], force=args.force)
+        res = predict(model, recs, None, fitted=args.fitted_damping, keep=bool(args.plots))
         for w in res["warnings"]:
             if getattr(args, "strict", False):
                 raise ValueError(f"{w} (--strict)")
-            print(f"chainid predict: warning: {w}", file=sys.stderr)
+            warn(w)
+        res["warnings"] = read_doc.get("warnings", []) + res["warnings"]  # reading's too (printed when read)
         print(_table(res))
         if args.json:
             write_json({k: v for k, v in res.items() if not k.startswith("_")}, args.json, force=args.force)
@@ -95,14 +130,24 @@ def _table(res: dict[str, Any]) -> str:
     def f(v: Any) -> str:
         return "-" if v is None else f"{v:.4g}"
 
-    rows = [f"{'test':>8}  {'mode':>12}  {'NRMSE base':>10}  {'NRMSE model':>11}  {'shrinkage':>9}"]
+    w = max([8, len("pooled")] + [len(str(r["test"])) for r in res["tests"]])  # the longest id sets the column
+    rows = [f"{'test':<{w}}  {'mode':>12}  {'NRMSE base':>10}  {'NRMSE model':>11}  {'shrinkage':>9}"]
     for r in res["tests"]:
-        rows.append(f"{r['test']:>8}  {r['mode']:>12}  {f(r['nrmse_baseline']):>10}  {f(r['nrmse_model']):>11}  "
+        rows.append(f"{r['test']:<{w}}  {r['mode']:>12}  {f(r['nrmse_baseline']):>10}  {f(r['nrmse_model']):>11}  "
                     f"{f(r['shrinkage']):>9}")
     p = res["pooled"]
-    rows.append(f"{'pooled':>8}  {'':>12}  {f(p['nrmse_baseline']):>10}  {f(p['nrmse_model']):>11}  "
+    rows.append(f"{'pooled':<{w}}  {'':>12}  {f(p['nrmse_baseline']):>10}  {f(p['nrmse_model']):>11}  "
                 f"{f(p['shrinkage']):>9}   (damping: {res['damping_used']})")
     return "\n".join(rows)
+
+
+def plot_name(test: str) -> str:
+    """File name of a test's figure: ``predict_<id>.png``, the id made portable by
+    :func:`chainid.infra.fileio.safe_filename` (an id it changes gets a hash of itself: "T 1", "T_1" and "T/1"
+    give three names, never one figure over another)."""
+    from chainid.infra.fileio import safe_filename
+
+    return safe_filename(str(test), prefix="predict_", suffix=".png")
 
 
 def plot_predictions(series: dict[str, Any], outdir: str, force: bool = False) -> list[Path]:
@@ -136,7 +181,7 @@ def plot_predictions(series: dict[str, Any], outdir: str, force: bool = False) -
         ax[1, 1].plot(x, F - Fm, ".", ms=2, label="model")
         ax[1, 1].set(xlabel="x [mm]", ylabel="residual [N]", title="residual over x")
         fig.tight_layout()
-        p = d / PLOT_NAME.format(test="".join(c if c.isalnum() or c in "-_." else "_" for c in str(test)))
+        p = d / plot_name(test)
         save_figure(fig, p, force=force, dpi=90)
         plt.close(fig)
         out.append(p)
@@ -150,7 +195,6 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("model", help="model file (TOML or JSON) written by diagnose --save-model")
     p.add_argument("data", help="records: CSV test,t,x,F (s, mm, N), or a file/directory/glob in the rig's layout "
                                 "(see the reading options)")
-    p.add_argument("--tests", metavar="IDS", help="only these test ids, comma separated (e.g. the held-out ones)")
     p.add_argument("--fitted-damping", dest="fitted_damping", action="store_true",
                    help="use the per-test c_e the law was fitted on for those tests (default: the law for every test)")
     p.add_argument("--json", metavar="FILE", help="write the JSON result")

@@ -72,7 +72,7 @@ def cmd_generate(args: argparse.Namespace) -> int:
     try:
         res = emit.generate(out, check=args.check)
     except RuntimeError as exc:  # SymPy version mismatch
-        print(f"chainid generate: {exc}", file=sys.stderr)
+        print(f"chainid generate: error: {exc}", file=sys.stderr)
         return 2
     for fname, status in res.items():
         print(f"{status:>9}  {out / fname}")
@@ -211,22 +211,36 @@ def _refuse_repeats(parser: argparse.ArgumentParser) -> None:
             action.__class__ = _once(type(action))
 
 
+def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
+    """The parser of subcommand ``command`` (its errors read ``chainid COMMAND: error: ...``)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction) and command in action.choices:
+            return action.choices[command]
+    return parser
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``chainid`` command."""
     parser = build_parser()
-    args = parser.parse_args(argv)
-    vars(args).pop("_given_once", None)  # (the bookkeeping of _refuse_repeats)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # named by the subcommand (argparse's own message would say "chainid: error:")
+        _subparser(parser, args.command).error(f"unrecognized arguments: {' '.join(extra)}")
+    # (the bookkeeping of _refuse_repeats): the options given on the command line, by destination, for commands
+    # that refuse an option that does not apply (simulate --model M.toml --chain P)
+    args.given = frozenset(vars(args).pop("_given_once", None) or ())
     args.argv = list(argv) if argv is not None else sys.argv[1:]  # the command line, for model-file provenance
     try:
         from chainid.cli.common import check_io
+        from chainid.infra.runlog import collecting
 
-        check_io(args)  # an output that is an input of the same run: refused before any work
-        if getattr(args, "json", None) == "-":  # the JSON alone on stdout, every other line on stderr
-            from chainid.infra.fileio import json_to_stdout
+        check_io(args)  # an output that is an input of the same run (or of another output): refused before any work
+        with collecting(args.command):  # warnings: once on stderr, and in every JSON the run writes
+            if getattr(args, "json", None) == "-":  # the JSON alone on stdout, every other line on stderr
+                from chainid.infra.fileio import json_to_stdout
 
-            with json_to_stdout():
-                return int(args.func(args) or 0)
-        return int(args.func(args) or 0)
+                with json_to_stdout():
+                    return int(args.func(args) or 0)
+            return int(args.func(args) or 0)
     except ValueError as exc:
         print(f"chainid {args.command}: error: {exc}", file=sys.stderr)
         return 2

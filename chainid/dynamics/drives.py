@@ -97,6 +97,15 @@ class Drive:
             return self.v * (math.pi / z) / math.sin(math.pi / z)
         return self.v if self.law == "ramp" else 0.0
 
+    def period(self, pitch: float) -> float:
+        """Period of the drive's excitation [s]: 2π/ω of a sine with A > 0, p/v̄ of the polygon effect; inf for
+        a ramp, a held end or a sine of zero amplitude (no periodic excitation)."""
+        if self.law == "sine" and self.A > 0:
+            return 2.0 * math.pi / self.omega
+        if self.law == "polygon":
+            return self.polygon_period(pitch)
+        return math.inf
+
     def polygon_period(self, pitch: float) -> float:
         """Period of the polygon excitation p/v̄ [s] (inf when v = 0)."""
         p = self.pitch if self.pitch is not None else pitch

@@ -37,7 +37,7 @@ import numpy as np
 from numba import njit
 
 from chainid.dynamics.drives import drive_state
-from chainid.dynamics.segments import stored_energy, tensions
+from chainid.dynamics.segments import segment_energy, segment_tensions
 
 __all__ = ["run", "explicit_core", "implicit_core"]
 
@@ -105,7 +105,8 @@ def _drive_work(us, vs, Ts, u, v, T, m0):
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
     """One Verlet step of length h [s] from state S into X; returns (dW, dD, peak, lowest tension)."""
-    (m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, last) = c
+    (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
+     last) = c
     us, vs, accs, zs, dvs, fes, Ts = S
     u, v, acc, z, dv, fe, T, Fk, ks, cs = X
     N = T.shape[0]
@@ -114,7 +115,8 @@ def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
         v[i] = vh
         u[i] = us[i] + h * vh
     u[0], v[0], _ = drive_state(t1, code, p)
-    dD, pk, low = tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, zs, dvs, z, dv, T, Fk, ks, cs, kind, False)
+    dD, pk, low = segment_tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, z, dv, T, Fk,
+                                   ks, cs, kind, False)
     dW = _drive_work(us, vs, Ts, u, v, T, m[0])
     if tens or load_node.shape[0] > 0:
         _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, False)
@@ -134,7 +136,8 @@ def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
 @njit(cache=True, fastmath=_FM, error_model="numpy")
 def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
     """One Newmark (sub-)step by Newton's method; returns (converged, dW, dD, peak, lowest tension, iterations)."""
-    (m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, nf) = c
+    (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
+     nf) = c
     us, vs, accs, zs, dvs, fes, Ts = S
     u, v, acc, z, dv, fe, T, Fk, ks, cs = X
     lo, di, up, r, dx = lin
@@ -149,7 +152,8 @@ def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
         for i in range(1, nf + 1):
             u[i] = us[i] + h * vs[i] + 0.25 * h * h * (accs[i] + acc[i])
             v[i] = vs[i] + 0.5 * h * (accs[i] + acc[i])
-        dD, pk, low = tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, zs, dvs, z, dv, T, Fk, ks, cs, 0, True)
+        dD, pk, low = segment_tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, z, dv, T,
+                                       Fk, ks, cs, 0, True)
         _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, True)
         rmax = 0.0
         for i in range(1, nf + 1):
@@ -177,7 +181,8 @@ def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
 
 
 @njit(cache=True)
-def _record(k, t, S, m, epre, cl, ch, hf, hx, hd, code, p, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out):
+def _record(k, t, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D, t_out, T_out, Fd_out, u_out, v_out,
+            en_out):
     us, vs, accs, zs, dvs, fes, Ts = S
     t_out[k] = t
     T_out[k, :] = Ts
@@ -189,22 +194,24 @@ def _record(k, t, S, m, epre, cl, ch, hf, hx, hd, code, p, W, D, t_out, T_out, F
         ek += 0.5e-3 * m[i] * vs[i] * vs[i]
     en_out[k, 0] = W
     en_out[k, 1] = ek
-    en_out[k, 2] = stored_energy(us, epre, cl, ch, hf, hx, hd, zs)
+    en_out[k, 2] = segment_energy(us, epre, cl, ch, hf, hx, hd, sp, ext, zs)
     en_out[k, 3] = D
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
-        dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, dt_explicit, t_out, T_out, Fd_out, u_out, v_out,
-        en_out, stats, kind=0):
+def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens,
+        Ft, kt, code, p, dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, dt_explicit, t_out, T_out, Fd_out,
+        u_out, v_out, en_out, stats, kind=0, budget=0.0):
     """Integrate ``n_steps`` steps of ``dt`` [s] (see the module docstring); returns (status, peak [N]).
 
     status 0: done; 1: non-finite state (stopped at the last good output); 2: Newton did not converge at the
     shortest sub-step dt/2^levels, which is above ``dt_explicit`` (the explicit stable step; below it, such a
     sub-step is taken by the explicit scheme: Newton cannot converge where a segment's damper force jumps
-    as it goes taut).  ``stats`` receives [accepted sub-steps, rejected sub-steps, largest Newton iteration
-    count, shortest sub-step / dt, explicit fallback sub-steps, sub-steps ending with a segment that carries
-    nothing (slack or clipped)].
+    as it goes taut); 3: the work done exceeded ``budget`` [node-steps: free nodes × (Newton iterations of
+    every implicit sub-step tried, or 1 per explicit sub-step)], when ``budget`` > 0.  ``stats`` (>= 8 entries)
+    receives [accepted sub-steps, rejected sub-steps, largest Newton iteration count, shortest sub-step / dt,
+    explicit fallback sub-steps, sub-steps ending with a segment that carries nothing (slack or clipped),
+    work done [node-steps], whole steps done].
     """
     nn = u.shape[0]
     N = nn - 1
@@ -218,16 +225,17 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, l
     inv = np.zeros(nn)
     for i in range(1, last + 1):
         inv[i] = 1e3 / m[i]
-    c = (m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p, last)
+    c = (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
+         last)
     us, vs, accs, zs, dvs, fes, Ts = S
     us[0], vs[0], _ = drive_state(0.0, code, p)
     X[0][0] = us[0]
     X[1][0] = vs[0]
-    for j in range(N):  # elements unstressed at t = 0 (Jenkins slider at e, Dahl force 0)
+    for j in range(N):  # elements unstressed at t = 0 (sliders and play output at e, Dahl and Bouc–Wen at 0)
         for q in range(hf.shape[1]):
-            zs[j, q] = epre[j] + us[j] - us[j + 1] if hd[j, q] == 0 else 0.0
-    _, peak, low = tensions(us, vs, us, epre, cl, ch, cd, hf, hx, hd, zs, dvs, X[3], dvs, Ts, X[7], X[8], X[9], kind,
-                            False)
+            zs[j, q] = epre[j] + us[j] - us[j + 1] if (hd[j, q] == 0 or hd[j, q] == 2 or hd[j, q] == 4) else 0.0
+    _, peak, low = segment_tensions(us, vs, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, X[3], dvs, Ts,
+                                    X[7], X[8], X[9], kind, False)
     _external(0.0, us, vs, res, veps, load_node, load_F, load_t, tens, Ft, kt, fes, implicit)
     if not (tens or load_node.shape[0] > 0 or implicit):
         fes[:] = 0.0
@@ -240,11 +248,13 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, l
     Fbase += np.sum(res)
     W = 0.0
     D = 0.0
-    _record(0, 0.0, S, m, epre, cl, ch, hf, hx, hd, code, p, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out)
+    _record(0, 0.0, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out)
     status = 0
     unit = 1 << levels
     hu = unit
     n_acc, n_rej, it_max, hu_min, n_fb, n_slack = 0, 0, 0, unit, 0, 0
+    work = 0.0
+    n_done = 0
     for n in range(n_steps):
         done = 0
         while done < unit:
@@ -257,9 +267,14 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, l
                     Fref = max(Fref, S[6][j])
                 ok, dW, dD, pk, low, its = _implicit_step(h, t1, c, S, X, lin, tol_abs + tol_rel * Fref, max_it)
                 it_max = max(it_max, its)
+                work += its * max(last, 1)
             else:
                 dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, kind)
                 ok = True
+                work += max(last, 1)
+            if budget > 0.0 and work > budget:
+                status = 3
+                break
             if not ok and hu > 1:
                 hu //= 2
                 n_rej += 1
@@ -289,11 +304,12 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, l
                 hu *= 2
         if status:
             break
+        n_done = n + 1
         if (n + 1) % out_every == 0:
             if not math.isfinite(peak + W + D + S[0][last] + S[1][last]):
                 status = 1
                 break
-            _record((n + 1) // out_every, (n + 1) * dt, S, m, epre, cl, ch, hf, hx, hd, code, p, W, D,
+            _record((n + 1) // out_every, (n + 1) * dt, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D,
                     t_out, T_out, Fd_out, u_out, v_out, en_out)
     stats[0] = n_acc
     stats[1] = n_rej
@@ -301,14 +317,17 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, epre, res, veps, load_node, l
     stats[3] = hu_min / unit
     stats[4] = n_fb
     stats[5] = n_slack
+    if stats.shape[0] > 7:
+        stats[6] = work
+        stats[7] = n_done
     return status, peak
 
 
-def explicit_core(*args, kind: int = 0):
+def explicit_core(*args, kind: int = 0, budget: float = 0.0):
     """The explicit scheme through :func:`run` (arguments as :func:`run` without ``implicit``)."""
-    return run(False, *args, kind=kind)
+    return run(False, *args, kind=kind, budget=budget)
 
 
-def implicit_core(*args):
+def implicit_core(*args, budget: float = 0.0):
     """The implicit scheme through :func:`run` (arguments as :func:`run` without ``implicit``)."""
-    return run(True, *args)
+    return run(True, *args, budget=budget)

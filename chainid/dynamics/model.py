@@ -19,6 +19,14 @@ of all segments is then exactly the kernel of the whole chain (spec with n = n_l
 segment is the paper's specimen.  Each segment's tension is the generated F_k(e) (a slack segment, e <= 0,
 carries nothing).
 
+Diagnosed physics (``chainid dynamics --segment-model``, :mod:`.segment_model`).  The specimen's kernel
+modifiers (``ea_scale``, ``hertz_scale``, ``contact_exponent`` with ``contact_ref_force``, ``compliance``,
+``slack``: those of :class:`chainid.model.base.ChainModel`), its play (``backlash_mm``), dead band with hardening
+stops (``deadband``), Stribeck friction (``stribeck``) and Bouc–Wen hysteresis (``bouc_wen``) go into every
+segment, scaled in series like the damping below (:mod:`.line_tables`; the segment force law in
+:mod:`.segments`); ``drive_mass_kg`` adds a mass to the driven node 0 (a test fixture that moved with the
+specimen's driven end).
+
 Damping.  The paper identifies c_e(ω, A) from harmonic tests: a *viscous equivalent* c_e [N·s/mm] that
 dissipates the measured loop energy W = π c_e ω A² at that ω and A.  A time-domain model has no single ω and
 A, so it uses the viscous equivalent at a stated operating point (see :func:`viscous_equivalent`: the first
@@ -56,6 +64,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from chainid.dynamics import line_tables
+from chainid.dynamics.effect_fields import check_effects
+from chainid.dynamics.springs import deadband, spring_stiffness, static_elongations
 from chainid.model import kernels
 from chainid.chain.spec import ChainSpec, default_chain
 
@@ -131,7 +142,34 @@ class ChainLine:
     coulomb_N : float
         Coulomb friction force with stick of the specimen [N], >= 0.
     coulomb_stiffness : float, optional
-        Stick stiffness of the Coulomb element for the specimen [N/mm], > 0; default 1/c_lin of the specimen.
+        Stick stiffness of the Coulomb element for the specimen [N/mm], > 0; default 1/c_lin of the specimen
+        (c_lin/ea_scale + compliance).
+    ea_scale, hertz_scale : float
+        Factors on the links' linear compliance (c_lin/ea_scale; 0.001 to 1000) and on the contact coefficient
+        (c_hertz·hertz_scale; > 0), as :class:`chainid.model.base.ChainModel`.
+    contact_exponent : float, optional
+        Contact exponent β, 0.2 to 1.5 (None: Hertz, the generated kernel), with its reference force
+        ``contact_ref_force`` [N] > 0 (default 1e4), as ChainModel.
+    compliance : float
+        Series compliance of the specimen [mm/N], >= 0 (segment: ·n_s/n_ref, added to c_lin).
+    slack : float
+        Displacement offset of the specimen [mm], finite: its spring carries load from e = slack (segment:
+        ·n_s/n_ref).
+    backlash_mm : float
+        Play (backlash) of total width b [mm] of the specimen in series with its spring, >= 0 (segment: ·n_s/n_ref).
+    deadband : tuple
+        () or (k_d [N/mm^p] >= 0, g [mm] >= 0, p [-] 1 to 6, x_c [mm]) of the specimen: a force
+        k_d·sgn(u)·max(|u| − g, 0)^p of u = e − x_c (segment: k_d·(n_ref/n_s)^p, g and x_c ·n_s/n_ref).
+    stribeck : tuple of (F_c, dF_s, v_s, dF)
+        Stribeck friction elements of the specimen: kinetic force F_c [N] >= 0, static excess dF_s [N] >= 0,
+        Stribeck speed v_s [mm/s] > 0, direction asymmetry dF [N] with |dF| <= F_c (segment: v_s·n_s/n_ref).
+    stribeck_stiffness : float, optional
+        Stick stiffness of the Stribeck elements for the specimen [N/mm], > 0; default 1/c_lin of the specimen.
+    bouc_wen : tuple of (F_y, x_y, n, r)
+        Bouc–Wen elements of the specimen: F_y [N] > 0, x_y [mm] > 0, n 0.1 to 20, r 0 to 1 (segment:
+        x_y·n_s/n_ref).
+    drive_mass_kg : float
+        Extra mass on the driven node 0 [kg], >= 0 (a fixture): it adds m·a_0 to the drive force.
     """
 
     n_links: int
@@ -152,6 +190,18 @@ class ChainLine:
     dahl: tuple[tuple[float, float], ...] = ()
     coulomb_N: float = 0.0
     coulomb_stiffness: float | None = None
+    ea_scale: float = 1.0
+    hertz_scale: float = 1.0
+    contact_exponent: float | None = None
+    contact_ref_force: float = 1.0e4
+    compliance: float = 0.0
+    slack: float = 0.0
+    backlash_mm: float = 0.0
+    deadband: tuple[float, ...] = ()
+    stribeck: tuple[tuple[float, float, float, float], ...] = ()
+    stribeck_stiffness: float | None = None
+    bouc_wen: tuple[tuple[float, float, float, float], ...] = ()
+    drive_mass_kg: float = 0.0
 
     def __post_init__(self) -> None:
         if self.chain is None:
@@ -200,6 +250,7 @@ class ChainLine:
                 raise _bad("loads", ld, "finite force_N [N] and t_on >= 0 s")
         if self.lumping == "drive" and self.far_end == "tensioner" and self.tail_mass_kg <= 0:
             raise _bad("tail_mass_kg", self.tail_mass_kg, "> 0 kg with lumping='drive' and a tensioner far end")
+        check_effects(self)
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -228,14 +279,17 @@ class ChainLine:
         return np.array([base + (1 if j < extra else 0) for j in range(N)], dtype=np.int64)
 
     def segment_coefficients(self) -> tuple[np.ndarray, np.ndarray]:
-        """(c_lin [mm/N], c_hertz [mm/N^(2/3)]) of every segment (see the module docstring)."""
-        ns = self.links_per_segment()
-        cl, ch = kernels.coefficients(self.chain.replace(n=int(self.n_links)), self.variant)
-        contacts = ns.astype(float)
-        contacts[-1] -= 1.0
-        c_lin = cl * ns / self.n_links
-        c_h = ch * contacts / (self.n_links - 1) if self.n_links > 1 else np.zeros(len(ns))
-        return c_lin.astype(float), np.asarray(c_h, dtype=float)
+        """(c_lin [mm/N], c_hertz [mm/N^(2/3)], or mm/N^β with ``contact_exponent``) of every segment (see the
+        module docstring), with the kernel modifiers applied (:func:`.line_tables.spring_coefficients`)."""
+        return line_tables.spring_coefficients(self)
+
+    def spring_table(self) -> np.ndarray:
+        """The segments' spring table (N, 6) of :mod:`.springs` (contact exponent, slack, dead band)."""
+        return line_tables.spring_table(self)
+
+    def extended_spring(self) -> bool:
+        """Whether the segments need the spring table (a contact exponent, slack, dead band or play)."""
+        return line_tables.extended_spring(self)
 
     def segment_lengths(self) -> np.ndarray:
         """Unstretched segment lengths ℓ_s = n_s·pitch [mm]."""
@@ -255,7 +309,7 @@ class ChainLine:
         if self.coulomb_N > 0:
             k = self.coulomb_stiffness
             if k is None:
-                k = 1.0 / kernels.coefficients(self.chain.replace(n=self.reference_links()), self.variant)[0]
+                k = line_tables.link_stiffness(self)
             els.append((float(k), float(self.coulomb_N)))
         return els
 
@@ -271,21 +325,17 @@ class ChainLine:
         return k * scale[:, None], f
 
     def segment_element_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """All elements of every segment for the integrator, shape (N, n_elements) each: (force [N],
-        travel [mm], kind) — Jenkins (slip force f, stick travel f/k; kind 0) then Dahl (F_h, x_h·n_s/n_ref;
-        kind 1)."""
-        k, f = self.segment_elements()
-        scale = self.links_per_segment().astype(float) / self.reference_links()
-        N, nd = self.n_masses, len(self.dahl)
-        Fh = np.array([[e[0] for e in self.dahl]] * N, dtype=float).reshape(N, nd)
-        xh = np.array([[e[1] for e in self.dahl]] * N, dtype=float).reshape(N, nd) * scale[:, None]
-        kind = np.concatenate([np.zeros(f.shape, dtype=np.int64), np.ones((N, nd), dtype=np.int64)], axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            travel = np.where(k > 0, f / np.where(k > 0, k, 1.0), 0.0)
-        return np.concatenate([f, Fh], axis=1), np.concatenate([travel, xh], axis=1), kind
+        """All elements of every segment for the integrator, shape (N, n_elements) each: (force [N], travel or
+        stiffness, kind) in the columns and kinds of :mod:`.segments` (play, Jenkins, Dahl, Stribeck, Bouc–Wen)."""
+        return line_tables.element_arrays(self)[:3]
+
+    def segment_element_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(hf, hx, hd, hq, tabs): :meth:`segment_element_table` with the extra parameters (N, n_elements, 3) and
+        the Bouc–Wen travel tables (:func:`.line_tables.element_arrays`)."""
+        return line_tables.element_arrays(self)
 
     def node_masses(self) -> np.ndarray:
-        """Lumped masses of nodes 0..N [kg] (node N includes ``tail_mass_kg``)."""
+        """Lumped masses of nodes 0..N [kg] (node N includes ``tail_mass_kg``, node 0 ``drive_mass_kg``)."""
         ms = self.chain.mass_per_m * self.segment_lengths() * 1e-3
         m = np.zeros(self.n_nodes)
         if self.lumping == "half":
@@ -294,13 +344,26 @@ class ChainLine:
         else:
             m[:-1] += ms
         m[-1] += self.tail_mass_kg
+        m[0] += self.drive_mass_kg
         return m
 
     def pretension_elongation(self) -> np.ndarray:
-        """Static elongation of every segment at the pretension [mm] (the inverse kernel, Eq. 15)."""
+        """Static elongation of every segment at the pretension [mm] (the inverse kernel, Eq. 15; with a slack,
+        contact exponent or dead band the inverse of spring(e − s) + dead band(e − x_c), elements unstressed)."""
         c_lin, c_h = self.segment_coefficients()
+        if self.extended_spring():
+            return static_elongations(float(self.pretension_N), c_lin, c_h, self.spring_table())
         u = np.cbrt(self.pretension_N)
         return c_lin * self.pretension_N + c_h * u * u
+
+    def static_tangent(self) -> np.ndarray:
+        """Tangent stiffness [N/mm] of every segment's spring and dead band at the pretension (a play engaged: the
+        motion beyond it; the memory elements not counted)."""
+        c_lin, c_h = self.segment_coefficients()
+        sp = self.spring_table()
+        return np.array([spring_stiffness(e - sp[j, 1], c_lin[j], c_h[j], sp[j, 0])
+                         + deadband(e - sp[j, 5], sp[j, 2], sp[j, 3], sp[j, 4])[1]
+                         for j, e in enumerate(self.pretension_elongation())])
 
     def resistance_per_node(self) -> np.ndarray:
         """Moving resistance amplitude R_i of nodes 0..N [N] (∝ mass of the moving nodes; 0 on a fixed end)."""

@@ -17,7 +17,6 @@ import numpy as np
 
 from scipy.linalg import eigh_tridiagonal
 
-from chainid.generated.stiffness_paper import stiffness as _stiffness
 from chainid.dynamics.model import ChainLine
 
 __all__ = ["Modes", "modes", "tangent_system", "tangent_tridiagonal"]
@@ -47,10 +46,10 @@ def tangent_tridiagonal(line: ChainLine) -> tuple[np.ndarray, np.ndarray, np.nda
     """(M [kg], diagonal [N/mm], off-diagonal [N/mm] of K, free node indices) linearised about the pretension.
 
     K_aa = k_(i-1) + k_i (k_N = the tensioner stiffness for the free tensioner node), K_a,a+1 = −k_i, with the
-    segment tangents k_j = k_e(e_pre) of the generated kernel.
+    segment tangents k_j = k_e(e_pre) of the generated kernel (:meth:`ChainLine.static_tangent`: with the diagnosed
+    spring modifiers and dead band; a play taken engaged, the memory elements not counted).
     """
-    c_lin, c_h = line.segment_coefficients()
-    k = np.array([_stiffness(e, cl, ch) for e, cl, ch in zip(line.pretension_elongation(), c_lin, c_h)])
+    k = line.static_tangent()
     N = line.n_masses
     last = N if line.far_end == "tensioner" else N - 1
     nodes = np.arange(1, last + 1)

@@ -19,6 +19,7 @@ import numpy as np
 from chainid.dynamics.drives import Drive
 from chainid.dynamics.energy import balance
 from chainid.dynamics.integrators import run
+from chainid.dynamics import line_tables
 from chainid.dynamics.model import ChainLine
 
 __all__ = ["SCHEMES", "SimResult", "SimulationError", "simulate", "stable_step", "core_arguments", "estimate",
@@ -36,6 +37,9 @@ DEFAULT_MAX_MEMORY = 2 * 1024**3
 DEFAULT_MAX_WORK = 2e10
 #: Cost of an implicit node-step in explicit node-steps (Newton: 2-4 iterations of kernel + tangent + solve).
 IMPLICIT_COST = 8.0
+#: Node-steps one Newton iteration of the implicit scheme costs per node (measured: 2e7 iterations·nodes/s
+#: against 3.8e7 explicit node-steps/s); the work actually done counts in these units against ``max_work``
+ITERATION_COST = 2.0
 #: Nominal speed of the explicit loop [node-steps/s] for the time estimate (benchmarks/dynamics_bench.py).
 NODE_STEPS_PER_S = 3e7
 
@@ -68,6 +72,10 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
     peak_force : float, optional
         The largest segment tension expected [N], > 0.  ``None``: the load-independent bound k_e <= 1/c_lin
         (k_e grows with the load towards the link stiffness 1/c_lin; the Hertz contact only softens it).
+        The memory elements add their stiffest tangent (:func:`.line_tables.element_stiffness`).  A dead band
+        with p > 1 stiffens without bound: its tangent is taken where its force is ``peak_force``, or without it
+        twice the static load (pretension + resistance + load steps: a suddenly applied load doubles it); a run
+        that still exceeds its stable step fails its checks and is refined (``refine``) or refused.
 
     Returns
     -------
@@ -80,11 +88,16 @@ def stable_step(line: ChainLine, peak_force: float | None = None) -> float:
     else:
         peak_force = _number("peak_force", peak_force, "> 0 N")
         uu = np.cbrt(peak_force)
-        k = 3.0 * uu / (2.0 * c_h + 3.0 * c_lin * uu)
-    hf, hx, hd = line.segment_element_table()
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k_el = np.where(hx > 0, hf / np.where(hx > 0, hx, 1.0), 0.0) * np.where(hd == 1, 2.0, 1.0)
-    k = k + k_el.sum(axis=1)  # elements in parallel at their stiffest (Jenkins sticking; Dahl at a reversal 2F_h/x_h)
+        if line.contact_exponent is None:
+            k = 3.0 * uu / (2.0 * c_h + 3.0 * c_lin * uu)
+        else:  # x = c_lin·F + c_h·F^β: k = 1/(c_lin + β·c_h·F^(β−1))
+            beta = float(line.contact_exponent)
+            k = 1.0 / (c_lin + beta * c_h * peak_force ** (beta - 1.0))
+    k = k + line_tables.element_stiffness(line)  # elements in parallel at their stiffest
+    if line.deadband:  # no load-independent bound: the tangent at the peak force (default: twice the static load)
+        F_ref = peak_force if peak_force is not None else 2.0 * max(
+            line.static_tension_at_speed() + sum(abs(ld.force_N) for ld in line.loads), 1.0)
+        k = k + line_tables.deadband_stiffness(line, float(F_ref))
     c = line.segment_damping()
     m = line.node_masses()
     N = line.n_masses
@@ -118,7 +131,7 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
     n_rec = n_steps // out_every + 1
     nn, N = line.n_nodes, line.n_masses
     c_lin, c_h = line.segment_coefficients()
-    hf, hx, hd = line.segment_element_table()
+    hf, hx, hd, hq, tabs = line.segment_element_arrays()
     code, p = drive.params(line.chain.pitch)
     loads = line.loads
     u_init, v_init = np.zeros(nn), np.zeros(nn)
@@ -130,15 +143,16 @@ def core_arguments(line: ChainLine, drive: Drive, dt: float, n_steps: int, out_e
             tgt[:] = a
     if line.far_end == "fixed":
         u_init[-1] = v_init[-1] = 0.0
-    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hx, hd,
-            line.pretension_elongation(), line.resistance_per_node(), float(line.resistance_v_eps),
+    args = (u_init, v_init, line.node_masses(), c_lin, c_h, line.segment_damping(), hf, hx, hd, hq,
+            line.spring_table(), tabs, line.extended_spring(), line.pretension_elongation(),
+            line.resistance_per_node(), float(line.resistance_v_eps),
             np.array([ld.node for ld in loads], dtype=np.int64), np.array([ld.force_N for ld in loads], dtype=float),
             np.array([ld.t_on for ld in loads], dtype=float), line.far_end == "tensioner",
             float(line.pretension_N), float(line.tensioner_stiffness), code, p, float(dt), int(n_steps),
             int(out_every), int(levels), float(tol_abs), float(tol_rel), int(max_it), float(dt_explicit))
     t_out, Fd_out = np.zeros(n_rec), np.zeros(n_rec)
     T_out, u_out, v_out, en_out = np.zeros((n_rec, N)), np.zeros((n_rec, nn)), np.zeros((n_rec, nn)), np.zeros((n_rec, 4))
-    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out, np.zeros(6))
+    return args, (t_out, T_out, Fd_out, u_out, v_out, en_out, np.zeros(8))
 
 
 def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "explicit") -> dict:
@@ -159,7 +173,8 @@ def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "expli
         arrays).
     """
     nn, N = line.n_nodes, line.n_masses
-    n_el = len(line.specimen_elements()) + len(line.dahl)
+    n_el = (len(line.specimen_elements()) + len(line.dahl) + len(line.stribeck) + len(line.bouc_wen)
+            + (line.backlash_mm > 0))
     work = float(n_steps) * nn * (IMPLICIT_COST if scheme == "implicit" else 1.0)
     mem = 8.0 * (float(n_rec) * (3 * nn + N + 5) + 40 * nn + 4 * N * n_el)
     return {"node_steps": work, "seconds": work / NODE_STEPS_PER_S, "bytes": mem}
@@ -187,6 +202,8 @@ class SimResult:
     shortest_substep_s : the shortest sub-step taken [s]
     explicit_fallbacks : implicit sub-steps taken by the explicit scheme (Newton stuck at a damper jump)
     slack_substeps : sub-steps that ended with a segment carrying nothing (snap loads possible)
+    work : work done by the run [node-steps: free nodes × sub-steps (explicit) or × Newton iterations ×
+        ITERATION_COST (implicit)]
     warnings : messages of the checks (energy balance)
     """
 
@@ -215,6 +232,7 @@ class SimResult:
     peak_change: float = math.nan
     explicit_fallbacks: int = 0
     slack_substeps: int = 0
+    work: float = 0.0
 
     def energy_balance(self) -> dict:
         """The energy balance at its worst output time (see :func:`chainid.dynamics.energy.balance`)."""
@@ -281,6 +299,9 @@ def simulate(
         a RuntimeWarning, and the message in ``SimResult.warnings``).
     max_work, max_memory : float or None
         Refuse runs whose estimate (:func:`estimate`) exceeds this many node-steps / bytes (None: no limit).
+        ``max_work`` also bounds the work actually done, over every refinement: the sub-steps and Newton
+        iterations of a stiff implicit run (a stiff hysteretic element halving its steps) are counted as they are
+        taken, and a run that reaches the limit stops with a ValueError naming it.
     refine : int
         0 .. 10: adaptive step on an error estimate.  While the energy-balance error exceeds
         :data:`BALANCE_TOL`, or (when a segment went slack: snap loads) the peak tension changed by more
@@ -337,10 +358,11 @@ def simulate(
                        "use a smaller dt or scheme='implicit'")
     dt0 = dt
     prev: SimResult | None = None
+    spent = [0.0]  # work done by the runs so far [node-steps] (max_work bounds them all)
     for attempt in range(refine + 1):
         try:
             res = _run_once(line, drive, t_end, dt, dts, scheme, n_out, initial_u, initial_v, substep_levels,
-                            max_work, max_memory)
+                            max_work, max_memory, spent)
         except SimulationError as exc:  # non-finite or Newton failure: the strongest error estimate there is
             if attempt == refine:
                 hint = (f"; peak_force = {peak_force:g} N sets the stable step: give the expected peak"
@@ -375,6 +397,7 @@ def simulate(
         if res.dt > dts_peak:
             msgs.append(f"peak tension {peak:.4g} N exceeded peak_force = {peak_force:.4g} N and dt = {res.dt:.3g} s "
                         f"is above the stable step {dts_peak:.3g} s there: rerun with peak_force >= {peak:.4g} N")
+    msgs += resolution_warnings(drive, line.chain.pitch, res.dt, float(res.t[1] - res.t[0]) if res.t.size > 1 else t_end)
     if eb["relative_error"] > BALANCE_TOL:
         msgs.append(f"energy balance error {eb['relative_error']:.3g} at t = {eb['worst_t_s']:.6g} s exceeds "
                     f"{BALANCE_TOL:g} ({scheme}, dt = {res.dt:.3g} s): the result is not converged; use a smaller dt "
@@ -387,10 +410,40 @@ def simulate(
     return res
 
 
+#: a periodic drive needs at least this many time steps per period to be followed (the Verlet/Newmark phase
+#: error per period is about (2π/N)²/12: 0.8 % at N = 20), and its output at least 2 samples per period
+MIN_STEPS_PER_PERIOD = 20
+
+
+def resolution_warnings(drive: Drive, pitch: float, dt: float, dt_out: float) -> list[str]:
+    """Warnings when the drive's period (:meth:`Drive.period` [s]) is not resolved by the time step ``dt`` [s]
+    (fewer than :data:`MIN_STEPS_PER_PERIOD` steps) or by the output interval ``dt_out`` [s] (fewer than 2 samples:
+    the stored series alias the drive)."""
+    T = drive.period(pitch)
+    if not math.isfinite(T):
+        return []
+    what = (f"the drive ({drive.law}, ω = {drive.omega:.4g} rad/s" if drive.law == "sine"
+            else f"the drive ({drive.law}, v = {drive.v:.4g} mm/s, one pitch") + f": period {T:.3g} s)"
+    out = []
+    if dt > T / MIN_STEPS_PER_PERIOD:
+        out.append(f"{what} is not resolved by the time step dt = {dt:.3g} s ({T / dt:.3g} steps per period; valid "
+                   f">= {MIN_STEPS_PER_PERIOD}): the chain does not follow the drive and the result is meaningless; "
+                   f"give dt <= {T / MIN_STEPS_PER_PERIOD:.3g} s (--dt) or a slower drive")
+    elif dt_out > T / 2:
+        out.append(f"{what} is sampled every {dt_out:.3g} s by the outputs ({T / dt_out:.3g} per period; valid >= 2): "
+                   "the stored tension series alias the drive (the peak and the energies are computed at every "
+                   "step and are not affected); use a shorter t_end for a resolved series")
+    return out
+
+
 def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float, scheme: str, n_out: int,
               initial_u: np.ndarray | None, initial_v: np.ndarray | None, levels: int,
-              max_work: float | None, max_memory: float | None) -> SimResult:
-    """One run at step ``dt`` (checked against the limits first); raises SimulationError on a failed run."""
+              max_work: float | None, max_memory: float | None, spent: list[float] | None = None) -> SimResult:
+    """One run at step ``dt`` (checked against the limits first); raises SimulationError on a failed run.
+
+    ``spent``: a one-item list with the work of the earlier runs [node-steps], updated with this run's; the
+    kernel stops when the total reaches ``max_work`` (ValueError naming the limit and --max-work)."""
+    spent = [0.0] if spent is None else spent
     steps = t_end / dt if dt > 0 else math.inf
     n_rec = min(float(n_out), steps) + 1
     est = estimate(line, steps, n_rec, scheme)
@@ -411,7 +464,17 @@ def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float
     args, outs = core_arguments(line, drive, dt, n_steps, out_every, initial_u, initial_v, levels=levels,
                                 dt_explicit=0.9 * dts)
     t_out, T_out, Fd_out, u_out, v_out, en_out, stats = outs
-    status, peak = run(scheme == "implicit", *args, *outs)
+    cost = ITERATION_COST if scheme == "implicit" else 1.0  # node-steps per counted unit of the kernel
+    budget = 0.0 if max_work is None else max(float(max_work) - spent[0], 1.0) / cost
+    status, peak = run(scheme == "implicit", *args, *outs, budget=budget)
+    spent[0] += float(stats[6]) * cost
+    if status == 3:
+        raise ValueError(f"the run stopped at t = {stats[7] * dt:.4g} s of t_end = {t_end:g} s after about "
+                         f"{spent[0]:.3g} node-steps of work ({int(stats[0])} sub-steps taken, {int(stats[1])} rejected, "
+                         f"Newton iterations up to {int(stats[2])} per sub-step; the estimate was "
+                         f"{est['node_steps']:.3g}): over max_work = {max_work:.3g} node-steps: valid range <= the "
+                         "limit; raise --max-work (max_work), or use the explicit scheme, a smaller dt or softer "
+                         "elements (a stiff hysteretic element makes the implicit scheme halve its sub-steps)")
     if status == 1:
         raise SimulationError(f"the {scheme} integration produced non-finite values (dt = {dt:.3g} s, "
                               f"dt_stable = {dts:.3g} s): no result")
@@ -426,7 +489,7 @@ def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float
         scheme=scheme, n_steps=n_steps,
         positions=np.concatenate([[0.0], np.cumsum(line.segment_lengths())]),
         substeps=int(stats[0]), rejected=int(stats[1]), shortest_substep_s=float(stats[3] * dt),
-        explicit_fallbacks=int(stats[4]), slack_substeps=int(stats[5]),
+        explicit_fallbacks=int(stats[4]), slack_substeps=int(stats[5]), work=float(stats[6]) * cost,
     )
     if not res.energy_balance()["finite"]:
         raise SimulationError(f"the {scheme} integration produced non-finite energies (dt = {dt:.3g} s): no result")

@@ -1,12 +1,15 @@
 """`chainid diagnose`: where the model misses, which effects cause it (in order), how much each shrinks it.
 
-Pipeline: prepare every test (tests that cannot be analysed are excluded with
-their reason) → baseline (paper Eq. 1 with the chosen damping law) → where it
-misses (:mod:`.where`) → the explanation chain by forward selection conditional
-on what is already explained (:mod:`.selection`) → what is left: dB over noise and
-stationarity (:mod:`.stationarity`) → verdict (:mod:`.verdict`).  Records that are not steady harmonic tests
-take the time-domain route (:mod:`.diagnose_time`); ``validate`` scores the chain on another set
-(:mod:`.transfer`).
+Pipeline: check the records → prepare every test as a steady harmonic test where it is one (tests that cannot be
+analysed are excluded with their reason) → the route → the model of every step (:mod:`.modelio`) → the transfer
+to another set (``validate``, :mod:`.transfer`).
+
+**The route rule.**  A set of steady harmonic tests whose tests run at one operating condition takes the harmonic
+route (:mod:`.harmonic.route`: phase bins, c_e(ω, A) per test and a damping law over the tests).  Every other set
+takes the time-domain route (:mod:`.timedomain.route`), all its records sample by sample: a record that is not a
+steady harmonic test (a transient, sweep, random or seismic record, a resonant device's response), a set whose
+tests carry covariates that differ (operating conditions: the damping and the effects may follow them), or
+``holdout_blocks`` > 0.
 """
 
 from __future__ import annotations
@@ -23,15 +26,20 @@ from chainid.gap.harmonic.prepare import Unusable, prepare_test
 from chainid.gap.core.candidate import MIN_TRAIN
 from chainid.gap.core.verdict import MIN_SHRINK, NONSTAT_FRACTION  # noqa: F401  (the verdict rule, one place)
 from chainid.gap.harmonic.route import diagnose_harmonic
+from chainid.infra.progress import stage
+# the one rule for records no analysis can work on (magnitudes, a dead force or displacement channel) is the
+# records' validation: identify, audit, predict and the diagnosis use it alike
+from chainid.records.validate import MAX_ABS_F_N, MAX_ABS_X_MM  # noqa: F401  (re-exported)
+from chainid.records.validate import check_channels as check_magnitudes
 
 
-def fit_linear_model(records: Sequence[Any], holdout: Sequence[str]) -> Any:
-    """LinearModel F = k(x − x_ref) [N/mm, mm] fitted on the training records' samples."""
+def fit_linear_model(records: Sequence[Any], holdout: Sequence[str], mass_kg: float = 0.0) -> Any:
+    """LinearModel F = k(x − x_ref) [N/mm, mm] fitted on the training records' samples, with mass ``mass_kg``."""
     from chainid.model.base import LinearModel
 
     xs = np.concatenate([r.x for r in records if r.test not in set(holdout)])
     Fs = np.concatenate([r.F for r in records if r.test not in set(holdout)])
-    return LinearModel.fit(xs, Fs)
+    return LinearModel.fit(xs, Fs, mass=mass_kg)
 
 
 def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, steady_tol: float | None,
@@ -52,33 +60,6 @@ def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, stead
     return data, excluded
 
 
-#: Largest |F| [N] and |x| [mm] the diagnosis takes: beyond, sums of squares overflow float64 (a chain's
-#: breaking load is below 1e8 N; F ~ 1e154 N is a unit or parsing error, not a measurement).
-MAX_ABS_F_N = 1e12
-MAX_ABS_X_MM = 1e9
-
-
-def check_magnitudes(records: Sequence[Any]) -> None:
-    """Data errors the diagnosis cannot work on: |F| or |x| beyond :data:`MAX_ABS_F_N` / :data:`MAX_ABS_X_MM`,
-    or a force that does not vary within a test (F ≡ 0: a dead channel, nothing to diagnose).
-
-    Raises
-    ------
-    ValueError
-        Naming the test, the column, the value and the valid range.
-    """
-    for r in records:
-        for col, v, lim, unit in (("F", r.F, MAX_ABS_F_N, "N"), ("x", r.x, MAX_ABS_X_MM, "mm")):
-            if v.size and np.all(np.isfinite(v)):
-                big = float(np.max(np.abs(v)))
-                if big > lim:
-                    raise ValueError(f"test {r.test!r}: |{col}| = {big:.4g} {unit} is out of range; valid range "
-                                     f"|{col}| <= {lim:g} {unit} (check the column's unit)")
-        if r.F.size and np.all(np.isfinite(r.F)) and float(np.ptp(r.F)) == 0.0:
-            raise ValueError(f"test {r.test!r}: the force F is constant ({float(r.F[0]):g} N in all {r.F.size} "
-                             "samples): a dead channel, nothing to diagnose; valid records have a varying F")
-
-
 def diagnose(
     records: Sequence[Any],
     holdout: Sequence[str],
@@ -95,17 +76,22 @@ def diagnose(
     quiet: bool = False,
     holdout_blocks: int = 0,
     validate: Sequence[Any] | None = None,
+    mass_kg: float | None = None,
+    resamples: int = 0,
+    seed: int = 0,
 ) -> dict[str, Any]:
     """Diagnose the sim-to-real gap of a test series.
 
     Parameters
     ----------
     records : sequence of Record
-        Measured tests (t s, x mm, F N).
+        Measured tests (t s, x mm, F N; ``covariates`` name → value when the tests carry operating conditions).
     holdout : sequence of str
         Held-out test ids (whole tests).
     model : StiffnessModel, optional
-        Baseline stiffness; None: linear spring fitted on the training tests.
+        Baseline stiffness: a chain model; None: a linear device fitted on the training tests (harmonic route: a
+        spring k(x − x_ref) with its mass; time route: a mass–spring–damper m·ẍ + c·ẋ + k·x with a force offset per
+        test).
     effects : sequence of str, optional
         Restrict the library (default: all applicable).
     max_combo : int
@@ -113,13 +99,12 @@ def diagnose(
     n_bins : int
         Phase bins per cycle.
     uncertainty : bool
-        Jack-knife standard deviations of every step's parameters (harmonic route: leave-one-test-out refits;
-        time route: the larger of the linearised block jack-knife and leave-one-unit-out refits). Without it the
-        time route reports the linearised one only.
+        Standard deviations of every step's parameters (harmonic route: leave-one-test-out refits; time route:
+        the jack-knife of the leave-one-block-out amplitude refits).
     damping_law : str
-        Baseline damping law: ``auto`` (default; the paper's Eq. 21 when the plan separates it, else the
-        leave-one-out best simple law), ``polynomial``, ``viscous``, ``coulomb``, ``viscous+coulomb``,
-        ``hysteretic``.
+        Baseline damping law of the harmonic route: ``auto`` (default; the paper's Eq. 21 when the plan separates
+        it, else the leave-one-out best simple law), ``polynomial``, ``viscous``, ``coulomb``,
+        ``viscous+coulomb``, ``hysteretic``.
     allow_compression : bool
         Accept compressive (negative) forces with a chain model, which carries none.
     steady_tol : float, optional
@@ -134,10 +119,14 @@ def diagnose(
     validate : sequence of Record, optional
         Another set (another excitation): the chain fitted here is evaluated on it (key ``transfer``,
         :func:`chainid.gap.transfer.transfer`).
+    mass_kg : float, optional
+        The moving mass of a linear base [kg], given instead of fitted (``--mass``).
+    resamples, seed : int
+        Resamples of the training units (whole tests, time blocks) for the stability of every step and the 90 %
+        intervals of every parameter (:mod:`chainid.gap.core.resample`; 0: none; ``chainid diagnose`` runs
+        :data:`chainid.gap.core.resample.RESAMPLES`), and the seed of their draws.
 
-    A record that is not a steady harmonic test (a transient, sweep, random or seismic record) is analysed
-    in the time domain (:mod:`chainid.gap.timedomain.route`); harmonic tests keep the phase-bin route, and a set
-    of both kinds is diagnosed as one problem.
+    The route each set takes is stated in the module docstring.
 
     Returns
     -------
@@ -149,11 +138,73 @@ def diagnose(
     ------
     ValueError
         Unknown holdout id, all tests held out, fewer than 3 usable training tests, compressive records with a
-        chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force
-        (:func:`check_magnitudes`).
+        chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force or displacement
+        (:func:`check_magnitudes`, i.e. :func:`chainid.records.validate.check_channels`).
     """
+    holdout = _check_args(records, holdout, max_combo, holdout_blocks, validate, mass_kg)
+    holdout_blocks = int(holdout_blocks)
+    is_chain = model is not None and hasattr(model, "hertz_scale")
+    # how predict evaluates a harmonic test of the set, stored in the model file
+    evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
+                  "allow_compression": bool(allow_compression or not is_chain)}
+    stage("preparing", f"{len(records)} records")
+    data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
+    from chainid.gap.timedomain.data import MIN_SAMPLES
+
+    # records that are not steady harmonic tests go to the time-domain route when long enough for it
+    time_ids = {r.test for r in records if r.t.size >= MIN_SAMPLES} & {e["test"] for e in excluded}
+    excluded = [e for e in excluded if e["test"] not in time_ids]
+    if strict and excluded:
+        e = excluded[0]
+        raise ValueError(f"test {e['test']!r} cannot be used (--strict): {e['reason']}")
+    for e in excluded:
+        if not quiet:
+            print(f"chainid diagnose: test {e['test']} excluded: {e['reason']}", file=sys.stderr)
+    ex_ids = {e["test"] for e in excluded}
+    usable = [r for r in records if r.test not in ex_ids]
+    hold_ok = [h for h in holdout if h not in ex_ids]
+    if time_ids or holdout_blocks or _operating_conditions_differ(usable):
+        from chainid.gap.timedomain.route import diagnose_any
+
+        res = diagnose_any(usable, hold_ok, model if is_chain else None, holdout_blocks=holdout_blocks,
+                           effects=effects, max_combo=max_combo, excluded=excluded, quiet=quiet, mass_kg=mass_kg,
+                           warn=[f"test {e['test']} excluded: {e['reason']}" for e in excluded],
+                           resamples=resamples, seed=seed)
+    else:
+        if not hold_ok:
+            raise ValueError(f"--holdout: every held-out test was excluded ({', '.join(holdout)}); "
+                             f"reasons: {'; '.join(e['reason'] for e in excluded if e['test'] in holdout)}")
+        fit_mass = model is None and mass_kg is None
+        if model is None:
+            model = fit_linear_model(usable, hold_ok, mass_kg or 0.0)
+        res = diagnose_harmonic(data, hold_ok, model, effects=effects, max_combo=max_combo, damping_law=damping_law,
+                                uncertainty=uncertainty, excluded=excluded, resamples=resamples, seed=seed,
+                                fit_mass=fit_mass)
+    evaluation["route"] = "time" if res.get("route") == "time" else "harmonic"
+    stage("models")
+    for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation
+        warnings.warn(msg, stacklevel=2)
+    if validate is not None:
+        from chainid.gap.transfer import transfer
+
+        stage("transfer")
+        res["transfer"] = transfer(res, validate, n_bins=n_bins, steady_tol=steady_tol)
+    return res
+
+
+def _operating_conditions_differ(records: Sequence[Any]) -> bool:
+    """Whether the records carry a covariate (an operating condition) with more than one value."""
+    names = set().union(*[set(getattr(r, "covariates", None) or {}) for r in records]) if records else set()
+    return any(len({(getattr(r, "covariates", None) or {}).get(n) for r in records}) > 1 for n in names)
+
+
+def _check_args(records: Sequence[Any], holdout: Sequence[str], max_combo: int, holdout_blocks: int,
+                validate: Sequence[Any] | None, mass_kg: float | None) -> list[str]:
+    """The arguments' checks (see :func:`diagnose`'s Raises); returns the cleaned held-out ids."""
     if not 1 <= int(max_combo) <= 3:
         raise ValueError(f"max_combo = {max_combo!r} is out of range; valid range 1 to 3")
+    if mass_kg is not None and not (math.isfinite(mass_kg) and 0.0 <= mass_kg <= 1e6):
+        raise ValueError(f"--mass = {mass_kg!r} kg is out of range; valid range 0 to 1e6 kg")
     check_magnitudes(records)
     if validate is not None:
         check_magnitudes(validate)
@@ -169,56 +220,4 @@ def diagnose(
         raise ValueError("--holdout: no test held out; give test ids or --holdout-blocks K")
     if len(set(holdout)) >= len(set(ids)):
         raise ValueError(f"--holdout: all {len(ids)} tests are held out; leave at least {MIN_TRAIN} for training")
-    is_chain = model is not None and hasattr(model, "hertz_scale")
-    # how predict evaluates a harmonic test of the set, stored in the model file
-    evaluation = {"n_bins": int(n_bins), "steady_tol": steady_tol,
-                  "allow_compression": bool(allow_compression or not is_chain)}
-    data, excluded = _prepare(records, n_bins, allow_compression or not is_chain, steady_tol, False)
-    # records that are not steady harmonic tests go to the time-domain route when long enough for it
-    from chainid.gap.timedomain.data import MIN_SAMPLES
-
-    time_ids = {r.test for r in records if r.t.size >= MIN_SAMPLES} & {e["test"] for e in excluded}
-    excluded = [e for e in excluded if e["test"] not in time_ids]
-    if strict and excluded:
-        e = excluded[0]
-        raise ValueError(f"test {e['test']!r} cannot be used (--strict): {e['reason']}")
-    if time_ids or holdout_blocks:
-        from chainid.gap.timedomain.route import diagnose_any
-
-        for e in excluded:
-            if not quiet:
-                print(f"chainid diagnose: test {e['test']} excluded: {e['reason']}", file=sys.stderr)
-        time_recs = [r for r in records if r.test in time_ids]
-        records = [r for r in records if r.test not in {e["test"] for e in excluded}]
-        holdout = [h for h in holdout if h in {r.test for r in records}]
-        if model is None:
-            model = fit_linear_model(records, holdout)
-        res = diagnose_any(records, data, time_recs, holdout, model, holdout_blocks=holdout_blocks, effects=effects,
-                           max_combo=max_combo, damping_law=damping_law, excluded=excluded, quiet=quiet,
-                           uncertainty=uncertainty)
-        for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation
-            warnings.warn(msg, stacklevel=2)
-        if validate is not None:
-            from chainid.gap.transfer import transfer
-
-            res["transfer"] = transfer(res, validate, n_bins=n_bins, steady_tol=steady_tol)
-        return res
-    for e in excluded:
-        if not quiet:
-            print(f"chainid diagnose: test {e['test']} excluded: {e['reason']}", file=sys.stderr)
-    ex_ids = {e["test"] for e in excluded}
-    hold_ok = [h for h in holdout if h not in ex_ids]
-    if not hold_ok:
-        raise ValueError(f"--holdout: every held-out test was excluded ({', '.join(holdout)}); "
-                         f"reasons: {'; '.join(e['reason'] for e in excluded if e['test'] in holdout)}")
-    if model is None:
-        model = fit_linear_model([r for r in records if r.test not in ex_ids], hold_ok)
-    summary = diagnose_harmonic(data, hold_ok, model, effects=effects, max_combo=max_combo, damping_law=damping_law,
-                                uncertainty=uncertainty, excluded=excluded)
-    for msg in attach_models(summary, evaluation):
-        warnings.warn(msg, stacklevel=2)
-    if validate is not None:
-        from chainid.gap.transfer import transfer
-
-        summary["transfer"] = transfer(summary, validate, n_bins=n_bins, steady_tol=steady_tol)
-    return summary
+    return holdout

@@ -4,7 +4,8 @@
   parameters, the re-fitted linear spring of a ``--model linear`` baseline, the damping law re-identified at
   that step with its coefficients and per-test c_e, the delay, the mass).
 * :func:`predict` — ``chainid predict``: per-test and pooled NRMSE of a model file's baseline and model.
-* :func:`negative_damping` — a warning where the damping resolves to a negative dashpot.
+* :func:`negative_damping` — the diagnosis' warning where the damping resolves to a negative dashpot (a run of
+  such a model is refused: :mod:`chainid.model.passivity`).
 
 **Which damping ``predict`` uses.**  For a steady harmonic test (one :func:`chainid.gap.harmonic.prepare.prepare_test`
 accepts) the model is evaluated exactly as the diagnosis evaluates a held-out test: on the test's phase
@@ -12,11 +13,11 @@ grid, memory operators in their periodic steady state, c_e from the *law* at the
 prediction, never a refit, and the same number the diagnosis reports (to round-off).  The per-test c_e the
 law was fitted on are in the file but used only with ``fitted=True`` (``--fitted-damping``): test ids of
 a new file need not be the same tests.  A record that is not a steady harmonic test is predicted in the
-time domain as the diagnosis' time route evaluates it (:meth:`AugmentedModel.force` on the smooth
-kinematics of :func:`chainid.gap.core.noise.kinematics` — a zero-phase low-pass above the record's excitation
-band, so the noise of x is not differentiated into a friction sign or the dashpot; operators from their initial
-state, the law resolved at the record's dominant ω and A by the rule of :mod:`chainid.timedamping`), NRMSE
-over its samples: the held-out number the diagnosis reports.
+time domain as the diagnosis' time route evaluates it (:func:`time_force`: :meth:`AugmentedModel.force` on the
+smooth kinematics of :func:`chainid.gap.core.kinematics.estimate`, at the record's operating conditions, with its
+own force offset when the model's offsets are per test; operators from their initial state, a law resolved at the
+record's dominant ω and A by the rule of :mod:`chainid.model.timedamping`), NRMSE over its samples: the held-out
+number the diagnosis reports.
 
 Units: mm, N, s; NRMSE = RMS(residual)/RMS(F − mean F).
 """
@@ -33,28 +34,39 @@ import numpy as np
 
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
-from chainid.model.timedamping import Damping
+from chainid.model.passivity import OperatingPoint, check_passive, describe, negative_dashpots
+from chainid.model.timedamping import Damping, dominant, record_features
 from chainid.gap.core import noise as nz
+from chainid.gap.core.verdict import trusted_path
+from chainid.gap.core.kinematics import Kinematics, estimate
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
 
 
 def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> AugmentedModel:
-    """The augmented model of a scored candidate (a diagnosis step) on problem ``prob``."""
+    """The augmented model of a scored candidate (a diagnosis step) on problem ``prob`` (either route)."""
     p = cand.params
-    names = cand.names
-    effects = [(n, {k.split(".", 1)[1]: float(v) for k, v in p.items() if k.startswith(n + ".")})
+    names = [e for e in dict.fromkeys(n.split("@", 1)[0] for n in cand.names) if "." not in e]  # effects of the terms
+    effects = [(n, {k.split(".", 1)[1]: float(v) for k, v in p.items() if k.startswith(n + ".") and "@" not in k})
                for n in names if n not in NOT_FORCE]
     delay = float(p.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
+    info = dict(info or {})
+    if getattr(prob, "hprob", True) is None:  # the time-domain route: viscous c, or c following record features
+        if "damping_law" in names:
+            damping = Damping("feature", {"c": float(p["damping.c"])} | {
+                k: float(p[f"damping_law.{k}"]) for k in ("b_w", "b_A", "w_ref", "A_ref")})
+        else:
+            damping = Damping("viscous", {"c": float(p.get("damping.c", 0.0))})
+        terms = {k: float(v) for k, v in p.items() if "@" in k}  # every amplitude's slope over a covariate
+        refs = {t.split("@", 1)[1]: float(p[f"covariate.{t.split('@', 1)[1]}.ref"]) for t in terms}
+        return AugmentedModel(prob.model_for(p), effects, damping, delay, info=info, offsets=prob.base.offsets,
+                              covariate_terms=terms, covariate_refs=refs)
     ev = getattr(cand, "_ev", {})
     train = {d.test for d in prob.train}
     per_test = {t: float(c) for t, c in ev.get("c_e", {}).items() if t in train}
-    k_e = None if prob.is_chain else float(prob.model.k)  # the law's k_e is the diagnosis baseline's
-    if getattr(prob, "hprob", True) is None:  # time domain only: one viscous c for the set, no c_e(ω, A) law
-        damping = Damping("viscous", {"c": float(cand.law_params[0])})
-    else:
-        damping = Damping("law", law=cand.law, coefficients=[float(v) for v in cand.law_params], k_e=k_e,
-                          per_test=per_test)
-    return AugmentedModel(prob.model_for(p), effects, damping, delay, info=dict(info or {}))
+    k_e = None if prob.is_chain else float(prob.model_for(p).k)  # the law's k_e is the diagnosis baseline's
+    damping = Damping("law", law=cand.law, coefficients=[float(v) for v in cand.law_params], k_e=k_e,
+                      per_test=per_test)
+    return AugmentedModel(prob.model_for(p), effects, damping, delay, info=info)
 
 
 def step_models(result: dict[str, Any], info: dict[str, Any] | None = None) -> list[AugmentedModel]:
@@ -78,7 +90,8 @@ def step_fields(prob: Any, cand: Any, model: AugmentedModel | None = None) -> di
 def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[str]:
     """Make a diagnosis result runnable, on either route: every step gets its fitted parameters
     (:func:`step_fields`), ``summary["model"]`` the last step's model in the model file's keys and
-    ``summary["_models"]`` the model of every step (what ``--save-model`` / ``--save-steps`` write).
+    ``summary["_models"]`` the model of every step (``--save-steps``), ``summary["_model"]`` the verdict's (the
+    chain without a step that raised the held-out error: what ``--save-model`` writes).
 
     Parameters
     ----------
@@ -96,13 +109,15 @@ def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[s
     models = step_models(summary, {"evaluation": evaluation})
     for st, cand, m in zip(summary["steps"], summary["_path"], models):
         st.update(step_fields(prob, cand, m))  # every fitted parameter: base, law coefficients, mass, delay
-    summary["model"] = model_to_dict(models[-1])  # the last step's model, in the model file's keys
+    final = models[len(trusted_path(summary["_path"])[0]) - 1]  # the verdict's chain: no over-fitted step
+    summary["model"] = model_to_dict(final)  # in the model file's keys
     summary["_models"] = models
+    summary["_model"] = final
     if hasattr(prob, "tdata"):  # a time-domain problem: its records and its harmonic part's tests
         data = list(prob.tdata) + (list(prob.hprob.data) if prob.hprob is not None else [])
     else:
         data = list(prob.data)
-    msgs = negative_damping(models[-1], data)
+    msgs = negative_damping(final, data)
     summary["warnings"].extend(msgs)
     return msgs
 
@@ -131,19 +146,11 @@ def negative_damping(model: AugmentedModel, data: Sequence[Any], fitted: bool = 
     """Warnings for the prepared harmonic tests ``data`` (TestData) at which the model's damping resolves to a
     viscous c < 0 [N·s/mm]: a negative dashpot feeds energy in, which no passive device does — the named effects
     over-explain the dissipation there, or the law is extrapolated (Eq. 21 is a fitted surface).  One message
-    naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none."""
-    bad = []
-    for d in data:
-        dmp = model.damping.resolve(d.omega, d.A, model.ke(d.x0), d.test, fitted, d.x0)
-        if dmp.form == "viscous" and dmp.params.get("c", 0.0) < 0:
-            bad.append((dmp.params["c"], d))
-    if not bad:
-        return []
-    c, d = min(bad, key=lambda b: b[0])
-    ids = ", ".join(b[1].test for b in bad)
-    return [f"the damping gives a negative viscous c at test(s) {ids} (lowest c = {c:.4g} N·s/mm at "
-            f"ω = {d.omega:.4g} rad/s, A = {d.A:.4g} mm): the model feeds energy in there, which a passive device "
-            "cannot; the effects over-explain the dissipation or the law is extrapolated"]
+    naming the tests, the most negative c and its ω [rad/s], A [mm]; empty when none (the test of
+    :func:`chainid.model.passivity.negative_dashpots`; a run of such a model is refused by
+    :func:`chainid.model.passivity.check_passive`)."""
+    bad = negative_dashpots(model, [_point(model, d) for d in data], fitted)
+    return [describe(bad)] if bad else []
 
 
 def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] | None = None,
@@ -167,7 +174,13 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     -------
     dict
         ``{"tests": [{"test", "nrmse_baseline", "nrmse_model", "shrinkage", "mode"}], "pooled": {...},
-        "model": {...}, "warnings": [...]}`` (warnings: :func:`negative_damping` on the harmonic tests).
+        "model": {...}, "warnings": [...]}`` (the list stays in the contract; the run's warnings are added to it).
+
+    Raises
+    ------
+    ValueError
+        A test id not in the records, no records, or a damping (of the model or its baseline) that is a
+        negative dashpot at a record's operating point (:func:`chainid.model.passivity.check_passive`).
     """
     ids = [r.test for r in records]
     if tests:
@@ -178,46 +191,107 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     if not records:
         raise ValueError("no records to predict")
     ev = dict(model.info.get("evaluation", {}))
+    time_only = ev.get("route") == "time"  # a time-route model: every record sample by sample, as diagnosed
     base = model.baseline or model
-    rows, series, prepared = [], {}, []
+    rows, series = [], {}
     tot = {"b": 0.0, "m": 0.0, "v": 0.0}
+    prepared = {r.test: None if time_only else _prepared(r, ev) for r in records}
+    kin = {r.test: estimate(r.t, r.x, nz.excitation_band(r.t, r.x)) for r in records if prepared[r.test] is None}
+    points: dict[str, OperatingPoint] = {}
     for r in records:
-        try:
-            d = prepare_test(r, n_bins=int(ev.get("n_bins", 64)), allow_compression=bool(ev.get("allow_compression", True)),
-                             steady_tol=ev.get("steady_tol"))
-        except Unusable:
-            d = None
+        d = prepared[r.test]
+        points[r.test] = _point(model, d) if d is not None else _record_point(model, r, kin[r.test])
+    bad = []
+    for r in records:  # every record at its own operating conditions (a damping may follow a covariate)
+        m = model.at_conditions(getattr(r, "covariates", None))
+        bad += negative_dashpots(m, [points[r.test]], fitted)
+        check_passive(m.baseline or m, [points[r.test]], fitted=fitted, what="the model's baseline")
+    if bad:
+        everywhere = len(bad) == len(records)
+        c = min(b[1] for b in bad)
+        raise ValueError(f"the model: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at "
+                         "every operating point of the run (a run with a negative dashpot is refused; " + (
+                             "diagnose again with another --damping-law or fewer effects" if everywhere
+                             else "--tests predicts the other tests") + ")")
+    for r in records:
+        d = prepared[r.test]
         if d is not None:
-            prepared.append(d)
             Fm, Fb = model.cycle_force(d, fitted), base.cycle_force(d, fitted)
             (sm, var), (sb, _) = _sse_var(d.Fbar, Fm, d.counts), _sse_var(d.Fbar, Fb, d.counts)
             mode = "steady-cycle"
             if keep:
                 series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
-        else:  # on the diagnosis' smooth kinematics (zero-phase low-pass above the excitation band)
-            _, xs, xd, xdd = nz.record_kinematics(r.t, r.x)
-            Fm, Fb = model.force(r.t, xs, xd=xd, xdd=xdd), base.force(r.t, xs, xd=xd, xdd=xdd)
+        else:  # on the diagnosis' smooth kinematics (the estimator chosen by the record's spectrum)
+            Fm, Fb = time_force(model, r, kin=kin[r.test]), time_force(base, r, kin=kin[r.test])
             w = np.ones_like(r.F)
             (sm, var), (sb, _) = _sse_var(r.F, Fm, w), _sse_var(r.F, Fb, w)
             mode = "time-domain"
             if keep:
                 series[r.test] = (r.t, r.x, r.F, Fm, Fb)
         nb, nm = _nrmse(sb, var), _nrmse(sm, var)
+        own = model.damping.form == "law" and fitted and r.test in model.damping.per_test
         rows.append({"test": r.test, "nrmse_baseline": nb, "nrmse_model": nm, "shrinkage": _shrink(nm, nb),
-                     "mode": mode})
+                     "mode": mode, "damping": "fitted c_e" if own else model.damping.form})
         tot["b"] += sb
         tot["m"] += sm
         tot["v"] += var
     pb, pm = _nrmse(tot["b"], tot["v"]), _nrmse(tot["m"], tot["v"])
-    used = model.damping.form  # a law: the law, or the per-test c_e it was fitted on
-    if used == "law":
-        used = "per-test fitted c_e" if fitted else "law"
+    used = model.damping.form  # a law: the law, or the per-test c_e it was fitted on (only those tests have one)
+    if used == "law" and fitted:
+        n_own = sum(row["damping"] == "fitted c_e" for row in rows)
+        used = (f"per-test fitted c_e on {n_own} test(s) the law was fitted on; the law on the other "
+                f"{len(rows) - n_own}" if n_own < len(rows) else "per-test fitted c_e")
     out = {"tests": rows, "pooled": {"nrmse_baseline": pb, "nrmse_model": pm, "shrinkage": _shrink(pm, pb)},
-           "model": model_to_dict(model), "damping_used": used,
-           "warnings": negative_damping(model, prepared, fitted)}
+           "model": model_to_dict(model), "damping_used": used, "warnings": []}
     if keep:
         out["_series"] = series
     return out
+
+
+def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False, kin: Kinematics | None = None) -> Any:
+    """The model force [N] on a record evaluated as the time-domain route evaluates it: on the record's smooth
+    kinematics (:func:`chainid.gap.core.kinematics.estimate`), at the record's operating conditions, and with the
+    record's own force offset when the model's offsets are per test (nuisance parameters).  With
+    ``with_kinematics`` also the kinematics used (``kin``: the record's kinematics when already estimated)."""
+    kin = kin if kin is not None else estimate(rec.t, rec.x, nz.excitation_band(rec.t, rec.x))
+    m = model.at_conditions(getattr(rec, "covariates", None))
+    F = np.asarray(m.force(rec.t, kin.x, xd=kin.xd, xdd=kin.xdd, v_err=kin.v_spread(rec.t)), float)
+    Fm = np.asarray(rec.F, float)
+    out = np.zeros(F.size, bool)
+    if model.delay_s:  # the lagged motion before the record's start (after its end) is unknown: no residual there
+        ts = np.asarray(rec.t, float) - model.delay_s
+        out = (ts < rec.t[0]) | (ts > rec.t[-1])
+    if model.offsets:
+        F = F + float(np.mean((Fm - F)[~out])) if (~out).any() else F
+    F = np.where(out, Fm, F)
+    return (F, kin) if with_kinematics else F
+
+
+def _prepared(r: Any, ev: dict[str, Any]) -> Any:
+    """The prepared steady harmonic test of a record (as the diagnosis prepares it), or None (a transient)."""
+    try:
+        return prepare_test(r, n_bins=int(ev.get("n_bins", 64)), allow_compression=bool(ev.get("allow_compression", True)),
+                            steady_tol=ev.get("steady_tol"))
+    except Unusable:
+        return None
+
+
+def _point(model: AugmentedModel, d: Any) -> OperatingPoint:
+    """The operating point of a prepared test (TestData: ω, A, x0) or of a time record (TimeData: its band centre
+    and half range for a ``feature`` damping, else its dominant ω and A)."""
+    w = getattr(d, "omega_c", d.omega) if model.damping.form == "feature" else d.omega
+    return OperatingPoint(d.test, w, d.A, d.x0, d.test)
+
+
+def _record_point(model: AugmentedModel, rec: Any, kin: Kinematics) -> OperatingPoint:
+    """A transient record's operating point as :meth:`AugmentedModel.force` resolves its damping."""
+    if model.damping.form == "feature":
+        w, A = record_features(rec.t, kin.x)
+        return OperatingPoint(rec.test, w, max(A, 1e-12), float(np.mean(kin.x)), rec.test)
+    w, A, x0 = dominant(rec.t, kin.x)
+    return OperatingPoint(rec.test, w, max(A, 1e-12), x0, rec.test)
+
+
 
 
 def _nrmse(sse: float, var: float) -> float | None:

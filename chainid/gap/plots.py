@@ -1,11 +1,11 @@
 """Figures of ``chainid diagnose --plots DIR``: one set of file names, drawn by the route that diagnosed the set
 (:mod:`chainid.gap.harmonic.plots`, :mod:`chainid.gap.timedomain.plots`).
 
-loops.png — measured (cycle-averaged) / baseline / augmented loops per held-out test;
-residual_phase.png — baseline residual vs cycle phase per test;
-residual_surface.png — baseline residual over (x, ẋ) (multi-valued = memory);
-heatmap.png — per-test NRMSE before / after over (ω, A);
-waterfall.png — the explanation chain: held-out NRMSE after each step, down to the noise floor.
+Both routes: loops.png (measured, baseline and final model), residual_surface.png (the baseline residual over x and
+ẋ), waterfall.png (the held-out NRMSE after each step, down to the noise floor), open_world.png (the model-free
+learner's partial dependence of what is left on x, ẋ and the travel since reversal).  The harmonic route adds
+residual_phase.png (the residual over the cycle phase) and heatmap.png (per-test NRMSE over (ω, A)); the
+time-domain route residual_time.png (the residual over time) and records.png (per-record NRMSE).
 """
 
 from __future__ import annotations
@@ -14,12 +14,17 @@ from pathlib import Path
 from typing import Any
 
 
-#: The files :func:`make_plots` writes, in order.
-PLOT_NAMES = ("loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png", "waterfall.png")
+#: The files of each route, in order (both: loops, residual surface, waterfall, open world).
+HARMONIC_PLOTS = ("loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png", "waterfall.png",
+                  "open_world.png")
+TIME_PLOTS = ("loops.png", "residual_time.png", "residual_surface.png", "records.png", "waterfall.png",
+              "open_world.png")
+#: every file :func:`make_plots` may write (checked before a diagnosis runs, when the route is not yet known)
+PLOT_NAMES = tuple(dict.fromkeys(HARMONIC_PLOTS + TIME_PLOTS))
 
 
 def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -> list[Path]:
-    """Write the five figures (:data:`PLOT_NAMES`) atomically; returns their paths.
+    """Write the route's figures (:data:`HARMONIC_PLOTS` or :data:`TIME_PLOTS`) atomically; returns their paths.
 
     With ``force`` False an existing file of those names is an error (checked before drawing).
     """
@@ -30,10 +35,12 @@ def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -
 
     from chainid.infra.fileio import check_output_dir, save_figure
 
-    out = check_output_dir(outdir, "--plots", PLOT_NAMES, force=force)
+    names = TIME_PLOTS if result.get("route") in ("time", "mixed") else HARMONIC_PLOTS
+    out = check_output_dir(outdir, "--plots", names, force=force)
     out.mkdir(parents=True, exist_ok=True)
+
     def save(fig: Any, name: str) -> Path:
-        assert name in PLOT_NAMES
+        assert name in names
         try:
             return save_figure(fig, out / name, force=force, what="--plots", dpi=90)
         finally:
@@ -42,7 +49,11 @@ def make_plots(result: dict[str, Any], outdir: str | Path, force: bool = True) -
     if result.get("route") in ("time", "mixed"):  # records analysed in the time domain
         from chainid.gap.timedomain.plots import time_plots
 
-        return time_plots(result, save)
-    from chainid.gap.harmonic.plots import harmonic_plots
+        paths = time_plots(result, save)
+    else:
+        from chainid.gap.harmonic.plots import harmonic_plots
 
-    return harmonic_plots(result, save)
+        paths = harmonic_plots(result, save)
+    from chainid.gap.core.plot_steps import open_world_figure
+
+    return paths + [save(open_world_figure(result), "open_world.png")]

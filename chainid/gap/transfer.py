@@ -1,15 +1,14 @@
 """Transfer: the chain fitted on one excitation, scored on another (``chainid diagnose --validate OTHER.csv``).
 
-The model of the diagnosis (its base with the fitted spring, its effects with their
-parameters, its damping) is evaluated unchanged on every record of the other set:
+The model of each step of the diagnosis (:mod:`.modelio`: its base with the fitted spring and
+mass, its effects with their parameters, its damping) is evaluated unchanged on every record of
+the other set, exactly as ``chainid predict`` evaluates it:
 
-* a steady harmonic test on its phase bins (:mod:`chainid.gap.harmonic.prepare`), the damping
-  c_e from the fitted law at the test's ω and A — or the fitted viscous c when the model
-  was fitted in the time domain;
-* any other record in the time domain (causal operators from the first sample), the
-  damping viscous: the fitted c, or the fitted c_e law written at the record's dominant
-  frequency and half its displacement range (a law identified on harmonic tests has no
-  other meaning for a transient).
+* a model of the harmonic route on a steady harmonic test: its phase bins
+  (:mod:`chainid.gap.harmonic.prepare`), the damping c_e from the fitted law at the test's ω and A;
+* any other record, and every record under a model of the time-domain route: in the time domain
+  (causal operators from the first sample; the damping the fitted c, a law resolved at the record's
+  features; the record's own force offset where the model's offsets are per test).
 
 The baseline of the comparison is the diagnosis' own baseline (no effect) carried over the
 same way, so ``shrinkage = 1 − NRMSE_model/NRMSE_baseline`` on the other set says how much
@@ -32,25 +31,14 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.harmonic import law_choice as L
-from chainid.gap.harmonic.prepare import Unusable, prepare_test
+from chainid.gap.core.noise import force_noise
 from chainid.gap.core.selection import at_noise_floor
-from chainid.gap.harmonic.problem import Problem
-from chainid.gap.timedomain.data import MIN_SAMPLES, prepare_time, undamped
-from chainid.gap.core.verdict import MIN_SHRINK
+from chainid.gap.core.verdict import MIN_SHRINK, trusted_path
+from chainid.gap.harmonic.prepare import Unusable, prepare_test
+from chainid.gap.modelio import time_force
+from chainid.gap.timedomain.data import MIN_SAMPLES
+from chainid.model.augmented import AugmentedModel
 
-
-
-def _damping(prob: Any, cand: Any, omega: float, A: float, x0: float, harmonic: bool) -> float:
-    """c [N·s/mm] of a candidate on a record of dominant ω [rad/s], half range A [mm], mean x0 [mm]: the
-    time-domain c for a time record (the law when there is none), the law for a harmonic test (c when the
-    model has no harmonic law)."""
-    has_law = getattr(prob, "hprob", True) is not None
-    if "damping.c" in cand.params and (not harmonic or not has_law):
-        return float(cand.params["damping.c"])
-    ke = float(np.asarray(prob.model_for(cand.params).stiffness(np.array([x0])), float)[0])
-    X = L.design(cand.law, np.array([omega]), np.array([max(A, 1e-12)]), np.array([ke]))
-    return float((X @ np.asarray(cand.law_params, float))[0])
 
 
 def _refit(F: np.ndarray, Fm: np.ndarray, x: np.ndarray, v: np.ndarray, w: np.ndarray | None = None) -> np.ndarray:
@@ -62,17 +50,18 @@ def _refit(F: np.ndarray, Fm: np.ndarray, x: np.ndarray, v: np.ndarray, w: np.nd
     return r - X @ coef
 
 
-def _score(prob: Any, cand: Any, rec: Any, n_bins: int, steady_tol: float | None) -> dict[str, Any]:
-    names = cand.names
-    try:
-        d = prepare_test(rec, n_bins=n_bins, allow_compression=True, steady_tol=steady_tol)
-    except Unusable:
-        d = None
+def _score(model: AugmentedModel, rec: Any, n_bins: int, steady_tol: float | None, time_only: bool
+           ) -> dict[str, Any]:
+    """One record's errors under a step's model, evaluated as ``predict`` evaluates it (:mod:`.modelio`)."""
+    d = None
+    if not time_only:
+        try:
+            d = prepare_test(rec, n_bins=n_bins, allow_compression=True, steady_tol=steady_tol)
+        except Unusable:
+            d = None
     if d is not None:
-        Fn, v = Problem.parts(prob, names, cand.params, d)
-        c = _damping(prob, cand, d.omega, d.A, d.x0, True)
-        Fm = Fn + c * v
-        xb = d.gridmean(d.grid["x"])
+        Fm = model.cycle_force(d)
+        xb, v = d.gridmean(d.grid["x"]), d.gridmean(d.grid["xd"])
         w = d.counts
         var = float(np.sum(w * (d.Fbar - np.sum(w * d.Fbar) / np.sum(w)) ** 2))
         r, rr = d.Fbar - Fm, _refit(d.Fbar, Fm, xb, v, w)
@@ -81,13 +70,13 @@ def _score(prob: Any, cand: Any, rec: Any, n_bins: int, steady_tol: float | None
                 "sigma": float(d.sigma)}
     if rec.t.size < MIN_SAMPLES:
         raise ValueError(f"--validate: test {rec.test!r} has {rec.t.size} samples; need >= {MIN_SAMPLES}")
-    d = prepare_time(rec, 1)
-    Fn, v = undamped(names, cand.params, prob.model_for(cand.params), d)
-    Fm = Fn + _damping(prob, cand, d.omega, d.A, d.x0, False) * v
-    var = float(np.sum((d.F - d.F.mean()) ** 2))
-    r, rr = d.F - Fm, _refit(d.F, Fm, d.x, v)
+    Fm, kin = time_force(model, rec, with_kinematics=True)
+    F = np.asarray(rec.F, float)
+    sigma = max(force_noise(F), 1e-6 * float(np.std(F)) + 1e-9)
+    var = float(np.sum((F - F.mean()) ** 2))
+    r, rr = F - Fm, _refit(F, Fm, kin.x, kin.xd)
     return {"route": "time", "sse": float(np.sum(r**2)), "sse_refit": float(np.sum(rr**2)), "var": var,
-            "r2": float(np.sum(r**2)), "f2": float(d.sigma**2 * r.size), "n": int(r.size), "sigma": float(d.sigma)}
+            "r2": float(np.sum(r**2)), "f2": float(sigma**2 * r.size), "n": int(r.size), "sigma": float(sigma)}
 
 
 def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
@@ -107,15 +96,17 @@ def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
         ``tests`` (per record: route, nrmse_baseline, nrmse_model, shrinkage and the same after the linear
         refit), ``pooled``, ``chain``, ``transfers`` (bool) and ``verdict_text``.
     """
-    prob, path = result["_problem"], result["_path"]
-    base, final = path[0], path[-1]
+    path, models = result["_path"], result["_models"]
+    ok = trusted_path(path)[0]  # the verdict's chain: no over-fitted step
+    base, final = path[0], ok[-1]
+    time_only = result.get("route") == "time"
     if not other:
         raise ValueError("--validate: the other set has no records")
     rows = []
     tot = {k: 0.0 for k in ("b", "m", "br", "mr", "v", "r2", "f2", "n", "s2")}
     for rec in other:
-        sb = _score(prob, base, rec, n_bins, steady_tol)
-        sm = _score(prob, final, rec, n_bins, steady_tol) if final is not base else sb
+        sb = _score(models[0], rec, n_bins, steady_tol, time_only)
+        sm = _score(models[len(ok) - 1], rec, n_bins, steady_tol, time_only) if final is not base else sb
         v = sb["var"]
         nr = lambda s: math.sqrt(s / v) if v > 0 else float("nan")  # noqa: E731
         row = {"test": rec.test, "route": sb["route"], "nrmse_baseline": nr(sb["sse"]), "nrmse_model": nr(sm["sse"]),

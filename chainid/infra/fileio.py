@@ -41,10 +41,12 @@ from pathlib import Path
 from typing import IO, Any, Iterator
 
 from chainid.infra.jsonio import dumps_json, json_default, to_jsonable
+from chainid.infra.samefile import OutputError, check_inputs_not_outputs, check_outputs_distinct
 
 __all__ = [
     "OutputError",
     "check_inputs_not_outputs",
+    "check_outputs_distinct",
     "replace_file",
     "EXIT_INTERRUPTED",
     "check_output_file",
@@ -64,10 +66,6 @@ __all__ = [
 
 #: Exit code of a command stopped by SIGINT (128 + 2, the shell convention).
 EXIT_INTERRUPTED = 130
-
-
-class OutputError(ValueError):
-    """An output target that cannot or must not be written (the CLI prints it and exits 2)."""
 
 
 def _nearest_existing(p: Path) -> Path:
@@ -115,40 +113,6 @@ def _special_kind(p: Path) -> str | None:
 
 #: Special files written through (never replaced) with ``force``; any other special file is refused.
 WRITE_THROUGH = ("character device", "FIFO")
-
-
-def check_inputs_not_outputs(outputs: Any, inputs: Any) -> None:
-    """Refuse an output that is an input of the same run (the same file: ``os.path.samefile``).
-
-    Parameters
-    ----------
-    outputs, inputs : iterable of (what, path)
-        Option name and path; None paths, ``"-"`` and paths that do not exist are skipped.
-
-    Raises
-    ------
-    OutputError
-        Naming both options and the path.
-    """
-    def existing(pairs: Any) -> list[tuple[str, str]]:
-        out = []
-        for what, path in pairs:
-            if path is None or str(path) == "-":
-                continue
-            if os.path.exists(path):
-                out.append((what, os.fspath(path)))
-        return out
-
-    ins = existing(inputs)
-    for what_o, out in existing(outputs):
-        for what_i, inp in ins:
-            try:
-                same = os.path.samefile(out, inp)
-            except OSError:
-                continue
-            if same:
-                raise OutputError(f"{what_o} {out!r} is the input {what_i} {inp!r} of this run; refusing to "
-                                  "overwrite an input (give another output file)")
 
 
 def check_output_file(path: str | os.PathLike[str], force: bool = False, what: str = "output") -> Path:
@@ -411,6 +375,8 @@ def write_json(doc: Any, target: str | os.PathLike[str] | None, force: bool = Fa
                what: str = "--json") -> Path | None:
     """Write ``doc`` as strict JSON to ``target`` atomically ("-" = stdout, None = nothing).
 
+    Inside a CLI run, a dict ``doc`` gets the run's warnings (:func:`chainid.infra.runlog.merge_warnings`).
+
     Returns
     -------
     Path or None
@@ -418,7 +384,9 @@ def write_json(doc: Any, target: str | os.PathLike[str] | None, force: bool = Fa
     """
     if target is None:
         return None
-    text = dumps_json(doc)
+    from chainid.infra.runlog import merge_warnings
+
+    text = dumps_json(merge_warnings(doc))  # a CLI run's warnings printed on stderr are in its JSON too
     if str(target) == "-":
         out = _JSON_STDOUT[-1] if _JSON_STDOUT else sys.stdout
         out.write(text + "\n")

@@ -25,6 +25,12 @@ worker).  A Ctrl-C while the workers start (a dask LocalCluster: a few seconds)
 is ignored.  SIGTERM to this process does the same clean-up
 and exits with 143 (``SystemExit``): no pool process outlives it.
 
+A parent that is killed outright (SIGKILL, the OOM killer) runs no clean-up, so every worker this module starts
+watches its parent itself (:func:`die_with_parent`): on Linux the kernel sends it SIGKILL when its parent dies
+(``prctl(PR_SET_PDEATHSIG)``, set in the pool's initializer and in the dask workers' preload; a LocalCluster's
+nannies run inside this process), and a watchdog thread, on every system, ends it within :data:`WATCHDOG_S` seconds of its parent's end
+(it polls ``os.getppid()``, which changes when the parent is gone).  No orphan keeps running a case.
+
 Worker count: ``min(n_workers or cores, cases, MAX_WORKERS)``, with
 :data:`MAX_WORKERS` = 4 × the machine's cores, at most 64.  The cases are
 CPU-bound, so more workers than cores only add start-up time (~1 s each) and
@@ -51,7 +57,8 @@ import warnings
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
-__all__ = ["run_cases", "dask_available", "SCHEDULERS", "MAX_WORKERS", "worker_count", "probe_scheduler"]
+__all__ = ["run_cases", "dask_available", "SCHEDULERS", "MAX_WORKERS", "worker_count", "probe_scheduler",
+           "die_with_parent"]
 
 #: The named schedulers; any other string is a dask scheduler address.
 SCHEDULERS: tuple[str, ...] = ("local", "processes", "serial")
@@ -61,6 +68,11 @@ MAX_WORKERS: int = min(64, 4 * (os.cpu_count() or 1))
 
 #: Seconds a scheduler address has to greet a new connection with the dask handshake.
 PROBE_TIMEOUT_S = 5.0
+
+#: Poll interval [s] of a worker's watchdog on its parent (the fallback of PR_SET_PDEATHSIG).
+WATCHDOG_S = 0.5
+
+_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 
 
 def worker_count(n_workers: int | None, n_cases: int) -> int:
@@ -108,18 +120,62 @@ def _sigterm_cleans_up() -> Iterator[None]:
         signal.signal(signal.SIGTERM, old)
 
 
-def _worker_init() -> None:  # pragma: no cover - runs in the workers
+def _parent_death_signal() -> bool:
+    """Ask the kernel to SIGKILL this process when its parent ends (Linux ``prctl``); False where unavailable."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0
+    except (OSError, AttributeError):  # no libc symbol: the watchdog alone
+        return False
+
+
+def _watchdog(parent: int, interval: float) -> None:  # pragma: no cover - runs in the workers
+    while True:
+        time.sleep(interval)
+        if os.getppid() != parent:
+            os._exit(1)  # the parent is gone: end now (no clean-up to run, the results have no reader)
+
+
+def die_with_parent(parent: int | None = None, interval: float = WATCHDOG_S) -> None:
+    """End this (worker) process when its parent process ends, however the parent ends (SIGKILL included).
+
+    Parameters
+    ----------
+    parent : int, optional
+        The expected parent pid (default: the current parent).  When the parent already is another process
+        (the expected one ended before this call), the process ends at once.
+    interval : float
+        Seconds between the watchdog's looks at the parent (> 0).
+
+    Linux: ``prctl(PR_SET_PDEATHSIG, SIGKILL)``; everywhere: a daemon thread that polls ``os.getppid()``.
+    """
+    expected = os.getppid() if parent is None else int(parent)
+    _parent_death_signal()
+    if os.getppid() != expected:  # the parent ended before the death signal was set
+        os._exit(1)
+    threading.Thread(target=_watchdog, args=(expected, float(interval)), name="chainid-parent-watchdog",
+                     daemon=True).start()
+
+
+def _worker_init(parent: int | None = None) -> None:  # pragma: no cover - runs in the workers
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent(parent)
 
 
 def dask_setup(worker: Any) -> None:  # pragma: no cover - runs in the dask workers
-    """dask preload hook (``preload=["chainid.infra.parallel"]``): a LocalCluster worker ignores SIGINT.
+    """dask preload hook (``preload=["chainid.infra.parallel"]``): a LocalCluster worker ignores SIGINT and ends
+    with its parent, the process whose nanny started it (:func:`die_with_parent`).
 
     A Ctrl-C reaches the whole process group; this process (the client) cancels the cases and closes the
     cluster, so the workers need not, and must not print a traceback each.
     """
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent()
 
 
 def _refused(address: str, why: str) -> ValueError:
@@ -298,7 +354,7 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
 
     before = set(multiprocessing.active_children())
     ex = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                             initializer=_worker_init)
+                             initializer=_worker_init, initargs=(os.getpid(),))
     ok = False
     try:
         with _sigint_ignored():  # the workers start on submit

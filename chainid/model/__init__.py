@@ -2,7 +2,9 @@
 behind a numpy API (:mod:`.kernels`), base models (chain, linear spring; :mod:`.base`), the damping laws c_e(ω, A)
 (:mod:`.laws`), the Eq. 1 prediction (:mod:`.predict`), the effect library (:mod:`.effects`), the model against
 catalogue practice (:mod:`.practice`), the causal state operators (:mod:`.operators`), time-domain damping
-(:mod:`.timedamping`), the augmented model (:mod:`.augmented`) and its file (:mod:`.modelfile`). Units mm, N, s, MPa, kg.
+(:mod:`.timedamping`), the augmented model (:mod:`.augmented`), its file (:mod:`.modelfile`) with its typed schema
+(:mod:`.schema`) and the physical ranges of its numbers (:mod:`.ranges`), and the rule for a negative dashpot
+(:mod:`.passivity`). Units mm, N, s, MPa, kg.
 """
 from __future__ import annotations
 
@@ -42,6 +44,13 @@ _LAZY = {
     "dominant": "timedamping",
     "load_model": "modelfile",
     "save_model": "modelfile",
+    "check_model_dict": "schema",
+    "ModelFileWarning": "schema",
+    "EFFECT_RANGES": "ranges",
+    "Range": "ranges",
+    "range_table": "ranges",
+    "OperatingPoint": "passivity",
+    "check_passive": "passivity",
     "VARIANTS": "kernels",
     "variant_module": "kernels",
     "coefficients": "kernels",

@@ -6,8 +6,13 @@ with the stiffness-side effects applied (``stiffness_level``, ``contact_law``, `
 ``machine_compliance``), the memory effects are the causal operators of :mod:`chainid.operators`
 (``friction``: Jenkins element with stick; ``hysteresis``: Dahl; ``backlash``: play) and F_d a
 time-domain damping (:mod:`chainid.timedamping`).  The effect names and parameters are those of the gap
-library (:mod:`chainid.gap.effects`, :func:`~chainid.gap.effects.undamped_force` composes them: one place),
+library (:mod:`chainid.model.effects`, :func:`~chainid.model.effects.undamped_force` composes them: one place),
 so a diagnosis step (``effects`` + ``params``) rebuilds a model exactly.
+
+Operating conditions: ``covariate_terms`` maps ``effect.param@cov`` (or ``damping.c@cov``, ``spring.k@cov``) to
+a slope, so that for a record with covariates the parameter is p + slope·(cov − ref), ``covariate_refs`` the ref of
+each covariate.  ``offsets``: the tests ran at different preloads, so each record's force offset is a nuisance
+parameter (a prediction takes the record's own mean residual).
 
 Two evaluations:
 
@@ -29,7 +34,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.model.effects import DEFAULTS, EFFECT_NAMES, make_effect, undamped_force
-from chainid.model.timedamping import Damping, dominant
+from chainid.model.ranges import EFFECT_RANGES, MODEL_RANGES, check_number
+from chainid.model.timedamping import Damping, dominant, record_features
 
 #: effects that are not force terms of the model (the delay is ``delay_s``; ``damping_law`` is the law choice)
 NOT_FORCE = ("sensor_delay", "damping_law")
@@ -56,6 +62,10 @@ class AugmentedModel:
         The model this one is compared with (``predict``'s baseline), e.g. the diagnosis' step 0.
     info : dict
         Free metadata (variant, chain, provenance) carried to the model file.
+    offsets : bool
+        Per-record force offsets are nuisance parameters (tests at different preloads).
+    covariate_terms, covariate_refs : dict
+        Slopes of parameters over covariates and the covariates' reference values (module docstring).
     """
 
     base: Any
@@ -65,6 +75,9 @@ class AugmentedModel:
     mass_kg: float | None = None
     baseline: "AugmentedModel | None" = None
     info: dict[str, Any] = field(default_factory=dict)
+    offsets: bool = False
+    covariate_terms: dict[str, float] = field(default_factory=dict)
+    covariate_refs: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         chain = hasattr(self.base, "hertz_scale")
@@ -77,19 +90,61 @@ class AugmentedModel:
             eff = make_effect(name)
             if eff.chain_only and not chain and name not in ("slack", "machine_compliance"):
                 raise ValueError(f"effect {name!r} needs a chain base (the base is a linear spring)")
-            unknown = set(params) - set(eff.param_names)
+            unknown = set(params) - set(eff.param_names) - set(eff.fixed)
             if unknown:
                 raise ValueError(f"effect {name!r}: unknown parameter(s) {sorted(unknown)}; "
-                                 f"valid: {', '.join(eff.param_names)}")
-            bad = [k for k, v in params.items() if not math.isfinite(float(v))]
-            if bad:
-                raise ValueError(f"effect {name!r}: {bad[0]} = {params[bad[0]]!r} must be finite")
-            out.append((name, dict(DEFAULTS[name]) | {k: float(v) for k, v in params.items()}))
+                                 f"valid: {', '.join(list(eff.param_names) + list(eff.fixed))}")
+            # the valid ranges of the one table (chainid.model.ranges); implausible values are the loader's warnings
+            checked = {k: check_number(v, EFFECT_RANGES[name][k], f"effect {name!r}: {k}")[0]
+                       for k, v in params.items()}
+            out.append((name, dict(DEFAULTS[name]) | checked))
         self.effects = out
-        if not math.isfinite(float(self.delay_s)):
-            raise ValueError(f"delay_s = {self.delay_s!r} must be finite [s]")
-        if self.mass_kg is not None and not (math.isfinite(self.mass_kg) and self.mass_kg >= 0):
-            raise ValueError(f"mass_kg = {self.mass_kg!r} is out of range; valid range >= 0 kg")
+        self.delay_s = check_number(self.delay_s, MODEL_RANGES["delay_s"], "delay_s")[0]
+        if self.mass_kg is not None:
+            self.mass_kg = check_number(self.mass_kg, MODEL_RANGES["mass_kg"], "mass_kg")[0]
+        for term, v in self.covariate_terms.items():
+            head, at, cov = term.partition("@")
+            if not at or "." not in head or not cov:
+                raise ValueError(f"covariate term {term!r} is invalid; valid: 'effect.param@covariate' "
+                                 "(e.g. friction.F_c@i, damping.c@i, spring.k@p)")
+            if not math.isfinite(float(v)):
+                raise ValueError(f"covariate term {term} = {v!r} must be finite")
+            if cov not in self.covariate_refs:
+                raise ValueError(f"covariate term {term!r}: covariate {cov!r} has no reference value in "
+                                 f"covariate_refs (known: {', '.join(self.covariate_refs) or 'none'})")
+
+    def at_conditions(self, covariates: dict[str, float] | None) -> "AugmentedModel":
+        """The model at a record's operating conditions: every covariate term applied (p + slope·(cov − ref)).
+
+        Raises
+        ------
+        ValueError
+            A covariate the model depends on is missing from ``covariates``.
+        """
+        if not self.covariate_terms:
+            return self
+        from dataclasses import replace as _replace
+
+        cov = dict(covariates or {})
+        effects = [(n, dict(p)) for n, p in self.effects]
+        damping = self.damping
+        base = self.base
+        for term, slope in self.covariate_terms.items():
+            head, _, name = term.partition("@")
+            if name not in cov:
+                raise ValueError(f"the model depends on covariate {name!r} ({term}); the record carries "
+                                 f"{', '.join(cov) or 'none'}")
+            dv = float(slope) * (float(cov[name]) - self.covariate_refs[name])
+            eff, _, par = head.partition(".")
+            if eff == "damping" and par == "c":
+                damping = _replace(damping, params=dict(damping.params) | {"c": damping.params.get("c", 0.0) + dv})
+            elif eff == "spring" and par == "k":
+                base = _replace(base, k=max(float(base.k) + dv, 0.0))
+            else:
+                for n, p in effects:
+                    if n == eff:
+                        p[par] = p.get(par, 0.0) + dv
+        return _replace(self, base=base, effects=effects, damping=damping, covariate_terms={})
 
     # ------------------------------------------------------------------ helpers
     @property
@@ -134,13 +189,15 @@ class AugmentedModel:
         return Fn + d.gridmean(dmp.force(x, xd, periodic=True)[0])
 
     def force(self, t: Sequence[float], x: Sequence[float], return_parts: bool = False,
-              xd: Sequence[float] | None = None, xdd: Sequence[float] | None = None) -> Any:
+              xd: Sequence[float] | None = None, xdd: Sequence[float] | None = None,
+              v_err: float | np.ndarray = 0.0) -> Any:
         """Model force F(t) [N] for any sampled x(t) [s, mm] (uniform or not, strictly increasing t).
 
         ẋ, ẍ by ``np.gradient`` with t; the force channel lags by τ (inputs interpolated at t − τ, held at
         the ends); memory operators run forward from their stated initial state; a damping law is resolved at
         the record's dominant ω and A.  ``xd``, ``xdd`` [mm/s, mm/s²]: exact derivatives when known (a
-        simulation), instead of the finite differences.  ``return_parts``: also a dict with the undamped force, damping force,
+        simulation), instead of the finite differences; ``v_err`` [mm/s] the RMS error of an estimated ``xd`` (the sign of
+        sliding friction is then its expectation).  ``return_parts``: also a dict with the undamped force, damping force,
         dissipated-energy increments of the damping [N·mm] and the resolved damping.
         """
         t = np.asarray(t, float)
@@ -158,13 +215,17 @@ class AugmentedModel:
         if self.delay_s != 0.0:
             ts = t - self.delay_s
             x, xd, xdd = np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)
+            if np.ndim(v_err):
+                v_err = np.interp(ts, t, np.asarray(v_err, float))
 
         def xfun(ts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             return np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)
 
         w, A, x0 = dominant(t, x)
         Fn = undamped_force(self.effects, self.base, t, x, xd, xdd, w, max(A, 1e-12), x0, xfun,
-                            periodic=False) + self._mass_fix(xdd)
+                            periodic=False, v_err=v_err) + self._mass_fix(xdd)
+        if self.damping.form == "feature":
+            w, A = record_features(t, x)
         dmp = self.damping.resolve(w, max(A, 1e-12), self.ke(x0), x0=x0)
         Fd, dE = dmp.force(x, xd, periodic=False)
         F = Fn + Fd

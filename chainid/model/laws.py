@@ -382,7 +382,11 @@ def rank_laws(
     *,
     model: StiffnessLike | None = None,
 ) -> list[dict[str, Any]]:
-    """Fit every law and rank them by leave-one-out RMSE (best first).
+    """Fit every law and rank them by leave-one-out RMSE (best first; equal errors: fewer parameters first).
+
+    Errors equal to within :data:`LOO_TIE_REL` (relative), and errors of exact fits (below LOO_TIE_REL times the
+    RMS of c_e: round-off), rank as equal, and among equals the law with fewer parameters comes first (the
+    simpler law explains the tests as well).
 
     Parameters
     ----------
@@ -429,8 +433,25 @@ def rank_laws(
             "n_params": law.n_params,
             "fitted": law,
         })
-    rows.sort(key=lambda r: (r["loo_rmse"], r["n_params"]))
+    rows.sort(key=lambda r: (_tie_key(r["loo_rmse"], c), r["n_params"]))
     return rows
+
+
+#: leave-one-out errors closer than this (relative, or below it times the RMS of c_e) are equal for the ranking
+LOO_TIE_REL = 1e-9
+
+
+def _tie_key(loo: float, c: np.ndarray) -> float:
+    """The ranking key of a leave-one-out RMSE: equal errors (within :data:`LOO_TIE_REL` relative, and every
+    error below LOO_TIE_REL·RMS(c_e), i.e. an exact fit up to round-off) give equal keys, so that the law with
+    fewer parameters ranks first among them."""
+    if not math.isfinite(loo):
+        return loo
+    floor = LOO_TIE_REL * float(np.sqrt(np.mean(c * c)))
+    v = max(loo, floor)
+    if v <= 0:
+        return 0.0
+    return float(f"{v:.{max(1, -int(math.floor(math.log10(LOO_TIE_REL))))}g}")
 
 
 def law_from_dict(d: dict[str, Any], model: StiffnessLike | None = None) -> DampingLaw:

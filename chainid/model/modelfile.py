@@ -8,7 +8,10 @@ Layout (``format_version = 1``; keys of /work/shared/design/architecture.md "Aug
     delay_s = 0.0                 # force channel lag τ [s]
     [units]                       # length = "mm", force = "N", time = "s", mass = "kg"
     [base]                        # model = "chain" (variant, [base.chain] spec, kernel modifiers) or
-                                  # model = "linear" (k [N/mm], x_ref [mm])
+                                  # model = "linear" (k [N/mm], x_ref [mm], mass [kg]); offsets = "per-test" when
+                                  # each test's force offset is a nuisance parameter (tests at different preloads)
+    [covariates]                  # operating conditions: [covariates.refs] name = reference value,
+                                  # [covariates.terms] "effect.param@name" = slope (p = p0 + slope·(cov − ref))
     [[effects]]                   # ordered; name = "friction", [effects.params] F_c = …, mu = …, x_s = …
     [damping]                     # form = "law" (law, coefficients, rule, k_e, [damping.per_test]) or a
                                   # time-domain form with [damping.params] (chainid.timedamping)
@@ -16,8 +19,10 @@ Layout (``format_version = 1``; keys of /work/shared/design/architecture.md "Aug
     [evaluation]                  # how harmonic tests are prepared: n_bins, steady_tol, allow_compression
     [provenance]                  # data_sha256, data_file, command, chainid_version, date
 
-Loading checks the version and every key and names what is wrong; writing is atomic
-(:func:`chainid.fileio.atomic_write_text`).
+Loading checks every key against the typed schema (:mod:`chainid.model.schema`: types, physical ranges of
+:mod:`chainid.model.ranges`, unknown keys, the version) before anything is built, and names what is wrong by
+its key path; valid but implausible values are warnings (:class:`~chainid.model.schema.ModelFileWarning`).
+Writing is atomic (:func:`chainid.infra.fileio.atomic_write_text`).
 """
 
 from __future__ import annotations
@@ -25,17 +30,17 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+import warnings
 from pathlib import Path
 from typing import Any
 
 from chainid.model.augmented import AugmentedModel
+from chainid.model.schema import FORMAT_VERSION, KIND, PART_KEYS, UNITS, ModelFileWarning, check_model_dict
 from chainid.model.timedamping import Damping
 
-FORMAT_VERSION = 1
-KIND = "chainid-augmented-model"
-UNITS = {"length": "mm", "force": "N", "time": "s", "mass": "kg"}
-_TOP = {"format_version", "kind", "units", "base", "mass_kg", "effects", "damping", "delay_s", "baseline",
-        "evaluation", "provenance"}
+__all__ = ["FORMAT_VERSION", "KIND", "UNITS", "model_to_dict", "model_from_dict", "to_toml", "save_model",
+           "load_model"]
+
 _CHAIN_MODS = ("slack", "compliance", "hertz_scale", "contact_exponent", "contact_ref_force", "ea_scale")
 
 
@@ -54,28 +59,15 @@ def _base_dict(base: Any) -> dict[str, Any]:
 
 
 def _base_from(d: dict[str, Any], where: str) -> Any:
+    """The base model of a checked ``base`` table (:func:`check_model_dict` ran first)."""
     from chainid.model.base import ChainModel, LinearModel
     from chainid.chain.spec import chain_from_mapping
 
-    kind = d.get("model")
-    if kind == "chain":
-        known = {"model", "variant", "chain"} | set(_CHAIN_MODS)
-        _unknown(d, known, where)
-        mods = {k: d[k] for k in _CHAIN_MODS if k in d}
-        return ChainModel(chain_from_mapping(dict(d.get("chain", {})), source=f"{where}.chain"),
+    if d["model"] == "chain":
+        mods = {k: float(d[k]) for k in _CHAIN_MODS if k in d}
+        return ChainModel(chain_from_mapping(dict(d["chain"]), source=f"{where}.chain"),
                           str(d.get("variant", "paper")), **mods)
-    if kind == "linear":
-        _unknown(d, {"model", "k", "x_ref", "mass"}, where)
-        if "k" not in d:
-            raise ValueError(f"{where}: a linear base needs k [N/mm]")
-        return LinearModel(float(d["k"]), float(d.get("x_ref", 0.0)), mass=float(d.get("mass", 0.0)))
-    raise ValueError(f"{where}.model = {kind!r} is unknown; valid: chain, linear")
-
-
-def _unknown(d: dict[str, Any], known: set[str], where: str) -> None:
-    bad = set(d) - known
-    if bad:
-        raise ValueError(f"{where}: unknown key(s) {sorted(bad)}; valid: {sorted(known)}")
+    return LinearModel(float(d["k"]), float(d.get("x_ref", 0.0)), mass=float(d.get("mass", 0.0)))
 
 
 def model_to_dict(m: AugmentedModel) -> dict[str, Any]:
@@ -90,9 +82,14 @@ def model_to_dict(m: AugmentedModel) -> dict[str, Any]:
         "effects": [{"name": n, "params": {k: float(v) for k, v in p.items()}} for n, p in m.effects],
         "damping": m.damping.to_dict(),
     }
+    if m.offsets:
+        d["base"]["offsets"] = "per-test"
+    if m.covariate_terms:
+        d["covariates"] = {"refs": {k: float(v) for k, v in m.covariate_refs.items()},
+                           "terms": {k: float(v) for k, v in m.covariate_terms.items()}}
     if m.baseline is not None:
         b = model_to_dict(m.baseline)
-        d["baseline"] = {k: b[k] for k in ("base", "mass_kg", "delay_s", "effects", "damping")}
+        d["baseline"] = {k: b[k] for k in PART_KEYS if k in b}
     for k in ("evaluation", "provenance"):
         if k in m.info:
             d[k] = {kk: vv for kk, vv in m.info[k].items() if vv is not None}
@@ -100,37 +97,41 @@ def model_to_dict(m: AugmentedModel) -> dict[str, Any]:
 
 
 def model_from_dict(d: dict[str, Any], source: str = "model") -> AugmentedModel:
-    """Build the model from the file's dict; errors name the file, the key and the valid values."""
-    ver = d.get("format_version")
-    if ver is None:
-        raise ValueError(f"{source}: format_version is missing (a chainid model file has format_version = 1)")
-    if ver != FORMAT_VERSION:
-        raise ValueError(f"{source}: format_version = {ver!r} is not supported; this chainid reads version "
-                         f"{FORMAT_VERSION}")
-    if d.get("kind", KIND) != KIND:
-        raise ValueError(f"{source}: kind = {d.get('kind')!r}; expected {KIND!r}")
-    _unknown(d, _TOP, source)
-    units = d.get("units", UNITS)
-    if units != UNITS:
-        raise ValueError(f"{source}: units = {units!r}; this format uses {UNITS}")
-    return _model(d, source, with_baseline=True)
+    """Build the model from the file's dict, checked first against the schema (:func:`check_model_dict`).
+
+    Errors name the source, the key path, the value and the valid values; valid but implausible values are
+    issued as :class:`ModelFileWarning` (one per key) and kept in ``model.info["warnings"]``.
+    """
+    try:
+        found = check_model_dict(d)
+        m = _model(d, "", with_baseline=True)
+    except ValueError as exc:
+        raise ValueError(f"{source}: {exc}") from None
+    for w in found:
+        warnings.warn(f"{source}: {w}", ModelFileWarning, stacklevel=2)
+    if found:
+        m.info["warnings"] = [f"{source}: {w}" for w in found]
+    return m
 
 
 def _model(d: dict[str, Any], where: str, with_baseline: bool) -> AugmentedModel:
-    if "base" not in d:
-        raise ValueError(f"{where}: [base] is missing")
-    effects = []
-    for i, e in enumerate(d.get("effects", [])):
-        _unknown(e, {"name", "params"}, f"{where}.effects[{i}]")
-        effects.append((str(e.get("name")), {k: float(v) for k, v in dict(e.get("params", {})).items()}))
-    base = _base_from(dict(d["base"]), f"{where}.base")
+    """The model of a checked dict (``where``: "" or "baseline", for the messages of the constructors)."""
+    pre = f"{where}." if where else ""
+    effects = [(str(e["name"]), {k: float(v) for k, v in dict(e.get("params", {})).items()})
+               for e in d.get("effects", [])]
+    base = _base_from(dict(d["base"]), f"{pre}base")
     mass = d.get("mass_kg")
-    m = AugmentedModel(base, effects, Damping.from_dict(dict(d.get("damping", {})), f"{where}.damping"),
-                       float(d.get("delay_s", 0.0)), None if mass is None else float(mass))
+    cov = dict(d.get("covariates", {}))
+    try:
+        m = AugmentedModel(base, effects, Damping.from_dict(dict(d.get("damping", {})), f"{pre}damping"),
+                           float(d.get("delay_s", 0.0)), None if mass is None else float(mass),
+                           offsets=dict(d["base"]).get("offsets", "none") == "per-test",
+                           covariate_terms={str(k): float(v) for k, v in dict(cov.get("terms", {})).items()},
+                           covariate_refs={str(k): float(v) for k, v in dict(cov.get("refs", {})).items()})
+    except ValueError as exc:  # a combination the schema cannot see (a chain-only effect on a linear base)
+        raise ValueError(f"{pre}effects: {exc}" if "effect" in str(exc) else str(exc)) from None
     if with_baseline and "baseline" in d:
-        b = dict(d["baseline"])
-        _unknown(b, {"base", "mass_kg", "delay_s", "effects", "damping"}, f"{where}.baseline")
-        m.baseline = _model(b, f"{where}.baseline", with_baseline=False)
+        m.baseline = _model(dict(d["baseline"]), "baseline", with_baseline=False)
     m.info = {k: dict(d[k]) for k in ("evaluation", "provenance") if k in d}
     return m
 
@@ -206,6 +207,9 @@ def load_model(path: str | Path) -> AugmentedModel:
                 d = tomllib.load(fh)
     except (tomllib.TOMLDecodeError, json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"model file {str(p)!r} is not valid {'JSON' if p.suffix == '.json' else 'TOML'}: {exc}") from None
+    except RecursionError:  # e.g. [[[[...]]]] thousands deep: no model file nests beyond a few levels
+        raise ValueError(f"model file {str(p)!r} is nested too deeply to be a chainid model file (valid: the "
+                         "tables of format_version 1, a few levels deep)") from None
     if not isinstance(d, dict):
         raise ValueError(f"model file {str(p)!r}: the top level must be a table")
     return model_from_dict(d, source=f"model file {str(p)!r}")

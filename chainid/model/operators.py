@@ -18,15 +18,26 @@ Operators (units: x mm, force N, energy N·mm = 1e-3 J):
   stick spring of stiffness F_c/x_s (stick travel x_s [mm]); force = F_c·(x − y)/x_s with y = play(x, x_s),
   dissipation F_c·|Δy|.  x_s → 0 is Coulomb friction with stick (see :func:`coulomb_sign`);
   loop area of a cycle of amplitude A > x_s: 4·F_c·(A − x_s);
+* :func:`stribeck_step` — velocity-weakening (Stribeck) friction for a time-stepper: a Jenkins element whose slip
+  force F_c + dF_s·exp(−(v/v_s)²) ± dF follows the speed v at the end of the step (rate dependent: a step function
+  only, the speed comes from the stepper);
 * :func:`dahl` — Dahl hysteresis: dz/dx = (F_h/x_h)(1 − sgn(ẋ)·z/F_h), solved exactly between samples
   (x piecewise linear); stored energy z²/(2k₀), k₀ = F_h/x_h, so the dissipation rate is z²|ẋ|/F_h ≥ 0;
   loop area of a symmetric cycle of amplitude A: 4·F_h·(A − x_h·tanh(A/x_h));
+* :func:`bouc_wen` — Bouc–Wen hysteresis with shape, in normalised form: z ∈ [−1, 1] with
+  dz/dx = (1/x_y)·[1 − (r·sgn(ẋ·z) + (1 − r))·|z|^n], force F_y·z.  x_y [mm] is the yield travel (the initial
+  stiffness is F_y/x_y), n > 0 the sharpness of the yield knee, r ∈ [0, 1] the unloading shape (r = 1:
+  unloading stiffer than the initial slope, r = ½: unloading at the initial slope).  Dahl is n = 1, r = 1.
+  The classical form F = α·z_c, ż_c = A·ẋ − β|ẋ||z_c|^(n−1)z_c − γẋ|z_c|^n maps to it by
+  z_c = z·z_m with z_m = (A/(β + γ))^(1/n), α·z_m = F_y, x_y = z_m/A, r = β/(β + γ);
+  stepped exactly on a travel table of the autonomous law (:func:`bouc_wen_table`: the travel between two states
+  is a difference of a tabulated integral), so a sample step of any size costs two table look-ups;
 * :func:`iwan` — Masing/Iwan model: Jenkins elements (F_c,i, x_s,i) in parallel, a rate-independent
   hysteretic damping; :func:`iwan_for_loss` builds the distribution whose loop area is π·η·k·A² (the
   structural-damping energy) for every A up to its largest stick travel.
 
 Initial states (stated): play y₀ = x₀ (centred in the dead band); Jenkins and Iwan sliders y₀ = x₀
-(unstressed); Dahl z₀ = 0.  ``periodic=True`` runs the series twice and returns the second pass (the
+(unstressed); Dahl and Bouc–Wen z₀ = 0.  ``periodic=True`` runs the series twice and returns the second pass (the
 periodic steady state of a series that is one period).
 """
 
@@ -45,7 +56,9 @@ except Exception:  # pragma: no cover
             return f
         return deco if not (a and callable(a[0])) else a[0]
 
-__all__ = ["play_step", "jenkins_step", "dahl_step", "iwan_step", "play", "jenkins", "dahl", "iwan",
+__all__ = ["play_step", "jenkins_step", "stribeck_step", "dahl_step", "bouc_wen_step", "bouc_wen_table", "iwan_step",
+           "play",
+           "jenkins", "dahl", "bouc_wen", "iwan",
            "iwan_for_loss", "coulomb_sign", "dahl_cycle_energy", "jenkins_cycle_energy"]
 
 
@@ -71,6 +84,34 @@ def jenkins_step(y: float, x: float, F_c: float, x_s: float) -> tuple[float, flo
 
 
 @njit()
+def stribeck_step(y: float, x: float, v: float, k: float, F_c: float, dF_s: float, v_s: float,
+                  dF: float) -> tuple[float, float, float]:  # pragma: no cover - numba
+    """One step of Stribeck friction regularised by an elastic stick (a Jenkins element whose slip force weakens
+    with the sliding speed), for a time-stepper.
+
+    The slider at ``y`` [mm] is joined to ``x`` [mm] by a stick spring ``k`` [N/mm] (> 0); it slips when the spring
+    force k·(x − y) leaves the band [−(f − dF), f + dF] with f = F_c + dF_s·exp(−(v/v_s)²) at the speed ``v``
+    [mm/s] of x at the end of the step: the static force F_s = F_c + dF_s at rest, the kinetic F_c when fast
+    (v_s [mm/s] > 0), and a direction asymmetry dF [N] (|dF| ≤ F_c: slip force F_c + dF moving +x).  While the
+    band holds the spring, nothing slips (no sign of v is ever taken: the force near v = 0 is the stick spring's,
+    continuous, so a time-stepper neither chatters nor drifts).  Sliding, the force is ±(band edge), the library's
+    sgn(ẋ)·[F_c + dF_s·exp(−(ẋ/v_s)²)] + dF.
+
+    Returns (slider position [mm], force [N], dissipated energy over the step [N·mm] = force·Δy ≥ 0).
+    """
+    w = math.exp(-(v / v_s) * (v / v_s))
+    f = F_c + dF_s * w
+    z = k * (x - y)
+    yn = y
+    if z > f + dF:
+        yn = x - (f + dF) / k
+    elif z < -(f - dF):
+        yn = x + (f - dF) / k
+    zn = k * (x - yn)
+    return yn, zn, zn * (yn - y)
+
+
+@njit()
 def dahl_step(z: float, x_prev: float, x: float, F_h: float, x_h: float) -> tuple[float, float]:  # pragma: no cover
     """One exact step of the Dahl model from (z [N] at x_prev [mm]) to x [mm].
 
@@ -86,6 +127,68 @@ def dahl_step(z: float, x_prev: float, x: float, F_h: float, x_h: float) -> tupl
     work = s * (s * F_h * abs(dx) + (z - s * F_h) * x_h * (1.0 - e))
     stored = (zn * zn - z * z) * x_h / (2.0 * F_h)
     return zn, work - stored
+
+
+#: points of the Bouc–Wen travel table (uniform in u, z = tanh u, over |u| <= BW_U)
+BW_POINTS = 4001
+BW_U = 9.0
+
+
+def bouc_wen_table(n: float, r: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The travel table of the normalised Bouc–Wen law for a step in +x (any x_y: travel scales with it).
+
+    Moving in +x, dz/dξ = h(z) = 1 − (r·sgn(z) + 1 − r)·|z|^n with ξ = x/x_y, an autonomous law, so the travel
+    from one state to another is ξ(z₁) − ξ(z₀) with ξ(z) = ∫ dz/h(z).  Tabulated on z = tanh(u) (the integrand
+    (1 − z²)/h(z) stays finite as z → ±1, where h vanishes linearly) by the trapezoid rule over :data:`BW_POINTS`
+    points: returns (z, ξ, Z) with Z = ∫ z dξ (the work per unit F_y·x_y).  A step in −x is the same map of −z.
+    """
+    u = np.linspace(-BW_U, BW_U, BW_POINTS)
+    z = np.tanh(u)
+    az = np.abs(z)
+    h = 1.0 - (r * np.sign(z) + (1.0 - r)) * az ** n
+    g = (1.0 - z * z) / np.maximum(h, 1e-300)
+    du = u[1] - u[0]
+    xi = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * du)])
+    zg = z * g
+    Z = np.concatenate([[0.0], np.cumsum(0.5 * (zg[1:] + zg[:-1]) * du)])
+    return z, xi, Z
+
+
+@njit()
+def bouc_wen_step(z: float, x_prev: float, x: float, F_y: float, x_y: float, txi: np.ndarray,
+                  tZ: np.ndarray) -> tuple[float, float]:  # pragma: no cover - numba
+    """One exact step of the normalised Bouc–Wen model from (z at x_prev [mm]) to x [mm] on the travel table
+    (txi, tZ) of :func:`bouc_wen_table` (its n, r; uniform in u = atanh z over ±BW_U).
+
+    Returns (z at x, dissipated energy over the step [N·mm]): F_y·∫z dx minus the change of the stored energy
+    F_y·x_y·z²/2 of the initial stiffness (exact for Dahl, n = 1, r = 1).
+    """
+    dx = x - x_prev
+    if dx == 0.0:
+        return z, 0.0
+    s = 1.0 if dx > 0 else -1.0
+    m = txi.size
+    du = 2.0 * BW_U / (m - 1)
+    zs = min(max(s * z, -0.9999999999), 0.9999999999)  # the step in +x of the mirrored state
+    q = (math.atanh(zs) + BW_U) / du
+    q = min(max(q, 0.0), m - 1.0)
+    k0 = min(int(q), m - 2)
+    a0 = q - k0
+    xi0 = txi[k0] + a0 * (txi[k0 + 1] - txi[k0])
+    Z0 = tZ[k0] + a0 * (tZ[k0 + 1] - tZ[k0])
+    xi1 = xi0 + abs(dx) / x_y
+    k1 = np.searchsorted(txi, xi1)
+    if k1 >= m:
+        u1 = BW_U
+        Z1 = tZ[m - 1] + (xi1 - txi[m - 1])  # saturated: z = 1 over the rest of the travel
+    else:
+        k1 = max(k1, 1)
+        a1 = (xi1 - txi[k1 - 1]) / (txi[k1] - txi[k1 - 1])
+        u1 = -BW_U + (k1 - 1 + a1) * du
+        Z1 = tZ[k1 - 1] + a1 * (tZ[k1] - tZ[k1 - 1])
+    zn = s * math.tanh(u1)
+    work = x_y * (Z1 - Z0)  # ∫ z dx of the true state (mirrored: z·dx = z̃·dξ·x_y)
+    return zn, F_y * work - 0.5 * F_y * x_y * (zn * zn - z * z)
 
 
 @njit()
@@ -123,6 +226,20 @@ def _dahl_run(x: np.ndarray, F_h: float, x_h: float, z0: float) -> tuple[np.ndar
     z[0] = zi
     for i in range(1, x.size):
         zi, d = dahl_step(zi, x[i - 1], x[i], F_h, x_h)
+        z[i] = zi
+        dE[i] = d
+    return z, dE
+
+
+@njit()
+def _bouc_wen_run(x: np.ndarray, F_y: float, x_y: float, txi: np.ndarray, tZ: np.ndarray,
+                  z0: float) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - numba
+    z = np.empty_like(x)
+    dE = np.zeros_like(x)
+    zi = z0
+    z[0] = zi
+    for i in range(1, x.size):
+        zi, d = bouc_wen_step(zi, x[i - 1], x[i], F_y, x_y, txi, tZ)
         z[i] = zi
         dE[i] = d
     return z, dE
@@ -217,6 +334,42 @@ def dahl(x: Any, F_h: float, x_h: float, z0: float = 0.0,
     xs, k = _series(x, periodic)
     z, dE = _dahl_run(xs, F_h, x_h, float(z0))
     return z[k:], dE[k:]
+
+
+def bouc_wen(x: Any, F_y: float, x_y: float, n: float, r: float, z0: float = 0.0,
+             periodic: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Bouc–Wen force F_y·z [N] and dissipated-energy increments [N·mm] over x [mm] (see the module docstring).
+
+    F_y [N] the saturation force, x_y [mm] > 0 the yield travel, n > 0 the knee sharpness, r ∈ [0, 1] the
+    unloading shape, z0 ∈ [−1, 1] the initial normalised state.
+    """
+    F_y = float(F_y)
+    if not math.isfinite(F_y):
+        raise ValueError(f"F_y = {F_y!r} must be finite [N]")
+    for name, v, lo, hi in (("x_y", x_y, 0.0, math.inf), ("n", n, 0.0, 50.0), ("r", r, 0.0, 1.0)):
+        v = float(v)
+        if not (math.isfinite(v) and (lo < v if name != "r" else lo <= v) and v <= hi):
+            raise ValueError(f"{name} = {v!r} is out of range; valid range {lo:g} to {hi:g}"
+                             + (" (exclusive)" if name != "r" else ""))
+    if not -1.0 <= float(z0) <= 1.0:
+        raise ValueError(f"z0 = {z0!r} is out of range; valid range -1 to 1")
+    xs, k = _series(x, periodic)
+    _, txi, tZ = _table(float(n), float(r))
+    z, dE = _bouc_wen_run(xs, F_y, float(x_y), txi, tZ, float(z0))
+    return F_y * z[k:], dE[k:]
+
+
+_TABLES: dict[tuple[float, float], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+
+def _table(n: float, r: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`bouc_wen_table` of (n, r), kept for the last 64 shapes."""
+    key = (n, r)
+    if key not in _TABLES:
+        if len(_TABLES) >= 64:
+            _TABLES.pop(next(iter(_TABLES)))
+        _TABLES[key] = bouc_wen_table(n, r)
+    return _TABLES[key]
 
 
 def iwan(x: Any, F_c: Any, x_s: Any, y0: Any = None, periodic: bool = False) -> tuple[np.ndarray, np.ndarray]:

@@ -11,7 +11,11 @@ no meaning in a transient.  A model carries one of these time-domain forms (unit
 * ``coulomb`` — Coulomb friction with elastic stick (Jenkins element), ``F_c`` [N], ``x_s`` [mm]
   (x_s = 0: Coulomb with rigid stick, sgn(ẋ) with 0 at reversals);
 * ``law`` — an identified law c_e = X(ω, A, k_e)·p (:data:`LAWS`), converted for each record by the rule
-  below; with ``per_test`` c_e of the tests it was fitted on.
+  below; with ``per_test`` c_e of the tests it was fitted on;
+* ``feature`` — a viscous c that follows the record's features (the time-domain form of the paper's c_e(ω, A)):
+  c_r = c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref), ω_r the band centre [rad/s] and A_r the half range of x [mm]
+  of the record (:func:`record_features`; a harmonic test's frequency and amplitude), params ``c`` [N·s/mm],
+  ``b_w`` [N·s²/mm], ``b_A`` [N·s/mm²], ``w_ref`` [rad/s], ``A_ref`` [mm].
 
 **Conversion rule** (:meth:`Damping.resolve`).  For a record, its dominant angular frequency ω and
 amplitude A (:func:`dominant`: the largest spectral line of x and its least-squares amplitude) give
@@ -51,7 +55,10 @@ FORMS: dict[str, tuple[str, ...]] = {
     "dahl": ("F_h", "x_h"),
     "coulomb": ("F_c", "x_s"),
     "law": (),
+    "feature": ("c", "b_w", "b_A", "w_ref", "A_ref"),
 }
+#: parameters that may be negative (a fitted slope; an identified c read as a lag)
+SIGNED = ("c", "b_w", "b_A")
 RULES = ("viscous", "hysteretic")
 #: elements of the Iwan distribution of the ``hysteretic`` rule
 IWAN_N = 32
@@ -88,6 +95,27 @@ def design(kind: str, w: np.ndarray, A: np.ndarray, ke: np.ndarray) -> np.ndarra
     if kind not in LAWS:
         raise ValueError(f"damping law = {kind!r} is unknown; valid: {', '.join(LAWS)}")
     return np.column_stack([cols[p] for p in kind.split("+")])
+
+
+def record_features(t: np.ndarray, x: np.ndarray) -> tuple[float, float]:
+    """The features a ``feature`` damping law reads of a record: the band centre ω_c [rad/s] — Σ ω·P(ω)/Σ P(ω) over
+    the displacement's periodogram (mean removed, no window: a window's taper and a detrending both shift the
+    power of the lowest lines) above its white noise floor (the median power of the upper half) — and the half
+    range A [mm] of x.  For a sine: its angular frequency and amplitude; for a sum of lines: their power-weighted
+    mean frequency."""
+    t = np.asarray(t, float)
+    x = np.asarray(x, float)
+    n = x.size
+    if n < 8:
+        raise ValueError(f"a record needs >= 8 samples for its features; got {n}")
+    dt = float(np.median(np.diff(t)))
+    P = np.abs(np.fft.rfft(x - float(np.mean(x)))) ** 2
+    f = np.fft.rfftfreq(n, dt)
+    Pc = np.maximum(P - float(np.median(P[P.size // 2:])), 0.0)
+    Pc[0] = 0.0
+    tot = float(Pc.sum())
+    w = 2 * math.pi * float(np.sum(f * Pc) / tot) if tot > 0 else 2 * math.pi * float(f[1])
+    return w, 0.5 * float(np.ptp(x))
 
 
 def dominant(t: np.ndarray, x: np.ndarray) -> tuple[float, float, float]:
@@ -170,7 +198,7 @@ class Damping:
                              f"valid: {', '.join(FORMS[self.form]) or 'none'}")
         for k, v in self.params.items():
             # an identified viscous c may be negative (a law extrapolated, a delay read as damping): finite only
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and (v >= 0 or k == "c")):
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and (v >= 0 or k in SIGNED)):
                 raise ValueError(f"damping {self.form}: {k} = {v!r} is out of range; valid range >= 0 (finite)")
         if self.form == "law":
             if self.law not in LAWS:
@@ -187,12 +215,17 @@ class Damping:
 
     def resolve(self, omega: float, A: float, ke: float, test: str | None = None,
                 fitted: bool = False, x0: float = 0.0) -> "Damping":
-        """The time-domain form for a record of dominant ω [rad/s], amplitude A [mm] (k_e [N/mm] at its x0).
+        """The time-domain form for a record of dominant ω [rad/s], amplitude A [mm] (k_e [N/mm] at its x0); for the
+        ``feature`` form ω and A are the record's features (:func:`record_features`).
 
         A ``law`` becomes ``viscous`` c = c_e(ω, A, k_e) (rule ``viscous``) or the Iwan distribution of equal
         energy per cycle (rule ``hysteretic``: η·k = c·ω, x_max = A); with ``fitted`` and a ``test`` the law
         was fitted on, its own identified c_e is used instead of the law.  Other forms are returned as they are.
         """
+        if self.form == "feature":
+            p = self.params
+            return Damping("viscous", {"c": p.get("c", 0.0) + p.get("b_w", 0.0) * (omega - p.get("w_ref", 0.0))
+                                       + p.get("b_A", 0.0) * (A - p.get("A_ref", 0.0))})
         if self.form != "law":
             return self
         c = self.per_test[test] if fitted and test in self.per_test else self.ce(omega, A, ke)

@@ -4,7 +4,9 @@ records from a model (:mod:`.simulate`; non-harmonic displacement programs — r
 with load steps, earthquake-like — in :mod:`.excitation`); records as rigs write them: a :class:`ReaderSpec` (:mod:`.spec`,
 columns, units by pint in :mod:`.units`, layout), :func:`read_any` (:mod:`.reader`; text in :mod:`.textcanon`
 and :mod:`.textread`, other formats in :mod:`.formats`, the mapping in :mod:`.table`), the fast writer
-(:mod:`.writer`) and the unit-slip warnings (:mod:`.plausible`).
+(:mod:`.writer`) and the unit-slip warnings (:mod:`.plausible`); DAQ text as written (:mod:`.textlayout`: header
+blocks, metadata; ragged rows), computed columns (:mod:`.derive`), segments and offsets (:mod:`.segments`),
+covariates (:mod:`.covariates`), test selection (:mod:`.select`), bounded user patterns (:mod:`.patterns`).
 """
 from __future__ import annotations
 
@@ -49,6 +51,11 @@ _LAZY = {
     "read_canonical_csv": "textcanon",
     "read_csv_strict": "textcanon",
     "plausibility_warnings": "plausible",
+    "not_a_chain": "plausible",
+    "ReadLog": "reader",
+    "read_covariates": "covariates",
+    "write_covariates": "covariates",
+    "covariates_path": "covariates",
     "Motion": "excitation",
     "band_random": "excitation",
     "sweep": "excitation",

@@ -5,7 +5,13 @@ Each warning names the likely slip and the option that fixes it; nothing is ever
 
 * sampling: a time step implying a rate above 1 MHz (time in s declared ms/us), fewer than 4 samples per cycle
   of the test's main frequency (the rate is below about twice the test frequency), a main frequency below
-  0.01 Hz (time in ms read as s) or above 1 kHz;
+  0.01 Hz (time in ms read as s) or above 1 kHz, a displacement moving faster than :data:`V_MAX_MM_S` (5 m/s) or
+  accelerating more than :data:`A_MAX_MM_S2` (1000 g), beyond what servo-hydraulic and electrodynamic test
+  machines drive a specimen: a record in s declared ms moves 1000x and accelerates 10⁶x too much (estimated as
+  2π·f·A and (2π·f)²·A from the main frequency f and half the 1..99 % span of x, so noise does not count).  So a
+  slip is caught when the true motion exceeds 5 mm/s or 10⁻³ g (0.3 mm at 0.92 Hz and faster); a slower, smaller
+  one is not;
+  time steps over 5x the record's median step (gaps: their count and the largest);
 * with a chain (its elastic range from :mod:`chainid.model`): a displacement span over 10x the chain's
   elongation at the breaking load (x in um read as mm) or under 1/1000 of its elongation at the working load
   (x in m read as mm); a secant stiffness span(F)/span(x) more than 30x off the chain's k_e over the record's
@@ -18,16 +24,25 @@ from __future__ import annotations
 
 import math
 import re
+from functools import lru_cache
 from typing import Any, Sequence
 
 import numpy as np
 
 from chainid.records.record import Record
 
-__all__ = ["FS_MAX_HZ", "sampling_warnings", "chain_warnings", "plausibility_warnings", "grouped"]
+__all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "A_MAX_MM_S2", "GAP_FACTOR", "sampling_warnings", "gap_warnings", "chain_warnings",
+           "smallest_chain", "not_a_chain", "plausibility_warnings", "grouped"]
 
 #: A sampling rate above this [Hz] is implausible for a chain test rig.
 FS_MAX_HZ = 1.0e6
+#: A displacement faster than this [mm/s] is implausible for a test rig (time unit slip).
+V_MAX_MM_S = 5000.0
+#: Standard gravity [mm/s²]; an acceleration of x over :data:`A_MAX_MM_S2` (1000 g) is implausible for a test rig.
+G_MM_S2 = 9806.65
+A_MAX_MM_S2 = 1000.0 * G_MM_S2
+#: A time step over this multiple of the median step is a gap in the record.
+GAP_FACTOR = 5.0
 _SLIPS = ((1000.0, "x in m read as mm (--units x=m) or F declared kN while in N"),
           (1e-3, "F in kN read as N (--units F=kN) or x in um read as mm (--units x=um)"),
           (25.4, "x in inches declared mm? (--units x=in)"),
@@ -81,6 +96,33 @@ def sampling_warnings(records: Sequence[Record]) -> list[str]:
         elif f > 1000.0:
             out.append(f"test {r.test!r}: the main frequency {f:.4g} Hz is implausibly fast for a chain test: is t "
                        "in s declared ms (--units t=...) or --fs too large?")
+        else:
+            amp = 0.5 * float(np.subtract(*np.percentile(r.x, [99.0, 1.0])))
+            w = 2 * math.pi * f
+            v, acc = w * amp, w * w * amp
+            if v > V_MAX_MM_S or acc > A_MAX_MM_S2:
+                out.append(f"test {r.test!r}: x moves at about {v:.4g} mm/s and {acc / G_MM_S2:.4g} g ({amp:.4g} mm "
+                           f"at {f:.4g} Hz), beyond what a test rig drives a specimen ({V_MAX_MM_S / 1000:g} m/s, "
+                           f"{A_MAX_MM_S2 / G_MM_S2:g} g): is t in s declared ms (--units t=ms), or --fs too large?")
+    return out + gap_warnings(records)
+
+
+def gap_warnings(records: Sequence[Record]) -> list[str]:
+    """Time steps over :data:`GAP_FACTOR` times the record's median step: their count and the largest."""
+    out = []
+    for r in records:
+        if r.t.size < 8:
+            continue
+        d = np.diff(r.t)
+        med = float(np.median(d))
+        if not (math.isfinite(med) and med > 0):
+            continue
+        big = np.flatnonzero(d > GAP_FACTOR * med)
+        if big.size:
+            i = int(big[np.argmax(d[big])])
+            out.append(f"test {r.test!r}: {big.size} time step(s) over {GAP_FACTOR:g}x the median step "
+                       f"{med:.4g} s, the largest {float(d[i]):.4g} s at t = {float(r.t[i]):.6g} s: gaps in the "
+                       "record (a paused logger? --split-gap S cuts a file there)")
     return out
 
 
@@ -128,6 +170,49 @@ def chain_warnings(records: Sequence[Record], chain: Any, variant: str = "paper"
     return out
 
 
+@lru_cache(maxsize=1)
+def smallest_chain() -> tuple[str, float, float]:
+    """The listed catalogue preset with the smallest proof load: (name, proof load [N], its elongation at that load
+    [mm], with the preset's default 16 links)."""
+    from chainid.chain import presets
+    from chainid.model import kernels
+    from chainid.model.practice import chain_practice
+
+    best = min(presets.listed(), key=lambda p: chain_practice(p.chain)["proof_load_N"])
+    pl = float(chain_practice(best.chain)["proof_load_N"])
+    x_pl = float(np.atleast_1d(kernels.displacement(np.array([pl]), best.chain, "paper"))[0])
+    return best.name, pl, x_pl
+
+
+def not_a_chain(records: Sequence[Record]) -> str | None:
+    """Why the records cannot be a chain's, or None.  The rule, from the chain catalogue's physics:
+
+    * a chain only pulls: a force that changes sign with more than 10 % of its largest magnitude on each side
+      (min F < −0.1·max|F| and max F > 0.1·max|F|) is not a chain's tension;
+    * or every force is under 1 % of the proof load of the smallest listed preset (DIN 22252 14x50, 16 links:
+      1970 N) while x spans more than that chain's elongation at its proof load (20.7 mm): a stroke that
+      stretches the most compliant catalogue chain to its proof load, at a hundredth of that load.
+    """
+    recs = [r for r in records if r.F.size and r.x.size]
+    if not recs:
+        return None
+    f_abs = max(float(np.max(np.abs(r.F))) for r in recs)
+    if f_abs <= 0:
+        return None
+    for r in recs:
+        lo, hi = float(np.min(r.F)), float(np.max(r.F))
+        if lo < -0.1 * f_abs and hi > 0.1 * f_abs:
+            return (f"the force changes sign (test {r.test!r}: F from {lo:.4g} N to {hi:.4g} N), and a chain only "
+                    "pulls")
+    name, pl, x_pl = smallest_chain()
+    span = max(float(np.ptp(r.x)) for r in recs)
+    if f_abs < 0.01 * pl and span > x_pl:
+        return (f"the forces stay under {f_abs:.4g} N, below 1 % of the proof load of the smallest catalogue chain "
+                f"({name}: {pl:.4g} N), while x spans {span:.4g} mm, more than that chain stretches at its proof "
+                f"load ({x_pl:.3g} mm)")
+    return None
+
+
 def plausibility_warnings(records: Sequence[Record], chain: Any = None, variant: str = "paper") -> list[str]:
     """All plausibility warnings of the records: sampling always, the chain's when ``chain`` is given.
 
@@ -153,28 +238,30 @@ def plausibility_warnings(records: Sequence[Record], chain: Any = None, variant:
     return grouped(out)
 
 
-_TAG = re.compile(r"^test '((?:[^'\\]|\\.)*)': ")
+_TAG = re.compile(r"^(test|file) '((?:[^'\\]|\\.)*)': ")
 _NUM = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?")
 
 
 def grouped(msgs: Sequence[str]) -> list[str]:
-    """Per-test warnings ``test 'ID': text`` grouped by check: messages whose texts differ only in their
-    numbers are one check; it is reported once (the first test's message) with the other tests' ids."""
+    """Per-test warnings ``test 'ID': text`` (and per-file ``file 'NAME': text``) grouped by check: messages whose
+    texts differ only in their numbers are one check; it is reported once (the first test's message) with the
+    other tests' ids."""
     groups: dict[str, list[tuple[str, str]]] = {}
     order: list[str] = []
     for m in msgs:
         tag = _TAG.match(m)
-        key = _NUM.sub("#", m[tag.end():]) if tag else m
+        key = (tag.group(1) + ":" + _NUM.sub("#", m[tag.end():])) if tag else m
         if key not in groups:
             groups[key] = []
             order.append(key)
-        groups[key].append((tag.group(1) if tag else "", m))
+        groups[key].append((tag.group(2) if tag else "", m))
     out = []
     for key in order:
         g = groups[key]
         first = g[0][1]
         if len(g) > 1:
             ids = ", ".join(repr(t) for t, _ in g[1:])
-            first += f" [the same check on {len(g) - 1} more test(s): {ids}]"
+            noun = key.split(":", 1)[0] if _TAG.match(first) else "message"
+            first += f" [the same check on {len(g) - 1} more {noun}(s): {ids}]"
         out.append(first)
     return out

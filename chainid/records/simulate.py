@@ -152,18 +152,30 @@ def grid_plan(
     return [TestSpec(f"{prefix}{i}", float(w), float(xm), float(A)) for i, (w, xm, A) in enumerate(specs, start=1)]
 
 
+#: Most tests one simulated series holds (a rig's test series has tens to hundreds; each test is a record of
+#: thousands of samples): a larger plan is refused before any work, naming the limit
+MAX_PLAN_TESTS = 10_000
+
+
+def _too_many(n: int, where: str) -> ValueError:
+    return ValueError(f"{where}: the plan has {n} tests: valid range <= {MAX_PLAN_TESTS} tests in one series; split "
+                      "the plan into several series")
+
+
 def read_plan(path: str | Path) -> list[TestSpec]:
     """Read a plan CSV ``test,omega,x0,A`` (omega rad/s, x0 mm, A mm).
 
     Raises
     ------
     ValueError
-        Missing columns, non-numeric value (with line number), or values out of range.
+        Missing columns, non-numeric value (with line number), a repeated test id, values out of range, or
+        more than :data:`MAX_PLAN_TESTS` tests (refused as soon as the reading passes the limit).
     """
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"plan file {str(p)!r} does not exist")
     out = []
+    ids: set[str] = set()
     with p.open(newline="") as fh:
         reader = csv.DictReader(ln for ln in fh if not ln.lstrip().startswith("#"))
         cols = [c.strip() for c in (reader.fieldnames or [])]
@@ -178,8 +190,11 @@ def read_plan(path: str | Path) -> list[TestSpec]:
                     vals[c] = float(row[c])
                 except ValueError:
                     raise ValueError(f"{p}, row {i}: test {row['test']!r}: {c} = {row[c]!r} is not a number") from None
-            if any(sp.test == row["test"] for sp in out):
+            if row["test"] in ids:
                 raise ValueError(f"{p}, row {i}: test id {row['test']!r} is repeated; test ids must be unique")
+            if len(out) >= MAX_PLAN_TESTS:
+                raise _too_many(sum(1 for _ in reader) + len(out) + 1, str(p))
+            ids.add(row["test"])
             out.append(TestSpec(row["test"], **vals))
     if not out:
         raise ValueError(f"{p}: plan has no tests")
@@ -281,8 +296,10 @@ def simulate_test(
     mass_kg : float, optional
         Default model.mass_kg; >= 0 kg.
     allow_compression : bool, optional
-        Accept a noise-free force below 0 N.  Default: False for a chain model
-        (:class:`~chainid.model.base.ChainModel`, as the reader), True otherwise.
+        Accept a noise-free force below 0 N where the chain is slack (F_k(x) = 0: its damper and inertia would
+        push through a chain that transmits nothing).  Default: False for a chain model
+        (:class:`~chainid.model.base.ChainModel`), True otherwise.  A taut chain's force may dip below zero
+        through its damping (the spring force stays positive): always accepted.
 
     Returns
     -------
@@ -293,7 +310,7 @@ def simulate_test(
     ------
     ValueError
         An option out of range (naming it, its value and the valid range), a
-        non-finite force, or a compressive force on a chain.
+        non-finite force, or a compressive force where a chain is slack.
     """
     _check_options(n_cycles, samples_per_cycle, ramp_rate, taper_cycles, noise_x, noise_F, mass_kg)
     gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
@@ -329,10 +346,14 @@ def simulate_test(
     if allow_compression is None:
         allow_compression = not _is_chain(model)
     if not allow_compression and F.min() < 0:
-        i = int(np.argmin(F))
-        raise ValueError(f"test {spec.test!r}: the force goes compressive (F = {F[i]:.6g} N at x = {x[i]:.6g} mm; "
-                         f"x0 = {x0:g} mm, A = {A:g} mm): a chain carries no compression, valid range A < x0 "
-                         f"with F >= 0 (or a linear model, --model linear)")
+        # a taut chain's force can dip below zero through its damping and inertia (the spring stays in tension);
+        # where the chain is slack (F_k = 0) nothing is transmitted, so a force there is the model's artefact
+        slack = (F < 0) & (np.asarray(model.force(x), dtype=float) <= 0)
+        if slack.any():
+            i = int(np.argmin(np.where(slack, F, np.inf)))
+            raise ValueError(f"test {spec.test!r}: the force goes compressive where the chain is slack (F = "
+                             f"{F[i]:.6g} N at x = {x[i]:.6g} mm, F_k = 0; x0 = {x0:g} mm, A = {A:g} mm): a slack "
+                             f"chain transmits nothing, valid range A < x0 (or a linear model, --model linear)")
     xm = x + (gen.normal(0.0, noise_x, t.size) if noise_x > 0 else 0.0)
     Fm = F + (gen.normal(0.0, noise_F, t.size) if noise_F > 0 else 0.0)
     return Record(spec.test, t, xm, Fm)
@@ -368,10 +389,12 @@ def simulate(
     Raises
     ------
     ValueError
-        Repeated test ids, an estimate beyond ``max_memory``, or an invalid option
-        (see :func:`simulate_test`); raised before anything large is allocated.
+        Repeated test ids, more than :data:`MAX_PLAN_TESTS` tests, an estimate beyond ``max_memory``, or an
+        invalid option (see :func:`simulate_test`); raised before anything large is allocated.
     """
     plan = list(plan)
+    if len(plan) > MAX_PLAN_TESTS:
+        raise _too_many(len(plan), "plan")
     seen: set[str] = set()
     for sp in plan:
         if sp.test in seen:
@@ -458,7 +481,18 @@ def simulate_model(plan: Sequence[TestSpec], model: Any, *, seed: int | None = 0
     ``model`` is a :class:`chainid.augmented.AugmentedModel`: its force F(t) = model.force(t, x) (exact ẋ, ẍ
     of the planned motion; memory operators from their initial state at t = 0; a damping law resolved at
     each record's dominant ω and A) replaces Eq. 1; noise and the other options as :func:`simulate`.
+
+    Raises
+    ------
+    ValueError
+        The model's damping is a negative dashpot at a planned test's ω [rad/s], A [mm], x0 [mm]
+        (:func:`chainid.model.passivity.check_passive`: such records would come from an active device).
     """
+    from chainid.model.passivity import OperatingPoint, check_passive
+
+    check_passive(model, [OperatingPoint(s.test, s.omega, s.A, s.x0, s.test) for s in plan], what="the model",
+                  hint="the planned tests are its operating points")
+
     def hook(t: np.ndarray, x: np.ndarray, xd: np.ndarray, xdd: np.ndarray, F: np.ndarray) -> np.ndarray:
         return model.force(t, x, xd=xd, xdd=xdd)
 

@@ -1,12 +1,11 @@
-"""How a rig writes its records: the :class:`ReaderSpec` (columns, units, sampling rate, signs, text layout, test ids).
+"""How a rig writes its records: the :class:`ReaderSpec` (columns, units, sampling rate, signs, text layout, test ids,
+computed channels, segments, offsets, covariates), built from command-line options or a TOML *reader profile* (the
+same keys), options overriding the profile, so that a lab writes the mapping of its rig once::
 
-A spec is built from command-line options or a TOML *reader profile* (the same keys), options overriding the
-profile, so that a lab writes the mapping of its rig once::
-
-    # mts.toml: an MTS export with a 7-line header block, its own names, inches and kips
+    # mts.toml: an MTS export with a 7-line block above the column names, its own names, inches and kips
     format = "text"          # text | json | mat | hdf5 | tdms | parquet (default: by the file suffix)
-    skip_rows = 7            # lines before the header (or the first data row)
-    delimiter = ","          # "," ";" "tab" "whitespace" (default: sniffed)
+    skip_rows = 7            # physical lines above the column-name line (or above the first data row)
+    delimiter = ","          # "," ";" "|" "tab" "whitespace" (default: sniffed)
     decimal = "."            # "." or ","
     id_pattern = 'run(\\d+)'  # test id from the file name (first group, or the group named id)
     fs = 10240.0             # Hz, for files without a time column
@@ -18,133 +17,53 @@ profile, so that a lab writes the mapping of its rig once::
     t = "s"
     x = "in"
     F = "kip"
-    [scale]                  # sign conventions: factor applied after the unit conversion
+    [scale]                  # factors applied last (after the unit conversion and the zero offset)
     x = -1
 
-Roles: ``test`` (id string), ``t`` time, ``x`` elongation, ``F`` tension.  Inside chainid the units are always
-s, mm, N (:mod:`chainid.records.units` converts).
+and, for DAQ files as written (every key is an attribute of :class:`ReaderSpec`)::
+
+    header_marker = '^Sample Number'   # the column-name line is the first line matching this
+    bad_lines = "warn"                 # error | warn | skip a bad data line (counted and reported)
+    split_events = 'DAQ Pause'         # a row whose Events cell matches ends its segment (one test each)
+    segment_ids = ["0", "0.25", "0.5"] # labels of the segments in order
+    segment_id = "{stem}_i{label}"     # the test id of a segment ({stem} {id} {segment} {label})
+    keep = ["p"]                       # extra per-sample channels kept on the records
+    [derive]                           # computed columns, on the file's numbers (numexpr, whitelisted)
+    F = "c7 - c6*51.875"
+    [reduce]                           # covariates from a column, per test/segment
+    p_mean = "mean(c6)"
+    [covariates]                       # covariates from the test id (group 1 or group 'value')
+    p_bar = '_([0-9.]+)bar$'
+    [zero]                             # offsets removed per test/segment: first, first:N, mean, median
+    x = "first:20"
+    [[files]]                          # keys for the files whose name matches the glob
+    pattern = "*_1ms*.txt"
+    columns = {x = "CHANNEL0", F = "CHANNEL1"}
+
+Roles: ``test`` (id string), ``t`` time, ``x`` elongation, ``F`` tension, ``events`` (the text column
+``split_events`` searches; default a column named Events or Event).  Inside chainid the units are always s, mm, N
+(:mod:`chainid.records.units` converts).
+
+**Order of the transformations** (per column, per test or segment): the numbers as written in the file ->
+computed columns (``derive``) -> split into tests/segments -> ``units`` (to s, mm, N) -> ``zero`` (subtract this
+test's/segment's offset) -> ``scale`` (a gain).  So x = 10·(V − V_rest), V_rest the mean of the first 20 samples,
+is ``--zero x=first:20 --scale x=10``.
+
+Precedence: an option on the command line > a matching ``[[files]]`` rule > the profile's top level (tables role
+by role: ``--units x=m`` keeps the profile's t and F units).
 """
 from __future__ import annotations
 
-import math
 import re
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import fields, replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Sequence
 
-__all__ = ["ReaderSpec", "ROLES", "FORMATS", "parse_assignments", "load_profile", "spec_from_options"]
+from chainid.records.readerspec import (BAD_LINES, COLUMN_ROLES, FORMATS, REDUCERS, ROLES, ZERO_FORMS, ReaderSpec,
+                                        apply_keys, parse_reduce, parse_zero)
 
-#: The roles a column can play: test id, time [s], elongation [mm], tension [N].
-ROLES = ("test", "t", "x", "F")
-#: Accepted values of ``format`` (None = by the file suffix).
-FORMATS = ("text", "json", "mat", "hdf5", "tdms", "parquet")
-_DELIMITERS = {",": ",", ";": ";", "tab": "\t", "\t": "\t", "\\t": "\t", "|": "|", "whitespace": " ", "space": " ",
-               " ": " "}
-
-
-@dataclass(frozen=True)
-class ReaderSpec:
-    """How to read a rig's record files into chainid's records (t s, x mm, F N).
-
-    Attributes
-    ----------
-    columns : dict
-        Role (``test``, ``t``, ``x``, ``F``) -> the file's column/channel/dataset name, or an int 1-based
-        column position (headerless text).  Unmapped roles are looked up by their own name.
-    units : dict
-        Role (``t``, ``x``, ``F``) -> unit string understood by pint (``ms``, ``in``, ``kip``, ...).  Default
-        s, mm, N.
-    fs : float or None
-        Sampling rate [Hz] for files without a time column (t = i / fs from 0 per test).
-    scale : dict
-        Role (``t``, ``x``, ``F``) -> factor applied after the unit conversion (``x = -1`` flips a sign).
-    delimiter : str or None
-        Text field separator: one character, or ``" "`` for runs of whitespace; None = sniffed.
-    decimal : str
-        Decimal mark of text files, ``"."`` or ``","``.
-    skip_rows : int
-        Lines to skip at the top of a text file (a header block) before the header or the first data row.
-    id_pattern : str or None
-        Regular expression searched in the file name (stem); the test id is its group ``id``, else its first
-        group, else the whole match.  None: the file stem.
-    format : str or None
-        One of :data:`FORMATS`; None = by the file suffix.
-    header : bool or None
-        Whether the first line after ``skip_rows`` is a header; None = a header when a field is not a number.
-    """
-
-    columns: Mapping[str, str | int] = field(default_factory=dict)
-    units: Mapping[str, str] = field(default_factory=dict)
-    fs: float | None = None
-    scale: Mapping[str, float] = field(default_factory=dict)
-    delimiter: str | None = None
-    decimal: str = "."
-    skip_rows: int = 0
-    id_pattern: str | None = None
-    format: str | None = None
-    header: bool | None = None
-
-    def __post_init__(self) -> None:
-        for name in ("columns", "units", "scale"):
-            d = dict(getattr(self, name) or {})
-            allowed = ROLES if name == "columns" else ROLES[1:]
-            bad = [k for k in d if k not in allowed]
-            if bad:
-                raise ValueError(f"reader {name}: unknown role(s) {bad}; valid roles are {list(allowed)}")
-            object.__setattr__(self, name, d)
-        for k, v in self.columns.items():
-            if isinstance(v, bool) or not isinstance(v, (str, int)) or (isinstance(v, int) and v < 1) \
-                    or (isinstance(v, str) and not v.strip()):
-                raise ValueError(f"reader columns: {k} = {v!r} is invalid; give a column name or a 1-based "
-                                 "position >= 1")
-        for k, v in self.scale.items():
-            try:
-                f = float(v)
-            except (TypeError, ValueError):
-                f = float("nan")
-            if not math.isfinite(f) or f == 0.0:
-                raise ValueError(f"reader scale: {k} = {v!r} is invalid; valid: a finite non-zero factor, e.g. -1")
-            self.scale[k] = f  # type: ignore[index]
-        for k, v in self.units.items():
-            if not isinstance(v, str) or not v.strip():
-                raise ValueError(f"reader units: {k} = {v!r} is invalid; give a unit such as s, ms, mm, in, N, kip")
-        if self.fs is not None:
-            try:
-                fs = float(self.fs)
-            except (TypeError, ValueError):
-                fs = float("nan")
-            if not (math.isfinite(fs) and fs > 0):
-                raise ValueError(f"reader fs = {self.fs!r} Hz is invalid; valid range fs > 0 Hz")
-            object.__setattr__(self, "fs", fs)
-        if self.delimiter is not None:
-            if self.delimiter not in _DELIMITERS:
-                raise ValueError(f"reader delimiter = {self.delimiter!r} is invalid; valid: ',', ';', '|', 'tab', "
-                                 "'whitespace'")
-            object.__setattr__(self, "delimiter", _DELIMITERS[self.delimiter])
-        if self.decimal not in (".", ","):
-            raise ValueError(f"reader decimal = {self.decimal!r} is invalid; valid: '.' or ','")
-        if self.decimal == "," and self.delimiter == ",":
-            raise ValueError("reader decimal = ',' needs another delimiter than ',' (e.g. ';' or 'tab')")
-        if isinstance(self.skip_rows, bool) or not isinstance(self.skip_rows, int) or self.skip_rows < 0:
-            raise ValueError(f"reader skip_rows = {self.skip_rows!r} is invalid; valid: an integer >= 0")
-        if self.id_pattern is not None:
-            try:
-                re.compile(self.id_pattern)
-            except re.error as exc:
-                raise ValueError(f"reader id_pattern = {self.id_pattern!r} is not a regular expression ({exc})") \
-                    from None
-        if self.format is not None and self.format not in FORMATS:
-            raise ValueError(f"reader format = {self.format!r} is invalid; valid: {list(FORMATS)}")
-
-    @property
-    def is_default(self) -> bool:
-        """True when nothing differs from the canonical long CSV ``test,t,x,F`` in s, mm, N."""
-        return self == ReaderSpec()
-
-    def merged(self, **over: Any) -> "ReaderSpec":
-        """A copy with the given fields replaced (None and empty values keep this spec's)."""
-        keep = {k: v for k, v in over.items() if v is not None and v != {}}
-        return replace(self, **keep)
+__all__ = ["ReaderSpec", "ROLES", "COLUMN_ROLES", "FORMATS", "BAD_LINES", "REDUCERS", "ZERO_FORMS", "parse_zero",
+           "parse_reduce", "parse_assignments", "parse_list", "load_profile", "spec_from_options"]
 
 
 def parse_assignments(text: str | None, what: str, numeric: bool = False) -> dict[str, Any]:
@@ -161,10 +80,7 @@ def parse_assignments(text: str | None, what: str, numeric: bool = False) -> dic
     if text is None:
         return out
     for item in (s for s in text.split(",") if s.strip()):
-        key, eq, val = item.partition("=")
-        key, val = key.strip(), val.strip()
-        if not eq or not key or not val:
-            raise ValueError(f"{what} {text!r}: item {item!r} is not ROLE=VALUE (e.g. t=Time,x=Disp,F=Load)")
+        key, val = _pair(item, text, what)
         if key in out:
             raise ValueError(f"{what} {text!r}: role {key!r} is given twice")
         if numeric:
@@ -179,13 +95,40 @@ def parse_assignments(text: str | None, what: str, numeric: bool = False) -> dic
     return out
 
 
+def _pair(item: str, text: str, what: str) -> tuple[str, str]:
+    key, eq, val = item.partition("=")
+    key, val = key.strip(), val.strip()
+    if not eq or not key or not val:
+        raise ValueError(f"{what} {text!r}: item {item!r} is not ROLE=VALUE (e.g. t=Time,x=Disp,F=Load)")
+    return key, val
+
+
+def _pairs(items: Sequence[str] | None, what: str) -> dict[str, str]:
+    """Repeated ``NAME=VALUE`` options whose values may hold commas (regular expressions, expressions)."""
+    out: dict[str, str] = {}
+    for item in items or ():
+        key, val = _pair(item, item, what)
+        if key in out:
+            raise ValueError(f"{what}: {key!r} is given twice")
+        out[key] = val
+    return out
+
+
+def parse_list(text: str | None) -> tuple[str, ...] | None:
+    """``"a, b,c"`` -> ``("a", "b", "c")``; None stays None."""
+    if text is None:
+        return None
+    return tuple(s.strip() for s in text.split(",") if s.strip())
+
+
 def load_profile(path: str | Path) -> ReaderSpec:
     """Read a TOML reader profile (keys of :class:`ReaderSpec`; see the module docstring).
 
     Raises
     ------
     ValueError
-        A missing or unreadable file, unknown keys, or invalid values (naming the key and the valid range).
+        A missing or unreadable file, unknown keys, or invalid values (naming the key and the valid range); a
+        ``[[files]]`` rule is checked against the top level too.
     """
     try:
         import tomllib
@@ -204,7 +147,13 @@ def load_profile(path: str | Path) -> ReaderSpec:
     if unknown:
         raise ValueError(f"--reader {str(p)!r}: unknown key(s) {unknown}; valid keys are {sorted(names)}")
     try:
-        return ReaderSpec(**doc)
+        spec = ReaderSpec(**doc)
+        for rule in spec.files:
+            try:
+                apply_keys(replace(spec, files=()), {k: v for k, v in rule.items() if k != "pattern"})
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"[[files]] pattern = {rule['pattern']!r}: {exc}") from None
+        return spec
     except (TypeError, ValueError) as exc:
         raise ValueError(f"--reader {str(p)!r}: {exc}") from None
 
@@ -212,15 +161,37 @@ def load_profile(path: str | Path) -> ReaderSpec:
 def spec_from_options(profile: str | Path | None = None, *, columns: str | None = None, units: str | None = None,
                       fs: float | None = None, scale: str | None = None, delimiter: str | None = None,
                       decimal: str | None = None, skip_rows: int | None = None, id_pattern: str | None = None,
-                      format: str | None = None) -> ReaderSpec:
+                      format: str | None = None, names: str | None = None, header_marker: str | None = None,
+                      bad_lines: str | None = None, derive: Sequence[str] | None = None, keep: str | None = None,
+                      reduce: str | None = None, covariates: Sequence[str] | None = None, zero: str | None = None,
+                      split_events: str | None = None, split_gap: float | None = None,
+                      segment_ids: str | None = None, segment_id: str | None = None) -> ReaderSpec:
     """The spec of a command line: the ``--reader`` profile (if any) with the given options overriding it.
 
-    ``columns``, ``units`` and ``scale`` are ``ROLE=VALUE`` lists as on the command line; an option given on the
-    command line replaces the profile's role by role (``--units x=m`` keeps the profile's ``t`` and ``F`` units).
+    ``columns``, ``units``, ``scale``, ``zero``, ``reduce`` are ``KEY=VALUE`` lists as on the command line;
+    ``derive`` (``"NAME = EXPRESSION"``) and ``covariates`` (``"NAME=REGEX"``) are lists of repeated options;
+    ``names``, ``keep``, ``segment_ids`` comma lists.  An option replaces the profile's key role by role
+    (``--units x=m`` keeps the profile's ``t`` and ``F`` units), in the top level and in every ``[[files]]`` rule.
     """
+    from chainid.records.derive import parse_derive_text
+
     base = load_profile(profile) if profile else ReaderSpec()
-    cols = {**base.columns, **parse_assignments(columns, "--columns")}
-    uns = {**base.units, **parse_assignments(units, "--units")}
-    scl = {**base.scale, **parse_assignments(scale, "--scale", numeric=True)}
-    return replace(base, columns=cols, units=uns, scale=scl).merged(
-        fs=fs, delimiter=delimiter, decimal=decimal, skip_rows=skip_rows, id_pattern=id_pattern, format=format)
+    tables = {"columns": parse_assignments(columns, "--columns"), "units": parse_assignments(units, "--units"),
+              "scale": parse_assignments(scale, "--scale", numeric=True), "zero": parse_assignments(zero, "--zero"),
+              "reduce": parse_assignments(reduce, "--reduce"), "covariates": _pairs(covariates, "--covariate"),
+              "derive": dict(parse_derive_text(d) for d in derive or ())}
+    scalars = {"fs": fs, "delimiter": delimiter, "decimal": decimal, "skip_rows": skip_rows, "id_pattern": id_pattern,
+               "format": format, "names": parse_list(names), "header_marker": header_marker, "bad_lines": bad_lines,
+               "keep": parse_list(keep), "split_events": split_events, "split_gap": split_gap,
+               "segment_ids": parse_list(segment_ids), "segment_id": segment_id}
+    scalars = {k: v for k, v in scalars.items() if v is not None}
+    rules = []
+    for rule in base.files:  # the command line overrides the rules too
+        r = {k: v for k, v in rule.items() if k not in scalars}
+        for k, given in tables.items():
+            if k in r and given:
+                r[k] = {kk: vv for kk, vv in dict(r[k]).items() if kk not in given}
+        rules.append(r)
+    top = {k: {**getattr(base, k), **v} for k, v in tables.items()}
+    return replace(base, **top, **scalars, files=tuple(rules))
+

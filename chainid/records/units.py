@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-__all__ = ["INTERNAL_UNITS", "factor"]
+__all__ = ["INTERNAL_UNITS", "HOUSE_UNITS", "factor", "channel_factor"]
 
 #: chainid's internal unit of each role.
 INTERNAL_UNITS = {"t": "s", "x": "mm", "F": "N"}
@@ -63,3 +63,36 @@ def factor(role: str, unit: str | None) -> float:
             ValueError, AssertionError) as exc:
         raise ValueError(f"--units {role}={unit}: unknown unit ({exc}); column {role} needs a "
                          f"{_DIMENSION[role]} unit (e.g. {_EXAMPLES[role]})") from None
+
+
+#: chainid's unit of each dimension a kept channel or a reduced covariate may have.
+HOUSE_UNITS = ("mm", "N", "s", "MPa", "kg", "A", "mm/s", "Hz")
+
+
+@lru_cache(maxsize=64)
+def channel_factor(name: str, unit: str) -> tuple[float, str]:
+    """Multiplier from ``unit`` to chainid's unit of its dimension (:data:`HOUSE_UNITS`) and that unit, for a kept
+    channel or a reduced column ``name`` (``bar`` -> (0.1, ``MPa``), ``kN`` -> (1000, ``N``)).
+
+    Raises
+    ------
+    ValueError
+        An unknown unit, or a dimension without a chainid unit (temperature: keep such a channel without a unit).
+    """
+    import pint
+
+    ureg = _registry()
+    try:
+        q = ureg.Quantity(1.0, unit.strip())
+    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, AttributeError, TypeError,
+            ValueError, AssertionError) as exc:
+        raise ValueError(f"--units {name}={unit}: unknown unit ({exc})") from None
+    for house in HOUSE_UNITS:
+        h = ureg.Quantity(1.0, house)
+        if q.dimensionality == h.dimensionality:
+            try:
+                return float(q.to(house).magnitude), house
+            except pint.errors.PintError as exc:  # offset units and the like
+                raise ValueError(f"--units {name}={unit}: cannot be converted to {house} ({exc})") from None
+    raise ValueError(f"--units {name}={unit}: chainid has no unit for {q.dimensionality} (valid: a unit of "
+                     f"{', '.join(HOUSE_UNITS)}); keep the channel as written, without --units")

@@ -1,7 +1,8 @@
 """Validation and analysis of one record: data checks, harmonic estimate, steady window.
 
-* :func:`check_data` -- data errors (NaN, t not increasing, compressive force):
-  always raised;
+* :func:`check_data` -- data errors (NaN, t not increasing, a force compressive on average with a chain):
+  always raised; a chain record whose measured force dips below zero, or whose x stays negative under
+  tension, is a warning (:class:`RecordWarning`);
 * :func:`validate_record` -- data checks plus the analysis checks (samples,
   whole cycles, steady cycles, amplitude above the noise);
 * :func:`analyse_record` -- estimate (or side file) + validation, cached on the record;
@@ -17,7 +18,7 @@ Units: t [s], x [mm], F [N], omega [rad/s].
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,7 +28,45 @@ from chainid.signal.steady import TOL_MAX, select_steady
 if TYPE_CHECKING:  # pragma: no cover
     from chainid.records.record import Record
 
-__all__ = ["check_data", "validate_record", "analyse_record", "try_analyse"]
+__all__ = ["check_data", "check_channels", "validate_record", "analyse_record", "try_analyse", "RecordWarning",
+           "MAX_ABS_F_N", "MAX_ABS_X_MM"]
+
+#: Largest |F| [N] and |x| [mm] the analyses take: beyond, sums of squares overflow float64 (a chain's
+#: breaking load is below 1e8 N; F ~ 1e154 N is a unit or parsing error, not a measurement).
+MAX_ABS_F_N = 1e12
+MAX_ABS_X_MM = 1e9
+
+
+def check_channels(records: Any) -> None:
+    """The one rule for records no analysis can work on (``identify``, ``audit --data``, ``diagnose``,
+    ``predict``): |F| or |x| beyond :data:`MAX_ABS_F_N` / :data:`MAX_ABS_X_MM`, a force that does not vary within
+    a test (F ≡ const: a dead force channel) or a displacement that does not vary (x ≡ const: no motion, a dead
+    displacement channel; a damping fitted to it is c_e = F/0, e.g. 7e14 N·s/mm).  NaN is judged elsewhere
+    (:func:`check_data`).
+
+    Raises
+    ------
+    ValueError
+        Naming the test, the column, the value and the valid range.
+    """
+    for r in records:
+        for col, v, lim, unit in (("F", r.F, MAX_ABS_F_N, "N"), ("x", r.x, MAX_ABS_X_MM, "mm")):
+            if v.size and np.all(np.isfinite(v)):
+                big = float(np.max(np.abs(v)))
+                if big > lim:
+                    raise ValueError(f"test {r.test!r}: |{col}| = {big:.4g} {unit} is out of range; valid range "
+                                     f"|{col}| <= {lim:g} {unit} (check the column's unit)")
+        if r.F.size and np.all(np.isfinite(r.F)) and float(np.ptp(r.F)) == 0.0:
+            raise ValueError(f"test {r.test!r}: the force F is constant ({float(r.F[0]):g} N in all {r.F.size} "
+                             "samples): a dead channel, nothing to diagnose; valid records have a varying F")
+        if r.x.size and np.all(np.isfinite(r.x)) and float(np.ptp(r.x)) == 0.0:
+            raise ValueError(f"test {r.test!r}: the displacement x is constant ({float(r.x[0]):g} mm in all "
+                             f"{r.x.size} samples): no motion, nothing to identify (a dead displacement channel); "
+                             "valid records have a varying x")
+
+
+class RecordWarning(UserWarning):
+    """A record that is valid but implausible for the model it is read for (it is used as given)."""
 
 
 def _spanned_cycles(t: np.ndarray, x: np.ndarray) -> tuple[float, float]:
@@ -69,10 +108,20 @@ def _raise_if_under_one_cycle(rec: Record) -> None:
 def check_data(rec: Record, *, allow_compression: bool = False) -> None:
     """Data errors of one record (not analysis problems): raise ValueError naming the test.
 
-    Checks: no NaN/inf in t [s], x [mm], F [N]; t strictly increasing; force
-    never compressive (F >= 0 N) unless ``allow_compression``.  These are errors
-    in the file or the choice of model, never a reason to leave a test out
-    silently (:func:`try_analyse` raises them).
+    Checks: no NaN/inf in t [s], x [mm], F [N]; t strictly increasing.  These are errors in the file or the
+    choice of model, never a reason to leave a test out silently (:func:`try_analyse` raises them).
+
+    Without ``allow_compression`` the record is read for a chain, whose spring cannot push (F_k(x) >= 0).  A
+    *measured* force can: F = m·ẍ + F_k(x) + c·ẋ, and the damping, the inertia or the fixture can take it below
+    zero while the spring force stays positive throughout (a damped test at a low pretension).  So a force that
+    dips below zero is a :class:`RecordWarning`, and the record is analysed on the chain's spring-force model
+    as any other.  Over whole cycles the damping and inertia terms average out, so the *mean* force is the
+    spring's: a record that goes below zero with a mean force under :data:`MIN_MEAN_TENSION` of its largest
+    |F| is no chain in tension and is refused (its sign is flipped, or the part pushes: ``--model linear`` /
+    ``--allow-compression``).  A record whose x stays below
+    zero while the mean force is a tension is a warning too: a chain at x <= 0 is slack (F_k = 0), so the
+    elongation's zero is offset (the ``slack`` effect) or its sign flipped.  ``allow_compression``: none of
+    these (a part whose force changes sign, a linear spring).
     """
     name = rec.test
     for col, arr in (("t", rec.t), ("x", rec.x), ("F", rec.F)):
@@ -87,13 +136,47 @@ def check_data(rec: Record, *, allow_compression: bool = False) -> None:
             f"test {name!r}: t is not strictly increasing at sample {i + 1} "
             f"(t = {rec.t[i]:.9g} s then {rec.t[i + 1]:.9g} s)"
         )
-    if not allow_compression and np.any(rec.F < 0):
-        i = int(np.argmin(rec.F))
-        raise ValueError(
-            f"test {name!r}: force goes compressive (min F = {rec.F[i]:.6g} N at t = {rec.t[i]:.6g} s); "
-            f"a chain cannot carry compression. Use allow_compression=True (--allow-compression) "
-            f"for parts whose force changes sign"
-        )
+    if not allow_compression:
+        _check_chain_signs(rec)
+
+
+#: a chain record whose force goes below zero must keep a mean tension of at least this share of max |F| (a mean
+#: about zero with a force swinging both ways is a part that pushes, not a chain in tension)
+MIN_MEAN_TENSION = 0.01
+
+
+def _check_chain_signs(rec: Record) -> None:
+    """The sign checks of a record read for a chain (see :func:`check_data`)."""
+    import warnings
+
+    name = rec.test
+    F = rec.F
+    if F.size == 0:
+        return
+    mean = float(np.mean(F))
+    scale = float(np.max(np.abs(F)))
+    if np.any(F < 0):
+        i = int(np.argmin(F))
+        where = f"min F = {F[i]:.6g} N at t = {rec.t[i]:.6g} s"
+        if mean < MIN_MEAN_TENSION * scale:
+            raise ValueError(
+                f"test {name!r}: force goes compressive ({where}) and its mean is no tension (mean F = "
+                f"{mean:.6g} N, max |F| = {scale:.6g} N): a chain's mean force is its spring's (damping and inertia "
+                f"average out over whole cycles) and its spring cannot push; valid: mean F >= "
+                f"{100 * MIN_MEAN_TENSION:g} % of max |F| with a chain model. Is F's sign flipped (--scale F=-1)? "
+                f"For a part whose force changes sign: --model linear or --allow-compression "
+                f"(allow_compression=True)")
+        warnings.warn(
+            f"test {name!r}: the measured force dips below zero ({where}; mean F = {mean:.6g} N): the chain's "
+            f"spring cannot push, but a measured force can (damping c·ẋ, inertia m·ẍ, the fixture); it is "
+            f"analysed on the chain's spring-force model as any other (--allow-compression: no warning)",
+            RecordWarning, stacklevel=3)
+    if rec.x.size and float(np.max(rec.x)) < 0 and mean > 0 and mean > 0.1 * float(np.ptp(F)):
+        warnings.warn(
+            f"test {name!r}: x < 0 throughout (max x = {float(np.max(rec.x)):.6g} mm) under a mean tension of "
+            f"{mean:.6g} N: a chain at x <= 0 is slack and carries nothing (F_k(x <= 0) = 0), so the elongation's "
+            f"zero is offset (the slack effect; a displacement measured from another reference) or its sign is "
+            f"flipped (--scale x=-1)", RecordWarning, stacklevel=3)
 
 
 def _check_estimate(

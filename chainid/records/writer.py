@@ -16,7 +16,7 @@ import numpy as np
 
 from chainid.records.record import Record
 
-__all__ = ["OUTPUT_FORMATS", "write_canonical"]
+__all__ = ["OUTPUT_FORMATS", "write_canonical", "write_canonical_to"]
 
 #: Output suffix -> format.
 OUTPUT_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet"}
@@ -149,18 +149,30 @@ def write_canonical(path: str | Path, records: Iterable[Record], overwrite: bool
         return p
     if fmt != "csv":
         raise ValueError(f"output format {fmt!r} is invalid; valid: 'csv', 'parquet'")
+    with atomic_open(p, "wb", force=overwrite, what="records") as fh:
+        _write_csv(fh, recs)
+    return p
+
+
+def _write_csv(fh, recs: list[Record]) -> None:
     from chainid.infra.floattext import jit_enabled
 
     try:
         import pyarrow.csv as pacsv
     except ImportError:
         pacsv = None
-    with atomic_open(p, "wb", force=overwrite, what="records") as fh:
-        fh.write(b"test,t,x,F\n")
-        if jit_enabled():
-            _write_csv_kernel(fh, recs, _polars())
-        elif pacsv is None:
-            _write_csv_plain(fh, recs)
-        else:
-            _write_csv_arrow(fh, recs)
-    return p
+    fh.write(b"test,t,x,F\n")
+    if jit_enabled():
+        _write_csv_kernel(fh, recs, _polars())
+    elif pacsv is None:
+        _write_csv_plain(fh, recs)
+    else:
+        _write_csv_arrow(fh, recs)
+
+
+def write_canonical_to(fh, records: Iterable[Record]) -> None:
+    """Write records as CSV ``test,t,x,F`` (s, mm, N) into an open binary stream (stdout: ``convert --to -``);
+    the same text as :func:`write_canonical`, not atomic (a stream has no rename)."""
+    recs = list(records)
+    _check_ids(recs)
+    _write_csv(fh, recs)

@@ -13,8 +13,9 @@ Progress = Callable[[str], None]
 def dump_json(folder: Path, name: str, doc: Any) -> str:
     """Write ``folder/json/name`` as strict JSON (NaN/inf → null); returns the relative path."""
     from chainid.infra.fileio import atomic_write_text, dumps_json
+    from chainid.infra.runlog import merge_warnings
 
-    atomic_write_text(folder / "json" / name, dumps_json(doc) + "\n", force=True, what="report")
+    atomic_write_text(folder / "json" / name, dumps_json(merge_warnings(doc)) + "\n", force=True, what="report")
     return f"json/{name}"
 
 

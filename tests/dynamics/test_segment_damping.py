@@ -176,13 +176,14 @@ def test_segment_model_law_needs_and_uses_its_operating_point(tmp_path, capsys):
     assert "note: damping law 'coulomb' resolved" in capsys.readouterr().err
 
 
-def test_segment_model_refuses_a_modified_kernel(tmp_path):
+def test_segment_model_carries_a_modified_kernel(tmp_path):
+    """A base kernel modifier (slack 0.1 mm of the specimen) goes into the line's field of the same name."""
     from chainid.dynamics.segment_model import segment_kwargs
     p = tmp_path / "slack.toml"
     p.write_text(MODEL.format(form="viscous", params="c = 2.0").replace('variant = "paper"',
                                                                          'variant = "paper"\nslack = 0.1'))
-    with pytest.raises(ValueError, match=r"kernel modifiers \['slack'\]"):
-        segment_kwargs(p)
+    kw, notes = segment_kwargs(p)
+    assert kw["slack"] == 0.1 and kw["damping"] == 2.0 and notes == []
 
 
 def _dahl_loop(A, F_h, x_h):

@@ -50,10 +50,10 @@ def test_segment_model_effects_and_time_domain_forms_by_hand(tmp_path):
                             + '[damping]\nform = "coulomb"\n[damping.params]\nF_c = 20.0\nx_s = 0.0\n')
     with pytest.raises(ValueError, match="a second Coulomb element with a \\(near-\\)rigid stick; valid: one"):
         seg(p)
-    p, seg = _segment_model(tmp_path, '[[effects]]\nname = "backlash"\n[effects.params]\nb = 0.02\n'
+    p, seg = _segment_model(tmp_path, '[[effects]]\nname = "hardening"\n[effects.params]\nk3 = 2.0\n'
                             '[damping]\nform = "none"\n')
-    with pytest.raises(ValueError, match="effect 'backlash' is not supported by dynamics segments; valid: friction, "
-                                         "hysteresis"):
+    with pytest.raises(ValueError, match="effect 'hardening' is not supported by dynamics segments: a chain base has "
+                                         "no linear spring to harden"):
         seg(p)
     p, seg = _segment_model(tmp_path, '[damping]\nform = "viscous"\n[damping.params]\nc = -1.0\n')
     with pytest.raises(ValueError, match=r"c = -1 N·s/mm is invalid: valid range >= 0"):

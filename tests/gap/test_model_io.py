@@ -92,7 +92,8 @@ def test_predict_time_domain_nrmse_and_pooling_by_hand():
 
 
 def test_predict_names_the_damping_it_used():
-    """A c_e law: "law" (or "per-test fitted c_e" with fitted=True); any other form: its name."""
+    """A c_e law: "law" (with fitted=True: the fitted c_e only where the law was fitted on the test — none here, so
+    the law for the one test); any other form: its name."""
     from chainid.gap.modelio import predict
     from chainid.model.augmented import AugmentedModel
     from chainid.model.timedamping import Damping
@@ -101,7 +102,10 @@ def test_predict_names_the_damping_it_used():
     t = np.linspace(0.0, 1.0, 400)
     recs = [Record("A", t, 1.0 + 0.1 * np.sin(2 * np.pi * 3 * t), 100.0 + 10.0 * np.sin(2 * np.pi * 3 * t))]
     for damping, fitted, want in ((Damping("law", law="viscous", coefficients=[0.0]), False, "law"),
-                                  (Damping("law", law="viscous", coefficients=[0.0]), True, "per-test fitted c_e"),
+                                  (Damping("law", law="viscous", coefficients=[0.0]), True,
+                                   "per-test fitted c_e on 0 test(s) the law was fitted on; the law on the other 1"),
+                                  (Damping("law", law="viscous", coefficients=[0.0], per_test={"A": 0.0}), True,
+                                   "per-test fitted c_e"),
                                   (Damping("viscous", {"c": 0.0}), True, "viscous"),
                                   (Damping("none"), False, "none")):
         model = AugmentedModel(LinearModel(100.0, 0.0), [], damping, 0.0)

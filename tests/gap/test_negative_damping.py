@@ -1,4 +1,5 @@
-"""A damping that resolves to a negative dashpot is reported, never silent (predict, the CLI, diagnose).
+"""A damping that resolves to a negative dashpot is never silent: a run of it is refused (predict, the CLI; the
+one rule of chainid.model.passivity), the diagnosis that finds it warns.
 
 A viscous law is c_e ≡ α (its one coefficient), so the c the message must name is α itself; the ω it names is
 the simulated 2π·f.  The records are a linear spring with a positive dashpot, built here in closed form.
@@ -39,10 +40,10 @@ def _model(alpha: float) -> AugmentedModel:
 
 
 def test_predict_names_the_negative_viscous_c_and_where():
-    res = predict(_model(-2.5), _records())
-    assert len(res["warnings"]) == 1
-    msg = res["warnings"][0]
-    assert "h0, h1" in msg and "c = -2.5 N·s/mm" in msg
+    with pytest.raises(ValueError) as e:
+        predict(_model(-2.5), _records())
+    msg = str(e.value)
+    assert "h0, h1" in msg and "c = -2.5 N·s/mm" in msg and "is invalid: valid range >= 0 N·s/mm" in msg
     # the lowest c is the same at both tests (a constant law): the first is named, ω = 2π·0.5
     assert f"ω = {2 * math.pi * 0.5:.4g} rad/s" in msg and "A = 0.5 mm" in msg
 
@@ -53,14 +54,14 @@ def test_a_dissipating_or_absent_dashpot_gives_no_warning(alpha):
 
 
 @pytest.mark.slow
-def test_cli_warns_and_strict_refuses(tmp_path):
+def test_cli_refuses_with_and_without_strict(tmp_path):
     path = save_model(_model(-2.5), tmp_path / "m.toml")
     data = tmp_path / "d.csv"
     rows = ["test,t,x,F"] + [f"{r.test},{float(t)!r},{float(x)!r},{float(F)!r}" for r in _records() for t, x, F in zip(r.t, r.x, r.F)]
     data.write_text("\n".join(rows) + "\n")
     cmd = [sys.executable, "-c", "import sys; from chainid.cli import main; sys.exit(main())", "predict", str(path),
            str(data)]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    assert p.returncode == 0 and "warning: the damping gives a negative viscous c" in p.stderr
-    p = subprocess.run(cmd + ["--strict"], capture_output=True, text=True, timeout=120)
-    assert p.returncode == 2 and "error:" in p.stderr and "(--strict)" in p.stderr and "Traceback" not in p.stderr
+    for extra in ([], ["--strict"]):
+        p = subprocess.run(cmd + extra, capture_output=True, text=True, timeout=120)
+        assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
+        assert p.stderr.startswith("chainid predict: error: the model: the damping gives a negative viscous c")

@@ -12,6 +12,7 @@ from chainid.model.base import ChainModel, LinearModel
 from chainid.model.effects import (
     EFFECT_NAMES,
     dahl_operator,
+    effect_force,
     make_effect,
     parse_effect,
     play_operator,
@@ -166,7 +167,7 @@ def _sine(n=400, periods=1.0):
 def _effect(name, p, **kw):
     t, x, xd, xdd = _sine()
     spring = LinearModel(200.0, 1.0, 4.0)
-    return make_effect(name).force(p, spring, t, x, xd, xdd, W, A, X0, **kw), (t, x, xd, xdd)
+    return effect_force(make_effect(name), p, spring, t, x, xd, xdd, W, A, X0, **kw), (t, x, xd, xdd)
 
 
 def test_effect_force_terms_closed_form():
@@ -284,18 +285,18 @@ def test_effect_hook_friction_slides_after_stick():
 
 
 def test_effect_force_stiffness_side_adds_the_inertia():
-    """Effect.force of stiffness_level: m·ẍ·1e-3 plus the changed chain's force (ChainModel(ea_scale=s) built
+    """effect_force of stiffness_level: m·ẍ·1e-3 plus the changed chain's force (ChainModel(ea_scale=s) built
     directly).  Bug caught: the inertia and the force combined by anything but a sum."""
     from dataclasses import replace
 
     from chainid.model.base import ChainModel
-    from chainid.model.effects import make_effect
+    from chainid.model.effects import effect_force, make_effect
 
     model = ChainModel()
     x = np.linspace(0.5, 2.0, 7)
     xdd = np.linspace(-3e3, 3e3, 7)  # mm/s²
-    F, _, _ = make_effect("stiffness_level").force({"scale": 0.8}, model, np.linspace(0, 1, 7), x,
-                                                   np.zeros(7), xdd, 10.0, 0.75, 1.25)
+    F, _, _ = effect_force(make_effect("stiffness_level"), {"scale": 0.8}, model, np.linspace(0, 1, 7), x,
+                           np.zeros(7), xdd, 10.0, 0.75, 1.25)
     expect = model.mass_kg * xdd * 1e-3 + replace(model, ea_scale=0.8).force(x)
     np.testing.assert_allclose(F, expect, rtol=1e-12)
     assert model.mass_kg > 0

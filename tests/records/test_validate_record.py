@@ -37,9 +37,14 @@ def test_check_data_names_the_first_bad_sample():
     t2[4] = t2[3]  # a repeated time: not strictly increasing at sample 4
     with pytest.raises(ValueError, match=r"test 'r': t is not strictly increasing at sample 4 \(t = 0\.3 s then 0\.3 s\)"):
         check_data(Record("r", t2, np.ones(6), np.ones(6)))
-    F = np.array([5.0, -1.0, 2.0, -3.0, 1.0, 0.0])
-    with pytest.raises(ValueError, match=r"test 'c': force goes compressive \(min F = -3 N at t = 0\.3 s\)"):
+    F = np.array([5.0, -1.0, 2.0, -3.0, 1.0, 0.0])  # dips below zero, mean 0.67 N: a warning (a damped chain can)
+    from chainid.records.validate import RecordWarning
+
+    with pytest.warns(RecordWarning, match=r"test 'c': the measured force dips below zero \(min F = -3 N at t = 0\.3 s"):
         check_data(Record("c", t, np.ones(6), F))
+    Fm = np.array([1.0, -1.0, 2.0, -3.0, 1.0, 0.0])  # mean -0.0 N: no tension on average, refused
+    with pytest.raises(ValueError, match=r"test 'c': force goes compressive \(min F = -3 N at t = 0\.3 s\)"):
+        check_data(Record("c", t, np.ones(6), Fm))
     check_data(Record("c", t, np.ones(6), F), allow_compression=True)
 
 

@@ -29,10 +29,16 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark.report import CANONICAL, canon  # noqa: F401  (part of the benchmark API)
+from chainid.gap.benchmark.report import CANONICAL, canon, open_world_row  # noqa: F401  (part of the API)
 from chainid.gap.benchmark.chain import case_chain, on_chain, x_scale
 from chainid.gap.benchmark.nonharmonic import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.model.effects import EFFECT_NAMES, parse_effect
+
+#: the effects of the harmonic single-effect family, in the order their cases (and seeds) are drawn
+GRID_EFFECTS = ("stiffness_level", "friction", "hysteresis", "contact_law", "slack", "backlash",
+                "machine_compliance", "sensor_delay", "damping_law")
+#: the second release's effects on the harmonic plans (a smaller grid: two strengths, one noise, one plan)
+NEW_GRID_EFFECTS = ("stribeck", "bouc_wen", "deadband", "fixture_mass")
 
 def grid3x3_plan(prefix: str = "a") -> list[Any]:
     """The 11-test plan of the benchmark: ω ∈ {1, 2, 4} rad/s × A ∈ {0.1, 0.2, 0.3} mm at x0 = 2 mm,
@@ -99,7 +105,7 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
     hooks = []
     for eff, lv in zip(case["effects"], case["levels"]):
         if eff in EFFECT_NAMES:
-            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax), true))
+            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax, float(np.median(x0s))), true))
         else:
             hooks.append(_outside_hook(eff, lv, S))
 
@@ -115,7 +121,8 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
     hold = [ids[2], ids[len(ids) // 2], ids[-1]]
     t0 = time.perf_counter()
     try:
-        res = diagnose(recs, hold, nominal, uncertainty=False, quiet=True)
+        res = diagnose(recs, hold, nominal, uncertainty=False, quiet=True, resamples=int(case.get("resamples", 0)),
+                       seed=int(case.get("seed", 0)))
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
                 "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None,
@@ -128,7 +135,7 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
             "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
             "steps": [s["effect"] for s in res.get("steps", [])[1:]], "params": last.get("params"),
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
-            "stationary": res["residual"]["stationary"]}
+            "stationary": res["residual"]["stationary"], "open_world": open_world_row(res)}
 
 
 #: every excitation of the benchmark: the harmonic plans, the non-harmonic families and the transfer cases
@@ -165,7 +172,7 @@ def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
         cases.append({"excitation": "harmonic", "family": family, "truth": truth, "effects": effects, "levels": levels, "noise": noise,
                       "chain": chain, "plan": plan, "seed": s, **kw})
 
-    singles = list(EFFECT_NAMES)
+    singles = list(GRID_EFFECTS)
     levels, noises, chains, plans = (0.3, 1.0, 3.0), (0.01, 0.03), ("14x50", "small"), ("grid3x3", "grid4x3")
     if small:
         singles = ["friction", "stiffness_level"]
@@ -204,12 +211,18 @@ def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
         for nz in noises:
             for kind, lv in outside:
                 add("outside", [kind], [kind], [lv], nz, ch, "grid3x3")
+    # the second release's effects on the chain (appended: every earlier case keeps its seed)
+    for ch in ([] if small else chains):
+        for e in NEW_GRID_EFFECTS:
+            for lv in (1.0, 3.0):
+                add("single", [e], [e], [lv], 0.01, ch, "grid3x3")
     return cases
 
 
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   scheduler: str | None = None, n_workers: int | None = None,
-                  progress: bool = True, excitations: Any = ALL_EXCITATIONS, chain: Any = None) -> dict[str, Any]:
+                  progress: bool = True, excitations: Any = ALL_EXCITATIONS, chain: Any = None,
+                  resamples: int = 0) -> dict[str, Any]:
     """Run the grid in parallel, print the summary, optionally write JSON (atomically).
 
     Parameters
@@ -224,6 +237,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     excitations : which excitations run (:data:`ALL_EXCITATIONS`; default all)
     chain : a :class:`~chainid.ChainSpec` to run every case on (default: the built-in 14×50 and 10×35 chains);
         its displacements are scaled to the same nominal stress (:mod:`chainid.gap.benchmark.chain`)
+    resamples : resamples of every diagnosis (0: none): each step's stability and percentile intervals
     """
     from chainid.infra.parallel import run_cases
     from chainid.infra.fileio import check_output_file, write_json
@@ -231,7 +245,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
 
     if json_path:  # check the target before the long work
         check_output_file(json_path, force=overwrite, what="--json")
-    cases = grid(small, seed, excitations, chain)
+    cases = [c | {"resamples": int(resamples)} for c in grid(small, seed, excitations, chain)]
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=n_workers, progress=progress,
                      desc="benchmark-gap")

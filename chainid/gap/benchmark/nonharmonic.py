@@ -37,24 +37,35 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark.chain import case_chain, scale_motion, x_scale
+from chainid.gap.benchmark.report import open_world_row
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the non-harmonic excitation families
 EXCITATIONS = ("random", "sweep", "startup", "quake")
 #: effects simulated on non-harmonic records (damping_law is a harmonic c_e(ω, A) form: see the module docstring)
-TIME_EFFECTS = tuple(e for e in EFFECT_NAMES if e != "damping_law")
+TIME_EFFECTS = ("stiffness_level", "friction", "hysteresis", "contact_law", "slack", "backlash", "machine_compliance",
+                "sensor_delay")
 #: the harmonic grid's compound pairs without damping_law
+#: effects of the second release, simulated on the chain in every non-harmonic family (cases appended after the
+#: first release's, so every earlier case keeps its seed)
+NEW_TIME_EFFECTS = ("stribeck", "bouc_wen", "deadband", "fixture_mass")
+#: effects simulated on the linear devices (damping-dominated, resonant), random excitation
+DEVICE_EFFECTS = ("friction", "hysteresis", "stribeck", "bouc_wen", "deadband", "hardening", "sensor_delay")
+#: the spread of the records' damping about its mean in every non-harmonic case (the paper's c_e(ω, A) over the
+#: records' band and amplitude: c_r = c·(1 + DAMPING_SPREAD·z_r), z_r in [−1, 1] linear in the features)
+DAMPING_SPREAD = 0.18
 TIME_PAIRS = (("friction", "sensor_delay"), ("hysteresis", "slack"), ("friction", "slack"),
               ("backlash", "sensor_delay"))
 #: records per case and the one held out
 N_RECORDS = 4
 
 
-def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float) -> str:
+def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax: float, x_mid: float = 0.0) -> str:
     """``--effect`` text of a library effect at a relative strength ``level`` (1 = typical).
 
     S [N] is the median dynamic force k_e·A of the plan, k [N/mm] the median stiffness, Amin [mm] the
-    smallest amplitude, wmax [rad/s] the highest frequency.
+    smallest amplitude, wmax [rad/s] the highest frequency, x_mid [mm] the mean position (the centre of a
+    dead band, the reference of a hardening spring).
     """
     if effect == "friction":
         return f"friction:F_c={0.1 * level * S:.6g}"
@@ -72,6 +83,18 @@ def effect_spec(effect: str, level: float, S: float, k: float, Amin: float, wmax
         return f"contact_law:scale={1 + 0.3 * level:.6g}"
     if effect == "sensor_delay":
         return f"sensor_delay:tau={0.15 * level / wmax:.6g}"
+    if effect == "stribeck":  # kinetic F_c, static excess at rest decaying over a quarter of the typical speed
+        return (f"stribeck:F_c={0.05 * level * S:.6g},dF_s={0.1 * level * S:.6g},"
+                f"v_s={0.25 * wmax * Amin:.6g}")
+    if effect == "bouc_wen":
+        return f"bouc_wen:F_y={0.1 * level * S:.6g},x_y={0.3 * Amin:.6g},n=2,r=0.6"
+    if effect == "deadband":  # end stops closing at 60 % of the smallest amplitude about the mean position
+        g = 0.6 * Amin
+        return f"deadband:k_d={0.2 * level * S / (0.4 * Amin) ** 1.5:.6g},g={g:.6g},p=1.5,x_c={x_mid:.6g}"
+    if effect == "hardening":
+        return f"hardening:k3={0.2 * level * k / Amin ** 2:.6g},x_ref={x_mid:.6g}"
+    if effect == "fixture_mass":
+        return f"fixture_mass:m_f={0.1 * level * S * 1e3 / (wmax ** 2 * Amin):.6g}"
     return f"damping_law:eta={0.1 * level:.6g}"
 
 
@@ -174,27 +197,60 @@ def _outside(kind: str, level: float, S: float, F_c: float, rng: np.random.Gener
 
 
 def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, float, float]:
-    """Nominal and true chain models, the effect hook, the dynamic force scale S [N] and the damping c."""
-    from chainid.model.base import ChainModel
+    """Nominal and true models, the effect hooks, the dynamic force scale S [N] and the mean damping c [N·s/mm].
 
-    chain = case_chain(case)
-    nominal = ChainModel(chain)
-    true = ChainModel(chain, ea_scale=case.get("ea_scale", 1.0), hertz_scale=case.get("hertz_scale", 1.0))
+    A chain case runs on its chain (nominal and true kernels).  A device case (``case["base"]``: ``damped`` or
+    ``resonant``) runs on a linear mass–spring–damper about the motion's mean: k from the force scale, the
+    damping-dominated one with c·ω ≈ 5–10 k at the band edge, the resonant one with its natural frequency inside the
+    band (m·ω_n² = k) — its nominal model is None (the diagnosis fits a linear device)."""
+    from chainid.model.base import ChainModel, LinearModel
+
     x0s = np.array([float(np.median(m.x)) for m in motions])
     As = np.array([m.A for m in motions])
-    k = float(np.median(nominal.stiffness(x0s)))
-    S = float(k * np.median(As))
     wmax = 2 * np.pi * max(m.f_dom for m in motions)  # the effects' scale: where the motion is
     rng = np.random.default_rng(case["seed"] + 7)
+    if case.get("base") in ("damped", "resonant"):
+        k = 1000.0
+        x_mid = float(np.median(x0s))
+        wn = wmax * rng.uniform(0.4, 0.8)
+        mass = k / wn**2 * 1e3 if case["base"] == "resonant" else 0.0
+        nominal, true = None, LinearModel(k, x_mid, mass=mass)
+        c = (rng.uniform(5.0, 10.0) if case["base"] == "damped" else rng.uniform(0.05, 0.2)) * k / wmax
+        S = float(k * np.median(As)) * (max(c * wmax / k, 1.0) if case["base"] == "damped" else 1.0)
+    else:
+        chain = case_chain(case)
+        nominal = ChainModel(chain)
+        true = ChainModel(chain, ea_scale=case.get("ea_scale", 1.0), hertz_scale=case.get("hertz_scale", 1.0))
+        k = float(np.median(nominal.stiffness(x0s)))
+        S = float(k * np.median(As))
+        c = case["c_rel"] * k / wmax * 2.0  # viscous loss ~ c_rel of k·A at half the top frequency
+        x_mid = float(np.median(x0s))
     hooks = []
     for eff, lv in zip(case["effects"], case["levels"]):
         if eff in EFFECT_NAMES:
-            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax), true))
+            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax, x_mid), true))
         else:
             hooks.append(_outside(eff, lv, S, 0.1 * S, rng))
-
-    c = case["c_rel"] * k / wmax * 2.0  # viscous loss ~ c_rel of k·A at half the top frequency
     return nominal, true, hooks, S, c
+
+
+def record_damping(case: dict[str, Any], motions: list[Any], c: float) -> list[float]:
+    """The damping [N·s/mm] of each record: c·(1 + ``DAMPING_SPREAD``·z_r), z_r a fixed linear combination of the
+    record's band centre and amplitude (the features of :func:`chainid.model.timedamping.record_features`) scaled
+    to span [−1, 1] over the case's records — the paper's c_e(ω, A) over records of any excitation."""
+    from chainid.model.timedamping import record_features
+
+    if not case.get("damping_varies", True) or len(motions) < 2:
+        return [c] * len(motions)
+    feats = np.array([record_features(m.t, m.x) for m in motions])
+    z = np.zeros(len(motions))
+    for j, wgt in ((0, 0.6), (1, 0.4)):
+        f = feats[:, j]
+        span = float(np.ptp(f))
+        if span > 0:
+            z += wgt * (2.0 * (f - f.min()) / span - 1.0)
+    z = z / max(float(np.max(np.abs(z))), 1e-12)
+    return [c * (1.0 + DAMPING_SPREAD * float(v)) for v in z]
 
 
 def _compose(hooks: list[Any]) -> Any:
@@ -208,16 +264,17 @@ def _compose(hooks: list[Any]) -> Any:
     return hook
 
 
-def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: float, sigmas: list[float]) -> list[float]:
+def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: Any, sigmas: list[float]) -> list[float]:
     """Each effect's own detectability: the RMS over the records of the force it adds on top of the others
     (noise-free; its part along ẋ removed, which the fitted viscous c absorbs), over the noise σ."""
     from chainid.records.simulate import model_force
 
     out = []
+    cs = list(c) if np.ndim(c) else [c] * len(motions)
     for j in range(len(hooks)):
         num = den = 0.0
-        for m, sg in zip(motions, sigmas):
-            F0 = model_force(m.x, m.xd, m.xdd, model, c)
+        for m, sg, cr in zip(motions, sigmas, cs):
+            F0 = model_force(m.x, m.xd, m.xdd, model, cr)
             d = _compose(hooks)(m.t, m.x, m.xd, m.xdd, F0) - (
                 _compose(hooks[:j] + hooks[j + 1:]) or (lambda t, x, xd, xdd, F: F))(m.t, m.x, m.xd, m.xdd, F0)
             d = d - float(np.dot(d, m.xd) / max(np.dot(m.xd, m.xd), 1e-300)) * m.xd
@@ -236,15 +293,16 @@ def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
     motions = [scale_motion(motion(case["excitation"], rng), x_scale(case)) for _ in range(N_RECORDS)]
     nominal, true, hooks, S, c = _device(case, motions)
     hook = _compose(hooks)
+    cs = record_damping(case, motions, c)
     recs, sigmas = [], []
     for i, m in enumerate(motions):
         sig = case["noise"] * S * rng.uniform(0.8, 1.25)
         q = sig * rng.uniform(0.5, 2.0) if rng.random() < 0.3 else 0.0
-        recs.append(simulate_motion(f"r{i + 1}", m, true, c, force_fn=hook, noise_F=sig,
+        recs.append(simulate_motion(f"r{i + 1}", m, true, cs[i], force_fn=hook, noise_F=sig,
                                     noise_x=rng.uniform(0.0, 0.003) * m.A, quantum_F=q, rng=rng))
         sigmas.append(math.sqrt(sig * sig + q * q / 12))
-    return recs, {"nominal": nominal, "true": true, "hook": hook, "S": S, "c": c, "motions": motions,
-                  "hooks": hooks, "sigmas": sigmas}
+    return recs, {"nominal": nominal, "true": true, "hook": hook, "S": S, "c": c, "c_records": cs,
+                  "motions": motions, "hooks": hooks, "sigmas": sigmas}
 
 
 def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]:
@@ -259,7 +317,7 @@ def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"],
             "ranked_first": (res.get("ranking") or [{}])[0].get("effect"),
-            "chatter": any(f.get("kind") == "chatter" for f in where)}
+            "chatter": any(f.get("kind") == "chatter" for f in where), "open_world": open_world_row(res)}
 
 
 def _error(case: dict[str, Any], exc: Exception, t0: float) -> dict[str, Any]:
@@ -275,8 +333,9 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
     t0 = time.perf_counter()
     try:
         recs, dev = records(case)
-        res = diagnose(recs, [case["hold"]], dev["nominal"], uncertainty=False, quiet=True)
-        snr = effect_snr(dev["motions"], dev["true"], dev["hooks"], dev["c"], dev["sigmas"])
+        res = diagnose(recs, [case["hold"]], dev["nominal"], uncertainty=False, quiet=True,
+                       resamples=int(case.get("resamples", 0)), seed=int(case.get("seed", 0)))
+        snr = effect_snr(dev["motions"], dev["true"], dev["hooks"], dev["c_records"], dev["sigmas"])
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         return _error(case, exc, t0)
     return _row(case, res, t0) | {"effect_snr": snr}
@@ -377,6 +436,14 @@ def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] =
             add(e, "pair", [a, b], [a, b], [lv(), lv()])
         for kind in ("drift", "relaxation", "chatter"):
             add(e, "outside", [kind], [kind], [lv()], truth_named=["friction"] if kind == "chatter" else [])
+        # the second release: its effects on the chain, then linear devices (random excitation)
+        for eff in NEW_TIME_EFFECTS:
+            add(e, "single", [eff], [eff], [lv()])
+        if e == "random":
+            for base in ("damped", "resonant"):
+                add(e, "control", [], [], [], base=base)
+                for eff in DEVICE_EFFECTS if base == "resonant" else ("friction", "hysteresis", "bouc_wen"):
+                    add(e, "single", [eff], [eff], [lv()], base=base)
     if "transfer" in excitations:
         rng = np.random.default_rng(seed + 99 + order.index("transfer"))
         for eff in ("friction", "hysteresis", "backlash", "stiffness_level", "slack", "sensor_delay"):

@@ -15,11 +15,32 @@ SNR_MIN = 3.0
 CANONICAL = {"machine_compliance": "stiffness_level"}
 
 
+def open_world_row(res: dict[str, Any]) -> dict[str, Any]:
+    """The model-free check of a diagnosis (``res["open_world"]``) as a benchmark row's fields: whether it flags a
+    missing effect, and the held-out share of the residual it predicts."""
+    ow = res.get("open_world") or {}
+    return {"missing_effect": bool(ow.get("missing_effect")), "predictable_share": ow.get("predictable_share")}
+
+
+def _flagged(r: dict[str, Any]) -> bool:
+    return bool((r.get("open_world") or {}).get("missing_effect"))
+
+
 def canon(names: Any) -> set[str]:
     """Canonical effect names of a verdict string or list."""
     if isinstance(names, str):
         names = [] if names in ("none", "unexplained") else names.split("+")
     return {CANONICAL.get(n, n) for n in names}
+
+
+def named(r: dict[str, Any]) -> set[str]:
+    """The effects a case's verdict names, less those the case's world has by design beyond its truth: the records'
+    damping varies as the paper's c_e(ω, A) in every non-harmonic case, so naming ``damping_law`` there is right
+    (and not naming it is too)."""
+    out = canon(r["verdict"])
+    if r.get("excitation", "harmonic") != "harmonic" and "damping_law" not in r.get("truth", []):
+        out = out - {"damping_law"}
+    return out
 
 
 def _rate(rows: list[dict[str, Any]], ok: Any) -> float | None:
@@ -32,8 +53,8 @@ def family_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
     fam = {f: [r for r in rows if r["family"] == f] for f in ("single", "mismatch", "mismatch+", "pair",
                                                                  "control", "outside")}
     strong = {f: [r for r in v if r["snr"] >= SNR_MIN] for f, v in fam.items()}
-    right = lambda r: canon(r["verdict"]) == canon(r["truth"])  # noqa: E731
-    both = lambda r: canon(r["truth"]) <= canon(r["verdict"])  # noqa: E731
+    right = lambda r: named(r) == canon(r["truth"])  # noqa: E731
+    both = lambda r: canon(r["truth"]) <= named(r)  # noqa: E731
     shr = [r["shrinkage"] for r in rows if r["family"] in ("single", "mismatch", "mismatch+", "pair")
            and right(r) and r["shrinkage"] is not None]
     compound = strong["mismatch+"] + strong["pair"]
@@ -52,7 +73,7 @@ def family_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
         return False
 
     def not_named(r: dict[str, Any]) -> bool:
-        return not r["verdict"].startswith("error:") and canon(r["verdict"]) <= canon(r.get("truth_named", []))
+        return not r["verdict"].startswith("error:") and named(r) <= canon(r.get("truth_named", []))
     labels = sorted({v for r in rows for v in ([r["verdict"]] if "+" not in r["verdict"] else ["(combination)"])})
     truths = sorted({"+".join(r["truth"]) or "none" for r in fam["single"] + fam["control"] + fam["mismatch"]})
     conf = {t: {v: 0 for v in labels} for t in truths}
@@ -75,13 +96,19 @@ def family_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "compound_detectable_n": len(detectable),
         "mismatch_plus_both_named_rate": _rate(strong["mismatch+"], both),
         "pair_both_named_rate": _rate(strong["pair"], both),
-        "control_none_rate": _rate(fam["control"], lambda r: r["verdict"] == "none"),
+        "control_none_rate": _rate(fam["control"], lambda r: r["verdict"] == "none" or (
+            not named(r) and not r["verdict"].startswith(("unexplained", "error")))),
         "control_n": len(fam["control"]),
         "outside_not_named_rate": _rate(fam["outside"], not_named),
         "outside_n": len(fam["outside"]),
         "outside_verdicts": {v: sum(r["verdict"] == v for r in fam["outside"])
                              for v in sorted({r["verdict"] for r in fam["outside"]})},
         "chatter_reported_rate": _rate(chat, lambda r: bool(r.get("chatter"))),
+        # the model-free check: flags a missing effect on outside cases, silent on controls and right verdicts
+        "open_world_outside_flagged_rate": _rate(fam["outside"], _flagged),
+        "open_world_control_silent_rate": _rate(fam["control"], lambda r: not _flagged(r)),
+        "open_world_explained_silent_rate": _rate([r for r in fam["single"] + fam["pair"] if right(r)],
+                                                  lambda r: not _flagged(r)),
         "chatter_n": len(chat),
         "errors": [{"case": {k: r.get(k) for k in ("excitation", "family", "truth", "chain", "plan", "noise", "seed")},
                     "error": r["verdict"]} for r in rows if r["verdict"].startswith("error:")],
@@ -91,7 +118,7 @@ def family_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "misses": [{k: r.get(k) for k in ("excitation", "family", "truth", "verdict", "snr", "chain", "plan", "noise",
                                           "levels", "seed")}
                    for r in rows if r["family"] != "outside" and r["snr"] >= SNR_MIN and not right(r)
-                   or r["family"] == "control" and r["verdict"] != "none"
+                   or r["family"] == "control" and r["verdict"] != "none" and bool(named(r) or r["verdict"] != "damping_law")
                    or r["family"] == "outside" and not not_named(r)],
     }
 
@@ -169,6 +196,7 @@ def format_nonharmonic(s: dict[str, Any]) -> list[str]:
                          f"(target >= {100 * t:.0f} %)")
         lines.append(f"  outside the library not named with confidence: {f(nh['outside_not_named_rate'])} "
                      f"{nh['outside_verdicts']}")
+        lines.append("  " + open_world_line(nh))
         if nh.get("misses"):
             lines.append(f"  {len(nh['misses'])} non-harmonic miss(es), e.g.:")
             for m in nh["misses"][:12]:
@@ -185,6 +213,13 @@ def format_nonharmonic(s: dict[str, Any]) -> list[str]:
             lines.append(f"  {d}: {r['n']} cases, median shrinkage {f(r['median_shrinkage'])}, after refit "
                          f"{f(r['median_shrinkage_refit'])}, transfers {f(r['transfers_rate'])}")
     return lines
+
+
+def open_world_line(r: dict[str, Any]) -> str:
+    """The model-free check's rates of a family summary (:func:`family_rates`) in one line."""
+    return (f"model-free check: flags a missing effect on outside cases {_pct(r['open_world_outside_flagged_rate'])}"
+            f" (target >= 90 %); silent on controls {_pct(r['open_world_control_silent_rate'])}, on right single/pair "
+            f"verdicts {_pct(r['open_world_explained_silent_rate'])} (targets >= 90 %)")
 
 
 def format_summary(s: dict[str, Any]) -> str:
@@ -210,6 +245,7 @@ def format_summary(s: dict[str, Any]) -> str:
         f"outside the library not named: {f(s['outside_not_named_rate'])} of {s['outside_n']} "
         f"{s['outside_verdicts']}",
         f"median held-out shrinkage when right: {f(s['median_shrinkage_when_right'])}",
+        open_world_line(s),
         f"median diagnosis time {s['median_seconds']:.2f} s over {s['n_cases']} cases"
         + (f"; wall {s['wall_seconds']:.0f} s" if "wall_seconds" in s else ""),
     ]

@@ -49,14 +49,23 @@ def _fmt(v: float | None, sd: float | None = None) -> str:
     return s
 
 
+#: units of the parameters as the texts print them
+_UNITS = {"F_c": "N", "mu": "", "x_s": "mm", "F_h": "N", "x_h": "mm", "b": "mm", "s": "mm", "c": "N·s/mm",
+          "tau": "s", "eta": "", "F_f": "N", "F_y": "N", "x_y": "mm", "dF_s": "N", "dF": "N", "v_s": "mm/s",
+          "k_d": "N/mm^p", "g": "mm", "x_c": "mm", "k3": "N/mm³", "k2": "N/mm²", "m_f": "kg", "k": "N/mm", "m": "kg"}
+
+
 def step_text(step: dict[str, Any]) -> str:
     """One link of the explanation chain, e.g. ``stiffness level −21 % (EA × 0.79 ± 0.01)``."""
     e = step["effect"]
     p, sd = step["params"], step.get("params_sd", {})
     tail = f" [held-out NRMSE {step['nrmse_holdout']:.3g}]" if step.get("nrmse_holdout") is not None else ""
+    if step.get("worsened_holdout"):
+        tail += " [raised the held-out error: over-fitted, not in the verdict]"
     if e == "baseline":
         return f"baseline{tail}"
-    pre = f"{e}."
+    head = e.split("@", 1)[0]  # an effect with its amplitudes following a covariate: the effect's parameters
+    pre = head + "." if "." not in head else head
     mine = {k[len(pre):]: v for k, v in p.items() if k.startswith(pre)}
     msd = {k[len(pre):]: v for k, v in sd.items() if k.startswith(pre)}
     if e == "stiffness_level" and mine.get("scale") is not None:
@@ -65,11 +74,29 @@ def step_text(step: dict[str, Any]) -> str:
     if e == "contact_law":
         return (f"contact law: Hertz compliance × {_fmt(mine.get('scale'), msd.get('scale'))}, exponent "
                 f"{_fmt(mine.get('beta'), msd.get('beta'))} (Hertz 0.667){tail}")
-    units = {"F_c": "N", "mu": "", "x_s": "mm", "F_h": "N", "x_h": "mm", "b": "mm", "s": "mm", "c": "mm/N",
-             "tau": "s", "eta": "", "F_f": "N"}
-    ps = ", ".join(f"{k} = {_fmt(v, msd.get(k))}{(' ' + units.get(k, '')) if units.get(k) else ''}"
+    ps = ", ".join(f"{k} = {_fmt(v, msd.get(k))}{(' ' + _UNITS.get(k, '')) if _UNITS.get(k) else ''}"
                    for k, v in mine.items())
     return f"{e} {ps}{tail}".rstrip()
+
+
+def covariate_dependence(params: dict[str, float]) -> list[dict[str, Any]]:
+    """Every parameter that follows an operating condition, in words: ``{"param", "covariate", "value_at_ref",
+    "slope", "ref", "text"}`` with text like ``friction.F_c = 210 N + 1180 N per unit I_A · (I_A − 0.5)``."""
+    out = []
+    for k, slope in params.items():
+        if "@" not in k:
+            continue
+        head, cov = k.split("@", 1)
+        base = params.get(head)
+        ref = params.get(f"covariate.{cov}.ref", 0.0)
+        if base is None:
+            continue
+        unit = _UNITS.get(head.split(".", 1)[-1], "")
+        u = f" {unit}" if unit else ""
+        out.append({"param": head, "covariate": cov, "value_at_ref": base, "slope": slope, "ref": ref,
+                    "text": f"{head} = {base:.4g}{u} {'+' if slope >= 0 else '−'} {abs(slope):.4g}{u} per unit "
+                            f"{cov} · ({cov} − {ref:.4g})"})
+    return out
 
 
 def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
@@ -95,11 +122,17 @@ def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
     return "; ".join(out)
 
 
-def step_dict(c: Any, i: int) -> dict[str, Any]:
-    """One step of the explanation chain as the JSON contract writes it (step 0 is the baseline)."""
+def step_dict(c: Any, i: int, prev: Any = None) -> dict[str, Any]:
+    """One step of the explanation chain as the JSON contract writes it (step 0 is the baseline; ``prev`` the step
+    before, for ``worsened_holdout``)."""
     f = lambda v: None if isinstance(v, float) and not math.isfinite(v) else v  # noqa: E731
     st = getattr(c, "step_test", {})
+    fit = 100.0 * (1.0 - c.nrmse_holdout) if math.isfinite(c.nrmse_holdout) else float("nan")
+    ratio = 10 ** (c.db_holdout / 20.0) if math.isfinite(c.db_holdout) else float("nan")
     return {
+        "fit_holdout_pct": f(fit),
+        "residual_over_noise": f(ratio),
+        "worsened_holdout": bool(prev is not None and c.nrmse_holdout > prev.nrmse_holdout),
         "effect": "baseline" if i == 0 else c.names[-1],
         "effects": c.names,
         "params": {k: f(float(v)) for k, v in c.params.items() if not k.startswith("spring.")},

@@ -34,6 +34,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.candidate import Candidate, Problem
+from chainid.infra.progress import stage
 
 #: jack-knife z of the LOTO improvement required to keep a step
 Z = 2.0
@@ -47,16 +48,17 @@ NONE_FRACTION = 0.5
 ALIASES = {"machine_compliance": "stiffness_level"}
 
 
-def at_noise_floor(r2: float, f2: float, sigma: float, n_bins: int) -> bool:
+def at_noise_floor(r2: float, f2: float, sigma: float, n_bins: int, f2_rel_sd: float = 0.0) -> bool:
     """Whether a mean squared bin residual r2 [N²] is consistent with its noise floor f2 [N²].
 
     Consistent when the systematic part sqrt(r2 − f2) is below ``NONE_FRACTION``·σ
     (σ the raw per-sample noise [N]) or the ratio r2/f2 is within 5 standard
-    deviations of a χ² mean (1 + 5·sqrt(2/n_bins)).
+    deviations of 1: sqrt(2/n_bins) for the χ² of the residual, and ``f2_rel_sd`` for the floor itself when it is
+    an estimate (a force noise measured on the record).
     """
     excess = math.sqrt(max(r2 - f2, 0.0))
     ratio = r2 / f2 if f2 > 0 else float("inf")
-    return excess < NONE_FRACTION * sigma or ratio < 1 + 5 * math.sqrt(2.0 / max(n_bins, 1))
+    return excess < NONE_FRACTION * sigma or ratio < 1 + 5 * math.sqrt(2.0 / max(n_bins, 1) + f2_rel_sd**2)
 
 
 def loto_jackknife(prev: Candidate, new: Candidate) -> tuple[float, float]:
@@ -99,16 +101,31 @@ def train_floor(prob: Problem, cand: Candidate) -> bool:
     ev = cand._ev  # type: ignore[attr-defined]
     r2, f2, _ = prob.noise_db(ev, "train")
     n = prob.n_cells("train")  # noise cells: phase bins of harmonic tests, samples of time-domain records
-    return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1))
+    u = getattr(prob, "floor_rel_sd", lambda split: 0.0)("train")
+    return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1) + u**2)
+
+
+def term_prefix(term: str) -> str:
+    """The parameter prefix of a chain term: ``effect.`` for an effect and for ``effect@cov`` (the effect with its
+    amplitudes following a covariate); the term itself for a slope ``effect.param@cov``."""
+    head = term.split("@", 1)[0]
+    return head + "." if "." not in head else term
+
+
+def pinned_params(c: Candidate) -> list[str]:
+    """The parameters of the candidate's newest term pinned at a bound of their physical range."""
+    if not c.names:
+        return []
+    new = term_prefix(c.names[-1])
+    return [k for k in c.at_bound if k.startswith(new)]
 
 
 def _pinned_new(c: Candidate) -> bool:
     """Whether a parameter of the candidate's newest effect is pinned at a bound of its physical range."""
-    new = c.names[-1] + "." if c.names else ""
-    return any(k.startswith(new) for k in c.at_bound)
+    return bool(pinned_params(c))
 
 
-def _pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
+def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
     pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
     Returns (chosen, tied others)."""
@@ -144,6 +161,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         names_k = cur.names + [n]
         key = tuple(sorted(names_k))
         if key not in cache:
+            stage("selection", f"step {len(names_k)}: {'+'.join(names_k)}")
             cache[key] = _fit_score(prob, names_k, cur.params, base_hold)
         return cache[key]
 
@@ -152,6 +170,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     remaining = [n for n in names]
     singles: list[Candidate] = []
     confounded: list[dict[str, Any]] = []
+    rejected: list[dict[str, Any]] = []
     stop = ""
     while True:
         if len(cur.names) >= max_effects:
@@ -166,27 +185,17 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         cands = [cached(cur, n) for n in remaining]
         if not singles:
             singles = list(cands)
-        # a step must be physically identified: the new effect's parameters inside their bounds
-        free = [c for c in cands if not _pinned_new(c)]
-        if not free:
-            stop = (f"the best next effect {min(cands, key=lambda c: c.nrmse_loto).names[-1]} needs parameters at "
-                    "the bounds of their physical range: its form does not fit what is left")
-            break
-        def test(c: Candidate) -> bool:
+        for c in cands:
             c.step_test = step_test(cur, c)  # type: ignore[attr-defined]
-            return passes(c.step_test)  # type: ignore[attr-defined]
-
         # the best candidate that passes the rule (the lowest-LOTO one may fail it: an improvement carried by
-        # a few tests), near-ties resolved by _pick, then the one-step look-ahead among those that pass
-        passing = [c for c in free if test(c)]
+        # a few tests), near-ties resolved by pick, then the one-step look-ahead among those that pass; a step
+        # must be physically identified: the new effect's parameters inside their bounds (rule 4)
+        passing = [c for c in cands if not _pinned_new(c) and passes(c.step_test)]  # type: ignore[attr-defined]
         if not passing:
-            b = min(free, key=lambda c: c.nrmse_loto)
-            st = b.step_test  # type: ignore[attr-defined]
-            stop = (f"no significant improvement: best next effect {b.names[-1]} lowers the LOTO NRMSE by "
-                    f"{100 * st['relative_gain']:.1f} % (mean log error ratio over tests {st['delta_loto']:.3g}, "
-                    f"jack-knife SE {st['se_jackknife']:.2g}; needs > {Z:g} SE and >= {100 * MIN_GAIN:.0f} %)")
+            rejected = rejections(cands)
+            stop = stop_message(rejected)
             break
-        chosen, ties = _pick(passing)
+        chosen, ties = pick(passing)
         chosen = _look_ahead(prob, cur, chosen, passing, remaining, cached, max_effects)
         for t in ties:
             confounded.append({"step": len(path), "pair": [chosen.names[-1], t.names[-1]],
@@ -203,12 +212,49 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     alts = _two_for_one(prob, path[-1], names, base_hold)
     confounded += [a["report"] for a in alts]
     _take_tie_break(prob, base, path, alts, base_hold)
-    return {"path": path, "singles": singles, "stop": stop, "confounded": confounded, "dropped": dropped,
-            "swapped": swaps}
+    return {"path": path, "singles": singles, "stop": stop, "rejected": rejected, "confounded": confounded,
+            "dropped": dropped, "swapped": swaps, "_cache": cache}
+
+
+def rejections(cands: Sequence[Candidate]) -> list[dict[str, Any]]:
+    """Why each candidate of a step was not taken, best LOTO first: ``{"effect", "nrmse_loto", "nrmse_holdout",
+    "reason"}`` — a parameter at a bound of its physical range (rule 4), or the step rule's numbers (rules 2, 3)."""
+    out = []
+    for c in sorted(cands, key=lambda c: c.nrmse_loto):
+        st = getattr(c, "step_test", None) or {}
+        if _pinned_new(c):
+            pins = pinned_params(c)
+            reason = (f"parameter(s) {', '.join(pins)} at the bound of their physical range: its form does not fit "
+                      "what is left")
+        elif st and not st["delta_loto"] > Z * st["se_jackknife"]:
+            reason = (f"not significant over the training units: mean log error ratio {st['delta_loto']:.3g}, "
+                      f"jack-knife SE {st['se_jackknife']:.2g} (needs > {Z:g} SE)")
+        elif st:
+            reason = (f"not material: lowers the LOTO NRMSE by {100 * st['relative_gain']:.1f} % (needs >= "
+                      f"{100 * MIN_GAIN:.0f} %)")
+        else:
+            reason = "not scored against the chain"
+        out.append({"effect": c.names[-1] if c.names else c.name, "nrmse_loto": c.nrmse_loto,
+                    "nrmse_holdout": c.nrmse_holdout, "relative_gain_loto": st.get("relative_gain"), "reason": reason})
+    return out
+
+
+def stop_message(rejected: Sequence[dict[str, Any]]) -> str:
+    """Why the chain stopped when no candidate passed: the best next effect by LOTO and why it was not taken, and
+    the best identified one (no parameter at a bound) when that is another."""
+    if not rejected:
+        return "no library effect left"
+    top = rejected[0]
+    msg = (f"no next effect passes the step rule: the best by LOTO, {top['effect']} (LOTO NRMSE "
+           f"{top['nrmse_loto']:.4g}), was not taken: {top['reason']}")
+    free = next((r for r in rejected if not r["reason"].startswith("parameter(s)")), None)
+    if free is not None and free is not top:
+        msg += f"; the best identified one, {free['effect']} (LOTO NRMSE {free['nrmse_loto']:.4g}): {free['reason']}"
+    return msg
 
 
 def _tie_key(c: Candidate) -> tuple[int, int, float]:
-    """The near-tie order of :func:`_pick`: fewer parameters pinned at a bound, then fewer parameters, then BIC."""
+    """The near-tie order of :func:`pick`: fewer parameters pinned at a bound, then fewer parameters, then BIC."""
     return (len(c.at_bound), c.n_params, c.bic)
 
 
@@ -245,7 +291,7 @@ def _two_for_one(prob: Problem, full: Candidate, allowed: Sequence[str], base_ho
         for i, a in enumerate(others):
             for b in others[i + 1:]:
                 names = [k for k in full.names if k != n] + [a, b]
-                start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
+                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
                 c = _fit_score(prob, names, start, base_hold)
                 if c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and not c.at_bound:
                     out.append({"report": {"step": len(full.names), "pair": [n, f"{a}+{b}"],
@@ -282,7 +328,8 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
 
 
 #: effects that can stand in for each other (same physical family): the exchange pass swaps within these
-FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"), ("friction", "hysteresis"))
+FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
+            ("friction", "hysteresis", "stribeck", "bouc_wen"))
 
 
 def _fit_score(prob: Problem, names: list[str], start: dict[str, float], base_hold: float) -> Candidate:
@@ -303,7 +350,7 @@ def _exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold:
                 if m == n or m in full.names or m not in allowed:
                     continue
                 names = [m if k == n else k for k in full.names]
-                start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
+                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
                 c = _fit_score(prob, names, start, base_hold)
                 # rule 4 holds for a swap too: a member whose parameters sit at a bound of their physical range
                 # does not fit (Dahl hysteresis with x_h at its floor is Coulomb friction under another name)
@@ -351,7 +398,7 @@ def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[st
         best_drop = None
         for n in full.names:
             rest = [m for m in full.names if m != n]
-            start = {k: v for k, v in full.params.items() if not k.startswith(n + ".")}
+            start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
             c = _fit_score(prob, rest, start, base_hold)
             if not passes(step_test(c, full)):
                 if best_drop is None or c.nrmse_loto < best_drop[1].nrmse_loto:
@@ -365,9 +412,11 @@ def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[st
 
 
 def baseline_candidate(prob: Any) -> Candidate:
-    """The scored baseline (no effect) the selection starts from: a linear spring re-fitted on the training data
-    (``--model linear``) or the chain model as given; shrinkage 0 by definition."""
-    base_c = prob.fit([]) if not prob.is_chain else Candidate("baseline", {}, 0)
+    """The scored baseline (no effect) the selection starts from: a base with free parameters fitted on the training
+    data (a linear spring re-fitted with ``--model linear``; the time domain's dashpot, mass and spring) or the chain
+    model as given; shrinkage 0 by definition."""
+    fits = getattr(prob, "fits_base", not prob.is_chain)  # a base with free parameters is fitted first
+    base_c = prob.fit([]) if fits else Candidate("baseline", {}, 0)
     base_c.name = "baseline"
     prob.score(base_c, [], 1.0)
     base_c.shrinkage = 0.0

@@ -50,17 +50,31 @@ def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = ()
 
 def waterfall(result: dict[str, Any]) -> list[str]:
     """The explanation chain as table lines: step, effect, held-out NRMSE, shrinkage, dB over noise, params."""
-    lines = [f"  {'step':<5} {'+ effect':<20} {'LOTO':>8} {'held-out':>9} {'shrink':>7} {'dB/noise':>8}  parameters"]
+    lines = [f"  {'step':<5} {'+ effect':<20} {'LOTO':>8} {'held-out':>9} {'fit %':>6} {'shrink':>7} {'dB/noise':>8}"
+             "  parameters"]
     for i, st in enumerate(result.get("steps", [])):
+        mark = "  << raised the held-out error: over-fitted" if st.get("worsened_holdout") else ""
+        fit = st.get("fit_holdout_pct")
         lines.append(f"  {i:<5} {st['effect']:<20} {st['nrmse_loto']:>8.4g} {st['nrmse_holdout']:>9.4g} "
-                     f"{100 * (st['shrinkage'] or 0):>6.1f}% {st['db_over_noise']:>8.1f}  "
-                     f"{_params(st['params'], st.get('params_sd'), st.get('at_bound', ()))}")
+                     f"{(fit if fit is not None else float('nan')):>6.1f} {100 * (st['shrinkage'] or 0):>6.1f}% "
+                     f"{st['db_over_noise']:>8.1f}  "
+                     f"{_params(st['params'], st.get('params_sd'), st.get('at_bound', ()))}{mark}")
     r = result.get("residual") or {}
     if r:
         stat = {True: "stationary", False: "NOT stationary", None: "stationarity not checked"}[r.get("stationary")]
         lines.append(f"  left: {r['db_over_noise']:.1f} dB over the noise floor"
                      f"{' (at the floor)' if r.get('at_noise_floor') else ''}; {stat}")
     return lines
+
+
+def _left(result: dict[str, Any]) -> str:
+    """What is left in absolute terms: the held-out fit % = 100·(1 − NRMSE) and the residual in noise σ."""
+    left = result.get("left_nrmse_holdout")
+    r = result.get("residual") or {}
+    db = r.get("db_over_noise")
+    ratio = f"{10 ** (db / 20):.2f}× the noise floor" if db is not None and math.isfinite(db) else "unknown vs noise"
+    return (f"fit left {100 * (1 - left):.1f} % (held-out NRMSE {left:.4g}), residual {ratio}"
+            if left is not None and math.isfinite(left) else "no held-out fit")
 
 
 def summary(result: dict[str, Any], n_rank: int = 6) -> str:
@@ -98,12 +112,18 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
         why = "no library effect passed the step rule or shrinks the held-out gap by half"
         if (result.get("residual") or {}).get("stationary") is False:
             why = "what is left changes with time within the tests (no static effect explains that)"
-        lines.append(f"VERDICT: unexplained — {why}; held-out NRMSE left {result.get('left_nrmse_holdout'):.4g}.")
+        lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")
     else:
-        last = steps[-1] if steps else result.get("best") or {}
         lines.append(f"VERDICT: {v} — {result.get('chain_text', '')}")
-        lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {last['nrmse_holdout']:.4g} "
-                     f"(shrinkage {100 * last['shrinkage']:.0f} %)")
+        left = result.get("left_nrmse_holdout")
+        shrink = 1.0 - left / b["nrmse_holdout"] if left is not None and b["nrmse_holdout"] else float("nan")
+        lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {left:.4g} (shrinkage {100 * shrink:.0f} %); "
+                     f"{_left(result)}")
+    for cd in result.get("covariate_dependence") or []:
+        lines.append(f"  operating condition: {cd['text']}")
+    ow = result.get("open_world") or {}
+    if ow.get("message"):
+        lines.append(f"  model-free check: {ow['message']}")
     if result.get("interpretation"):
         lines.append(f"  meaning: {result['interpretation']}")
     if result.get("mechanism") and result["mechanism"] not in ("none", "unexplained"):

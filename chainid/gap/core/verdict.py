@@ -8,12 +8,44 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 #: the verdict names an effect only when the chain shrinks the held-out gap by at least this fraction
 MIN_SHRINK = 0.5
 #: a trend whose change over the window is this large against the baseline's systematic residual: `unexplained`
 NONSTAT_FRACTION = 0.25
+
+
+def trusted_path(path: list[Any]) -> tuple[list[Any], int | None]:
+    """The explanation chain up to (not including) its first step whose held-out NRMSE is higher than the step
+    before's, and that step's index (None when every step lowers or keeps the held-out error).  A step the training
+    data chose but the held-out data refute is over-fitting: the verdict never includes it."""
+    for i in range(1, len(path)):
+        if path[i].nrmse_holdout > path[i - 1].nrmse_holdout:
+            return path[:i], i
+    return list(path), None
+
+
+def overfit_warning(path: list[Any], k: int) -> str:
+    """The warning for a chain whose step ``k`` raised the held-out error."""
+    a, b = path[k - 1].nrmse_holdout, path[k].nrmse_holdout
+    return (f"over-fitted: step {k} ({path[k].names[-1]}) raised the held-out NRMSE from {a:.4g} to {b:.4g} "
+            f"({100 * (b / a - 1):+.1f} %); the verdict and what is left are those of the chain before it")
+
+
+def verdict_name(names: list[str]) -> str:
+    """The verdict of an explanation chain's terms: its library effects joined by ``+``; a covariate term
+    (``effect.param@cov``) names its effect, the base's damping following a covariate names ``damping_law`` and the
+    base's spring ``stiffness_level``."""
+    out: list[str] = []
+    for n in names:
+        if "@" in n:
+            head = n.split("@", 1)[0].split(".", 1)[0]
+            n = {"damping": "damping_law", "spring": "stiffness_level", "mass": "fixture_mass"}.get(head, head)
+        if n not in out:
+            out.append(n)
+    return "+".join(out)
 
 
 def decide(consistent: bool, final: Any, stat: dict[str, Any], excess: float, path: list[Any], fwd: dict[str, Any],
@@ -37,7 +69,7 @@ def decide(consistent: bool, final: Any, stat: dict[str, Any], excess: float, pa
     elif final is None or not (final.shrinkage >= MIN_SHRINK):
         verdict = "unexplained"
     else:
-        verdict = "+".join(final.names)
+        verdict = verdict_name(final.names)
     if verdict != "none" and stat["stationary"] is False:
         named = "+".join(final.names) if final is not None else ""
         msg = (f"{stat['finding']}; " + (f"the static effects {named} absorb part of it, but what is left drifts "
@@ -65,15 +97,16 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     ``noise`` holds the baseline's excess_rms_N, noise_sigma_N, chi2_ratio and db_over_noise.  The private
     keys ``_problem``, ``_best`` and ``_path`` carry the fitted objects (plots, transfer).
     """
-    from chainid.gap.core.interpret import mechanism, step_dict, step_text
+    from chainid.gap.core.interpret import covariate_dependence, mechanism, step_dict, step_text
 
     path = fwd["path"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
-    final = path[-1] if len(path) > 1 else None
+    ok_path, bad = trusted_path(path)
+    final = ok_path[-1] if len(ok_path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     left = final if final is not None else base_c
-    steps = [step_dict(c, i) for i, c in enumerate(path)]
+    steps = [step_dict(c, i, path[i - 1] if i else None) for i, c in enumerate(path)]
     return {
         "mechanism": mechanism(verdict, interp),
         "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_c.nrmse_holdout,
@@ -91,8 +124,13 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "excluded": excluded,
         "confounded": confounded,
         "left_nrmse_holdout": left.nrmse_holdout,
+        "fit_holdout_pct": 100.0 * (1.0 - left.nrmse_holdout),
+        "covariate_dependence": covariate_dependence(left.params),
+        "overfitted": bad is not None,
+        "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,
-        "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {residual['db_over_noise']:.1f} dB over noise",
+        "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {residual['db_over_noise']:.1f} dB over noise"
+        + _kin_text(residual),
         "warnings": warn,
         "holdout": holdout,
         "tests": tests,
@@ -100,3 +138,13 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "_best": best,
         "_path": path,
     }
+
+
+def _kin_text(residual: dict[str, Any]) -> str:
+    """The residual over the kinematic floor (what even the true model leaves on the estimated ẋ, ẍ), where it
+    tells more than the force noise alone: the floor ≥ 1 dB above the noise."""
+    kf, nf = residual.get("kinematic_floor_N"), residual.get("noise_floor_N")
+    db = residual.get("db_over_kinematic_floor")
+    if kf is None or nf is None or db is None or nf <= 0 or 20.0 * math.log10(max(kf, 1e-300) / nf) < 1.0:
+        return ""
+    return f" ({db:+.1f} dB over the kinematic floor {kf:.3g} N)"

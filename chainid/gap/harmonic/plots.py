@@ -22,13 +22,13 @@ def harmonic_plots(result: dict[str, Any], save: Callable[[Any, str], Path]) -> 
     """Draw the five figures of a harmonic diagnosis ``result``; ``save(fig, name)`` writes one and returns its path."""
     import matplotlib.pyplot as plt
 
+    from chainid.gap.core.verdict import trusted_path
+
     prob = result["_problem"]
-    best = result["_best"]
-    base_c = prob.fit([]) if not prob.is_chain else None
-    bp = base_c.params if base_c is not None else {}
-    base = prob.evaluate([], bp)
-    names = best.name.split("+") if best is not None and best.name else []
-    aug = prob.evaluate(names, best.params, best.law) if best is not None else base
+    path = result["_path"]
+    final = trusted_path(path)[0][-1]  # the verdict's chain: the baseline itself when no step was taken
+    base, aug = path[0]._ev, final._ev  # type: ignore[attr-defined]
+    after = "after the chain" if final is not path[0] else "baseline (no step)"
     paths = []
     # loops
     hold = prob.hold
@@ -36,7 +36,7 @@ def harmonic_plots(result: dict[str, Any], save: Callable[[Any, str], Path]) -> 
     for ax, d in zip(axs[0], hold):
         xb = d.binmean(d.x)
         ax.plot(xb, d.Fbar, "k.", ms=3, label="measured (cycle mean)")
-        for ev, lab, st in ((base, "baseline", "C0-"), (aug, f"+ {best.name}" if best else "", "C3--")):
+        for ev, lab, st in ((base, "baseline", "C0-"), (aug, after, "C3--")):
             Fn, v = ev["parts"][d.test]
             c = ev["c_hold"].get(d.test, ev["c_e"][d.test])
             ax.plot(np.append(xb, xb[0]), np.append(Fn + c * v, (Fn + c * v)[0]), st, lw=1.2, label=lab)
@@ -80,9 +80,9 @@ def harmonic_plots(result: dict[str, Any], save: Callable[[Any, str], Path]) -> 
     w = np.array([d.omega for d in prob.data])
     A = np.array([d.A for d in prob.data])
     before = np.array([base["per_test"][d.test] for d in prob.data])
-    after = np.array([aug["per_test"][d.test] for d in prob.data])
+    after_v = np.array([aug["per_test"][d.test] for d in prob.data])
     vmax = float(np.nanmax(before)) or 1.0
-    for ax, val, title in ((axs[0], before, "baseline NRMSE"), (axs[1], after, f"with {best.name if best else '-'}")):
+    for ax, val, title in ((axs[0], before, "baseline NRMSE"), (axs[1], after_v, f"NRMSE {after}")):
         sc = ax.scatter(w, A, c=val, s=700, cmap="viridis", vmin=0, vmax=vmax, marker="s",
                         edgecolors=["r" if d in hold else "none" for d in prob.data], linewidths=1.5)
         for wi, ai, v in zip(w, A, val):  # dark text on the bright end of viridis

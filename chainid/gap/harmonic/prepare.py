@@ -212,6 +212,9 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     t, x, F = rec.t[m] - getattr(est, "t_origin", 0.0), rec.x[m], rec.F[m]
     if t.size < 16:
         raise Unusable(f"only {t.size} samples in the steady window (need >= 16)")
+    bad = not_a_sine(t, x, est.omega, est.theta, est.x0, est.A)
+    if bad:
+        raise Unusable(bad)
     spc = t.size / max(win.n_cycles, 1)
     B = int(max(8, min(n_bins, 4 * (int(spc) // 8))))
     xfun = fourier_x(t, x, est.omega, est.theta, H=5)
@@ -226,6 +229,31 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     return TestData(rec.test, est.omega, est.A, est.x0, est.theta, t, F, xs, xd, xdd, xfun, bins, counts, Fbar,
                     sigma, x, describe() if callable(describe) else "", cycle_stats(t, F, est.omega, est.theta, x),
                     phase_grid(psi, B, est.theta, est.omega, xfun, bins), float(getattr(est, "t_origin", 0.0)))
+
+
+#: a steady harmonic test's displacement departs from its fitted sine by at most this fraction of the amplitude
+#: (RMS); a triangle wave departs by 8.5 %, a sine with 2 % harmonic distortion by 2 %
+SINE_DISTORTION_MAX = 0.03
+
+
+def not_a_sine(t: np.ndarray, x: np.ndarray, omega: float, theta: float, x0: float, A: float) -> str:
+    """Why a steady window is not a sine test, or "": the RMS departure of x [mm] from the least-squares sine at
+    its frequency ω [rad/s] above ``SINE_DISTORTION_MAX``·A beyond what the displacement noise explains (a
+    triangular stroke, a clipped or square drive).  Such a record goes to the time-domain route: the phase bins
+    of Eq. 17–27 assume x = x0 + A·sin(ωt + θ)."""
+    if not A > 0 or t.size < 16:
+        return ""
+    X = np.column_stack([np.ones_like(t), np.sin(omega * t), np.cos(omega * t)])
+    coef, *_ = np.linalg.lstsq(X, x, rcond=None)
+    r = x - X @ coef
+    amp = float(np.hypot(coef[1], coef[2])) or A
+    noise = 1.4826 * float(np.median(np.abs(np.diff(x, 2) - np.median(np.diff(x, 2))))) / math.sqrt(6.0)
+    dist = math.sqrt(max(float(np.mean(r**2)) - noise**2, 0.0)) / amp
+    if dist > SINE_DISTORTION_MAX:
+        return (f"not a sine test: the displacement departs from its fitted sine by {100 * dist:.1f} % of the "
+                f"amplitude (RMS; a sine test departs by at most {100 * SINE_DISTORTION_MAX:.0f} %, a triangle by "
+                "8.5 %): time-domain route")
+    return ""
 
 
 def other_plateau(win: Any) -> str:

@@ -25,7 +25,7 @@ from scipy.optimize import least_squares
 
 from chainid.gap.core.candidate import MIN_TRAIN, Candidate, jackknife_sd  # noqa: F401  (re-exported)
 from chainid.gap.harmonic import law_choice as L
-from chainid.model.effects import EFFECT_NAMES, make_effect, undamped_force
+from chainid.model.effects import EFFECT_NAMES, identifiable, make_effect, pinned, undamped_force
 from chainid.gap.harmonic.prepare import TestData
 
 def _ce(d: TestData, Fn: np.ndarray, v: np.ndarray) -> float:
@@ -64,12 +64,15 @@ class Problem:
         Held-out test ids.
     damping_law : str
         Baseline law name or "auto" (:func:`chainid.gap.harmonic.law_choice.choose`).
+    fit_mass : bool
+        A linear baseline fits its moving mass (>= 0) with its spring (False: the model's mass, e.g. ``--mass``).
     """
 
     def __init__(self, data: Sequence[TestData], model: Any, holdout: Sequence[str], damping_law: str = "auto",
-                 require_hold: bool = True):
+                 require_hold: bool = True, fit_mass: bool = False):
         self.data = list(data)
         self.model = model
+        self.fit_mass = bool(fit_mass) and not hasattr(model, "hertz_scale")
         ids = [d.test for d in self.data]
         unknown = [h for h in holdout if h not in ids]
         if unknown:
@@ -91,7 +94,10 @@ class Problem:
         self.is_chain = hasattr(model, "hertz_scale")
         self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
-        self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max) for n in EFFECT_NAMES}
+        x_mid = float(np.mean([d.x0 for d in self.data]))
+        v_max = float(max(d.omega * d.A for d in self.data))
+        self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max, v_scale=v_max, x_mid=x_mid)
+                        for n in EFFECT_NAMES}
         self.law, self.law_reason = self._baseline_law(damping_law)
 
     # ------------------------------------------------------------- damping law
@@ -146,12 +152,15 @@ class Problem:
         if "spring.k" in p:
             from chainid.model.base import LinearModel
 
-            return LinearModel(max(p["spring.k"], 0.0), p["spring.x_ref"], mass=float(getattr(self.model, "mass_kg", 0.0)))
+            m = max(float(p["spring.m"]), 0.0) if "spring.m" in p else float(getattr(self.model, "mass_kg", 0.0))
+            return LinearModel(max(p["spring.k"], 0.0), p["spring.x_ref"], mass=m)
         return self.model
 
     def applicable(self) -> list[str]:
-        """Library effects that apply to this baseline (chain-only effects need the chain model)."""
-        return [n for n, e in self.effects.items() if self.is_chain or not e.chain_only]
+        """Library effects that apply to this baseline (chain-only effects need the chain model, linear-only ones a
+        linear spring)."""
+        return [n for n, e in self.effects.items()
+                if not (e.chain_only and not self.is_chain) and not (e.linear_only and self.is_chain)]
 
     def parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
         """Bin means of the undamped force [N] and of the damping velocity [mm/s] of an effect set on a
@@ -226,6 +235,29 @@ class Problem:
         f2 = sum(float(np.sum(d.sigma**2 / np.maximum(d.counts, 1))) for d in ds) / nb
         return r2, f2, 10 * math.log10(max(r2, 1e-300) / max(f2, 1e-300))
 
+    def state_table(self, ev: dict[str, Any]) -> dict[str, Any]:
+        """The state of every phase bin (x, ẋ, ẍ, travel since the reversal, direction, x a quarter period earlier,
+        the model force) and the residual of evaluation ``ev``, split into training and held-out tests, for the
+        model-free check (:mod:`chainid.gap.core.openworld`)."""
+        rows: dict[str, list[Any]] = {"Xt": [], "rt": [], "Xh": [], "rh": [], "uh": []}
+        hold = {d.test for d in self.hold}
+        for d in self.data:
+            g = d.grid
+            xb, vb, ab = d.gridmean(g["x"]), d.gridmean(g["xd"]), d.gridmean(g["xdd"])
+            B = d.counts.size
+            psi = 2 * math.pi * (np.arange(B) + 0.5) / B
+            travel = np.where(vb > 0, xb - (d.x0 - d.A), (d.x0 + d.A) - xb)
+            r = ev["res"][d.test]
+            X = np.column_stack([xb, vb, ab, travel, np.sign(vb), d.x0 - d.A * np.cos(psi), d.Fbar - r])
+            k = "h" if d.test in hold else "t"
+            rows["X" + k].append(X)
+            rows["r" + k].append(r)
+            if k == "h":
+                rows["uh"].append(np.full(B, d.test))
+        cat = lambda k: np.concatenate(rows[k]) if rows[k] else np.zeros(0)  # noqa: E731
+        return {"X_train": cat("Xt"), "r_train": cat("rt"), "X_hold": cat("Xh"), "r_hold": cat("rh"),
+                "unit_hold": cat("uh"), "names": ["x", "xd", "xdd", "travel", "direction", "x_lag", "load"]}
+
     # --------------------------------------------------------------------- fit
     def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
         out = []
@@ -243,11 +275,18 @@ class Problem:
             lo += [0.0, xr - 2 * xs]
             hi += [max(10 * k0, 10 * self.F_scale / xs), xr + 2 * xs]
             x0 += [k0, xr]
+            if self.fit_mass:  # m·ω² up to 10 times the force scale over the displacement scale
+                keys.append("spring.m")
+                lo.append(0.0)
+                hi.append(10.0 * self.F_scale * 1e3 / (xs * self.omega_max ** 2))
+                x0.append(0.0)
         for n in names:
             if n == "damping_law":
                 continue
             e = self.effects[n]
             for k, (a, b), g in zip(e.param_names, e.bounds, e.x0_guess):
+                if not identifiable(n, k, "chain" if self.is_chain else "linear"):
+                    continue  # held at its neutral value on this base
                 keys.append(f"{n}.{k}")
                 lo.append(a)
                 hi.append(b)
@@ -281,8 +320,10 @@ class Problem:
             if not keys:
                 return Candidate("+".join(names), {}, 0)
 
+            fixed_p = {f"{n}.{k}": v for n in names if n in self.effects for k, v in self.effects[n].fixed.items()}
+
             def unpack(u: np.ndarray) -> dict[str, float]:
-                return dict(zip(keys, lo_a + np.clip(u, 0, 1) * (hi_a - lo_a)))
+                return fixed_p | dict(zip(keys, lo_a + np.clip(u, 0, 1) * (hi_a - lo_a)))
 
             def fun(u: np.ndarray) -> np.ndarray:
                 return self._train_resid(names, unpack(u))
@@ -308,7 +349,7 @@ class Problem:
             # a parameter pinned at a physical bound (other than a zero lower bound, "effect absent")
             # (the re-fitted linear spring of a --model linear baseline is not an effect: its x_ref is free)
             at_bound = [k for k, v, a in zip(keys, ub, lo_a)
-                        if (v >= 1 - 1e-6 or (v <= 1e-6 and a != 0.0)) and not k.startswith("spring.")]
+                        if not k.startswith("spring.") and pinned(k, float(v), float(a))]
             return Candidate("+".join(names), p, len(keys), at_bound=at_bound)
         finally:
             self.train = saved

@@ -19,8 +19,11 @@ import numpy as np
 from chainid.gap.core import selection as fw
 from chainid.gap.core.candidate import Candidate, jackknife_sd
 from chainid.gap.core.interpret import interpretation, separating_test
+from chainid.gap.core.openworld import open_world
+from chainid.gap.core.resample import attach, resample
+from chainid.infra.progress import stage
 from chainid.gap.core.stationarity import check as stationarity_check
-from chainid.gap.core.verdict import contract, decide
+from chainid.gap.core.verdict import contract, decide, overfit_warning, trusted_path
 from chainid.gap.harmonic.problem import Problem, damping_separable
 from chainid.gap.harmonic.where import localise
 
@@ -29,7 +32,8 @@ __all__ = ["diagnose_harmonic", "jackknife"]
 
 def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, effects: Sequence[str] | None,
                       max_combo: int, damping_law: str, uncertainty: bool,
-                      excluded: Sequence[dict[str, str]] = ()) -> dict[str, Any]:
+                      excluded: Sequence[dict[str, str]] = (), resamples: int = 0, seed: int = 0,
+                      fit_mass: bool = False) -> dict[str, Any]:
     """Diagnose a set of prepared harmonic tests (:class:`chainid.gap.harmonic.prepare.TestData`).
 
     Parameters
@@ -37,21 +41,23 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     data : prepared tests (the usable ones)
     hold : held-out test ids (whole tests, all usable)
     model : baseline stiffness model (chain model or fitted linear spring)
-    effects, max_combo, damping_law, uncertainty : as :func:`chainid.gap.diagnose.diagnose`
+    effects, max_combo, damping_law, uncertainty, resamples, seed : as :func:`chainid.gap.diagnose.diagnose`
     excluded : tests left out, with their reason (reported)
+    fit_mass : a linear baseline fits its moving mass (``model=None`` and no ``--mass``)
 
     Returns
     -------
     dict
         The JSON contract of ``chainid diagnose`` (:func:`chainid.gap.core.verdict.contract`).
     """
-    prob = Problem(data, model, hold, damping_law)
+    prob = Problem(data, model, hold, damping_law, fit_mass=fit_mass)
     warn: list[str] = [f"test {e['test']} excluded: {e['reason']}" for e in excluded]
     if prob.law == "polynomial" and damping_law == "polynomial":
         ok, msg = damping_separable(prob.train)
         if not ok:
             warn.append(msg)
             warnings.warn(msg, stacklevel=3)
+    stage("baseline")
     base_c = fw.baseline_candidate(prob)
     where = localise(prob, base_c._ev)  # type: ignore[attr-defined]
     r2, f2, db0 = prob.noise_db(base_c._ev, "hold")  # type: ignore[attr-defined]
@@ -62,7 +68,10 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     fwd = fw.forward_select(prob, fw.library(prob, effects), base_c, base_c.nrmse_holdout, max_effects=int(max_combo))
     path: list[Candidate] = fwd["path"]
     singles: list[Candidate] = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
-    final = path[-1] if len(path) > 1 else None
+    ok_path, bad = trusted_path(path)
+    if bad is not None:
+        warn.append(overfit_warning(path, bad))
+    final = ok_path[-1] if len(ok_path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     if uncertainty:
         for c in path[1:]:
@@ -81,11 +90,19 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     interp = interpretation(path, prob, verdict)
     tests = [{"test": d.test, "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma, "window": d.window,
               "split": "holdout" if d in prob.hold else "train", "nrmse_before": base_c.per_test[d.test],
-              "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.data]
+              "nrmse_after": left.per_test.get(d.test)} for d in prob.data]
     noise = {"excess_rms_N": excess, "noise_sigma_N": sig_hold, "chi2_ratio": r2 / f2 if f2 > 0 else None,
              "db_over_noise": db0}
-    return contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded,
-                    warn, list(hold), tests)
+    out = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded,
+                   warn, list(hold), tests)
+    stage("model-free check")
+    out["open_world"] = open_world(prob.state_table(left._ev), bool(residual["at_noise_floor"]), keep_model=True)  # type: ignore
+    if resamples:
+        stage("resampling", f"{resamples} resamples")
+        from chainid.gap.harmonic import resampling
+
+        attach(out, resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo)))
+    return out
 
 
 def jackknife(prob: Problem, cand: Candidate) -> dict[str, float]:

@@ -1,19 +1,19 @@
-"""Time-domain route of the diagnosis: a record that is not a steady harmonic test.
+"""One record prepared for the time-domain route: band, smooth kinematics, noise, features, blocks, fit subset.
 
-The model force is evaluated on the record's own samples with *causal* memory
-operators (friction with stick, Dahl hysteresis, play run forward from a stated
-initial state: the operator starts relaxed, z = 0 and the play centred, at the
-first sample), so any excitation can be analysed: start-ups, load steps, sweeps,
-band-limited random and seismic displacement.  The damping of a non-harmonic
-record is viscous, c·ẋ (one c for the whole set); the rate-independent
-dissipation is carried by the effects (friction, hysteresis).  A c_e(ω, A) law
-has no meaning without a frequency and an amplitude.
+The model force is evaluated on the record's own samples with *causal* memory operators (run forward from a
+stated initial state at the first sample), so any excitation can be analysed: start-ups, load steps, sweeps,
+band-limited random and seismic displacement, resonant devices driven by a force.  The kinematics come from
+:mod:`chainid.gap.core.kinematics` (the estimator chosen by the record's own spectrum, its error predicted).
 
-Each record is cut into contiguous time blocks (never random samples): the units
-of leave-one-block-out scoring and, with ``--holdout-blocks K``, of the held-out
-set (the last of K blocks of each record).
+Each record is cut into contiguous time blocks (never random samples): the units of leave-one-block-out scoring,
+of resampling, and, with ``--holdout-blocks K``, of the held-out set (the last of K blocks of each record).
 
-Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N.
+Record features (the damping law's variables): the band centre ω_c [rad/s] (the variance-weighted mean angular
+frequency of the displacement, :func:`chainid.model.timedamping.record_features`; the frequency of a harmonic test) and the amplitude A [mm]
+(half the range of the smooth x; the amplitude of a harmonic test).  A record's covariates (operating conditions:
+coil current, pressure, ...) come with it.
+
+Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N, f Hz.
 """
 
 from __future__ import annotations
@@ -25,7 +25,11 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core import noise as nz
-from chainid.model.effects import STIFFNESS_SIDE, dahl_operator, modify_model, play_operator, stick_slip
+from chainid.gap.core.kinematics import Kinematics, estimate
+from chainid.model.timedamping import record_features
+
+__all__ = ["MIN_SAMPLES", "TimeData", "prepare_time", "low_edge", "reversals",
+           "travel_since_reversal", "split_blocks"]
 
 #: fewest samples of a time-domain record
 MIN_SAMPLES = 64
@@ -37,7 +41,7 @@ FIT_MAX = 4000
 
 @dataclass
 class TimeData:
-    """One non-harmonic record prepared for the time-domain diagnosis (units mm, N, s, Hz)."""
+    """One record prepared for the time-domain diagnosis (units mm, N, s, Hz)."""
 
     __test__ = False
     test: str
@@ -57,6 +61,10 @@ class TimeData:
     #: samples of the fit subset (every q-th sample)
     fit_idx: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     kind: str = "time"
+    kin: Kinematics | None = None
+    covariates: dict[str, float] = field(default_factory=dict)
+    omega_c: float = float("nan")
+    f_low: float = float("nan")
 
     @property
     def omega(self) -> float:
@@ -80,13 +88,30 @@ class TimeData:
         return f"time domain, {self.t.size} samples, band {self.f_band:.3g} Hz, {self.n_blocks} blocks"
 
 
+def low_edge(t: np.ndarray, x: np.ndarray, fraction: float = 0.01) -> float:
+    """The lower edge [Hz] of a displacement's band: the frequency below which ``fraction`` of its variance lies
+    (the longest useful period is 1/low_edge)."""
+    fs = nz.sample_rate(t)
+    f, P = nz._psd(x, fs)
+    if f.size < 8:
+        return float(f[1]) if f.size > 1 else 0.0
+    floor = float(np.median(P[f.size // 2:]))
+    Pc = np.maximum(P - floor, 0.0)
+    Pc[0] = 0.0
+    tot = float(Pc.sum())
+    if tot <= 0:
+        return float(f[1])
+    k = int(np.searchsorted(np.cumsum(Pc) / tot, fraction))
+    return float(max(f[min(k, f.size - 1)], f[1]))
+
+
 def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
-    """Prepare one record for the time domain: band, smooth kinematics, force noise, blocks, fit subset.
+    """Prepare one record for the time domain: band, smooth kinematics, force noise, features, blocks, fit subset.
 
     Parameters
     ----------
     rec : Record
-        t [s] (increasing), x [mm], F [N].
+        t [s] (increasing), x [mm], F [N]; its ``covariates`` (name → value) when it has them.
     n_blocks : int
         Contiguous time blocks of the record (>= 1).
 
@@ -107,57 +132,24 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
         raise ValueError(f"blocks per record = {n_blocks!r} is out of range for test {rec.test!r}; "
                          f"valid range 1 to {t.size // 16}")
     fs = nz.sample_rate(t)
-    fb, xs, xd, xdd = nz.record_kinematics(t, rec.x)
+    fb = nz.excitation_band(t, rec.x)
+    kin = estimate(t, rec.x, fb)
+    xs, xd, xdd = kin.x, kin.xd, kin.xdd
     F = np.asarray(rec.F, float)
-    sigma = max(nz.force_noise(F), 1e-6 * float(np.std(F)) + 1e-9)
+    sigma_hf = nz.hf_floor(t, F, fb)
+    # two estimates of the force noise, each an upper bound where the other fails: the robust second difference
+    # takes in a force curved on the sample scale (a record sampled a few times its band), the spectrum above the
+    # band takes in broadband force content (friction switching); the smaller is the noise
+    sigma = nz.force_noise(F)
+    if math.isfinite(sigma_hf) and sigma_hf > 0:
+        sigma = min(sigma, sigma_hf)
+    sigma = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
     block = np.minimum((np.arange(t.size) * n_blocks) // t.size, n_blocks - 1).astype(np.int64)
     q = max(1, min(int(fs / (FIT_SAMPLES_PER_PERIOD * fb)), int(math.ceil(t.size / FIT_MAX))))
+    cov = {str(k): float(v) for k, v in dict(getattr(rec, "covariates", None) or {}).items()}
     return TimeData(rec.test, t, xs, xd, xdd, F, np.asarray(rec.x, float), sigma, fb, fs,
-                    nz.hf_floor(t, F, fb), block, n_blocks, np.arange(0, t.size, q, dtype=np.int64))
-
-
-def effect_params(names_p: dict[str, float], name: str) -> dict[str, float]:
-    """The parameters of one effect from a flat ``effect.param`` dict."""
-    pre = name + "."
-    return {k[len(pre):]: v for k, v in names_p.items() if k.startswith(pre)}
-
-
-def undamped(names: Sequence[str], p: dict[str, float], model: Any, d: TimeData,
-             idx: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Undamped model force [N] and the velocity the viscous damping acts on [mm/s], on the samples ``idx``
-    (all when None) of a time-domain record.
-
-    The memory operators always run over the whole record from its first sample (causal); only the output
-    is taken at ``idx``.  Stiffness-side effects change the model first, the others act on the result
-    (composition, as in the harmonic route); ``sensor_delay`` evaluates the whole model at t − τ.
-    ``damping_law`` has no time-domain form and is ignored here.
-    """
-    rest = []
-    for n in names:
-        if n in STIFFNESS_SIDE:
-            model = modify_model(n, effect_params(p, n), model)
-        else:
-            rest.append(n)
-    t, x, xd, xdd = d.t, d.x, d.xd, d.xdd
-    if "sensor_delay" in rest:
-        tau = float(p.get("sensor_delay.tau", 0.0))
-        ts = t - tau
-        x, xd, xdd = np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)
-    sel = slice(None) if idx is None else idx
-    m = float(getattr(model, "mass_kg", 0.0))
-    Fk = np.asarray(model.force(x[sel]), float)
-    Fn = m * xdd[sel] * 1e-3 + Fk
-    for n in rest:
-        e = effect_params(p, n)
-        if n == "friction":
-            amp = e.get("F_c", 0.0) + e.get("mu", 0.0) * np.abs(Fk)
-            Fn = Fn + amp * stick_slip(x, xd, e.get("x_s", 0.0), periodic=False)[sel]
-        elif n == "hysteresis":
-            Fn = Fn + dahl_operator(x, e.get("F_h", 0.0), e.get("x_h", 1.0), periodic=False)[sel]
-        elif n == "backlash":
-            xp = play_operator(x, 0.5 * e.get("b", 0.0), periodic=False)[sel]
-            Fn = Fn - Fk + np.asarray(model.force(xp), float)
-    return Fn, xd[sel]
+                    sigma_hf, block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
+                    covariates=cov, omega_c=record_features(t, xs)[0], f_low=low_edge(t, xs))
 
 
 def reversals(xd: np.ndarray) -> np.ndarray:

@@ -1,27 +1,21 @@
-"""The diagnosis problem for any excitation: time-domain records, alone or mixed with harmonic tests.
+"""The diagnosis problem on time-domain records: fit and score any effect set, sample by sample.
 
-:class:`AnyProblem` has the interface the forward selection (:mod:`chainid.gap.core.selection`)
-uses — ``fit``, ``score``, ``noise_db``, ``n_cells`` — so the same selection and step
-rule run on it.  Its parts:
+:class:`TimeProblem` has the interface the forward selection (:mod:`chainid.gap.core.selection`) uses — ``fit``,
+``score``, ``noise_db``, ``n_cells``, ``applicable`` — so the same selection and step rule run on it as on the
+harmonic route.
 
-* **time-domain records** (:mod:`chainid.gap.timedomain.data`): the model force on the raw
-  samples, F = m·ẍ + F_k(x) + effects + c·ẋ with causal memory operators and one
-  viscous c (profiled by least squares at every parameter value);
-* **harmonic tests** (when the set has at least ``MIN_TRAIN`` training harmonic tests):
-  today's phase-bin route (:class:`chainid.gap.harmonic.problem.Problem`) with its c_e(ω, A)
-  law; the effect and spring parameters are shared with the time part (one device).
+Method.  The model force of an effect set is a fixed part plus columns times amplitudes
+(:mod:`.design`); for given shape parameters the amplitudes are a bounded linear least-squares fit
+(:mod:`.lsq`), so the shape parameters are searched with the amplitudes profiled out (:mod:`.search`, on each
+record's fit subset), then the amplitudes are fitted on every training sample.  Scoring units are contiguous time
+blocks (whole records when held out): a training block's leave-one-block-out error is the exact refit of every
+amplitude without that block (the shape parameters kept), from the blocks' Gram matrices.  Records are weighted by
+1/σ², σ the record's force noise.
 
-Scoring units are whole harmonic tests and contiguous time blocks.  A time block's
-leave-one-block-out error is the exact leave-out residual of the model linearised at
-the fit, e_(b) = e_b + J_b Δ_b with Δ_b = (JᵀJ − J_bᵀJ_b)⁻¹ J_bᵀ e_b, over *all* fitted
-parameters (effects, spring, c), J the Jacobian of the weighted residual on the training
-samples; parameters pinned at a bound are held fixed, and the step Δ_b is clipped so the
-left-out fit stays inside the physical bounds (as a bounded refit would).  The block jack-knife of the same
-linearisation gives the parameters' standard deviations while the selection runs; the reported ones of the chosen
-steps also take the jack-knife of leave-one-unit-out refits (:meth:`AnyProblem.refit_sd`), whichever is larger.
+The noise floor is each record's force noise σ_F² (the kinematics' predicted errors carried through the fitted
+base, (c·e_v)² + (m·e_a·1e-3)² + (k·e_x)², :mod:`chainid.gap.core.kinematics`, are reported beside it).
 
-NRMSE = RMS(residual)/RMS(F − mean F of the record) over the unit's samples (bin means
-for a harmonic test).  Units: mm, N, s.
+NRMSE = RMS(residual)/RMS(F − mean F of the record) over the unit's samples.  Units: mm, N, s, kg.
 """
 
 from __future__ import annotations
@@ -31,90 +25,71 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.model.effects import EFFECT_NAMES, make_effect
 from chainid.gap.core.candidate import Candidate, jackknife_sd
-from chainid.gap.harmonic.problem import Problem
-from chainid.gap.timedomain.data import TimeData, split_blocks, undamped
+from chainid.gap.timedomain.data import TimeData, split_blocks
+from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, shape_names,
+                                           split_name)
+from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
+from chainid.gap.timedomain.search import search
+from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
 
-#: finite-difference step of the Jacobian in the unit box of a parameter's physical range
-FD_STEP = 1e-4
-#: a leave-out step that moves a parameter by more than this fraction of its physical range is checked on the
-#: nonlinear model (the Gauss–Newton linearisation is a local one)
-LINEAR_STEP = 0.01
+__all__ = ["TimeProblem"]
 
-
-def leave_out_step(Ab: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The linearised leave-one-block-out refit step Δ (θ_(b) = θ − Δ in the unit box of each parameter's
-    physical range; the last entry is the viscous c [N·s/mm]).
-
-    The refit without block b minimises ½·ΔᵀA_bΔ − gᵀΔ, A_b = JᵀJ − J_bᵀJ_b and g = J_bᵀe_b (Gauss–Newton at the
-    full fit θ), subject to the parameters staying in their physical ranges: lo <= Δ <= hi.  When the unconstrained
-    solution A_bΔ = g leaves the box, the box-constrained quadratic is solved (bounded least squares,
-    ``scipy.optimize.lsq_linear``) rather than the solution clipped: parameters that trade off against each other
-    (a force-channel lag τ against the viscous c, which it mimics as −k·τ·ẋ) must move together, and clipping one of
-    them alone predicts a refit no optimiser would return.
-    """
-    d = np.linalg.lstsq(Ab, g, rcond=1e-12)[0]
-    if np.all(d >= lo) and np.all(d <= hi):
-        return d
-    from scipy.optimize import lsq_linear
-
-    w, V = np.linalg.eigh(0.5 * (Ab + Ab.T))
-    keep = w > max(float(w.max()), 0.0) * 1e-12
-    if not np.any(keep):
-        return np.zeros_like(d)
-    sw = np.sqrt(w[keep])
-    M = sw[:, None] * V[:, keep].T           # MᵀM = A_b on its range
-    y = (V[:, keep].T @ g) / sw              # Mᵀy = g on its range
-    x0 = np.clip(d, lo, hi)
-    r = lsq_linear(M, y, bounds=(lo, hi), method="bvls", tol=1e-12, max_iter=200)
-    return r.x if r.success and np.all(np.isfinite(r.x)) else x0
+#: fewest training records with distinct features for a damping law over them
+MIN_LAW_RECORDS = 3
+#: relative sd × √n of the force-noise estimate σ̂² (1.4826·MAD(Δ²F))²/6 on n samples of white noise (Monte Carlo:
+#: 2.83, 2.92, 2.84 at n = 1 000, 8 000, 30 000, 400 draws each)
+SIGMA2_REL_SD = 2.9
 
 
-class AnyProblem(Problem):
-    """Time-domain records (+ optional harmonic tests) with a baseline model; fits and scores effect sets.
+def distinct_covariates(records: Sequence[TimeData], names: Sequence[str]) -> list[str]:
+    """The covariates that vary over ``records`` and are not (correlation above 0.999) an affine function of one kept
+    before (a set pressure and the measured mean pressure of the same tests are one operating condition)."""
+    kept: list[str] = []
+    for c in names:
+        v = np.array([d.covariates[c] for d in records], float)
+        if not np.all(np.isfinite(v)) or np.ptp(v) == 0:
+            continue
+        dup = False
+        for k in kept:
+            u = np.array([d.covariates[k] for d in records], float)
+            r = np.corrcoef(u, v)[0, 1]
+            dup = dup or bool(abs(r) > 0.999)
+        if not dup:
+            kept.append(c)
+    return kept
+
+
+class TimeProblem:
+    """Time-domain records with a base model; fits and scores effect sets (see the module docstring).
 
     Parameters
     ----------
     tdata : sequence of TimeData
-    model : StiffnessModel
+    model : ChainModel or None
+        The chain base (its kernels and mass), or None for a linear device fitted here (k, m, c, offsets).
     holdout : sequence of str
-        Held-out test ids (whole records / tests).
+        Held-out test ids (whole records).
     holdout_blocks : int
         > 0: the last block of every record is held out as well.
-    hprob : Problem, optional
-        The harmonic part (its own train/hold split), sharing the effect parameters.
+    mass_kg : float, optional
+        The given moving mass of a linear base [kg] (None: fitted, >= 0).
     """
 
+    hprob = None  # no phase-bin part: every record is evaluated sample by sample
+    fits_base = True  # the base's amplitudes (dashpot; spring and mass of a linear device) are fitted
+
     def __init__(self, tdata: Sequence[TimeData], model: Any, holdout: Sequence[str], holdout_blocks: int = 0,
-                 hprob: Problem | None = None):
+                 mass_kg: float | None = None):
         self.tdata = list(tdata)
-        self.hprob = hprob
         self.model = model
+        self.is_chain = model is not None and hasattr(model, "hertz_scale")
         self.train_units, self.hold_units = split_blocks(self.tdata, holdout, holdout_blocks)
-        hh = list(hprob.hold) if hprob is not None else []
-        if not self.hold_units and not hh:
+        if not self.hold_units:
             raise ValueError("nothing is held out: give --holdout IDS (whole tests) or --holdout-blocks K")
-        n_train = len(self.train_units) + (len(hprob.train) if hprob is not None else 0)
-        if n_train < 3:
-            raise ValueError(f"the split leaves {n_train} training unit(s) (time blocks + harmonic tests); at least "
-                             "3 are needed for leave-one-out scoring: hold out fewer tests or use more blocks")
-        Fs = [d.F for d in self.tdata] + ([h.Fbar for h in hprob.data] if hprob is not None else [])
-        self.F_scale = float(np.std(np.concatenate(Fs))) or 1.0
-        self.x_scale = float(max([d.A for d in self.tdata] + ([h.A for h in hprob.data] if hprob else [])))
-        self.omega_max = float(max([2 * math.pi * d.f_band for d in self.tdata]
-                                   + ([h.omega for h in hprob.data] if hprob else [])))
-        self.is_chain = hasattr(model, "hertz_scale")
-        self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max) for n in EFFECT_NAMES}
-        self.law = hprob.law if hprob is not None else "viscous"
-        self.law_reason = (hprob.law_reason if hprob is not None else
-                           "time domain: viscous c·ẋ (rate-independent dissipation is carried by the effects)")
-        self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.tdata])))
-        self.data = list(self.tdata) + (list(hprob.data) if hprob is not None else [])
-        self.hold = [d for d in self.data if any(u[0] is d for u in self.hold_units)] + hh
-        self.train = [d for d in self.data if any(u[0] is d for u in self.train_units)] + (
-            list(hprob.train) if hprob is not None else [])
-        # training / held-out sample masks per record
+        if len(self.train_units) < 3:
+            raise ValueError(f"the split leaves {len(self.train_units)} training unit(s) (time blocks); at least 3 "
+                             "are needed for leave-one-out scoring: hold out fewer tests or use more blocks")
         self._mask = {}
         for d in self.tdata:
             tr = np.zeros(d.t.size, bool)
@@ -122,310 +97,302 @@ class AnyProblem(Problem):
                 if dd is d:
                     tr |= d.block == b
             self._mask[d.test] = tr
+        self.data = self.tdata
+        self.hold = [d for d in self.tdata if any(u[0] is d for u in self.hold_units)]
+        self.train = [d for d in self.tdata if any(u[0] is d for u in self.train_units)]
+        train_recs = [d for d in self.tdata if self._mask[d.test].any()]
+        covs = sorted(set.intersection(*[set(d.covariates) for d in self.tdata])) if self.tdata else []
+        refs = {"x_mid": float(np.mean([d.x0 for d in train_recs])),
+                "w_ref": float(np.mean([d.omega_c for d in train_recs])),
+                "A_ref": float(np.mean([d.A for d in train_recs]))}
+        refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
+        self.covariates = distinct_covariates(train_recs, covs)
+        self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs)
+        allF = np.concatenate([d.F - d.F.mean() for d in self.tdata])
+        self.F_scale = float(np.std(allF)) or 1.0
+        self.x_scale = float(max(d.A for d in self.tdata)) or 1.0
+        self.scales = {"F": self.F_scale, "x": self.x_scale,
+                       "omega": float(max(2 * math.pi * d.f_band for d in self.tdata)),
+                       "v": float(max(np.quantile(np.abs(d.xd), 0.99) for d in self.tdata)) or 1.0,
+                       "x_mid": refs["x_mid"], "tau": self._lag_range()}
+        self.f_band = float(max(d.f_band for d in self.tdata))
+        self.law = "viscous"
+        self.law_reason = "time domain: viscous c·ẋ (a damping law over record features is the effect damping_law)"
+        self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.tdata])))
         self.F_mean = {d.test: float(np.mean(d.F)) for d in self.tdata}
+        self._cache = ColumnCache()
 
-    # -------------------------------------------------------------- interface
+    # ------------------------------------------------------------------ set-up
+    def _lag_range(self) -> float:
+        """The largest lag searched [s]: half the longest useful period (1/low band edge) of the records, at most a
+        quarter of the shortest record."""
+        longest = max(1.0 / max(d.f_low, 1e-9) for d in self.tdata)
+        dur = min(float(d.t[-1] - d.t[0]) for d in self.tdata)
+        return float(min(0.5 * longest, 0.25 * dur))
+
     def applicable(self) -> list[str]:
-        """Library effects for this set: chain-only effects need the chain model; ``damping_law`` (a
-        c_e(ω, A) form) only with harmonic tests."""
-        out = super().applicable()
-        if self.hprob is None:
+        """Library effects for this base: chain-only effects need the chain, linear-only ones a linear device;
+        ``damping_law`` needs >= ``MIN_LAW_RECORDS`` training records with distinct features; with covariates, every
+        force effect as ``effect@cov`` (its amplitudes following the operating condition)."""
+        kind = self.base.kind
+        out = [n for n in EFFECT_NAMES if kind in SPECS[n].bases]
+        feats = {(round(d.omega_c, 6), round(d.A, 6)) for d in self.train}
+        if len(feats) < MIN_LAW_RECORDS:
             out = [n for n in out if n != "damping_law"]
-        return out
+        # with operating conditions, a force effect comes with its amplitudes following each of them (it nests the
+        # effect at one condition: slopes of 0)
+        if not self.covariates:
+            return out
+        amp = ("force", "mass")
+        return ([n for n in out if SPECS[n].kind not in amp]
+                + [f"{n}@{c}" for n in out if SPECS[n].kind in amp for c in self.covariates])
+
+    def covariate_terms(self) -> list[str]:
+        """Covariate terms of the base open from the start: the dashpot (and the spring of a linear device)."""
+        base = ["damping.c"] + (["spring.k"] if self.base.kind == "linear" else [])
+        return [f"{a}@{c}" for a in base for c in self.covariates]
 
     def train_mask(self, test: str) -> np.ndarray:
-        """Boolean mask of a time record's training samples (the rest is held out)."""
+        """Boolean mask of a record's training samples (the rest is held out)."""
         return self._mask[test]
 
     def n_cells(self, split: str = "train") -> int:
-        """Independent noise cells of a split: time samples + harmonic phase bins."""
-        n = sum(int(np.sum(self._mask[d.test] if split == "train" else ~self._mask[d.test])) for d in self.tdata)
-        if self.hprob is not None:
-            n += sum(h.counts.size for h in (self.hprob.train if split == "train" else self.hprob.hold))
-        return n
+        """Independent noise cells of a split: its samples."""
+        return sum(int(np.sum(self._mask[d.test] if split == "train" else ~self._mask[d.test])) for d in self.tdata)
 
-    def _c(self, parts: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]) -> float:
-        """Viscous c [N·s/mm] >= 0: weighted least squares of F − F_n on v over the training samples given."""
-        num = den = 0.0
+    # ------------------------------------------------------------------ linear parts
+    def _blocks(self, names: Sequence[str], shapes: dict[str, float], subset: bool
+                ) -> tuple[list[Blocks], list[tuple[np.ndarray, np.ndarray, np.ndarray]]]:
+        """Per record: block statistics and (f, Φ, y) on the fit subset or on every sample."""
+        stats, parts = [], []
         for d in self.tdata:
-            Fn, v, F = parts[d.test]
-            w = 1.0 / d.sigma**2
-            num += w * float(np.sum((F - Fn) * v))
-            den += w * float(np.sum(v * v))
-        # a dashpot dissipates: c >= 0 (a negative c would stand in for a lag of the force channel)
-        return max(num / den, 0.0) if den > 0 else 0.0
+            idx = d.fit_idx if subset else None
+            f, Phi, y = build(self.base, names, shapes, d, idx, self._cache)
+            blk = d.block if idx is None else d.block[idx]
+            stats.append(Blocks.from_columns(Phi, y - f, blk, d.n_blocks, 1.0 / d.sigma**2))
+            parts.append((f, Phi, y))
+        return stats, parts
 
-    def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
-        """Whitened training residuals: time records on their fit subset (weighted √q for the subsampling), then
-        the harmonic part's bin residuals."""
-        model = self.model_for(p)
-        parts = {}
-        for d in self.tdata:
-            idx = d.fit_idx[self._mask[d.test][d.fit_idx]]
-            Fn, v = undamped(names, p, model, d, idx)
-            parts[d.test] = (Fn, v, d.F[idx])
-        c = self._c(parts)
-        out = []
-        for d in self.tdata:
-            Fn, v, F = parts[d.test]
-            q = d.t.size / max(d.fit_idx.size, 1)
-            out.append(math.sqrt(q) * (F - Fn - c * v) / d.sigma)
-        if self.hprob is not None:
-            out.append(self.hprob._train_resid(names, p))
-        return np.concatenate(out) if out else np.zeros(0)
+    def _train_mult(self) -> np.ndarray:
+        """0/1 per (record, block) in stacking order: the training units."""
+        tr = {(d.test, b) for d, b in self.train_units}
+        return np.array([1.0 if (d.test, b) in tr else 0.0 for d in self.tdata for b in range(d.n_blocks)])
 
-    # ------------------------------------------------------------ evaluation
-    def forces(self, names: Sequence[str], p: dict[str, float], c: float | None = None
-               ) -> tuple[dict[str, np.ndarray], float]:
-        """Model force [N] on every sample of every time record, and the viscous c [N·s/mm] (fitted on the
-        training samples unless given)."""
-        model = self.model_for(p)
-        full = {d.test: undamped(names, p, model, d) for d in self.tdata}
-        if c is None:
-            c = self._c({d.test: (full[d.test][0][self._mask[d.test]], full[d.test][1][self._mask[d.test]],
-                                  d.F[self._mask[d.test]]) for d in self.tdata})
-        return {k: Fn + c * v for k, (Fn, v) in full.items()}, c
+    def _solve(self, names: Sequence[str], bl: Blocks, mult: np.ndarray) -> np.ndarray:
+        G, h = bl.total(mult)
+        lo, hi = amplitude_bounds(amplitude_names(self.base, names))
+        return solve(G, h, lo, hi)
 
-    def _jacobian(self, names: Sequence[str], p: dict[str, float], Fm: dict[str, np.ndarray], c: float,
-                  at_bound: Sequence[str]) -> tuple[np.ndarray, list[str], np.ndarray]:
-        """Jacobian [N per unit] of the weighted training model force w.r.t. the free parameters (unit box of
-        their physical range) and c; rows = training samples of all time records in order.  Also the present
-        position of each column's parameter (u in the unit box, or c) for the bounds of a leave-out step."""
-        keys, lo, hi, _ = self._keys(names)
-        cols, used, pos = [], [], []
-        rows = lambda F: np.concatenate([F[d.test][self._mask[d.test]] / d.sigma for d in self.tdata])  # noqa: E731
-        f0 = rows(Fm)
-        for k, a, b in zip(keys, lo, hi):
-            if k in at_bound or b <= a:
-                continue
-            u = (p[k] - a) / (b - a)
-            h = FD_STEP if u + FD_STEP <= 1 else -FD_STEP
-            pp = dict(p)
-            pp[k] = a + (u + h) * (b - a)
-            F1, _ = self.forces(names, pp, c)
-            cols.append((rows(F1) - f0) / h)
-            used.append(k)
-            pos.append(u)
-        v = {d.test: undamped(names, p, self.model_for(p), d)[1] for d in self.tdata}
-        cols.append(rows(v))
-        used.append("c")
-        pos.append(c)
-        return np.column_stack(cols), used, np.array(pos)
+    # ------------------------------------------------------------------ fit
+    def fit(self, names: Sequence[str], start: dict[str, float] | None = None,
+            polish_only: bool = False, weights: np.ndarray | None = None) -> Candidate:
+        """Fit an effect set on the training blocks: shape parameters searched on the fit subset (amplitudes
+        profiled out), then every amplitude on all training samples.  ``weights``: a multiplicity per block in
+        stacking order (a resample), instead of 1 per training block."""
+        names = list(names)
+        keys = shape_names(self.base, names, self.scales)
+        mult = self._train_mult() if weights is None else np.asarray(weights, float)
 
-    def evaluate_time(self, names: Sequence[str], p: dict[str, float], at_bound: Sequence[str] = (),
-                      loo: bool = True) -> dict[str, Any]:
-        """Time-part errors: per unit SSE (fitted, leave-one-block-out, held out) [N²], variances, residuals."""
-        Fm, c = self.forces(names, p)
-        res = {d.test: d.F - Fm[d.test] for d in self.tdata}
-        var = {(d.test, b): float(np.sum((d.F[d.block == b] - self.F_mean[d.test]) ** 2))
-               for d in self.tdata for b in range(d.n_blocks)}
-        sse = {(d.test, b): float(np.sum(res[d.test][d.block == b] ** 2)) for d in self.tdata for b in range(d.n_blocks)}
-        loo_res = {d.test: res[d.test].copy() for d in self.tdata}
-        sd: dict[str, float] = {}
-        if loo and self.train_units:
-            J, used, pos = self._jacobian(names, p, Fm, c, at_bound)
-            # a leave-out refit stays inside the physical bounds: θ_(b) = θ − Δ with u in [0, 1] and c >= 0
-            dlo = np.where(np.arange(pos.size) < pos.size - 1, pos - 1.0, -np.inf)
-            dhi = pos.copy()
-            e = np.concatenate([res[d.test][self._mask[d.test]] / d.sigma for d in self.tdata])
-            lab = np.concatenate([d.block[self._mask[d.test]] + 10_000 * i for i, d in enumerate(self.tdata)])
-            A = J.T @ J
-            deltas = []
+        def profile(shapes: dict[str, float]) -> tuple[Blocks, np.ndarray]:
+            bl = Blocks.stack(self._blocks(names, shapes, True)[0])
+            return bl, self._solve(names, bl, mult)
+
+        def cost(shapes: dict[str, float]) -> float:
+            bl, a = profile(shapes)
+            return float(np.sum(sse_at(bl, a) * mult))
+
+        def resid(shapes: dict[str, float]) -> np.ndarray:
+            stats, parts = self._blocks(names, shapes, True)
+            a = self._solve(names, Blocks.stack(stats), mult)
+            out = []
             off = 0
-            for i, d in enumerate(self.tdata):
-                m = self._mask[d.test]
-                n_i = int(m.sum())
-                for b in np.unique(d.block[m]):
-                    sel = off + np.flatnonzero(lab[off:off + n_i] == b + 10_000 * i)
-                    Jb, eb = J[sel], e[sel]
-                    g = Jb.T @ eb
-                    dth = leave_out_step(A - Jb.T @ Jb, g, dlo, dhi)
-                    eloo = (eb + Jb @ dth) * d.sigma
-                    idx = np.flatnonzero(m)[sel - off]
-                    if np.max(np.abs(dth[:-1]), initial=0.0) > LINEAR_STEP:
-                        dth, eloo = self._leave_out_checked(names, p, used, c, dth, d, b, e, lab, i, eb * d.sigma)
-                    loo_res[d.test][idx] = eloo
-                    deltas.append(dth)
-                off += n_i
-            D = np.array(deltas)
-            nb = D.shape[0]
-            if nb >= 2:
-                s = jackknife_sd(D)
-                keys, lo, hi, _ = self._keys(names)
-                rng = {k: b - a for k, a, b in zip(keys, lo, hi)}
-                sd = {k: float(s[j] * rng.get(k, 1.0)) for j, k in enumerate(used)}
-        sse_loo = {(d.test, b): float(np.sum(loo_res[d.test][d.block == b] ** 2))
-                   for d in self.tdata for b in range(d.n_blocks)}
-        return {"c": c, "res": res, "loo_res": loo_res, "var": var, "sse": sse, "sse_loo": sse_loo, "sd": sd,
-                "force": Fm}
+            for d, (f, Phi, y) in zip(self.tdata, parts):
+                w = np.sqrt(mult[off + d.block[d.fit_idx]])  # the block's multiplicity on each sample
+                out.append((y - f - Phi @ a) * w / d.sigma)
+                off += d.n_blocks
+            return np.concatenate(out)
 
-    def _leave_out_checked(self, names: Sequence[str], p: dict[str, float], used: list[str], c: float,
-                           dth: np.ndarray, d: TimeData, b: int, e: np.ndarray, lab: np.ndarray, i: int,
-                           fitted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A large leave-one-block-out step checked on the nonlinear model (a backtracking Gauss–Newton step).
+        shapes, at_bound = search(keys, cost, resid, dict(start or {}), f_band=self.f_band, polish_only=polish_only)
+        bl = Blocks.stack(self._blocks(names, shapes, False)[0])
+        a = self._solve(names, bl, mult)
+        amps = amplitude_names(self.base, names)
+        params = dict(shapes) | dict(zip(amps, (float(v) for v in a)))
+        params |= self._references(names)
+        c = Candidate("+".join(names), params, len(keys) + len(amps), at_bound=at_bound)
+        return c
 
-        The refit without block b is taken at θ − α·Δ with the largest α in 1, ½, ¼, … (down to 1/64) that does not
-        raise the leave-out training cost S_(b) above its value at the full fit θ — an optimiser started at θ would
-        not accept a worse point; with none, α = 0 (the full fit: block b's ``fitted`` residual [N]).  Returns α·Δ
-        and block b's left-out residual [N], both from the nonlinear model: an effect whose force is strongly
-        nonlinear in a parameter near its bound (a presliding displacement x_s → 0) makes the linear prediction of a
-        large step meaningless.
-        """
-        keys, lo, hi, _ = self._keys(names)
-        rng = {k: (a, bb) for k, a, bb in zip(keys, lo, hi)}
-        keep = lab != b + 10_000 * i          # training rows outside block b, in J's row order
-        s0 = float(np.sum(e[keep] ** 2))
+    def _references(self, names: Sequence[str]) -> dict[str, float]:
+        """Fixed references an effect set's parameters are stated against (not fitted)."""
+        out = {}
+        if "hardening" in names:
+            out["hardening.x_ref"] = self.base.refs["x_mid"]
+        if "damping_law" in names:
+            out["damping_law.w_ref"] = self.base.refs["w_ref"]
+            out["damping_law.A_ref"] = self.base.refs["A_ref"]
+        for t in names:
+            if "@" in t:
+                cov = split_name(t)[2]
+                out[f"covariate.{cov}.ref"] = self.base.refs[f"cov:{cov}"]
+        return out
 
-        def at(alpha: float) -> tuple[float, dict[str, np.ndarray]]:
-            pp = dict(p)
-            for j, k in enumerate(used[:-1]):
-                a, bb = rng[k]
-                pp[k] = a + (min(max((p[k] - a) / (bb - a) - alpha * dth[j], 0.0), 1.0)) * (bb - a)
-            Fm, _ = self.forces(names, pp, max(c - alpha * dth[-1], 0.0))
-            res = {dd.test: dd.F - Fm[dd.test] for dd in self.tdata}
-            ek = np.concatenate([res[dd.test][self._mask[dd.test]] / dd.sigma for dd in self.tdata])
-            return float(np.sum(ek[keep] ** 2)), res
+    # ------------------------------------------------------------------ evaluation
+    def evaluate(self, names: Sequence[str], params: dict[str, float]) -> dict[str, Any]:
+        """Every sample's residual, per-unit errors (fitted, leave-one-block-out, held out) and variances."""
+        names = list(names)
+        stats, parts = self._blocks(names, params, False)
+        bl = Blocks.stack(stats)
+        mult = self._train_mult()
+        amps = amplitude_names(self.base, names)
+        a = np.array([params[k] for k in amps])
+        res, force, var, sse, sse_loo = {}, {}, {}, {}, {}
+        loo_a = []
+        off = 0
+        for d, st, (f, Phi, y) in zip(self.tdata, stats, parts):
+            r = y - f - Phi @ a
+            res[d.test] = r
+            force[d.test] = d.F - r
+            for b in range(d.n_blocks):
+                m = d.block == b
+                key = (d.test, b)
+                var[key] = float(np.sum((d.F[m] - self.F_mean[d.test]) ** 2))
+                sse[key] = float(np.sum(r[m] ** 2))
+                if mult[off + b] > 0:
+                    mm = mult.copy()
+                    mm[off + b] = 0.0
+                    ab = self._solve(names, bl, mm)
+                    loo_a.append(ab)
+                    sse_loo[key] = float(sse_at(Blocks(st.G[b:b + 1], st.h[b:b + 1], st.s[b:b + 1], st.w[b:b + 1],
+                                                       st.n[b:b + 1]), ab)[0]) * d.sigma**2
+            off += d.n_blocks
+        sd = {}
+        if len(loo_a) >= 2:
+            sd = dict(zip(amps, (float(s) for s in jackknife_sd(np.array(loo_a)))))
+        return {"res": res, "force": force, "var": var, "sse": sse, "sse_loo": sse_loo, "amplitudes": amps,
+                "sd": sd, "blocks": bl, "time": {"res": res, "force": force, "c": params.get("damping.c", 0.0)}}
 
-        sel = self._mask[d.test] & (d.block == b)
-        alpha = 1.0
-        while alpha >= 1 / 64:
-            s1, res = at(alpha)
-            if s1 <= s0:
-                return alpha * dth, res[d.test][sel]
-            alpha *= 0.5
-        return 0.0 * dth, fitted
+    def noise_floor(self, d: TimeData, params: dict[str, float]) -> float:
+        """The residual variance [N²] a right model leaves on record ``d``: its force noise σ_F².  (The kinematics'
+        own errors through the fitted base, :meth:`kinematic_floor`, are reported beside it, not counted: a fitted
+        mass or dashpot that stands in for a missing effect would raise the floor to meet the misfit.)"""
+        return d.sigma**2
 
-    def evaluate(self, names: Sequence[str], p: dict[str, float], law: str | None = None,
-                 at_bound: Sequence[str] = ()) -> dict[str, Any]:
-        """Errors of an effect set (time part + harmonic part) in the form :meth:`Problem.evaluate` returns."""
-        et = self.evaluate_time(names, p, at_bound)
-        tr_keys = [(d.test, b) for d, b in self.train_units]
-        ho_keys = [(d.test, b) for d, b in self.hold_units]
-        num_tr = sum(et["sse"][k] for k in tr_keys)
-        num_loo = sum(et["sse_loo"][k] for k in tr_keys)
-        num_ho = sum(et["sse"][k] for k in ho_keys)
-        den_tr = sum(et["var"][k] for k in tr_keys)
-        den_ho = sum(et["var"][k] for k in ho_keys)
-        loto_num = {f"{t}#{b}": et["sse_loo"][(t, b)] for t, b in tr_keys}
-        chi2 = sum(float(np.sum((et["res"][d.test][self._mask[d.test]] / d.sigma) ** 2)) for d in self.tdata)
-        per_test = {}
+    def kinematic_floor(self, d: TimeData, params: dict[str, float]) -> float:
+        """σ_F² plus the kinematics' predicted errors through the fitted model [N²]: (c·e_v)² + (m·e_a·1e-3)² +
+        (k·e_x)² (:mod:`chainid.gap.core.kinematics`), and for sliding friction the variance of its sign where the
+        direction is uncertain, F_s²·mean(1 − s²) with s = erf(ẋ̂/(√2·e_v)) the expected sign
+        (:func:`chainid.model.effects.forms.sliding_sign`) and F_s the breakaway force (friction F_c, Stribeck
+        F_c + dF_s) — what even the true model would leave on these kinematics."""
+        kin = d.kin
+        if kin is None:
+            return d.sigma**2
+        F_s = abs(params.get("friction.F_c", 0.0)) + abs(params.get("stribeck.F_c", 0.0) + params.get("stribeck.dF_s", 0.0))
+        sign_var = 0.0
+        if F_s > 0.0 and d.xd.size:
+            s = sliding_sign(d.xd, False, kin.v_spread(d.t))
+            sign_var = F_s**2 * float(np.mean(1.0 - s**2))
+        c = params.get("damping.c", 0.0)
+        m = params.get("mass.m", self.base.mass_kg or 0.0) + (self.model.mass_kg if self.is_chain else 0.0)
+        m += params.get("fixture_mass.m_f", 0.0)
+        k = params.get("spring.k", 0.0)
+        if self.is_chain:
+            k = float(np.asarray(self.model.stiffness(np.array([max(d.x0, 1e-6)])), float)[0])
+        return d.sigma**2 + (c * kin.err_v) ** 2 + (m * 1e-3 * kin.err_a) ** 2 + (k * kin.err_x) ** 2 + sign_var
+
+    def floor_rel_sd(self, split: str = "hold") -> float:
+        """Relative standard deviation of a split's noise floor from the estimate of each record's force noise:
+        σ̂² = (1.4826·MAD(Δ²F))²/6 has a relative sd of ``SIGMA2_REL_SD``/√n over n samples of white noise."""
+        units = self.train_units if split == "train" else self.hold_units
+        num = den = 0.0
+        per: dict[str, int] = {}
+        for d, b in units:
+            per[d.test] = per.get(d.test, 0) + int(np.sum(d.block == b))
         for d in self.tdata:
-            den = float(np.sum((d.F - self.F_mean[d.test]) ** 2))
-            per_test[d.test] = math.sqrt(float(np.sum(et["res"][d.test] ** 2)) / den) if den > 0 else float("nan")
-        ev: dict[str, Any] = {"time": et, "law_params": [], "c_e": {}, "c_hold": {}, "parts": {}}
-        if self.hprob is not None:
-            eh = self.hprob.evaluate(names, p, law)
-            hp = self.hprob
-
-            def hsse(d: Any) -> float:
-                return float(np.sum(d.counts * eh["res"][d.test] ** 2))
-
-            def hvar(d: Any) -> float:
-                return float(np.sum(d.counts * (d.Fbar - np.sum(d.counts * d.Fbar) / np.sum(d.counts)) ** 2))
-
-            sse_fit = {d.test: float(np.sum(d.counts * (d.Fbar - eh["parts"][d.test][0]
-                                                       - eh["c_e"][d.test] * eh["parts"][d.test][1]) ** 2))
-                       for d in hp.train}
-            num_tr += sum(sse_fit.values())
-            num_loo += sum(eh["loto_num"].values())
-            den_tr += sum(hvar(d) for d in hp.train)
-            num_ho += sum(hsse(d) for d in hp.hold)
-            den_ho += sum(hvar(d) for d in hp.hold)
-            loto_num.update(eh["loto_num"])
-            chi2 += eh["chi2"]
-            per_test.update(eh["per_test"])
-            ev.update({"law_params": eh["law_params"], "c_e": eh["c_e"], "c_hold": eh["c_hold"], "parts": eh["parts"],
-                       "harmonic": eh})
-        f = lambda a, b: math.sqrt(a / b) if b > 0 else float("nan")  # noqa: E731
-        ev.update({"nrmse_train": f(num_tr, den_tr), "nrmse_loto": f(num_loo, den_tr), "nrmse_holdout": f(num_ho, den_ho),
-                   "loto_num": loto_num, "chi2": chi2, "per_test": per_test})
-        return ev
-
-    def refit_sd(self, names: Sequence[str], params: dict[str, float]) -> dict[str, float]:
-        """Parameter standard deviations [their units] by leave-one-unit-out refits (jack-knife).
-
-        Every training unit — a time block, or a whole harmonic test — is left out in turn and the effect set is
-        re-fitted from ``params`` (a local least-squares polish, as the harmonic route's jack-knife does); the sd is
-        the jack-knife spread √((n−1)/n·Σ(θ_(i) − θ̄)²) of those refits.  Unlike the linearised block jack-knife of
-        :meth:`evaluate_time`, it sees a cost that is not smooth in a parameter: a lag of a friction force whose
-        switching instants move on the sample grid (the lag's linearised sd came out ~100× below its spread over
-        noise realisations).
-        """
-        keys = self._keys(names)[0]
-        start = {k: params[k] for k in keys if k in params}
-        units: list[tuple[str, Any]] = [("time", u) for u in self.train_units]
-        if self.hprob is not None:
-            units += [("harmonic", i) for i in range(len(self.hprob.train))]
-        if len(units) < 2 or not keys:
-            return {}
-        vals = []
-        for kind, u in units:
-            if kind == "time":
-                d, b = u
-                saved = self._mask[d.test]
-                self._mask[d.test] = saved & (d.block != b)
-                try:
-                    cand = self.fit(names, start=start, polish_only=True)
-                finally:
-                    self._mask[d.test] = saved
-            else:
-                hp = self.hprob
-                saved_h = hp.train
-                hp.train = saved_h[:u] + saved_h[u + 1:]
-                try:
-                    cand = self.fit(names, start=start, polish_only=True)
-                finally:
-                    hp.train = saved_h
-            vals.append([cand.params.get(k, float("nan")) for k in keys])
-        return {k: float(s) for k, s in zip(keys, jackknife_sd(np.array(vals)))}
+            if d.test in per:
+                w = per[d.test] * d.sigma**2
+                num += w**2 * SIGMA2_REL_SD**2 / d.t.size
+                den += per[d.test] * self.noise_floor(d, {})
+        return math.sqrt(num) / den if den > 0 else 0.0
 
     def noise_db(self, ev: dict[str, Any], split: str = "hold") -> tuple[float, float, float]:
-        """Mean squared residual per noise cell, its noise floor [N²] and the ratio in dB (time samples: σ²;
-        harmonic bins: σ²/n per bin). ``train`` uses the leave-one-out residuals."""
-        et = ev["time"]
+        """Mean squared residual per sample of a split, its noise floor [N²] and their ratio in dB (``train`` uses
+        the leave-one-block-out errors)."""
+        params = ev.get("params", {})
+        units = self.train_units if split == "train" else self.hold_units
         r2 = f2 = 0.0
         n = 0
-        for d in self.tdata:
-            m = self._mask[d.test] if split == "train" else ~self._mask[d.test]
-            r = (et["loo_res"] if split == "train" else et["res"])[d.test][m]
-            r2 += float(np.sum(r**2))
-            f2 += d.sigma**2 * r.size
-            n += r.size
-        if self.hprob is not None and "harmonic" in ev:
-            hp = self.hprob
-            for d in (hp.train if split == "train" else hp.hold):
-                r = ev["harmonic"]["res"][d.test]
-                r2 += float(np.sum(r**2))
-                f2 += float(np.sum(d.sigma**2 / np.maximum(d.counts, 1)))
-                n += r.size
+        for d, b in units:
+            m = d.block == b
+            cnt = int(m.sum())
+            r2 += ev["sse_loo"][(d.test, b)] if split == "train" else ev["sse"][(d.test, b)]
+            f2 += self.noise_floor(d, params) * cnt
+            n += cnt
         if n == 0:
             return float("nan"), float("nan"), float("nan")
         r2, f2 = r2 / n, f2 / n
         return r2, f2, 10 * math.log10(max(r2, 1e-300) / max(f2, 1e-300))
 
     def score(self, cand: Candidate, names: Sequence[str], base_hold: float) -> Candidate:
-        """Score a fitted candidate (the harmonic part's damping law re-identified, LOTO-best)."""
-        laws = self.laws_for(names) if self.hprob is not None else ["viscous"]
-        best = None
-        for law in laws:
-            ev = self.evaluate(names, cand.params, law, cand.at_bound)
-            if best is None or ev["nrmse_loto"] < best[1]["nrmse_loto"]:
-                best = (law, ev)
-        law, ev = best
-        cand.law = law if self.hprob is not None else "viscous"
-        cand.law_params = ev["law_params"] if self.hprob is not None else [ev["time"]["c"]]
-        cand.nrmse_train, cand.nrmse_loto, cand.nrmse_holdout = ev["nrmse_train"], ev["nrmse_loto"], ev["nrmse_holdout"]
-        cand.shrinkage = 1.0 - ev["nrmse_holdout"] / base_hold if base_hold > 0 else float("nan")
-        cand.chi2_train = ev["chi2"]
-        cand.loto_num = ev["loto_num"]
+        """Score a fitted candidate: fitted, leave-one-block-out and held-out NRMSE, BIC, dB over the floor."""
+        ev = self.evaluate(names, cand.params)
+        ev["params"] = cand.params
+        tr = [(d.test, b) for d, b in self.train_units]
+        ho = [(d.test, b) for d, b in self.hold_units]
+        f = lambda a, b: math.sqrt(a / b) if b > 0 else float("nan")  # noqa: E731
+        den_tr = sum(ev["var"][k] for k in tr)
+        cand.nrmse_train = f(sum(ev["sse"][k] for k in tr), den_tr)
+        cand.nrmse_loto = f(sum(ev["sse_loo"][k] for k in tr), den_tr)
+        cand.nrmse_holdout = f(sum(ev["sse"][k] for k in ho), sum(ev["var"][k] for k in ho))
+        cand.shrinkage = 1.0 - cand.nrmse_holdout / base_hold if base_hold > 0 else float("nan")
+        cand.loto_num = {f"{t}#{b}": ev["sse_loo"][(t, b)] for t, b in tr}
+        sig = {d.test: d.sigma for d in self.tdata}
+        cand.chi2_train = sum(ev["sse"][k] / sig[k[0]] ** 2 for k in tr)
+        cand.bic = cand.chi2_train + cand.n_params * math.log(max(self.n_cells("train"), 2))
         cand.db_holdout = self.noise_db(ev, "hold")[2]
         cand.db_train = self.noise_db(ev, "train")[2]
-        k = cand.n_params + len(cand.law_params)
-        cand.bic = ev["chi2"] + k * math.log(max(self.n_cells("train"), 2))
-        cand.per_test = ev["per_test"]
-        cand.param_sd = {k: v for k, v in ev["time"]["sd"].items() if k != "c"}
-        cand.params = dict(cand.params) | {"damping.c": ev["time"]["c"]}
-        if "damping_law" in names and self.hprob is not None:
-            cand.params |= {f"law.{i}": v for i, v in enumerate(ev["law_params"])}
+        cand.per_test = {}
+        for d in self.tdata:
+            den = float(np.sum((d.F - self.F_mean[d.test]) ** 2))
+            cand.per_test[d.test] = math.sqrt(float(np.sum(ev["res"][d.test] ** 2)) / den) if den > 0 else math.nan
+        cand.law = "feature law" if "damping_law" in names else "viscous"
+        cand.law_params = [cand.params.get("damping.c", 0.0)]
+        cand.param_sd = {k: v for k, v in ev["sd"].items()}
         cand._ev = ev  # type: ignore[attr-defined]
         return cand
+
+    def state_table(self, ev: dict[str, Any]) -> dict[str, Any]:
+        """The state of every sample (x, ẋ, ẍ, travel since reversal, direction, x a quarter band-edge period
+        earlier, the model force, the covariates) and the residual of evaluation ``ev``, split into training and
+        held-out rows, for the model-free check (:mod:`chainid.gap.core.openworld`)."""
+        from chainid.gap.timedomain.data import travel_since_reversal
+
+        rows: dict[str, list[Any]] = {"Xt": [], "rt": [], "Xh": [], "rh": [], "uh": []}
+        for d in self.tdata:
+            lag = np.interp(d.t - 0.25 / max(d.f_band, 1e-9), d.t, d.x)
+            cols = [d.x, d.xd, d.xdd, travel_since_reversal(d.x, d.xd), np.sign(d.xd), lag, ev["force"][d.test]]
+            cols += [np.full(d.t.size, d.covariates.get(c, np.nan)) for c in self.covariates]
+            X = np.column_stack(cols)
+            m = self._mask[d.test]
+            rows["Xt"].append(X[m])
+            rows["rt"].append(ev["res"][d.test][m])
+            rows["Xh"].append(X[~m])
+            rows["rh"].append(ev["res"][d.test][~m])
+            rows["uh"].append(np.array([f"{d.test}#{b}" for b in d.block[~m]]))
+        cat = lambda k: np.concatenate(rows[k]) if rows[k] else np.zeros(0)  # noqa: E731
+        return {"X_train": cat("Xt"), "r_train": cat("rt"), "X_hold": cat("Xh"), "r_hold": cat("rh"),
+                "unit_hold": cat("uh"), "names": ["x", "xd", "xdd", "travel", "direction", "x_lag", "load"]
+                + list(self.covariates)}
+
+    # ------------------------------------------------------------------ models
+    def model_for(self, p: dict[str, float]) -> Any:
+        """The base spring of a fitted parameter set: the chain model, or a linear spring k [N/mm] through the
+        training records' mean force at their mean displacement, with the fitted mass."""
+        if self.is_chain:
+            return self.model
+        from chainid.model.base import LinearModel
+
+        k = max(float(p.get("spring.k", 0.0)), 0.0)
+        tr = [d for d in self.tdata if self._mask[d.test].any()]
+        xm = float(np.mean([d.x0 for d in tr]))
+        Fm = float(np.mean([np.mean(d.F) for d in tr]))
+        m = self.base.mass_kg if self.base.mass_kg is not None else max(float(p.get("mass.m", 0.0)), 0.0)
+        return LinearModel(k, xm - Fm / k if k > 0 else xm, mass=m)

@@ -1,143 +1,149 @@
-"""`chainid diagnose` on any excitation: time-domain records, alone or mixed with harmonic tests.
+"""The time-domain route of ``chainid diagnose``: records of any excitation (and harmonic tests among them).
 
-Called by :func:`chainid.gap.diagnose.diagnose` when a record is not a steady harmonic
-test (or ``holdout_blocks`` is given).  Harmonic tests keep the phase-bin route as the
-harmonic part of :class:`chainid.gap.timedomain.problem.AnyProblem` when there are at least
-``MIN_TRAIN`` of them for training; otherwise they join the time-domain records.  The same
-forward selection and step rule (:mod:`chainid.gap.core.selection`) run on the combined problem;
-the verdict rules are those of the harmonic route.  The result has the same JSON contract
-keys, plus ``route``, ``noise`` and the time-domain ``where`` findings (state maps, spectrum,
-ringing/chatter, drift).
+Every record is prepared for the time domain (:mod:`.data`), the problem built on the chosen base
+(:class:`.problem.TimeProblem`: the chain, or a linear mass–spring–damper fitted here), and the same forward
+selection and step rule (:mod:`chainid.gap.core.selection`) and the same verdict rule
+(:mod:`chainid.gap.core.verdict`) as on the harmonic route run on it.  Covariate terms (an amplitude that varies
+linearly with an operating condition) are candidates of the selection like the effects: those of the base from
+the start, those of an effect once it is chosen.  The result has the JSON contract keys, plus ``route``, ``noise``
+(per record: force noise and the kinematics' estimator and predicted errors) and the time-domain ``where``
+findings (state maps, spectrum, ringing/chatter, backbone, drift).
 
-Units: mm, N, s.
+Units: mm, N, s, kg.
 """
 
 from __future__ import annotations
 
 import math
 import sys
+from types import SimpleNamespace
 from typing import Any, Sequence
 
+import numpy as np
+
 from chainid.gap.core import selection as fw
+from chainid.gap.core.candidate import Candidate
 from chainid.gap.core.interpret import interpretation, separating_test
-from chainid.gap.core.candidate import MIN_TRAIN, Candidate
-from chainid.gap.harmonic.problem import Problem
+from chainid.gap.core.openworld import open_world
+from chainid.gap.core.resample import attach, resample
+from chainid.infra.progress import stage
+from chainid.gap.core.verdict import contract, decide, overfit_warning, trusted_path
 from chainid.gap.timedomain.data import prepare_time
-from chainid.gap.timedomain.problem import AnyProblem
-from chainid.gap.core.verdict import contract, decide
-from chainid.gap.harmonic.where import localise
+from chainid.gap.timedomain.problem import TimeProblem
 from chainid.gap.timedomain.where import drift, localise_time
+
+__all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any"]
 
 #: blocks per record for leave-one-block-out scoring when whole tests are held out
 LOO_BLOCKS = 4
 
 
-def build_problem(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequence[Any], holdout: Sequence[str],
-                  holdout_blocks: int, model: Any, damping_law: str, warn: list[str]) -> AnyProblem:
-    """The combined problem: harmonic part (when it has >= MIN_TRAIN training tests) + time-domain records."""
-    hold = set(holdout)
-    h_train = [d for d in hdata if d.test not in hold]
-    hprob = None
-    time_recs = list(time_recs)
-    if hdata and len(h_train) >= MIN_TRAIN and holdout_blocks == 0:
-        hprob = Problem(hdata, model, [d.test for d in hdata if d.test in hold], damping_law, require_hold=False)
-    elif hdata:
-        ids = {d.test for d in hdata}
-        time_recs += [r for r in records if r.test in ids]
-        warn.append(f"{len(hdata)} harmonic test(s) analysed in the time domain with the other records "
-                    + ("(--holdout-blocks splits every record in time)" if holdout_blocks else
-                       f"(fewer than {MIN_TRAIN} harmonic training tests for the phase-bin route)"))
+def build_problem(records: Sequence[Any], holdout: Sequence[str], holdout_blocks: int, model: Any,
+                  mass_kg: float | None = None) -> TimeProblem:
+    """The time-domain problem of ``records`` (every one sample by sample), cut in blocks."""
     nb = holdout_blocks if holdout_blocks > 0 else LOO_BLOCKS
-    tdata = [prepare_time(r, nb) for r in time_recs]
-    return AnyProblem(tdata, model, holdout, holdout_blocks, hprob)
+    tdata = [prepare_time(r, nb) for r in records]
+    return TimeProblem(tdata, model, holdout, holdout_blocks, mass_kg=mass_kg)
 
 
-def larger_sd(linear: dict[str, float], refit: dict[str, float], at_bound: Sequence[str]) -> dict[str, float]:
-    """Per parameter the larger of two jack-knife sds [its units]: the linearised one misses a cost that is not
-    smooth in the parameter, a local refit misses one that is flat or jagged around the fit.  Parameters pinned at a
-    bound get none (they are not estimated)."""
-    keys = [k for k in dict.fromkeys([*linear, *refit]) if k not in at_bound]
-    return {k: max(linear.get(k, 0.0), refit.get(k, 0.0)) for k in keys}
+def _tests(prob: TimeProblem, base_c: Candidate, left: Candidate) -> list[dict[str, Any]]:
+    out = []
+    for d in prob.tdata:
+        hold = ~prob.train_mask(d.test)
+        split = "holdout" if hold.all() else ("train+holdout-block" if hold.any() else "train")
+        out.append({"test": d.test, "route": "time", "omega": d.omega, "omega_c": d.omega_c, "A": d.A, "x0": d.x0,
+                    "sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band, "window": d.window,
+                    "covariates": dict(d.covariates), "split": split,
+                    "nrmse_before": base_c.per_test.get(d.test), "nrmse_after": left.per_test.get(d.test)})
+    return out
 
 
-def diagnose_any(records: Sequence[Any], hdata: Sequence[Any], time_recs: Sequence[Any], holdout: Sequence[str],
-                 model: Any, *, holdout_blocks: int = 0, effects: Sequence[str] | None = None, max_combo: int = 3,
-                 damping_law: str = "auto", excluded: Sequence[dict[str, str]] = (), quiet: bool = False,
-                 uncertainty: bool = True) -> dict[str, Any]:
-    """Diagnose a set with time-domain records (see the module docstring); returns the JSON contract dict.
+def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, holdout_blocks: int = 0,
+                 effects: Sequence[str] | None = None, max_combo: int = 3, excluded: Sequence[dict[str, str]] = (),
+                 quiet: bool = False, mass_kg: float | None = None, warn: list[str] | None = None,
+                 resamples: int = 0, seed: int = 0) -> dict[str, Any]:
+    """Diagnose records in the time domain (see the module docstring); returns the JSON contract dict.
 
     Parameters
     ----------
-    records : all records (Record; t s, x mm, F N)
-    hdata : prepared harmonic tests (TestData)
-    time_recs : records that are not steady harmonic tests
-    holdout : held-out test ids (whole tests)
-    model : baseline stiffness model (fitted linear spring or chain model)
+    records : every record to analyse (Record; t s, x mm, F N; ``covariates`` when they have them)
+    holdout : held-out test ids (whole records)
+    model : the chain base (ChainModel), or None: a linear mass–spring–damper fitted on the training data
     holdout_blocks : K > 0: every record in K contiguous blocks, the last one held out
-    uncertainty : the reported parameter sds of the chosen steps also from leave-one-unit-out refits
-        (:meth:`AnyProblem.refit_sd`; the larger of it and the linearised block jack-knife is kept)
+    effects, max_combo : the library restricted, the most effects in the chain
+    mass_kg : the given mass of a linear base [kg] (None: fitted)
+    resamples, seed : resamples of the training blocks for the chain's stability and the parameters' intervals
+        (:mod:`chainid.gap.core.resample`; 0: none)
     """
-    warn: list[str] = []
-    for r in time_recs:
-        if not quiet:
-            print(f"chainid diagnose: test {r.test} is not a steady harmonic test: time-domain route", file=sys.stderr)
-    prob = build_problem(records, hdata, time_recs, holdout, holdout_blocks, model, damping_law, warn)
+    warn = list(warn or [])
+    if not quiet:
+        for r in records:
+            print(f"chainid diagnose: test {r.test}: time-domain route", file=sys.stderr)
+    stage("preparing", f"{len(records)} records")
+    prob = build_problem(records, holdout, holdout_blocks, model, mass_kg)
+    stage("baseline")
     base_c = fw.baseline_candidate(prob)
-    base_hold = base_c.nrmse_holdout
     bev = base_c._ev  # type: ignore[attr-defined]
-    where = localise_time(prob.tdata, bev["time"]["res"], bev["time"]["force"])
-    if prob.hprob is not None:
-        where += localise(prob.hprob, bev["harmonic"])
+    where = localise_time(prob.tdata, bev["res"], bev["force"])
     r2, f2, db0 = prob.noise_db(bev, "hold")
     sig = prob.sigma_raw
     excess = math.sqrt(max(r2 - f2, 0.0))
-    consistent = fw.at_noise_floor(r2, f2, sig, prob.n_cells("hold"))
-    fwd = fw.forward_select(prob, fw.library(prob, effects), base_c, base_hold, max_effects=int(max_combo))
+    consistent = fw.at_noise_floor(r2, f2, math.sqrt(f2), prob.n_cells("hold"), prob.floor_rel_sd("hold"))
+    lib = fw.library(prob, effects) + prob.covariate_terms()
+    fwd = fw.forward_select(prob, lib, base_c, base_c.nrmse_holdout, max_effects=int(max_combo))
     path: list[Candidate] = fwd["path"]
-    singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
-    final = path[-1] if len(path) > 1 else None
-    best = final if final is not None else (singles[0] if singles else None)
-    if uncertainty:
-        for c in path[1:] + ([best] if final is None and best is not None and best.n_params else []):
-            c.param_sd = larger_sd(c.param_sd, prob.refit_sd(c.names, c.params), c.at_bound)
+    ok_path, bad = trusted_path(path)
+    if bad is not None:
+        warn.append(overfit_warning(path, bad))
+    final = ok_path[-1] if len(ok_path) > 1 else None
     left = final if final is not None else base_c
     lev = left._ev  # type: ignore[attr-defined]
-    stat = drift(prob.tdata, lev["time"]["res"])
-    left_where = localise_time(prob.tdata, lev["time"]["res"], lev["time"]["force"])
+    stat = drift(prob.tdata, lev["res"])
+    left_where = localise_time(prob.tdata, lev["res"], lev["force"])
     chatter = next((f for f in left_where if f.get("kind") == "chatter"), None)
     if chatter is not None and not any(f.get("kind") == "chatter" for f in where):
         where.insert(0, chatter | {"finding": "after the chain: " + chatter["finding"]})
     r2l, f2l, dbl = prob.noise_db(lev, "hold")
+    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
+    kin_floor = math.sqrt(sum(prob.kinematic_floor(d, left.params) * hold_n[d.test] for d in prob.tdata)
+                          / max(sum(hold_n.values()), 1))
     residual = {"db_over_noise": dbl, "nrmse_holdout": left.nrmse_holdout, "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)),
                 "stationary": stat["stationary"], "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"],
-                "finding": stat["finding"], "at_noise_floor": fw.at_noise_floor(r2l, f2l, sig, prob.n_cells("hold")),
+                "finding": stat["finding"], "noise_floor_N": math.sqrt(f2l), "kinematic_floor_N": kin_floor,
+                "db_over_kinematic_floor": 10.0 * math.log10(r2l / kin_floor**2) if r2l > 0 and kin_floor > 0 else None,
+                "at_noise_floor": fw.at_noise_floor(r2l, f2l, math.sqrt(f2l), prob.n_cells("hold"),
+                                                    prob.floor_rel_sd("hold")),
                 "chatter": bool(chatter), "where": left_where}
+    singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
+    best = final if final is not None else (singles[0] if singles else None)
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
         warn.append("stick-slip chatter after reversals (" + f"{chatter['frequency_Hz']:.3g} Hz, RMS "
                     f"{chatter['rms_N']:.3g} N): no library effect covers it; the named effects do not include it")
     confounded = [cf | {"separate_by": separating_test(*cf["pair"])} for cf in fwd["confounded"]]
     interp = interpretation(path, prob, verdict)
-    tests = [{"test": d.test, "route": "time", "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma,
-              "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band, "window": d.window,
-              "split": ("holdout" if d in prob.hold and not any(u[0] is d for u in prob.train_units) else
-                        "train+holdout-block" if d in prob.hold else "train"),
-              "nrmse_before": base_c.per_test.get(d.test),
-              "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in prob.tdata]
-    if prob.hprob is not None:
-        hp = prob.hprob
-        tests += [{"test": d.test, "route": "harmonic", "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma,
-                   "window": d.window, "split": "holdout" if d in hp.hold else "train",
-                   "nrmse_before": base_c.per_test.get(d.test),
-                   "nrmse_after": best.per_test.get(d.test) if best is not None else None} for d in hp.data]
-    noise = {"excess_rms_N": excess, "noise_sigma_N": sig, "chi2_ratio": r2 / f2 if f2 > 0 else None,
-             "db_over_noise": db0}
-    summary = {"route": "mixed" if prob.hprob is not None else "time"} | contract(
-        prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded, warn,
-        list(holdout), tests)
+    noise = {"excess_rms_N": excess, "noise_sigma_N": sig, "noise_floor_N": math.sqrt(f2),
+             "chi2_ratio": r2 / f2 if f2 > 0 else None, "db_over_noise": db0}
+    base_model = prob.model if prob.is_chain else SimpleNamespace(
+        name="linear device: m·ẍ + c·ẋ + k·x, a force offset per test" + (f", m = {mass_kg:g} kg given" if mass_kg
+                                                                           is not None else ""))
+    summary = {"route": "time"} | contract(prob, base_model, base_c, noise, fwd, verdict, interp, residual, where,
+                                           list(excluded), confounded, warn, list(holdout),
+                                           _tests(prob, base_c, left))
+    stage("model-free check")
+    summary["open_world"] = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True)
+    if resamples:
+        stage("resampling", f"{resamples} resamples")
+        from chainid.gap.timedomain import resampling
+
+        attach(summary, resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo)))
     summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
-    summary["noise"] = {"method": "per record: sigma = 1.4826*MAD(second difference of F)/sqrt(6); sigma_hf from the "
-                                  "force spectrum above 4x the excitation band (a check: equal for white noise)",
-                        "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band}
+    summary["base"] = {"model": prob.base.kind, "mass_given_kg": mass_kg, "offsets": "per test" if prob.base.offsets
+                       else "none", "covariates": list(prob.covariates)}
+    summary["noise"] = {"method": "per record: force sigma = 1.4826*MAD(second difference of F)/sqrt(6); the floor "
+                                  "adds the kinematics' predicted errors through the fitted base (c*e_v, m*e_a, k*e_x); "
+                                  "sigma_hf from the force spectrum above 4x the excitation band (a check)",
+                        "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band,
+                                           "kinematics": d.kin.info() if d.kin is not None else None}
                                   for d in prob.tdata}}
     return summary

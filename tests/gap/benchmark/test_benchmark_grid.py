@@ -72,29 +72,34 @@ def test_harmonic_case_noise_damping_and_holdout_by_hand(monkeypatch):
 
 
 def test_benchmark_grid_is_the_documented_one():
-    """README (Sim-to-real gap; the gap on any excitation): 480 cases, 328 harmonic, 140 non-harmonic, 12 transfer;
-    every library effect alone at 3 strengths × 2 noise levels × 2 chains × 2 plans; 24 controls; mismatch
+    """README (Sim-to-real gap; the gap on any excitation): 524 cases, 344 harmonic, 168 non-harmonic, 12 transfer;
+    every first-release effect alone at 3 strengths × 2 noise levels × 2 chains × 2 plans, the second release's four
+    (stribeck, bouc_wen, deadband, fixture_mass) at 2 strengths × 2 chains, appended; 24 controls; mismatch
     EA × 0.7–1.4, Hertz compliance × 0.5–2; non-harmonic strengths log-uniform 0.5–3×, noise 0.5–3 %; transfer
     both directions, six effects; case seeds seed + 100000 + 1000·k + i (module docstring of time_grid)."""
-    from chainid.gap.benchmark.grid import ALL_EXCITATIONS, grid
+    from chainid.gap.benchmark.grid import ALL_EXCITATIONS, GRID_EFFECTS, NEW_GRID_EFFECTS, grid
     from chainid.gap.benchmark.nonharmonic import EXCITATIONS
-    from chainid.model.effects import EFFECT_NAMES
 
     g = grid(seed=3)
     ex = [c["excitation"] for c in g]
-    assert (len(g), ex.count("harmonic"), ex.count("transfer")) == (480, 328, 12)
+    assert (len(g), ex.count("harmonic"), ex.count("transfer")) == (524, 344, 12)
     harm = [c for c in g if c["excitation"] == "harmonic"]
     singles = [c for c in harm if c["family"] == "single"]
-    for e in EFFECT_NAMES:
+    for e in GRID_EFFECTS:
         mine = [c for c in singles if c["effects"] == [e]]
         assert len(mine) == 3 * 2 * 2 * 2
         assert len({(c["levels"][0], c["noise"], c["chain"], c["plan"]) for c in mine}) == 24
+    for e in NEW_GRID_EFFECTS:
+        mine = [c for c in singles if c["effects"] == [e]]
+        assert sorted((c["levels"][0], c["chain"]) for c in mine) == sorted(
+            (lv, ch) for lv in (1.0, 3.0) for ch in {c["chain"] for c in harm})
+        assert harm.index(mine[0]) >= 328  # appended: every earlier case keeps its seed
     assert sum(c["family"] == "control" for c in harm) == 24
     mism = [c for c in harm if c["family"] == "mismatch"]
     ea = sorted({c["ea_scale"] for c in mism if "ea_scale" in c})
     hz = sorted({c["hertz_scale"] for c in mism if "hertz_scale" in c})
     assert (ea[0], ea[-1], hz[0], hz[-1]) == (0.7, 1.4, 0.5, 2.0)
-    assert [c["seed"] for c in harm] == list(range(4, 4 + 328))  # seed + 1, + 2, …: one per case
+    assert [c["seed"] for c in harm] == list(range(4, 4 + 344))  # seed + 1, + 2, …: one per case
     order = EXCITATIONS + ("transfer",)
     for e in order:
         mine = [c for c in g if c["excitation"] == e]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from chainid.gap.core import selection as fw
-from chainid.gap.core.selection import TIE, _pick
+from chainid.gap.core.selection import TIE, pick as _pick
 from chainid.gap.harmonic.problem import Candidate
 
 

@@ -1,9 +1,9 @@
-"""The leave-one-block-out step of the time-domain route (:mod:`chainid.gap.timedomain.problem`).
+"""The bounded amplitude fit of the time-domain route (:func:`chainid.gap.timedomain.lsq.solve`).
 
-1. The linearised refit step is the minimiser of its quadratic inside the parameters' physical box, checked
-   against an exact enumeration of the active sets, and differs from the clipped solution when two parameters trade
-   off (a force-channel lag τ against the viscous c, which a lag mimics as −k·τ·ẋ).
-The compound cases that showed why are in tests/gap/timedomain/test_time_compound.py."""
+The bounded minimiser of aᵀGa − 2hᵀa (the same point as ½aᵀGa − hᵀa) is checked against an exact enumeration of the
+active sets, and differs from the clipped solution when two amplitudes trade off (a dashpot against a friction force
+that mimics it); the leave-one-block-out and resampled fits are this solve on sums of block Gram matrices.
+"""
 from __future__ import annotations
 
 import itertools
@@ -11,7 +11,7 @@ import itertools
 import numpy as np
 import pytest
 
-from chainid.gap.timedomain.problem import leave_out_step
+from chainid.gap.timedomain.lsq import solve as leave_out_step
 
 
 def _enumerate_active_sets(A, g, lo, hi):
@@ -80,11 +80,11 @@ def test_clipping_a_coupled_pair_is_not_the_refit():
 
 
 def test_leave_out_step_box_constrained_quadratic_by_hand():
-    """``leave_out_step`` minimises ½ΔᵀAΔ − gᵀΔ in lo <= Δ <= hi.  A = [[2, 1], [1, 2]]: g = (0.3, 0) gives the free
+    """``solve`` minimises ½ΔᵀAΔ − gᵀΔ in lo <= Δ <= hi.  A = [[2, 1], [1, 2]]: g = (0.3, 0) gives the free
     minimum A⁻¹g = (0.2, −0.1) inside the box; g = (3, 0) gives (2, −1) outside the box ±0.5, where the KKT point is
     Δ1 = 0.5 (gradient 2Δ1 + Δ2 − 3 = −2.25 < 0 pushes it up) and Δ2 = −Δ1/2 = −0.25 (not the clipped (0.5, −0.5));
     a matrix with no positive curvature (A = −I) gives no step."""
-    from chainid.gap.timedomain.problem import leave_out_step
+    from chainid.gap.timedomain.lsq import solve as leave_out_step
 
     A = np.array([[2.0, 1.0], [1.0, 2.0]])
     lo, hi = np.full(2, -0.5), np.full(2, 0.5)
@@ -92,3 +92,5 @@ def test_leave_out_step_box_constrained_quadratic_by_hand():
     np.testing.assert_allclose(leave_out_step(A, np.array([3.0, 0.0]), lo, hi), [0.5, -0.25], atol=1e-9)
     np.testing.assert_allclose(leave_out_step(A, np.array([0.0, -3.0]), lo, hi), [0.25, -0.5], atol=1e-9)
     np.testing.assert_array_equal(leave_out_step(-np.eye(2), np.array([1.0, 0.0]), lo, hi), [0.0, 0.0])
+
+

@@ -1,0 +1,249 @@
+"""Scores of the ODE world (:mod:`chainid.gap.benchmark.odeworld`): verdict right per family, parameters against
+the truth, rates per family, base, drive and excitation.
+
+Right verdict per family:
+
+* ``single`` and ``covariate`` — the truth's effect is named alone or first;
+* ``pair`` — both effects are named (in any order, others may be named too);
+* ``control`` — the verdict is ``none``;
+* ``outside`` — nothing is named with confidence: ``none`` or ``unexplained``, or a named effect whose held-out
+  shrinkage is below :data:`OUTSIDE_SHRINK` (a weak verdict).
+
+For every named effect of the truth, each of its parameters that the diagnosis estimates (``effect.param`` in the
+last step's ``params``) is compared with the truth: the relative error |est − true|/|true|, and whether the
+reported interval covers the truth — ``params_ci90`` [lo, hi] when given, else est ± 1.645·``params_sd`` (a 90 %
+normal interval); no interval, no coverage.  A covariate's parameter is compared with its law at the mean operating
+condition of the records.  Effects the verdict shares a physics with count by their canonical name
+(:data:`chainid.gap.benchmark.report.CANONICAL`).  Coverage is also pooled per effect (every parameter of that
+effect), the calibration table of the resampled intervals.
+
+The model-free check (``open_world``, :mod:`chainid.gap.core.openworld`) is scored apart: it should flag a missing
+effect on ``outside`` cases and stay silent on controls and on cases whose verdict is right (the library explains
+them): :func:`open_world_rates`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from chainid.gap.benchmark.report import CANONICAL
+
+__all__ = ["FAMILIES", "OUTSIDE_SHRINK", "SNR_MIN", "score_row", "verdict_names", "summarise", "format_table", "coverage_by_effect", "open_world_rates",
+           "markdown_table"]
+
+FAMILIES = ("control", "single", "pair", "outside", "covariate")
+#: a named effect with less held-out shrinkage than this is a weak verdict (right for an ``outside`` case)
+OUTSIDE_SHRINK = 0.5
+#: the "detectable" subset: the baseline's held-out residual is at least this many noise σ
+SNR_MIN = 3.0
+#: z of a two-sided 90 % normal interval
+Z90 = 1.6448536269514722
+
+
+def verdict_names(verdict: str) -> list[str]:
+    """The effects a verdict names, in its order, by canonical name (none, unexplained, an error: [])."""
+    if verdict in ("none", "unexplained") or verdict.startswith("error"):
+        return []
+    return [CANONICAL.get(n, n) for n in verdict.split("+") if n]
+
+
+def _truth_value(truth: dict[str, Any], eff: str, p: str, v: float) -> float:
+    cov = truth.get("covariate")
+    if cov and cov["effect"] == eff and cov["param"] == p:
+        return float(cov["p0"] + cov["p1"] * np.mean(cov["values"]))
+    return float(v)
+
+
+def param_scores(row: dict[str, Any], named: list[str]) -> list[dict[str, Any]]:
+    """Estimate vs truth for every parameter of a named true effect that the diagnosis reports."""
+    truth = row.get("truth") or {}
+    out = []
+    for eff, params in (truth.get("effects") or {}).items():
+        if CANONICAL.get(eff, eff) not in named:
+            continue
+        for p, v in params.items():
+            key = f"{eff}.{p}"
+            est = (row.get("params") or {}).get(key)
+            if est is None:
+                continue
+            tv = _truth_value(truth, eff, p, v)
+            rel = abs(est - tv) / abs(tv) if tv != 0 else None
+            ci, sd = (row.get("params_ci90") or {}).get(key), (row.get("params_sd") or {}).get(key)
+            if ci is not None:
+                cover: bool | None = bool(ci[0] <= tv <= ci[1])
+            elif sd is not None and sd > 0:
+                cover = bool(abs(est - tv) <= Z90 * sd)
+            else:
+                cover = None
+            out.append({"param": key, "truth": tv, "estimate": float(est), "rel_error": rel, "covered": cover})
+    return out
+
+
+def score_row(row: dict[str, Any]) -> dict[str, Any]:
+    """Whether the verdict is right for the row's family, the names, and the parameter scores."""
+    fam, verdict = row["family"], str(row["verdict"])
+    named = verdict_names(verdict)
+    truth = [CANONICAL.get(n, n) for n in row.get("effects", {})]
+    error = verdict.startswith("error")
+    if fam in ("single", "covariate"):
+        right = bool(named) and named[0] == truth[0]
+    elif fam == "pair":
+        right = set(truth) <= set(named)
+    elif fam == "control":
+        right = verdict == "none"
+    elif fam == "outside":
+        sh = row.get("shrinkage")
+        right = not error and (not named or sh is None or sh < OUTSIDE_SHRINK)
+    else:
+        raise ValueError(f"family = {fam!r} is unknown; valid: {', '.join(FAMILIES)}")
+    return {"right": bool(right), "named": named, "error": error, "params": param_scores(row, named)}
+
+
+def _rate(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    n = len(rows)
+    k = sum(r["score"]["right"] for r in rows)
+    return {"n": n, "right": k, "rate": k / n if n else None}
+
+
+def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Rates per family (all cases, and the cases with residual >= :data:`SNR_MIN` noise σ), per family × base,
+    drive and excitation, the verdicts per family, the parameter errors and coverage, and the errors."""
+    out: dict[str, Any] = {"n_cases": len(rows), "families": {}}
+    for f in FAMILIES:
+        rr = [r for r in rows if r["family"] == f]
+        if not rr:
+            continue
+        strong = [r for r in rr if np.isfinite(r.get("snr", np.nan)) and r["snr"] >= SNR_MIN]
+        verdicts: dict[str, int] = {}
+        for r in rr:
+            verdicts[r["verdict"] if not r["score"]["error"] else "error"] = verdicts.get(
+                r["verdict"] if not r["score"]["error"] else "error", 0) + 1
+        out["families"][f] = {
+            **_rate(rr), "strong": _rate(strong),
+            "by_base": {b: _rate([r for r in rr if r["base"] == b]) for b in sorted({r["base"] for r in rr})},
+            "by_excitation": {e: _rate([r for r in rr if r["excitation"] == e])
+                              for e in sorted({r["excitation"] for r in rr})},
+            "verdicts": dict(sorted(verdicts.items(), key=lambda kv: -kv[1])),
+        }
+    ps: dict[str, list[dict[str, Any]]] = {}
+    for r in rows:
+        for p in r["score"]["params"]:
+            ps.setdefault(p["param"], []).append(p)
+    out["params"] = {k: {"n": len(v),
+                         "median_rel_error": float(np.median([p["rel_error"] for p in v if p["rel_error"] is not None]))
+                         if any(p["rel_error"] is not None for p in v) else None,
+                         "n_interval": sum(p["covered"] is not None for p in v),
+                         "coverage": (sum(bool(p["covered"]) for p in v if p["covered"] is not None)
+                                      / max(1, sum(p["covered"] is not None for p in v)))
+                         if any(p["covered"] is not None for p in v) else None}
+                     for k, v in sorted(ps.items())}
+    out["coverage_by_effect"] = coverage_by_effect(ps)
+    out["open_world"] = open_world_rates(rows)
+    out["errors"] = [{"label": r.get("label"), "error": r["verdict"]} for r in rows if r["score"]["error"]]
+    out["misses"] = [{"label": r.get("label"), "family": r["family"], "verdict": r["verdict"],
+                      "snr": r.get("snr"), "shrinkage": r.get("shrinkage")} for r in rows if not r["score"]["right"]]
+    out["median_seconds"] = float(np.median([r["seconds"] for r in rows])) if rows else None
+    out["median_sim_seconds"] = float(np.median([r["sim_seconds"] for r in rows])) if rows else None
+    return out
+
+
+def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
+    """Per effect (the part of ``effect.param`` before the dot): the parameters with an interval and the share whose
+    90 % interval covers the truth (calibrated: 85–95 %)."""
+    out: dict[str, Any] = {}
+    for key, v in ps.items():
+        eff = key.split(".", 1)[0]
+        e = out.setdefault(eff, {"n_interval": 0, "covered": 0})
+        for p in v:
+            if p["covered"] is not None:
+                e["n_interval"] += 1
+                e["covered"] += bool(p["covered"])
+    return {k: v | {"coverage": v["covered"] / v["n_interval"] if v["n_interval"] else None}
+            for k, v in sorted(out.items())}
+
+
+def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """How often the model-free check flags a missing effect: on ``outside`` cases (it should, >= 90 %), on
+    controls and on cases with a right verdict in the other families (it should not, >= 90 % silent)."""
+    def flagged(r: dict[str, Any]) -> bool:
+        return bool((r.get("open_world") or {}).get("missing_effect"))
+
+    ok = [r for r in rows if not r["score"]["error"]]
+    outside = [r for r in ok if r["family"] == "outside"]
+    control = [r for r in ok if r["family"] == "control"]
+    explained = [r for r in ok if r["family"] in ("single", "pair", "covariate") and r["score"]["right"]]
+    rate = lambda rr, f: (sum(f(r) for r in rr) / len(rr)) if rr else None  # noqa: E731
+    return {"outside_flagged": rate(outside, flagged), "outside_n": len(outside),
+            "control_silent": rate(control, lambda r: not flagged(r)), "control_n": len(control),
+            "explained_silent": rate(explained, lambda r: not flagged(r)), "explained_n": len(explained)}
+
+
+def _pct(v: Any, digits: int = 0) -> str:
+    return "n/a" if v is None else f"{100 * v:.{digits}f} %"
+
+
+def format_table(s: dict[str, Any]) -> str:
+    """Terminal text: one line per family (all, strong), its breakdown by base and the parameter errors."""
+    lines = [f"ODE world: {s['n_cases']} cases" + (f"; wall {s['wall_seconds']:.0f} s" if "wall_seconds" in s else ""),
+             f"{'family':<11}{'right (all)':>16}{'right (snr>=3)':>18}   verdicts"]
+    for f, r in s["families"].items():
+        v = ", ".join(f"{k} {n}" for k, n in list(r["verdicts"].items())[:6])
+        a = f"{_pct(r['rate'])} ({r['right']}/{r['n']})"
+        b = f"{_pct(r['strong']['rate'])} ({r['strong']['right']}/{r['strong']['n']})"
+        lines.append(f"{f:<11}{a:>16}{b:>18}   {v}")
+    lines.append("by base (right/n): " + "; ".join(
+        f"{f}: " + ", ".join(f"{b} {x['right']}/{x['n']}" for b, x in r["by_base"].items())
+        for f, r in s["families"].items()))
+    lines.append("by excitation (right/n): " + "; ".join(
+        f"{f}: " + ", ".join(f"{e} {x['right']}/{x['n']}" for e, x in r["by_excitation"].items())
+        for f, r in s["families"].items()))
+    if s["params"]:
+        lines.append("parameters of named true effects: " + "; ".join(
+            f"{k} n={v['n']} median rel. error {_pct(v['median_rel_error'], 1)}, 90 % interval covers "
+            f"{_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["params"].items()))
+    if s.get("coverage_by_effect"):
+        lines.append("90 % intervals cover the truth, per effect: " + "; ".join(
+            f"{k} {_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["coverage_by_effect"].items()))
+    ow = s.get("open_world")
+    if ow:
+        lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}; "
+                     f"silent on controls {_pct(ow['control_silent'])} of {ow['control_n']}, on right verdicts "
+                     f"{_pct(ow['explained_silent'])} of {ow['explained_n']}")
+    if s["errors"]:
+        lines.append(f"{len(s['errors'])} case(s) raised an error, e.g. {s['errors'][0]['error']}")
+    lines.append(f"median diagnosis {s['median_seconds']:.1f} s, median simulation {s['median_sim_seconds']:.1f} s"
+                 if s.get("median_seconds") is not None else "")
+    return "\n".join(lines)
+
+
+def markdown_table(s: dict[str, Any]) -> str:
+    """Markdown tables (for ``benchmarks/RESULTS_ode.md``): the family rates, right/n per family × base, and the
+    parameters of named true effects."""
+    lines = ["| family | right (all) | right (residual >= 3 σ) | verdicts |", "|---|---|---|---|"]
+    for f, r in s["families"].items():
+        v = ", ".join(f"`{k}` {n}" for k, n in r["verdicts"].items())
+        lines.append(f"| {f} | {_pct(r['rate'])} ({r['right']}/{r['n']}) | {_pct(r['strong']['rate'])} "
+                     f"({r['strong']['right']}/{r['strong']['n']}) | {v} |")
+    bases = sorted({b for r in s["families"].values() for b in r["by_base"]})
+    lines += ["", "| family | " + " | ".join(bases) + " |", "|---|" + "---|" * len(bases)]
+    for f, r in s["families"].items():
+        cells = [f"{r['by_base'][b]['right']}/{r['by_base'][b]['n']}" if b in r["by_base"] else "–" for b in bases]
+        lines.append(f"| {f} | " + " | ".join(cells) + " |")
+    if s.get("params"):
+        lines += ["", "| parameter | n | median relative error | 90 % interval covers the truth |", "|---|---|---|---|"]
+        for k, v in s["params"].items():
+            lines.append(f"| `{k}` | {v['n']} | {_pct(v['median_rel_error'], 1)} | {_pct(v['coverage'])} of "
+                         f"{v['n_interval']} |")
+    if s.get("coverage_by_effect"):
+        lines += ["", "| effect | intervals | 90 % interval covers the truth |", "|---|---|---|"]
+        lines += [f"| `{k}` | {v['n_interval']} | {_pct(v['coverage'])} |" for k, v in s["coverage_by_effect"].items()]
+    ow = s.get("open_world")
+    if ow:
+        lines += ["", "| model-free check | rate | cases |", "|---|---|---|",
+                  f"| flags a missing effect on `outside` cases | {_pct(ow['outside_flagged'])} | {ow['outside_n']} |",
+                  f"| silent on controls | {_pct(ow['control_silent'])} | {ow['control_n']} |",
+                  f"| silent on right verdicts (single, pair, covariate) | {_pct(ow['explained_silent'])} | "
+                  f"{ow['explained_n']} |"]
+    return "\n".join(lines)

@@ -1,0 +1,368 @@
+"""Smooth kinematics x, ẋ, ẍ of a measured displacement, with the estimator chosen by the record's own spectrum.
+
+A time-domain model force m·ẍ + c·ẋ + F_k(x) + … is only as good as the derivatives it is evaluated on.  On a
+damping-dominated record the viscous force c·ẋ is many times the noise, so a 1 % error of ẋ is a residual far
+above the noise floor; on a resonant device ẍ carries the inertia.  The estimator is therefore chosen per record
+by the error it predicts, and the error it predicts is reported (it enters the noise floor of the diagnosis).
+
+**The rule.**
+
+1. *Periodic record* (the record is a whole number of periods of its excitation: the circular extension is as
+   smooth across the wrap as inside, :func:`is_periodic`): spectral derivatives, ẋ = IFFT(i2πf·X(f)) with the
+   spectrum cut above ``CUT_FACTOR``·f_band.  Exact for a band-limited periodic signal: no bias; the noise of x
+   inside the kept band passes with gain 2πf.
+2. *Any other record*: zero-phase 4th-order Butterworth low-passes (run forward and backward, gain |H(f)|²) at
+   f_cut = c·f_band for every c of :data:`CUT_CHOICES` from the one whose predicted error on the record's own
+   spectrum is least (:func:`error_budget`), then five-point differences (gain D(f) = fs·(8·sin θ − sin 2θ)/6,
+   θ = 2πf/fs: a relative error of θ⁴/30 against the central difference's θ²/6).  Each estimate's noise is the
+   white noise σ_x of x (:func:`displacement_noise`) through the filter and the difference,
+   σ_c² = σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df.  Every sample takes the most smoothed estimate that agrees with
+   all the less smoothed ones within ±``ICI_GAMMA`` of their noise (the intersection of confidence intervals,
+   :func:`adaptive`): a smoother estimate where it is unbiased, a sharper one where the motion changes fast (an
+   onset, a reversal, an edge).  The error reported per sample is σ_c·√(1 + Γ²/3) (the noise and a bias the
+   intersection keeps within ±Γσ_c).
+3. *Edges*: the filters run on the record extended at each end by its odd reflection about a denoised end value
+   (a quadratic fitted over an eighth of the band edge's period), so a noisy first sample does not launch a
+   transient.
+4. *Rest*: where the smooth speed and acceleration both stay within ``REST_SIGMAS`` noise standard deviations of
+   zero for at least half a period of f_cut, the record shows no motion and ẋ is 0 (a contact at rest is stuck);
+   a reversal passes through zero speed with an acceleration and keeps its estimate.  ẍ is the derivative of the
+   unzeroed ẋ.
+
+Units: t s, x mm, ẋ mm/s, ẍ mm/s², f Hz.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from chainid.gap.core.noise import force_noise, sample_rate
+
+__all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
+           "filtered", "error_budget", "adaptive", "displacement_noise", "derivative"]
+
+#: the spectral derivative keeps this many times the band edge
+CUT_FACTOR = 4.0
+#: cut-off factors (× band edge) the filter estimator chooses among
+CUT_CHOICES = (1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0)
+#: a smooth speed within this many noise standard deviations of zero, long enough, is rest (a 4σ test)
+REST_SIGMAS = 4.0
+
+
+@dataclass
+class Kinematics:
+    """Smooth x [mm], ẋ [mm/s], ẍ [mm/s²] of a record and how they were made.
+
+    ``method`` is ``"spectral"`` or ``"butterworth"``; ``f_cut`` the cut-off [Hz]; ``sigma_x`` the noise of the
+    measured x [mm]; ``err_v`` / ``err_a`` the predicted RMS error of ẋ [mm/s] and ẍ [mm/s²] (bias and noise);
+    ``noise_v`` the noise part of ``err_v`` alone [mm/s] (the rest test's scale); ``err_x`` the predicted RMS
+    error of the smooth x [mm].
+    """
+
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+    method: str
+    f_cut: float
+    sigma_x: float
+    err_v: float
+    err_a: float
+    noise_v: float
+    err_x: float = 0.0
+    #: the predicted RMS error of ẋ per sample [mm/s] (None: ``err_v`` everywhere)
+    err_v_t: np.ndarray | None = None
+    _spread: np.ndarray | None = None
+
+    def v_error(self) -> np.ndarray | float:
+        """The velocity's predicted RMS error [mm/s], per sample where it varies."""
+        return self.err_v_t if self.err_v_t is not None else self.err_v
+
+    def v_spread(self, t: np.ndarray) -> np.ndarray:
+        """The velocity's predicted RMS error per sample [mm/s] (an array; :meth:`v_error` broadcast): the spread
+        under which the sign of sliding friction is taken (:func:`chainid.model.effects.forms.sliding_sign`).  A force
+        channel samples the force at an instant (after its anti-alias filter), so only the estimate's own error
+        softens the sign."""
+        if self._spread is None or self._spread.size != np.size(t):
+            self._spread = np.broadcast_to(np.asarray(self.v_error(), float), np.shape(t)).copy()
+        return self._spread
+
+    def info(self) -> dict[str, float | str]:
+        """The estimator and its predicted errors, for a report."""
+        return {"method": self.method, "f_cut_Hz": self.f_cut, "sigma_x_mm": self.sigma_x, "err_x_mm": self.err_x,
+                "err_v_mm_s": self.err_v, "err_a_mm_s2": self.err_a}
+
+
+def _detrended(x: np.ndarray) -> np.ndarray:
+    n = np.arange(x.size)
+    return x - np.polyval(np.polyfit(n, x, 1), n)
+
+
+def is_periodic(x: np.ndarray, sigma_x: float) -> bool:
+    """Whether the record is (close to) a whole number of periods of its own excitation.
+
+    A local cubic through the last 8 and the first 8 samples (the wrap-around) must fit as well as local cubics
+    inside the record: its residual RMS at most 3× the median of 16 interior windows' and within 4 σ_x of them.
+    Needs >= 256 samples.
+    """
+    x = np.asarray(x, float)
+    n = x.size
+    if n < 256:
+        return False
+    u = np.arange(16.0)
+
+    def cubic_rms(seg: np.ndarray) -> float:
+        return float(np.sqrt(np.mean((seg - np.polyval(np.polyfit(u, seg, 3), u)) ** 2)))
+
+    wrap = cubic_rms(np.concatenate([x[-8:], x[:8]]))
+    starts = np.linspace(8, n - 24, 16).astype(int)
+    inner = float(np.median([cubic_rms(x[s:s + 16]) for s in starts]))
+    return wrap <= 3.0 * inner + 4.0 * sigma_x
+
+
+def _periodogram(x: np.ndarray, fs: float, window: bool) -> tuple[np.ndarray, np.ndarray, float]:
+    """One-sided power spectrum of the record [mm² per bin, summing to its variance] — a periodic record with its
+    mean removed, any other detrended and Hann-windowed — and the white noise floor [mm² per bin] (median of the
+    upper half)."""
+    y = _detrended(np.asarray(x, float)) if window else np.asarray(x, float) - float(np.mean(x))
+    n = y.size
+    wv = np.hanning(n) if window else np.ones(n)
+    X = np.fft.rfft(y * wv)
+    P = (np.abs(X) ** 2) * 2.0 / (n * float(np.sum(wv ** 2)))
+    P[0] *= 0.5
+    if n % 2 == 0:
+        P[-1] *= 0.5
+    f = np.fft.rfftfreq(n, 1.0 / fs)
+    floor = float(np.median(P[P.size // 2:])) if P.size >= 8 else 0.0
+    return f, P, floor
+
+
+def spectral(x: np.ndarray, fs: float, f_cut: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Spectral x, ẋ, ẍ of a periodic record [mm, mm/s, mm/s²], the spectrum cut above f_cut [Hz]."""
+    x = np.asarray(x, float)
+    n = x.size
+    X = np.fft.rfft(x)
+    f = np.fft.rfftfreq(n, 1.0 / fs)
+    X[f > f_cut] = 0.0
+    w = 2j * np.pi * f
+    if n % 2 == 0:  # the Nyquist bin has no derivative of its own
+        w[-1] = 0.0
+    return np.fft.irfft(X, n), np.fft.irfft(w * X, n), np.fft.irfft(w * w * X, n)
+
+
+def _pad_odd(x: np.ndarray, m: int, k: int) -> np.ndarray:
+    """x extended at each end by m samples of its odd reflection about a denoised end value: a quadratic fitted over
+    the first / last k samples, evaluated at the end sample."""
+    m = max(1, min(m, x.size - 1))
+    k = max(5, min(k, x.size))
+    u = np.arange(k, dtype=float)
+    a0 = float(np.polyval(np.polyfit(u, x[:k], 2), 0.0))
+    a1 = float(np.polyval(np.polyfit(u, x[-k:], 2), k - 1.0))
+    return np.concatenate([2.0 * a0 - x[m:0:-1], x, 2.0 * a1 - x[-2:-m - 2:-1]])
+
+
+def filtered(t: np.ndarray, x: np.ndarray, f_cut: float, f_band: float | None = None
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Zero-phase Butterworth (4th order, forward-backward) at f_cut [Hz] with odd-reflection padding (the end
+    values from quadratics over an eighth of the band edge's period, f_band [Hz], default f_cut/4), then central
+    differences on the time stamps: x, ẋ, ẍ [mm, mm/s, mm/s²] (no smoothing at or above 0.45·fs)."""
+    from scipy.signal import butter, sosfiltfilt
+
+    t = np.asarray(t, float)
+    x = np.asarray(x, float)
+    fs = sample_rate(t)
+    if f_cut < 0.45 * fs and x.size >= 30:
+        sos = butter(4, f_cut / (0.5 * fs), output="sos")
+        m = int(min(x.size - 1, max(8, math.ceil(3.0 * fs / f_cut))))
+        k = int(math.ceil(fs / (8.0 * (f_band if f_band else 0.25 * f_cut))))
+        xs = sosfiltfilt(sos, _pad_odd(x, m, k), padtype=None)[m:m + x.size]
+    else:
+        xs = x.copy()
+    xd = derivative(xs, t)
+    return xs, xd, derivative(xd, t)
+
+
+def derivative(y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """dy/dt by five-point differences on a uniform grid (second-order one-sided differences at the two samples at
+    each end); ``np.gradient`` on the time stamps when the sampling is not uniform (a step off the median by more
+    than 1 %)."""
+    y = np.asarray(y, float)
+    t = np.asarray(t, float)
+    dt = np.diff(t)
+    h = float(np.median(dt))
+    if y.size < 5 or np.max(np.abs(dt - h)) > 0.01 * h:
+        return np.gradient(y, t)
+    d = np.gradient(y, h, edge_order=2)
+    d[2:-2] = (y[:-4] - 8.0 * y[1:-3] + 8.0 * y[3:-1] - y[4:]) / (12.0 * h)
+    return d
+
+
+def _stencil_gain(w: np.ndarray, fs: float) -> np.ndarray:
+    """The five-point difference's gain at angular frequency w [rad/s] (true: w)."""
+    th = w / fs
+    return fs * (8.0 * np.sin(th) - np.sin(2.0 * th)) / 6.0
+
+
+def error_budget(f: np.ndarray, S: np.ndarray, fs: float, f_cut: float, sigma_x: float, order: int = 1,
+                 spectral_cut: bool = False) -> tuple[float, float]:
+    """Predicted RMS error of the ``order``-th derivative (0: x [mm], 1: ẋ [mm/s], 2: ẍ [mm/s²]): (bias + noise,
+    noise alone).
+
+    ``S`` is the signal's one-sided power per bin [mm²] at frequencies ``f`` [Hz] (the periodogram with the noise
+    floor removed), σ_x the white noise of x [mm].  ``spectral_cut``: the spectral estimator cut at f_cut [Hz]
+    (bias: the signal above the cut); else a 4th-order Butterworth at f_cut run forward and backward, then central
+    differences (bias: |w^k − |H|²·D^k|² on the signal, D the five-point difference's gain, :func:`derivative`).
+    """
+    if order not in (0, 1, 2):
+        raise ValueError(f"order = {order!r} is out of range; valid: 0, 1 or 2")
+    w = 2.0 * np.pi * np.asarray(f, float)
+    ff = np.linspace(0.0, 0.5 * fs, 4097)
+    ww = 2.0 * np.pi * ff
+    if spectral_cut:
+        keep = w <= 2.0 * np.pi * f_cut
+        bias = float(np.sum(S[~keep] * w[~keep] ** (2 * order)))
+        kk = ww <= 2.0 * np.pi * f_cut
+        noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid(ww[kk] ** (2 * order), ff[kk])) if kk.sum() > 1 else 0.0
+        return math.sqrt(bias + noise), math.sqrt(noise)
+    H2 = _butter_gain2(w / (2 * np.pi), f_cut, fs)
+    D = _stencil_gain(w, fs) ** order
+    bias = float(np.sum(np.abs(w ** order - H2 * D) ** 2 * S))
+    H2f = _butter_gain2(ff, f_cut, fs)
+    noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid(_stencil_gain(ww, fs) ** (2 * order) * H2f ** 2, ff))
+    return math.sqrt(bias + noise), math.sqrt(noise)
+
+
+def _butter_gain2(f: np.ndarray, f_cut: float, fs: float) -> np.ndarray:
+    """|H(f)|² of the digital 4th-order Butterworth at f_cut (bilinear transform of the analog prototype):
+    1/(1 + (tan(πf/fs)/tan(πf_cut/fs))^8) — the forward-backward gain (1 at or above 0.45·fs)."""
+    if f_cut >= 0.45 * fs:
+        return np.ones_like(np.asarray(f, float))
+    ratio = np.tan(np.pi * np.minimum(np.asarray(f, float), 0.4999999 * fs) / fs) / math.tan(math.pi * f_cut / fs)
+    return 1.0 / (1.0 + ratio ** 8)
+
+
+def _rest_zero(xd: np.ndarray, xdd: np.ndarray, v_noise: float | np.ndarray, a_noise: float | np.ndarray,
+               min_run: int) -> np.ndarray:
+    """ẋ with runs of at least ``min_run`` samples at rest set to 0: |ẋ| <= REST_SIGMAS·v_noise and
+    |ẍ| <= REST_SIGMAS·a_noise (a reversal passes through zero speed with an acceleration; a rest has none); the
+    noise sds may vary per sample."""
+    if not np.any(np.asarray(v_noise) > 0.0):
+        return xd
+    low = (np.abs(xd) <= REST_SIGMAS * np.asarray(v_noise)) & (np.abs(xdd) <= REST_SIGMAS * np.maximum(a_noise, 0.0))
+    if not low.any():
+        return xd
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], low.view(np.int8), [0]])))
+    out = xd.copy()
+    for a, b in zip(edges[::2], edges[1::2]):
+        if b - a >= min_run:
+            out[a:b] = 0.0
+    return out
+
+
+def displacement_noise(x: np.ndarray, fs: float, f_band: float) -> float:
+    """The white noise σ_x [mm] of a measured displacement.
+
+    Where the excitation band ends below fs/4, the upper half of the spectrum holds noise only: σ_x from its median
+    power (the periodogram of white noise of variance σ² is exponential with mean 2σ²/n per bin, median ln 2 of
+    that).  Otherwise the robust scale of the second difference (:func:`chainid.gap.core.noise.force_noise`), which a
+    signal smooth on the sample scale does not reach.
+    """
+    x = np.asarray(x, float)
+    if x.size < 16:
+        return force_noise(x) if x.size >= 5 else 0.0
+    if f_band < 0.25 * fs:
+        _, _, floor = _periodogram(x, fs, window=True)
+        return math.sqrt(max(floor, 0.0) / math.log(2.0) * x.size / 2.0)
+    return force_noise(x)
+
+
+def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
+    """Smooth kinematics of a record by the rule of the module docstring.
+
+    Parameters
+    ----------
+    t : ndarray
+        Time stamps [s], strictly increasing (uniform within a few per cent).
+    x : ndarray
+        Measured displacement [mm].
+    f_band : float
+        Upper edge of the excitation band [Hz] (:func:`chainid.gap.core.noise.excitation_band`).
+    """
+    t = np.asarray(t, float)
+    x = np.asarray(x, float)
+    fs = sample_rate(t)
+    sigma_x = displacement_noise(x, fs, f_band)
+    periodic = is_periodic(x, sigma_x)
+    f, P, floor = _periodogram(x, fs, window=not periodic)
+    # the signal: lines above the largest a white-noise periodogram reaches (exponential, median = floor, over its
+    # bins: P > floor/ln2·ln(20·N) happens by chance with probability 1/20)
+    S = np.where(P > floor / math.log(2.0) * math.log(20.0 * P.size), P - floor, 0.0)
+    if periodic:
+        fc = min(CUT_FACTOR * f_band, 0.5 * fs)
+        xs, xd, xdd = spectral(x, fs, fc)
+        ev, nv = error_budget(f, S, fs, fc, sigma_x, 1, spectral_cut=True)
+        ea, na = error_budget(f, S, fs, fc, sigma_x, 2, spectral_cut=True)
+        xd = _rest_zero(xd, xdd, nv, na, max(3, int(math.ceil(0.5 * fs / fc))))
+        ex, _ = error_budget(f, S, fs, fc, sigma_x, 0, spectral_cut=True)
+        return Kinematics(xs, xd, xdd, "spectral", fc, sigma_x, ev, ea, nv, ex)
+    return adaptive(t, x, f_band, sigma_x, f, S)
+
+
+def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.ndarray, S: np.ndarray
+             ) -> Kinematics:
+    """The filter estimator with a cut-off chosen per sample by the intersection of confidence intervals (ICI).
+
+    The record is filtered at every cut of :data:`CUT_CHOICES` from the one whose predicted error on the record's
+    own spectrum is least (:func:`error_budget`) up to 0.45·fs; each estimate of ẋ has a known noise sd σ_k (the
+    white noise σ_x of x through that filter and the difference).  At every sample, going from the least smoothed
+    estimate to the most smoothed, the intervals ẋ_k ± ``ICI_GAMMA``·σ_k are intersected; the sample takes the most
+    smoothed estimate whose interval still meets all the less smoothed ones' (a smoother estimate that disagrees is
+    biased there: an onset, a reversal, an edge).  x and ẍ are chosen the same way on their own intervals.  The error reported per sample is σ_k·√(1 + Γ²/3) (the noise, and a
+    bias that ICI keeps within ±Γσ_k, taken uniform), its RMS ``err_v``; ``f_cut`` is the cut most samples take.
+    """
+    fs = sample_rate(t)
+    cuts = [c * f_band for c in CUT_CHOICES if c * f_band < 0.45 * fs] or [0.45 * fs]
+    budget = [error_budget(f, S, fs, fc, sigma_x, 1)[0] for fc in cuts]
+    cuts = cuts[int(np.argmin(budget)):]  # never smoother than the record's best fixed cut
+    est = [filtered(t, x, fc, f_band) for fc in cuts]
+    nx = np.array([error_budget(f, S, fs, fc, sigma_x, 0)[1] for fc in cuts])
+    nv = np.array([error_budget(f, S, fs, fc, sigma_x, 1)[1] for fc in cuts])
+    na = np.array([error_budget(f, S, fs, fc, sigma_x, 2)[1] for fc in cuts])
+    kx = _ici(np.array([e[0] for e in est]), nx)
+    kv = _ici(np.array([e[1] for e in est]), nv)
+    ka = _ici(np.array([e[2] for e in est]), na)
+    rows = np.arange(x.size)
+    xs = np.array([e[0] for e in est])[kx, rows]
+    xd = np.array([e[1] for e in est])[kv, rows]
+    xdd = np.array([e[2] for e in est])[ka, rows]
+    g = math.sqrt(1.0 + ICI_GAMMA**2 / 3.0)
+    ev_t, ea_t = nv[kv] * g, na[ka] * g
+    fc = cuts[int(np.bincount(kv, minlength=len(cuts)).argmax())]
+    ex, _ = error_budget(f, S, fs, fc, sigma_x, 0)
+    xd = _rest_zero(xd, xdd, nv[kv], na[ka], max(3, int(math.ceil(0.5 * fs / fc))))
+    kin = Kinematics(xs, xd, xdd, "butterworth-ici", fc, sigma_x, float(np.sqrt(np.mean(ev_t**2))),
+                     float(np.sqrt(np.mean(ea_t**2))), float(np.sqrt(np.mean(nv[kv] ** 2))), ex)
+    kin.err_v_t = ev_t
+    return kin
+
+
+#: half-width of the ICI confidence intervals, in noise standard deviations
+ICI_GAMMA = 2.5
+
+
+def _ici(V: np.ndarray, sd: np.ndarray) -> np.ndarray:
+    """Per sample, the index of the most smoothed estimate (row 0 most smoothed, rows in order of cut) whose
+    interval V_k ± ICI_GAMMA·sd_k meets those of every less smoothed estimate."""
+    K, n = V.shape
+    lo = np.full(n, -np.inf)
+    hi = np.full(n, np.inf)
+    choice = np.full(n, K - 1)
+    alive = np.ones(n, bool)
+    for k in range(K - 1, -1, -1):
+        lo = np.maximum(lo, V[k] - ICI_GAMMA * sd[k])
+        hi = np.minimum(hi, V[k] + ICI_GAMMA * sd[k])
+        alive &= lo <= hi
+        choice = np.where(alive, k, choice)
+    return choice

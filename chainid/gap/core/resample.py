@@ -1,0 +1,164 @@
+"""How far to believe a diagnosis: the explanation chain and its parameters over resamples of the training units.
+
+The training units (time blocks, harmonic tests) are drawn with replacement ``n`` times (a block bootstrap: whole
+tests and contiguous blocks, never single samples).  On every resample:
+
+* **the chain is chosen again** by the step rule (:mod:`.selection`: significance over units, materiality,
+  identification) among the effect sets the diagnosis fitted, each scored on the resample with its amplitudes (or
+  its damping law) refitted exactly and its shape parameters kept (the route's ``rescore``) — the share of
+  resamples that choose each step is its *stability*;
+* **the parameters of every step of the chain are refitted** (the route's ``refit``: shapes polished from the full
+  fit, amplitudes exact) — the 5th and 95th percentiles of each are its 90 % interval.
+
+A step is *confident* when its stability is at least :data:`CONFIDENT`.  The resamples run on a pool of forked
+worker processes (the problem is inherited, not copied) when there are more than one core and at least
+:data:`POOL_MIN` resamples.
+
+Units: each parameter's own.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from types import SimpleNamespace
+from typing import Any, Sequence
+
+import numpy as np
+
+from chainid.gap.core.selection import passes, pick, step_test, term_prefix
+
+__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "attach"]
+
+#: a step is named as confident when at least this share of resamples chooses it
+CONFIDENT = 0.8
+#: resamples by default
+RESAMPLES = 200
+#: fewest resamples worth a process pool
+POOL_MIN = 40
+
+_JOB: dict[str, Any] = {}
+
+
+def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, mult: np.ndarray,
+           max_effects: int) -> list[str]:
+    """The chain the step rule chooses on one resample among the fitted effect sets in ``cache``."""
+    scored: dict[tuple[str, ...], Any] = {}
+
+    def score(c: Any) -> Any:
+        key = tuple(sorted(c.names))
+        if key not in scored:
+            loto, nrmse, floor = hooks.rescore(prob, c, mult)
+            scored[key] = SimpleNamespace(names=c.names, loto_num=loto, nrmse_loto=nrmse, at_floor=floor,
+                                          at_bound=c.at_bound, n_params=c.n_params, bic=c.bic)
+        return scored[key]
+
+    cur = score(base)
+    chain: list[str] = []
+    while len(chain) < max_effects and not cur.at_floor:
+        nxt = [c for key, c in cache.items() if len(key) == len(chain) + 1 and set(chain) <= set(key)]
+        cands = [score(c) for c in nxt]
+        ok = []
+        for c in cands:
+            new = [n for n in c.names if n not in chain][-1:]
+            pinned = any(k.startswith(term_prefix(new[0])) for k in c.at_bound) if new else True
+            if not pinned and set(c.loto_num) == set(cur.loto_num) and passes(step_test(cur, c)):
+                ok.append(c)
+        if not ok:
+            break
+        chosen, _ = pick(ok)
+        chain.append(next(n for n in chosen.names if n not in chain))
+        cur = chosen
+    return chain
+
+
+def _one(i: int) -> tuple[list[str], list[dict[str, float]]]:
+    j = _JOB
+    mult = j["mult"][i]
+    chain = replay(j["prob"], j["hooks"], j["cache"], j["base"], mult, j["max_effects"])
+    params = [j["hooks"].refit(j["prob"], c, mult) for c in j["steps"]]
+    return chain, params
+
+
+def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n: int = RESAMPLES, seed: int = 0,
+             max_effects: int = 3, workers: int | None = None) -> dict[str, Any]:
+    """Stability of the chain and percentile intervals of its parameters over ``n`` resamples.
+
+    Parameters
+    ----------
+    prob, hooks : the route's problem and its resampling module (``draw``, ``rescore``, ``refit``)
+    fwd : the forward selection's result (its ``_cache`` of fitted effect sets, its ``path``)
+    steps : the steps of the chain to report (baseline first)
+    n, seed : resamples and the seed of their draws
+    max_effects : the most effects in a chain
+
+    Returns
+    -------
+    dict
+        ``resamples``, ``seed``, ``confident_at``, ``steps`` (per step: ``effect``, ``stability`` — the share of
+        resamples whose chain contains it —, ``chosen_at_step``, ``params_ci90``), ``chains`` (the commonest
+        chains and their shares), ``same_chain`` (the share of resamples choosing exactly the diagnosis' chain).
+    """
+    rng = np.random.default_rng(seed)
+    mult = [hooks.draw(prob, rng) for _ in range(n)]
+    _JOB.clear()
+    _JOB.update(prob=prob, hooks=hooks, cache=fwd["_cache"], base=fwd["path"][0], mult=mult, steps=list(steps),
+                max_effects=max_effects)
+    workers = workers if workers is not None else (os.cpu_count() or 1)
+    try:
+        if workers > 1 and n >= POOL_MIN:
+            import multiprocessing as mp
+
+            with mp.get_context("fork").Pool(min(workers, n)) as pool:
+                out = pool.map(_one, range(n), chunksize=max(1, n // (4 * workers)))
+        else:
+            out = [_one(i) for i in range(n)]
+    finally:
+        _JOB.clear()
+    return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed)
+
+
+def _summarise(chains: list[list[str]], params: list[list[dict[str, float]]], steps: Sequence[Any], n: int,
+               seed: int) -> dict[str, Any]:
+    names = [s.names[-1] for s in steps[1:]]
+    rows = []
+    for k, s in enumerate(steps):
+        vals: dict[str, list[float]] = {}
+        for p in params:
+            for key, v in p[k].items():
+                if math.isfinite(v):
+                    vals.setdefault(key, []).append(v)
+        ci = {key: [float(np.percentile(v, 5)), float(np.percentile(v, 95))] for key, v in vals.items()
+              if len(v) >= max(10, n // 2)}
+        row: dict[str, Any] = {"effect": "baseline" if k == 0 else names[k - 1], "params_ci90": ci}
+        if k:
+            e = names[k - 1]
+            row["stability"] = sum(e in c for c in chains) / n
+            row["chosen_at_step"] = sum(len(c) >= k and c[k - 1] == e for c in chains) / n
+        rows.append(row)
+    counts: dict[str, int] = {}
+    for c in chains:
+        key = "+".join(c) or "(none)"
+        counts[key] = counts.get(key, 0) + 1
+    top = sorted(counts.items(), key=lambda kv: -kv[1])[:5]
+    same = sum(set(c) == set(names) for c in chains) / n
+    return {"resamples": n, "seed": seed, "confident_at": CONFIDENT, "steps": rows,
+            "chains": [{"chain": k, "share": v / n} for k, v in top], "same_chain": same}
+
+
+def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:
+    """Put a resampling's numbers into a diagnosis result: per step ``stability`` and ``params_ci90``, the whole
+    under ``stability``, and ``confidence`` — ``confident`` when every step of the verdict's chain is chosen by at
+    least :data:`CONFIDENT` of the resamples, else ``tentative``."""
+    for st, row in zip(result["steps"], stab["steps"]):
+        if "stability" in row:
+            st["stability"] = row["stability"]
+        st["params_ci90"] = row["params_ci90"]
+    result["stability"] = stab
+    shares = [r["stability"] for r in stab["steps"][1:]]
+    result["confidence"] = "confident" if all(v >= CONFIDENT for v in shares) else "tentative"
+    if shares and result["confidence"] == "tentative":
+        weak = ", ".join(f"{r['effect']} {100 * r['stability']:.0f} %" for r in stab["steps"][1:]
+                         if r["stability"] < CONFIDENT)
+        result["warnings"].append(f"tentative: step(s) chosen by fewer than {100 * CONFIDENT:.0f} % of "
+                                  f"{stab['resamples']} resamples ({weak})")

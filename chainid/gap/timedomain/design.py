@@ -1,0 +1,271 @@
+"""The time-domain model of a device as a fixed force plus columns times amplitudes, on a record's samples.
+
+For an effect set and its *shape* parameters (stick travel, Dahl travel, Bouc–Wen shape, a dead band, the lag,
+the chain's stiffness-side changes) the model force on a record is
+
+    F(t) = f(t) + Σ_j a_j·φ_j(t),
+
+f the part with no free amplitude (the chain spring F_k(x) with its stiffness-side effects, the chain's mass
+m·ẍ) and φ_j the columns of the free amplitudes a_j (:mod:`chainid.gap.timedomain.lsq` fits them):
+
+* the base — a chain: the dashpot ``damping.c`` (ẋ); a linear device: ``spring.k`` (x, or the play output of
+  ``backlash``), ``mass.m`` (ẍ·1e-3, unless the mass is given) and ``damping.c`` (ẋ), with a force offset per
+  record projected out (per-test preloads are nuisance parameters: every column and the target lose their mean
+  over the record's samples);
+* every force- and mass-kind effect's amplitudes (:func:`chainid.model.effects.columns`);
+* ``damping_law``: the damping's slopes over record features, (ω_r − w_ref)·ẋ and (A_r − A_ref)·ẋ;
+* a covariate term ``effect.param@cov``: the column of that amplitude times (cov_r − cov_ref); ``effect@cov``: the
+  effect with every amplitude following the covariate (its columns, and each times (cov_r − cov_ref)).
+
+``sensor_delay`` evaluates the whole model on the motion at t − τ (the force lags the displacement by τ); the
+samples whose t − τ falls outside the record (the motion there is unknown) carry no residual.  The memory
+operators run over the samples of the view in order (the whole record, or its fit subset).  The sign of
+sliding friction is its expectation given the estimated velocity and its spread over the sample
+(:meth:`chainid.gap.core.kinematics.Kinematics.v_spread`, :func:`chainid.model.effects.forms.sliding_sign`).
+
+Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N, m kg, ω rad/s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+
+from chainid.model.effects import (SPECS, STIFFNESS_SIDE, columns, identifiable, make_effect, modify_model,
+                                   play_operator)
+
+__all__ = ["Base", "ColumnCache", "split_name", "effect_of", "amplitude_names", "amplitude_bounds", "shape_names", "build"]
+
+
+@dataclass
+class Base:
+    """The base model of a time-domain problem.
+
+    ``model``: the chain model (``kind == "chain"``) or None (a linear device fitted here); ``mass_kg``: a given
+    moving mass [kg] of a linear base (None: fitted, >= 0); ``refs``: the reference values of the data the
+    fixed parameters take (``x_mid`` [mm], ``w_ref`` [rad/s], ``A_ref`` [mm], ``cov:NAME``).
+    """
+
+    kind: str
+    model: Any = None
+    mass_kg: float | None = None
+    refs: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def offsets(self) -> bool:
+        """Per-record force offsets (nuisance) are projected out: a linear device has no absolute zero of force."""
+        return self.kind == "linear"
+
+
+def split_name(term: str) -> tuple[str, str | None, str | None]:
+    """``effect`` → (effect, None, None); ``effect@cov`` (every amplitude of the effect following a covariate) →
+    (effect, None, cov); ``effect.param@cov`` (one amplitude following it) → (effect, param, cov)."""
+    if "@" in term:
+        head, cov = term.split("@", 1)
+        eff, _, par = head.partition(".")
+        return eff, (par or None), cov
+    return term, None, None
+
+
+def effect_of(term: str) -> str | None:
+    """The library effect a term adds: itself, or the effect of ``effect@cov``; None for ``effect.param@cov``
+    (a slope of an amplitude already in the model)."""
+    eff, par, _ = split_name(term)
+    return eff if par is None else None
+
+
+def _effects(names: Sequence[str]) -> list[str]:
+    out: list[str] = []
+    for n in names:
+        e = effect_of(n)
+        if e is not None and e not in out:
+            out.append(e)
+    return out
+
+
+def amplitude_names(base: Base, names: Sequence[str]) -> list[str]:
+    """The free amplitudes of an effect set, in column order (base first, then effects, then covariate terms)."""
+    out = (["spring.k"] + (["mass.m"] if base.mass_kg is None else []) if base.kind == "linear" else [])
+    out.append("damping.c")
+    for n in _effects(names):
+        if n == "damping_law":
+            out += ["damping_law.b_w", "damping_law.b_A"]
+            continue
+        spec = SPECS[n]
+        if spec.kind not in ("force", "mass"):
+            continue
+        out += [f"{n}.{p.name}" for p in spec.params if p.amplitude and p.fitted
+                and identifiable(n, p.name, base.kind)]
+    for t in names:
+        eff, par, cov = split_name(t)
+        if cov is None:
+            continue
+        if par is not None:
+            out.append(t)
+        else:  # every amplitude of the effect follows the covariate
+            out += [f"{a}@{cov}" for a in list(out) if a.startswith(eff + ".") and "@" not in a]
+    return out
+
+
+def amplitude_bounds(names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of the amplitudes ``names``: >= 0 where the library says so (a dashpot, a mass, a friction force,
+    a spring of a passive device), free otherwise (slopes, cubic terms, an asymmetry)."""
+    from chainid.model.ranges import EFFECT_RANGES
+
+    nonneg = {"spring.k", "mass.m", "damping.c"}
+    for n, s in SPECS.items():
+        for p in s.params:
+            if p.amplitude and EFFECT_RANGES[n][p.name].lo >= 0.0:
+                nonneg.add(f"{n}.{p.name}")
+    lo = np.array([0.0 if k in nonneg else -np.inf for k in names])
+    return lo, np.full(len(names), np.inf)
+
+
+def shape_names(base: Base, names: Sequence[str], scales: dict[str, float]) -> list[tuple[str, float, float]]:
+    """The shape parameters of an effect set with their fit bounds: (``effect.param``, low, high)."""
+    out = []
+    for n in _effects(names):
+        if n == "damping_law":
+            continue
+        e = make_effect(n, scales["F"], scales["x"], scales["omega"], v_scale=scales["v"], x_mid=scales["x_mid"],
+                        tau_max=scales["tau"])
+        for k, (lo, hi), amp in zip(e.param_names, e.bounds, e.amplitude):
+            if not amp:
+                out.append((f"{n}.{k}", lo, hi))
+    return out
+
+
+def _params_of(p: dict[str, float], name: str) -> dict[str, float]:
+    pre = name + "."
+    return {k[len(pre):]: v for k, v in p.items() if k.startswith(pre)}
+
+
+def _shift(t: np.ndarray, y: np.ndarray, tau: float) -> np.ndarray:
+    return np.interp(t - tau, t, y) if tau else y
+
+
+class ColumnCache:
+    """Memo of a problem's design pieces that do not change between evaluations: the motion of a view at a lag,
+    the play output, the chain's spring force at its stiffness-side shapes, and each effect's columns at its own
+    shapes (searching a new effect's shapes re-evaluates only that effect).  At most ``max_bytes`` of arrays
+    (the oldest entries dropped first)."""
+
+    def __init__(self, max_bytes: int = 400 * 2**20):
+        self.max_bytes = max_bytes
+        self.store: dict[tuple, Any] = {}
+        self.sizes: dict[tuple, int] = {}
+        self.nbytes = 0
+
+    @staticmethod
+    def _size(val: Any) -> int:
+        if isinstance(val, np.ndarray):
+            return val.nbytes
+        if isinstance(val, dict):
+            return sum(ColumnCache._size(v) for v in val.values())
+        if isinstance(val, (tuple, list)):
+            return sum(ColumnCache._size(v) for v in val)
+        return 64
+
+    def get(self, key: tuple, make: Any) -> Any:
+        if key in self.store:
+            return self.store[key]
+        val = make()
+        size = self._size(val)
+        if size > self.max_bytes:
+            return val
+        while self.store and self.nbytes + size > self.max_bytes:
+            old = next(iter(self.store))
+            self.store.pop(old)
+            self.nbytes -= self.sizes.pop(old)
+        self.store[key] = val
+        self.sizes[key] = size
+        self.nbytes += size
+        return val
+
+
+def _view(d: Any, idx: np.ndarray | None, tau: float) -> tuple[np.ndarray, ...]:
+    sel = slice(None) if idx is None else idx
+    v_err = _shift(d.t, d.kin.v_spread(d.t), tau)[sel] if getattr(d, "kin", None) is not None else np.zeros(0)
+    return (_shift(d.t, d.x, tau)[sel], _shift(d.t, d.xd, tau)[sel], _shift(d.t, d.xdd, tau)[sel], v_err)
+
+
+def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, idx: np.ndarray | None = None,
+          cache: ColumnCache | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Fixed force f [N], columns Φ (n, p) and target y = F [N] of an effect set on record ``d`` at ``shapes``.
+
+    ``d`` is a :class:`chainid.gap.timedomain.data.TimeData` (its smooth kinematics, features, covariates);
+    ``idx`` the samples of the view (None: all; the memory operators run over them in order).  With per-record
+    offsets (a linear base) f, Φ and y lose their mean over the view.  ``cache`` keeps pieces between calls.
+    """
+    cache = cache if cache is not None else ColumnCache(0)
+    tau = float(shapes.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
+    key = (d.test, "all" if idx is None else "sub", tau)
+    x, xd, xdd, v_err = cache.get(key + ("view",), lambda: _view(d, idx, tau))
+    if not v_err.size:
+        v_err = 0.0
+    y = np.asarray(d.F, float)[slice(None) if idx is None else idx]
+    amps = amplitude_names(base, names)
+    Phi = np.zeros((y.size, len(amps)))
+    col = {k: j for j, k in enumerate(amps)}
+    eff = _effects(names)
+    play_b = 0.5 * shapes.get("backlash.b", 0.0) if "backlash" in eff else 0.0
+    xp = cache.get(key + ("play", play_b), lambda: play_operator(x, play_b, periodic=False)) if play_b > 0 else x
+    if base.kind == "chain":
+        side = tuple((n, tuple(sorted(_params_of(shapes, n).items()))) for n in eff if n in STIFFNESS_SIDE)
+
+        def spring() -> np.ndarray:
+            model = base.model
+            for n, pp in side:
+                model = modify_model(n, dict(pp), model)
+            return np.asarray(model.force(xp), float)
+
+        Fk = cache.get(key + ("spring", play_b, side), spring)
+        f = Fk + float(base.model.mass_kg) * xdd * 1e-3
+    else:
+        Fk = None
+        f = np.zeros_like(y) if base.mass_kg is None else float(base.mass_kg) * xdd * 1e-3
+        Phi[:, col["spring.k"]] = xp
+        if "mass.m" in col:
+            Phi[:, col["mass.m"]] = xdd * 1e-3
+    Phi[:, col["damping.c"]] = xd
+
+    def effect_cols(n: str) -> dict[str, np.ndarray]:
+        p = _params_of(shapes, n)
+        if n == "hardening":
+            p["x_ref"] = base.refs.get("x_mid", 0.0)
+        shape_key = tuple(sorted((k, v) for k, v in p.items() if k not in {a.name for a in SPECS[n].params
+                                                                            if a.amplitude}))
+        return cache.get(key + ("effect", n, play_b if n == "friction" else 0.0, shape_key),
+                         lambda: columns(n, p, x, xd, xdd, Fk, periodic=False, v_err=v_err))
+
+    for n in eff:
+        spec = SPECS[n]
+        if n == "damping_law":
+            Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd
+            Phi[:, col["damping_law.b_A"]] = (d.A - base.refs.get("A_ref", 0.0)) * xd
+            continue
+        if spec.kind not in ("force", "mass"):
+            continue
+        for a, c in effect_cols(n).items():
+            if f"{n}.{a}" in col:
+                Phi[:, col[f"{n}.{a}"]] = c
+    for t in amps:
+        if "@" not in t:
+            continue
+        e, par, cov = split_name(t)
+        src = Phi[:, col[f"{e}.{par}"]] if f"{e}.{par}" in col else effect_cols(e)[par]
+        Phi[:, col[t]] = (d.covariates.get(cov, math.nan) - base.refs.get(f"cov:{cov}", 0.0)) * src
+    if base.offsets:
+        f = f - f.mean()
+        y = y - y.mean()
+        Phi = Phi - Phi.mean(axis=0)
+    if tau:  # samples whose lagged motion falls before the record's start (or after its end) are not modelled
+        ts = np.asarray(d.t, float)[slice(None) if idx is None else idx] - tau
+        out = (ts < d.t[0]) | (ts > d.t[-1])
+        if out.any():
+            Phi[out] = 0.0
+            y = np.where(out, f, y)
+    return f, Phi, y

@@ -1,0 +1,163 @@
+"""The ODE world's scoring on hand-made results: the right verdict per family, parameter errors and interval
+coverage, the rates of a summary; the runner's reading of a diagnosis result; the families; and the world's
+independence from the project's simulator (no import of its effect operators or motion programs)."""
+from __future__ import annotations
+
+import ast
+import importlib
+from pathlib import Path
+
+import pytest
+
+from chainid.gap.benchmark import odescore as sc
+from chainid.gap.benchmark import odeworld as ow
+from chainid.gap.benchmark.odefamilies import world_cases
+
+BENCH = Path(__file__).resolve().parents[2] / "chainid" / "gap" / "benchmark"
+
+
+def _row(family: str, effects: dict, verdict: str, shrinkage=None, snr=10.0, **kw):
+    return {"family": family, "effects": effects, "verdict": verdict, "shrinkage": shrinkage, "snr": snr,
+            "base": kw.pop("base", "chain14"), "excitation": kw.pop("excitation", "noise"), "seconds": 1.0,
+            "sim_seconds": 0.5, **kw}
+
+
+@pytest.mark.parametrize("family, effects, verdict, shrinkage, right", [
+    ("single", {"friction": 1.0}, "friction", 0.8, True),
+    ("single", {"friction": 1.0}, "friction+slack", 0.8, True),          # first of two
+    ("single", {"friction": 1.0}, "slack+friction", 0.8, False),         # named, but not first
+    ("single", {"stiffness_level": 1.0}, "machine_compliance", 0.9, True),  # the same physics
+    ("single", {"friction": 1.0}, "unexplained", None, False),
+    ("pair", {"friction": 1.0, "sensor_delay": 1.0}, "sensor_delay+hysteresis+friction", 0.9, True),
+    ("pair", {"friction": 1.0, "sensor_delay": 1.0}, "friction", 0.9, False),
+    ("control", {}, "none", None, True),
+    ("control", {}, "backlash", 0.7, False),
+    ("outside", {}, "unexplained", 0.2, True),
+    ("outside", {}, "hysteresis", 0.3, True),                            # weak: shrinkage below 50 %
+    ("outside", {}, "hysteresis", 0.6, False),                           # named with confidence
+    ("outside", {}, "error: ValueError: x", None, False),
+    ("covariate", {"friction": 1.0}, "friction", 0.6, True),
+])
+def test_right_verdict_per_family(family, effects, verdict, shrinkage, right):
+    assert sc.score_row(_row(family, effects, verdict, shrinkage))["right"] is right
+
+
+def test_parameter_error_and_interval_coverage_by_sd_and_by_ci90():
+    truth = {"effects": {"friction": {"F_c": 40.0, "dF": 0.0, "x_s": 0.002}, "sensor_delay": {"tau": -0.004}}}
+    row = _row("pair", {"friction": 1.0, "sensor_delay": 1.0}, "friction+sensor_delay", 0.9, truth=truth,
+               params={"friction.F_c": 42.0, "friction.x_s": 0.0025, "sensor_delay.tau": -0.0041, "damping.c": 3.0},
+               params_sd={"friction.F_c": 1.0, "friction.x_s": 0.0001},
+               params_ci90={"sensor_delay.tau": [-0.0045, -0.0039]})
+    got = {p["param"]: p for p in sc.score_row(row)["params"]}
+    assert set(got) == {"friction.F_c", "friction.x_s", "sensor_delay.tau"}  # dF not estimated: not scored
+    assert got["friction.F_c"]["rel_error"] == pytest.approx(2.0 / 40.0)
+    assert got["friction.F_c"]["covered"] is False        # |2| > 1.645·1
+    assert got["friction.x_s"]["rel_error"] == pytest.approx(0.25)
+    assert got["friction.x_s"]["covered"] is False        # 0.0005 > 1.645·0.0001
+    assert got["sensor_delay.tau"]["rel_error"] == pytest.approx(0.0001 / 0.004)
+    assert got["sensor_delay.tau"]["covered"] is True     # −0.004 in [−0.0045, −0.0039]
+    row["params_sd"]["friction.F_c"] = 1.3                # 2 <= 1.645·1.3 = 2.14
+    assert {p["param"]: p for p in sc.score_row(row)["params"]}["friction.F_c"]["covered"] is True
+
+
+def test_a_covariate_parameter_is_scored_against_its_law_at_the_mean_condition():
+    truth = {"effects": {"friction": {"F_c": 10.0, "x_s": 0.01}},
+             "covariate": {"effect": "friction", "param": "F_c", "p0": 10.0, "p1": 5.0, "values": [0, 1, 2, 3]}}
+    row = _row("covariate", {"friction": 1.0}, "friction", 0.7, truth=truth, params={"friction.F_c": 18.0})
+    (p,) = sc.score_row(row)["params"]
+    assert p["truth"] == pytest.approx(10.0 + 5.0 * 1.5) and p["rel_error"] == pytest.approx(0.5 / 17.5)
+    assert p["covered"] is None  # no interval reported
+
+
+def test_summary_rates_per_family_strong_subset_and_breakdowns():
+    rows = [_row("single", {"friction": 1.0}, "friction", 0.8, snr=10.0, base="chain14"),
+            _row("single", {"friction": 1.0}, "unexplained", None, snr=1.0, base="damper"),
+            _row("single", {"hysteresis": 1.0}, "hysteresis", 0.7, snr=2.0, base="damper", excitation="chirp"),
+            _row("control", {}, "none", None, snr=0.1), _row("control", {}, "friction", 0.6, snr=5.0),
+            _row("control", {}, "error: RuntimeError: x", None, snr=float("nan"))]
+    for r in rows:
+        r["score"] = sc.score_row(r)
+    s = sc.summarise(rows)
+    f = s["families"]["single"]
+    assert (f["n"], f["right"], f["rate"]) == (3, 2, pytest.approx(2 / 3))
+    assert (f["strong"]["n"], f["strong"]["right"]) == (1, 1)  # snr >= 3 only
+    assert f["by_base"] == {"chain14": {"n": 1, "right": 1, "rate": 1.0}, "damper": {"n": 2, "right": 1, "rate": 0.5}}
+    assert f["by_excitation"]["chirp"] == {"n": 1, "right": 1, "rate": 1.0}
+    c = s["families"]["control"]
+    assert (c["n"], c["right"], c["verdicts"]) == (3, 1, {"none": 1, "friction": 1, "error": 1})
+    assert (c["strong"]["n"], c["strong"]["right"]) == (1, 0)  # the NaN snr of the error is not strong
+    assert len(s["errors"]) == 1 and len(s["misses"]) == 3
+    text = sc.format_table(s)
+    assert "single" in text and "67 % (2/3)" in text and "100 % (1/1)" in text
+    md = sc.markdown_table(s)
+    assert "| control | 33 % (1/3) | 0 % (0/1) |" in md
+    assert "| family | chain14 | damper |" in md and "| single | 1/1 | 1/2 |" in md and "| control | 1/3 | – |" in md
+
+
+def test_run_case_reads_the_diagnosis_result_and_scores_it(monkeypatch):
+    """A stand-in diagnosis (the real one is not under test here) returns a hand-made result."""
+    dg = importlib.import_module("chainid.gap.diagnose")  # the package binds the name to the function
+
+    seen = {}
+
+    def fake(records, holdout, model, **kw):
+        seen.update(n=len(records), holdout=list(holdout), model=model, kw=kw)
+        return {"verdict": "friction", "baseline": {"excess_rms_N": 30.0, "noise_sigma_N": 3.0},
+                "steps": [{"effect": "baseline", "params": {}, "shrinkage": 0.0},
+                          {"effect": "friction", "params": {"friction.F_c": 1.0}, "params_sd": {"friction.F_c": 0.1},
+                           "shrinkage": 0.75}], "route": "time", "excluded": []}
+    monkeypatch.setattr(dg, "diagnose", fake)
+    case = {"family": "single", "base": "damper", "excitation": "chirp", "effects": {"friction": 1.0},
+            "outside": {}, "covariate": None, "sign": 1.0, "seed": 3, "label": "t"}
+    row = ow.run_case(case)
+    assert row["verdict"] == "friction" and row["snr"] == pytest.approx(10.0) and row["shrinkage"] == 0.75
+    assert seen["model"] is None and seen["kw"]["uncertainty"] is False and seen["holdout"] == row["holdout"]
+    assert seen["n"] == len(row["truth"]["records"]) and 4 <= seen["n"] <= 8
+    assert row["score"]["right"] is True
+    (p,) = row["score"]["params"]
+    F_c = row["truth"]["effects"]["friction"]["F_c"]
+    assert p["rel_error"] == pytest.approx(abs(1.0 - F_c) / F_c)
+
+
+def test_run_case_gives_a_chain_its_chain_model_and_turns_a_crash_into_an_error_row(monkeypatch):
+    dg = importlib.import_module("chainid.gap.diagnose")  # the package binds the name to the function
+    from chainid.model.base import ChainModel
+
+    def crash(records, holdout, model, **kw):
+        assert isinstance(model, ChainModel) and model.chain.d == 18.0 and model.chain.pitch == 64.0
+        raise RuntimeError("boom")
+    monkeypatch.setattr(dg, "diagnose", crash)
+    case = {"family": "control", "base": "chain18", "excitation": "noise", "effects": {}, "outside": {},
+            "covariate": None, "sign": 1.0, "seed": 2, "label": "t"}
+    row = ow.run_case(case)
+    assert row["verdict"] == "error: RuntimeError: boom" and row["score"] == {
+        "right": False, "named": [], "error": True, "params": []}
+
+
+def test_families_hold_every_family_and_the_small_set_is_a_subset_of_labels_and_seeds():
+    full, small = world_cases(False, 0), world_cases(True, 0)
+    assert {c["family"] for c in full} == set(sc.FAMILIES) == {c["family"] for c in small}
+    assert len(small) == 12 and len({c["label"] for c in full}) == len(full)
+    by_label = {c["label"]: c["seed"] for c in full}
+    assert all(by_label[c["label"]] == c["seed"] for c in small if c["label"] in by_label)
+    lags = [c for c in full if "sensor_delay" in c["effects"]]
+    assert {c["sign"] for c in lags} == {1.0, -1.0}  # force lag and displacement lag
+    assert all(c["base"] in ("chain14", "chain18") for c in full
+               if set(c["effects"]) & {"stiffness_level", "contact_law", "slack"})
+    assert all(c["base"] not in ("chain14", "chain18") for c in full if set(c["effects"]) & {"hardening", "deadband"})
+    assert world_cases(False, 5)[0]["seed"] == full[0]["seed"] + 5
+    with pytest.raises(ValueError, match=r"seed = -1 is out of range; valid range >= 0"):
+        world_cases(True, -1)
+
+
+def test_the_world_imports_none_of_the_projects_simulator():
+    banned = {"chainid.model.effects", "chainid.model.operators", "chainid.records.simulate",
+              "chainid.records.excitation"}
+    files = sorted(BENCH.glob("ode*.py"))
+    assert len(files) >= 6
+    for f in files:
+        for node in ast.walk(ast.parse(f.read_text())):
+            mods = ([node.module or ""] + [f"{node.module}.{a.name}" for a in node.names]
+                    if isinstance(node, ast.ImportFrom) else
+                    [a.name for a in node.names] if isinstance(node, ast.Import) else [])
+            assert not banned & set(mods), f"{f.name} imports {banned & set(mods)}"

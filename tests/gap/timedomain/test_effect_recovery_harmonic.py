@@ -1,0 +1,103 @@
+"""Each new library effect recovered blind on harmonic excitation: steady sine tests at 6 (f, A) pairs, one
+operating condition (the harmonic route of ``diagnose``); the verdict names the effect and its parameters come back
+within 10 % of the truth of an independent simulation (:mod:`sim_devices`).
+
+Linear device F = 10·x + 0.2·ẋ + effect at (f [Hz], A [mm]) = :data:`recovery_cases.HARMONIC_PAIRS`, 8 cycles of 64
+samples, σ_x = 1 µm, σ_F = 0.1 N; the built-in chain about x0 = 2 mm (σ_x = 0.2 µm, σ_F = 5 N) for
+``fixture_mass`` and ``sensor_delay``.  Test h3 is held out.
+"""
+from __future__ import annotations
+
+import pytest
+
+import recovery_cases as rc
+import sim_devices as sd
+
+pytestmark = pytest.mark.slow
+
+
+def _lin(mo, t):
+    x, xd, _ = mo(t)
+    return rc.K_LIN * x + rc.C_LIN * xd
+
+
+def _linear_set(extra):
+    return rc.harmonic_set(lambda mo, t, f, A: _lin(mo, t) + extra(mo, t)), ["h3"], None
+
+
+def _chain_set(pairs, tau=0.0, extra_mass=0.0):
+    from chainid.model import ChainModel
+
+    m = ChainModel()
+
+    def force(mo, t, f, A):
+        x, xd, xdd = mo(t - tau)  # the force channel shows the force at t − τ
+        return m.force(x) + (m.mass_kg + extra_mass) * xdd * 1e-3 + rc.C_CHAIN * xd
+
+    return rc.harmonic_set(force, pairs=pairs, x0=rc.X0_CHAIN, sigma_x=rc.SX_CHAIN, sigma_F=rc.SF_CHAIN), ["h3"], m
+
+
+def _run(key, build):
+    res, _, _ = rc.diagnosed(key, build)
+    assert res.get("route") != "time", "a set of steady sines at one condition takes the harmonic route"
+    assert res["residual"]["db_over_noise"] <= 1.0, res["chain_text"]  # the named chain reaches the noise floor
+    return res, rc.final_params(res)
+
+
+def test_hardening_recovered_on_sines():
+    res, p = _run("harm_hardening", lambda: _linear_set(lambda mo, t: 2.0 * mo(t)[0] ** 3))
+    assert res["verdict"] == "hardening", res["chain_text"]
+    assert rc.rel_err(p["hardening.k3"], 2.0) <= 0.10, p
+
+
+def test_bouc_wen_recovered_on_sines():
+    res, p = _run("harm_bouc_wen", lambda: _linear_set(rc.hysteresis_force(3.0, 0.1, 2.0, 0.6)))
+    assert res["verdict"] == "bouc_wen", res["chain_text"]
+    for k, v in {"F_y": 3.0, "x_y": 0.1, "n": 2.0, "r": 0.6}.items():
+        assert rc.rel_err(p[f"bouc_wen.{k}"], v) <= 0.10, (k, p)
+
+
+def test_deadband_recovered_on_sines():
+    res, p = _run("harm_deadband", lambda: _linear_set(lambda mo, t: sd.deadband_force(mo(t)[0], 30.0, 0.8, 2.0, 0.0)))
+    assert res["verdict"] == "deadband", res["chain_text"]
+    for k, v in {"k_d": 30.0, "g": 0.8, "p": 2.0}.items():
+        assert rc.rel_err(p[f"deadband.{k}"], v) <= 0.10, (k, p)
+
+
+def _stribeck_set():
+    return _linear_set(lambda mo, t: sd.stribeck_force(mo(t)[1], 2.0, 1.5, 3.0))
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "harmonic route, linear base: F_c = 1.764 (-11.8 %), dF_s 1.674, v_s 3.11, a fitted mass 1.02 kg (truth 0; "
+    "m*w^2 is at most 1.6 % of k on these 0.5-2 Hz tests), residual at the noise floor. Each test's c_e is free "
+    "(the paper's per-test damping), so it takes the friction's first harmonic 4*F_c/(pi*w*A) and F_c is "
+    "identified from the higher harmonics of the square wave alone; dF_s and v_s from the low-velocity tests "
+    "trade against it"))
+def test_stribeck_recovered_on_sines():
+    res, p = _run("harm_stribeck", _stribeck_set)
+    assert res["verdict"] == "stribeck", res["chain_text"]
+    assert rc.rel_err(p["stribeck.F_c"], 2.0) <= 0.10, p
+    assert rc.rel_err(p["stribeck.F_c"] + p["stribeck.dF_s"], 3.5) <= 0.10, p
+    assert rc.rel_err(p["stribeck.v_s"], 3.0) <= 0.10, p
+
+
+def test_stribeck_asymmetry_is_not_invented_on_sines():
+    res, p = _run("harm_stribeck", _stribeck_set)
+    assert abs(p.get("stribeck.dF", 0.0)) <= 0.10 * 3.5, p
+
+
+def test_fixture_mass_recovered_on_sines_on_a_chain():
+    pairs = ((2.0, 0.3), (5.0, 0.2), (10.0, 0.3), (10.0, 0.15), (20.0, 0.2), (20.0, 0.1))
+    res, p = _run("harm_fixture_mass", lambda: _chain_set(pairs, extra_mass=20.0))
+    assert res["verdict"] == "fixture_mass", res["chain_text"]
+    assert rc.rel_err(p["fixture_mass.m_f"], 20.0) <= 0.10, p
+
+
+@pytest.mark.parametrize("tau", [0.125, -0.125], ids=["force_lags", "displacement_lags"])
+def test_sensor_delay_of_a_quarter_period_recovered_on_sines(tau):
+    """Sines of 1–3 Hz on the chain; the lag is a quarter period at 2 Hz."""
+    pairs = ((1.0, 0.3), (1.5, 0.2), (2.0, 0.3), (2.0, 0.15), (3.0, 0.2), (3.0, 0.1))
+    res, p = _run(f"harm_delay_{tau}", lambda: _chain_set(pairs, tau=tau))
+    assert res["verdict"] == "sensor_delay", res["chain_text"]
+    assert rc.rel_err(p["sensor_delay.tau"], tau) <= 0.10, p

@@ -1,0 +1,102 @@
+"""A chain's measured force may dip below zero through its damping (the spring force F_k(x) stays positive):
+such records are analysed with a warning on stderr and in the JSON, never refused; a record whose mean force is
+no tension is refused (no chain), and x < 0 throughout under tension is a warning.
+
+The records are Eq. 1 in closed form: F = F_k(x) + c·ẋ with the paper chain's F_k, x = 0.6 + A sin ωt (A <= 0.3
+mm, so F_k(x) >= F_k(0.3 mm) = 980 N > 0 throughout) and c = 1000 N·s/mm, so c·A·ω (up to 9 kN) takes F below
+zero; the identified c_e must be that c.
+"""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from chainid.cli import main
+from chainid.model.base import ChainModel
+from chainid.model.kernels import force
+from chainid.records.files import write_records
+from chainid.records.record import Record
+from chainid.records.simulate import TestSpec, simulate
+from chainid.records.validate import RecordWarning, check_data
+
+C = 1000.0
+PLAN = [TestSpec(str(i), w, 0.6, A) for i, (w, A) in enumerate(
+    [(10, 0.2), (15, 0.3), (20, 0.25), (25, 0.2), (30, 0.3), (12, 0.3), (18, 0.2), (22, 0.3)], 1)]
+N_DIP = 7  # all but test 1 (c·A·ω = 2 kN there, less than F_k(0.4 mm)): counted from the closed form
+
+
+@pytest.fixture(scope="module")
+def dip_csv(tmp_path_factory):
+    recs = simulate(PLAN, ChainModel(), C, n_cycles=6, samples_per_cycle=128, ramp_rate=None)
+    m = ChainModel().mass_kg
+    for s, r in zip(PLAN, recs):  # the closed form: spring positive throughout
+        assert float(np.min(force(r.x))) > 900.0
+        ph = s.omega * r.t
+        closed = force(r.x) + C * s.A * s.omega * np.cos(ph) - m * s.omega**2 * s.A * np.sin(ph) * 1e-3
+        on = r.t > 0  # (the first sample, t = 0, is the start: at rest)
+        assert np.allclose(r.F[on], closed[on], rtol=0, atol=1e-6)
+    assert sum(float(r.F.min()) < 0 for r in recs) == N_DIP  # ... and below zero in these
+    p = tmp_path_factory.mktemp("dip") / "dip.csv"
+    write_records(p, recs)
+    return str(p)
+
+
+def _warned(err: str, command: str) -> list[str]:
+    head = f"chainid {command}: warning: "
+    return [ln[len(head):] for ln in err.splitlines() if ln.startswith(head)]
+
+
+def test_identify_warns_and_finds_the_damping(dip_csv, capsys):
+    assert main(["identify", dip_csv, "--quiet", "--json", "-"]) == 0
+    cap = capsys.readouterr()
+    doc = json.loads(cap.out)
+    assert [t["c_e"] for t in doc["tests"]] == pytest.approx([C] * len(PLAN), rel=1e-6)
+    dips = [w for w in _warned(cap.err, "identify") if "the measured force dips below zero" in w]
+    assert len(dips) == N_DIP and all(w in doc["warnings"] for w in dips)
+    assert "the chain's spring cannot push, but a measured force can (damping c·ẋ" in dips[0]
+
+
+def test_diagnose_runs_on_the_spring_force_model_with_the_warning(dip_csv, capsys):
+    assert main(["diagnose", dip_csv, "--holdout", "8", "--max-combo", "1", "--json", "-"]) == 0
+    cap = capsys.readouterr()
+    doc = json.loads(cap.out)
+    dips = [w for w in _warned(cap.err, "diagnose") if "dips below zero" in w]
+    assert len(dips) == N_DIP and all(w in doc["warnings"] for w in dips)
+    assert doc["baseline"]["model"] == "chain[paper]"  # the chain kernel, not a linear stand-in
+
+
+def test_allow_compression_silences_it(dip_csv, capsys):
+    assert main(["identify", dip_csv, "--quiet", "--allow-compression", "--json", "-"]) == 0
+    assert "dips below zero" not in capsys.readouterr().err
+
+
+def test_a_record_without_mean_tension_is_refused():
+    t = np.linspace(0.0, 1.0, 101)
+    F = 500.0 * np.sin(2 * np.pi * 4 * t)  # swings about zero: mean 0, a part that pushes
+    with pytest.raises(ValueError, match=r"force goes compressive .* its mean is no tension .* valid: mean F >= 1 % "
+                                         r"of max \|F\| with a chain model\. Is F's sign flipped \(--scale F=-1\)\?"):
+        check_data(Record("p", t, np.full(101, 1.0), F))
+    check_data(Record("p", t, np.full(101, 1.0), F), allow_compression=True)
+
+
+def test_x_below_zero_throughout_under_tension_warns():
+    t = np.linspace(0.0, 1.0, 101)
+    x = -1.0 + 0.2 * np.sin(2 * np.pi * 4 * t)
+    F = 13000.0 + 500.0 * np.sin(2 * np.pi * 4 * t)
+    with pytest.warns(RecordWarning, match=r"test 'neg': x < 0 throughout \(max x = -0\.8\d* mm\) under a mean "
+                                           r"tension of 13000 N: a chain at x <= 0 is slack"):
+        check_data(Record("neg", t, x, F))
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_data(Record("pos", t, x + 2.0, F))  # taut: no warning
+        check_data(Record("neg", t, x, F), allow_compression=True)  # a linear spring: x_ref is arbitrary
+
+
+def test_a_simulated_taut_chain_may_dip_but_a_slack_one_is_refused():
+    simulate([TestSpec("taut", 20.0, 0.6, 0.3)], ChainModel(), C, n_cycles=3, samples_per_cycle=64)
+    with pytest.raises(ValueError, match=r"test 'slack': the force goes compressive where the chain is slack"):
+        simulate([TestSpec("slack", 20.0, 0.2, 0.5)], ChainModel(), C, n_cycles=3, samples_per_cycle=64)

@@ -1,0 +1,32 @@
+"""Case functions for worker-process tests (importable by spawned workers: ``tests/`` is on their PYTHONPATH).
+
+``announce_and_block(folder)`` writes the worker's pid as an empty file ``folder/<pid>`` (the test reads it as
+"this case is running in that process") and then blocks until ``folder/release`` exists (or 600 s pass).
+"""
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+
+def announce_and_block(folder: str) -> int:
+    d = Path(folder)
+    (d / f"{os.getpid()}.tmp").write_text("")
+    os.replace(d / f"{os.getpid()}.tmp", d / str(os.getpid()))  # appears whole
+    deadline = time.monotonic() + 600
+    while not (d / "release").exists() and time.monotonic() < deadline:
+        time.sleep(0.05)  # (a wait for an event, not a timing assumption)
+    return os.getpid()
+
+
+def announce_then_run_case(case):
+    """``chainid.gap.benchmark.run_case`` after announcing the worker (a file ``<pid>`` in the folder named by
+    the environment variable CHAINID_TEST_ANNOUNCE)."""
+    from chainid.gap.benchmark import run_case
+
+    d = Path(os.environ["CHAINID_TEST_ANNOUNCE"])
+    if not (d / str(os.getpid())).exists():
+        (d / f"{os.getpid()}.tmp").write_text("")
+        os.replace(d / f"{os.getpid()}.tmp", d / str(os.getpid()))
+    return run_case(case)
