@@ -51,12 +51,13 @@ def M(id: str, file: str, old: str, new: str, tests: str | tuple[str, ...], what
     return Mutation(id, file, old, new, (tests,) if isinstance(tests, str) else tuple(tests), what)
 
 
-T_KER = "tests/test_kernels.py"
-T_GEN = "tests/test_generated.py"
-T_ID = "tests/test_identify.py"
-T_AUD = "tests/test_audit.py"
-T_GAP = "tests/test_gap_diagnose.py"
-T_DER = "tests/test_derive.py"
+T_KER = "tests/model/test_kernels.py"
+T_GEN = "tests/derive/test_generated.py"
+T_ID = "tests/damping/test_identify.py"
+T_AUD = "tests/damping/test_audit.py"
+T_GAP = "tests/gap/harmonic/test_harmonic_diagnosis.py"
+T_EFF = "tests/model/test_effects.py"
+T_DER = "tests/derive/test_derive.py"
 
 MUTATIONS: list[Mutation] = [
     # -- kernels / spec -------------------------------------------------------------------------------------------
@@ -131,7 +132,7 @@ MUTATIONS: list[Mutation] = [
     M("E1", "chainid/model/effects.py", "((-5.0 * x_scale, 5.0 * x_scale),)", "((0.0, 5.0 * x_scale),)",
       f"{T_GAP}::test_negative_slack_recovered", "slack bound forbids negative offsets"),
     M("E2", "chainid/model/effects.py", '4.0 * p.get("F_f", 0.0) / (math.pi * omega * A)', '4.0 * p.get("F_f", 0.0) / (omega * A)',
-      f"{T_GAP}::test_damping_law_effect_hook_by_hand", "Coulomb-equivalent term without pi (simulation)"),
+      f"{T_EFF}::test_damping_law_effect_hook_by_hand", "Coulomb-equivalent term without pi (simulation)"),
     M("E3", "chainid/model/effects.py", "(1e-3 * x_scale, 10 * x_scale)", "(0.12 * x_scale, 10 * x_scale)",
       (T_GAP, "-k", "effect_recovered and hysteresis"), "hysteresis travel pinned at its lower bound"),
     M("E4", "chainid/model/effects.py", 'play_operator(x, 0.5 * p.get("b", 0.0))', 'play_operator(x, p.get("b", 0.0))',
@@ -170,10 +171,11 @@ MUTATIONS: list[Mutation] = [
       f"{T_GAP}::test_out_of_library_drift_not_misnamed", "a drifting record given a library name"),
     M("D4", "chainid/gap/core/selection.py", "    return st[\"delta_loto\"] > Z * st[\"se_jackknife\"] and st",
       "    return st[\"delta_loto\"] > -1e9 * st[\"se_jackknife\"] and st",
-      ("tests/test_gap_compound.py", "-k", "step_rule or mismatch"),
+      ("tests/gap/harmonic/test_compound_causes.py", "tests/gap/core/test_selection.py::test_step_rule_by_hand", "-k",
+       "step_rule or mismatch"),
       "a step accepted without significance over the tests"),
     M("R2", "chainid/report/eq26.py", "k_in = FA * math.cos(phi) / A", "k_in = FA / A",
-      "tests/test_report_gap.py::test_eq26_numbers", "Eq. 26 in-phase stiffness without cos(phi)"),
+      "tests/report/test_report_gap.py::test_eq26_numbers", "Eq. 26 in-phase stiffness without cos(phi)"),
 ]
 
 
@@ -192,7 +194,7 @@ def status(mut: Mutation, root: Path = REPO) -> str:
 def run_tests(copy: Path, tests: tuple[str, ...], timeout: float, cache: Path) -> tuple[str, float, str]:
     """Run pytest in the copy; ('pass' | 'fail' | 'timeout', seconds, last output line)."""
     env = {**os.environ, "PYTHONPATH": str(copy), "NUMBA_CACHE_DIR": str(cache), "PYTHONDONTWRITEBYTECODE": "1"}
-    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header", *tests]
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-n", "0", "-p", "no:cacheprovider", "--no-header", *tests]
     t0 = time.perf_counter()
     try:
         out = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True, timeout=timeout)

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+import chainid
 from chainid.gap import diagnose
 from chainid.model.effects import dahl_operator
 from chainid.gap.core.summary import summary
@@ -81,7 +82,9 @@ for k, v in res["noise"]["tests"].items():
 # Linear base model; the last of 4 time blocks of each record held out.  Skipped when the data are absent.
 
 # %%
-D = Path(os.environ.get("CHAINID_REALDATA", "/work/shared/realdata/friction-damper"))
+# the shared data: $CHAINID_SHARED, else `shared` next to the repository of this checkout
+SHARED = Path(os.environ.get("CHAINID_SHARED") or Path(chainid.__file__).resolve().parents[2] / "shared")
+D = SHARED / "realdata" / "friction-damper"
 EQ = D / "brfd_ds2_earthquake_imperialvalley.csv"
 if EQ.exists():
     from chainid.records import read_records

@@ -24,7 +24,7 @@ the identification's model); ``rule = "hysteretic"`` uses the Iwan distribution 
 cycle, π·c·ω·A² = π·η·k·A², i.e. η·k = c·ω and x_max = A, with a compensating linear spring −k_comp·(x − x0)
 that removes the distribution's in-phase first harmonic on that cycle (k_comp ≈ 1.39·η·k), so only higher
 harmonics differ from c·ẋ on a harmonic test; rate independent in a transient (its error is measured in
-``tests/test_augmented.py`` and stated in the README's model-file section).
+``tests/model/test_time_damping.py`` and stated in the README's model-file section).
 """
 
 from __future__ import annotations

@@ -1,0 +1,220 @@
+"""The checks of a dynamics run: energy balance, refinement of slack runs, limits of work and memory, input types,
+Newton and modes against independent numbers.  Units mm, N, s, kg; energies N·mm."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from chainid.chain.spec import default_chain
+from chainid.dynamics import ChainLine, Drive, SimulationError, simulate
+from chainid.dynamics.energy import balance
+from chainid.dynamics.modes import modes, tangent_system
+from chainid.model import kernels
+
+
+# ------------------------------------------------------------------ energy balance: worst point, not last
+def test_balance_reports_the_worst_point_not_the_last():
+    """A residual of 3 N·mm in the middle that is gone at the end: reported as 3/100, at t = 0.2 s."""
+    t = np.array([0.0, 0.1, 0.2, 0.3])
+    W = np.array([0.0, 50.0, 100.0, 100.0])
+    kin = np.array([0.0, 50.0, 97.0, 100.0])  # W − ΔE_kin = 0, 0, 3, 0
+    z = np.zeros(4)
+    eb = balance(W, kin, z, z, t)
+    assert eb["residual"] == 0.0
+    assert eb["worst_residual"] == 3.0 and eb["worst_t_s"] == 0.2
+    assert eb["relative_error"] == pytest.approx(3.0 / 100.0, rel=1e-15)
+
+
+def test_balance_of_a_free_vibration_is_measured():
+    """No work in (W ≡ 0): the scale is the energy exchanged, so an error still shows (was 0 by construction)."""
+    z = np.zeros(3)
+    eb = balance(z, np.array([10.0, 0.0, 10.5]), np.array([0.0, 10.0, 0.0]), z)
+    assert eb["scale"] == pytest.approx(10.0) and eb["relative_error"] == pytest.approx(0.05)
+    nan = balance(np.array([0.0, np.nan]), np.zeros(2), np.zeros(2), np.zeros(2))
+    assert nan["finite"] is False and math.isnan(nan["relative_error"])
+
+
+# ------------------------------------------------------------------ near-standstill resistance branch
+def test_resistance_near_standstill_is_viscous_R_over_eps():
+    """A free node creeping at |v| < ε decays as exp(−t/τ), τ = ε·m/(1e3·R) (the viscous branch R·v/ε)."""
+    line = ChainLine(n_links=10, n_masses=1, pretension_N=0.0, far_end="tensioner", tail_mass_kg=2.0,
+                     resistance_N=3.0, resistance_v_eps=1.0)
+    m1 = line.node_masses()[1]
+    tau = 1.0 * m1 / (1e3 * 3.0)  # s (R applies to node 1 alone: node 0 is the drive)
+    u0 = np.array([0.0, 5.0])  # mm: segment 5 mm slack (no spring force)
+    res = simulate(line, Drive("none"), 2 * tau, dt=tau / 2000, initial_u=u0, initial_v=np.array([0.0, 0.8]),
+                   n_out=100)
+    assert line.resistance_per_node()[1] == pytest.approx(3.0)
+    assert res.tension.max() == 0.0
+    np.testing.assert_allclose(res.v[:, 1], 0.8 * np.exp(-res.t / tau), rtol=2e-3)
+
+
+# ------------------------------------------------------------------ modes
+def test_tensioner_stiffness_enters_the_mode_matrix():
+    """One segment, tensioner end with take-up spring k_t: ω² = 1e3·(k_e + k_t)/m_1, k_e from dx/dF by hand."""
+    chain = default_chain()
+    F0, kt = 8_000.0, 700.0
+    line = ChainLine(n_links=chain.n, n_masses=1, chain=chain, pretension_N=F0, tensioner_stiffness=kt,
+                     tail_mass_kg=1.5)
+    cl, ch = kernels.coefficients(chain)
+    ke = 1.0 / (cl + (2.0 / 3.0) * ch * F0 ** (-1.0 / 3.0))  # N/mm: x = c_lin F + c_h F^(2/3)
+    m1 = 0.5 * chain.mass_per_m * chain.n * chain.pitch * 1e-3 + 1.5
+    assert modes(line).omega[0] == pytest.approx(math.sqrt(1e3 * (ke + kt) / m1), rel=1e-9)
+    no_kt = ChainLine(n_links=chain.n, n_masses=1, chain=chain, pretension_N=F0, tail_mass_kg=1.5)
+    assert modes(no_kt).omega[0] == pytest.approx(math.sqrt(1e3 * ke / m1), rel=1e-9)
+
+
+@pytest.mark.parametrize("far_end", ["fixed", "tensioner"])
+def test_tridiagonal_modes_match_dense_eigh(far_end):
+    line = ChainLine(n_links=83, n_masses=9, pretension_N=3_000.0, far_end=far_end, tensioner_stiffness=250.0,
+                     tail_mass_kg=0.7)
+    M, K, _ = tangent_system(line)
+    s = 1 / np.sqrt(M)
+    lam, y = np.linalg.eigh(1e3 * s[:, None] * K * s[None, :])
+    md = modes(line, n_modes=3)
+    np.testing.assert_allclose(md.omega, np.sqrt(lam[:3]), rtol=1e-10)
+    phi = s[:, None] * y[:, :3]
+    phi /= np.max(np.abs(phi), axis=0)
+    np.testing.assert_allclose(np.abs(md.shapes), np.abs(phi), atol=1e-10)
+
+
+def test_modes_of_20000_masses_are_fast_and_match_the_string():
+    """20 000 masses (a dense eigh would need 3.2 GB): a taut uniform chain, drive held, constant-force
+    tensioner end, is a fixed-free string: f_k = (2k − 1)·c/(4L), c = √(k_e·ℓ_s/ρ) (lumping error < 1e-3)."""
+    import time
+    line = ChainLine(n_links=40_000, n_masses=20_000, pretension_N=5_000.0)
+    t0 = time.perf_counter()
+    md = modes(line, n_modes=2)
+    assert time.perf_counter() - t0 < 20.0
+    cl, ch = line.segment_coefficients()
+    F0 = 5_000.0
+    ke = 1.0 / (cl[0] + (2.0 / 3.0) * ch[0] * F0 ** (-1.0 / 3.0))
+    c = math.sqrt(ke * line.segment_lengths()[0] / (line.chain.mass_per_m * 1e-3) * 1e3)  # mm/s
+    assert md.frequency_hz[0] == pytest.approx(c / (4 * line.length_mm), rel=1e-3)
+    assert md.frequency_hz[1] == pytest.approx(3 * c / (4 * line.length_mm), rel=1e-3)
+
+
+# ------------------------------------------------------------------ limits and numbers
+def _small():
+    return ChainLine(n_links=40, n_masses=4, pretension_N=1_000.0)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(t_end=1e9), "max_work"),
+    (dict(t_end=0.01, dt=1e-12, scheme="implicit"), "max_work"),
+    (dict(t_end=0.01, n_out=10 ** 9, max_work=None), "max_memory"),
+])
+def test_work_and_memory_are_refused_before_running(kw, match):
+    with pytest.raises(ValueError, match=match):
+        simulate(_small(), Drive("ramp", v=100.0), **kw)
+
+
+def test_huge_damping_is_refused_not_an_overflow():
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=1_000.0, damping=1e9)
+    with pytest.raises(ValueError, match="max_work"):
+        simulate(line, Drive("ramp", v=100.0), 1.0)
+
+
+def test_numpy_numbers_accepted_bool_refused():
+    res = simulate(_small(), Drive("ramp", v=100.0), np.float32(0.01), dt=np.float64(1e-4), n_out=np.int64(10))
+    assert res.t[-1] == pytest.approx(0.01, rel=1e-6)
+    for kw in (dict(t_end=True), dict(t_end=0.01, dt=True), dict(t_end=0.01, n_out=True)):
+        with pytest.raises(ValueError, match="t_end|dt|n_out"):
+            simulate(_small(), Drive("ramp", v=100.0), **kw)
+
+
+# ------------------------------------------------------------------ Newton, checks, refinement
+def _slack_polygon(pretension=500.0, damping=0.0):
+    return (ChainLine(n_links=200, n_masses=20, pretension_N=pretension, damping=damping),
+            Drive("polygon", v=1500.0, t_ramp=0.2, z=6))
+
+
+def test_coarse_implicit_snap_is_flagged_not_returned_silently():
+    """Large implicit steps on a slack polygon drive: never a silent blow-up; strict refuses it."""
+    line, d = _slack_polygon()
+    with pytest.warns(RuntimeWarning, match="energy balance error"):
+        res = simulate(line, d, 1.0, scheme="implicit", dt=5e-3)
+    assert res.warnings and res.energy_balance()["relative_error"] > 1e-3
+    with pytest.raises(SimulationError, match="strict"):
+        simulate(line, d, 1.0, scheme="implicit", dt=5e-3, strict=True)
+
+
+def test_refined_schemes_agree_on_a_damped_slack_polygon_drive():
+    """Damped chain that goes slack (T = 0 somewhere): refined explicit and implicit peaks within 2 %."""
+    line, d = _slack_polygon(pretension=100.0, damping=2.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        a = simulate(line, d, 1.0, refine=6)
+        b = simulate(line, d, 1.0, scheme="implicit", refine=6)
+    assert a.tension.min() == 0.0  # it does go slack
+    assert a.peak_change <= 0.02 and b.peak_change <= 0.02
+    assert b.peak_tension == pytest.approx(a.peak_tension, rel=0.02)
+    assert a.energy_balance()["relative_error"] < 1e-3 and b.energy_balance()["relative_error"] < 1e-3
+
+
+def test_taut_runs_are_not_refined_slack_runs_are_checked():
+    """The peak check under halving applies where snap loads can occur (a segment carried nothing)."""
+    taut = simulate(ChainLine(n_links=100, n_masses=10, pretension_N=5_000.0), Drive("ramp", v=200.0, t_ramp=0.05),
+                    0.1, refine=5)
+    assert taut.slack_substeps == 0 and taut.refinements == 0 and not taut.warnings
+    line, d = _slack_polygon(pretension=100.0, damping=2.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        slack = simulate(line, d, 0.5, refine=5)
+    assert slack.slack_substeps > 0 and slack.refinements >= 1 and slack.peak_change <= 0.02
+
+
+def test_a_too_small_peak_force_is_an_error_or_refined_never_a_blow_up():
+    """peak_force = 1 N sets a step above the real stable step: no 1e192 N result (was exit 0)."""
+    line = ChainLine(n_links=400, n_masses=40, pretension_N=5_000.0)
+    d = Drive("ramp", v=1000.0, t_ramp=0.2)
+    with pytest.raises(SimulationError, match="non-finite.*peak_force = 1 N"):
+        simulate(line, d, 0.5, peak_force=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = simulate(line, d, 0.5, peak_force=1.0, refine=4)
+    assert res.refinements >= 1 and res.energy_balance()["relative_error"] < 1e-3
+    assert 5_000.0 < res.peak_tension < 10_000.0
+
+
+def test_slack_substeps_and_fallbacks_are_counted_apart():
+    """A slack line (20 N pretension, 1 mm at 60 rad/s) goes slack in many sub-steps; without dampers the explicit
+    scheme never needs its implicit fallback (documented: Newton stuck at a damper jump), so that count is 0."""
+    import warnings
+
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=20.0, far_end="fixed")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # the energy-balance check of this coarse run
+        res = simulate(line, Drive("sine", A=1.0, omega=60.0), 0.2)
+    assert res.slack_substeps > 0 and res.explicit_fallbacks == 0
+    s = res.summary()
+    assert s["slack_substeps"] == res.slack_substeps and s["explicit_fallback_substeps"] == 0
+
+
+def test_unconverged_peak_warning_quotes_the_run_at_twice_the_step():
+    """With ``refine = 1`` a slack polygon drive (undamped, P = 500 N, z = 6) whose peak is not converged stops
+    after one halving, and its warning quotes the final peak at dt and the peak of the run at 2·dt, which is
+    checked here against a separate run at that step without refinement (another run, not the refined one's
+    state); the change is |p(dt) − p(2dt)| / p(dt).
+    Bugs caught: the refinement loop running past its last attempt (the "twice that step" peak became the final
+    one)."""
+    import re
+    import warnings
+
+    line = ChainLine(n_links=200, n_masses=20, pretension_N=500.0)
+    d = Drive("polygon", v=1500.0, t_ramp=0.2, z=6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = simulate(line, d, 0.5, refine=1)
+        coarse = simulate(line, d, 0.5, dt=2.0 * res.dt, refine=0)
+    assert res.refinements == 1
+    msg = next(m for m in res.warnings if m.startswith("peak tension not converged"))
+    got = re.search(r": (\S+) N at dt = (\S+) s vs (\S+) N at twice that step \((\S+) % > 2 %\)", msg)
+    assert got, msg
+    p1, h, p0, pct = (float(g) for g in got.groups())
+    assert p1 == pytest.approx(res.peak_tension, rel=1e-5) and h == pytest.approx(res.dt, rel=1e-2)
+    assert p0 == pytest.approx(coarse.peak_tension, rel=1e-5) and abs(p0 - p1) > 0.02 * p1
+    assert pct == pytest.approx(100 * abs(coarse.peak_tension - res.peak_tension) / res.peak_tension, rel=1e-2)

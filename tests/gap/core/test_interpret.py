@@ -1,0 +1,95 @@
+"""Interpretation of the chosen effects (chainid.gap.core.interpret): step texts, mechanisms, separating tests,
+the step dict of the JSON."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+from chainid.gap.core import interpret
+
+
+def test_step_texts_by_hand():
+    from chainid.gap.core.interpret import step_text
+
+    assert step_text({"effect": "baseline", "params": {}, "nrmse_holdout": 0.12345}) == \
+        "baseline [held-out NRMSE 0.123]"
+    assert step_text({"effect": "baseline", "params": {}, "nrmse_holdout": None}) == "baseline"
+    # scale 0.79: −21 %; its sd 0.0123 → 2 significant digits
+    assert step_text({"effect": "stiffness_level", "params": {"stiffness_level.scale": 0.79},
+                      "params_sd": {"stiffness_level.scale": 0.0123}}) == "stiffness level -21 % (EA × 0.79 ± 0.012)"
+    assert step_text({"effect": "contact_law", "params": {"contact_law.scale": 1.5, "contact_law.beta": 0.5}}) == \
+        "contact law: Hertz compliance × 1.5, exponent 0.5 (Hertz 0.667)"
+    # units per parameter; a zero, infinite or missing sd is not shown; other effects' parameters left out
+    txt = step_text({"effect": "friction", "params": {"friction.F_c": 150.04, "friction.mu": 0.012,
+                                                       "slack.s": 0.3},
+                     "params_sd": {"friction.F_c": 0.0, "friction.mu": float("inf")}, "nrmse_holdout": 0.05})
+    assert txt == "friction F_c = 150 N, mu = 0.012 [held-out NRMSE 0.05]"
+    assert step_text({"effect": "sensor_delay", "params": {"sensor_delay.tau": 0.0021},
+                      "params_sd": {"sensor_delay.tau": 0.0001}}) == "sensor_delay tau = 0.0021 ± 0.0001 s"
+    assert step_text({"effect": "slack", "params": {"slack.s": None}}) == "slack s = ? mm"
+
+
+def test_mechanism_joins_families_once_and_separating_test_of_stiffness_pairs():
+    from chainid.gap.core.interpret import mechanism, separating_test
+
+    assert mechanism("stiffness_level+machine_compliance+sensor_delay", "") == "stiffness+instrumentation"
+    assert mechanism("friction+hysteresis", "Dahl friction (x_h << A)") == "friction"
+    assert mechanism("damping_law+backlash", "") == "damping form+play"
+    assert separating_test("slack", "contact_law").startswith("tests over a wider mean-load range x0")
+    assert separating_test("damping_law", "backlash").startswith("tests over a wider amplitude range at fixed ω")
+    assert separating_test("friction", "backlash").startswith("tests over a wider amplitude range at fixed ω")
+
+
+def test_interpretation_dahl_and_stiffness_level_by_hand():
+    """Dahl friction when x_h < A_min/2; a stiffness level s on a model with a linear coefficient c_lin [mm/N] is
+    a series compliance c_lin·(1/s − 1)."""
+    from chainid.gap.core.interpret import interpretation
+
+    prob = SimpleNamespace(data=[SimpleNamespace(A=0.3), SimpleNamespace(A=0.1)],
+                           model=SimpleNamespace(coefficients=[2e-5, 1.0]))
+    base = SimpleNamespace(names=(), params={})
+    fin = SimpleNamespace(names=("hysteresis",), params={"hysteresis.x_h": 0.0499})
+    assert interpretation([base, fin], prob, "hysteresis") == (
+        "Dahl-type hysteresis with transition travel x_h = 0.0499 mm << A (>= 0.1 mm): rate-independent "
+        "frictional sliding with smooth pre-sliding (Dahl friction)")
+    assert interpretation([base, SimpleNamespace(names=("hysteresis",), params={"hysteresis.x_h": 0.05})],
+                          prob, "hysteresis") == ""  # x_h = A_min/2 is not << A
+    assert interpretation([base], prob, "none") == ""
+    lvl = SimpleNamespace(names=("stiffness_level",), params={"stiffness_level.scale": 0.8})
+    # 2e-5 · (1/0.8 − 1) = +5e-6 mm/N; 20 % softer
+    assert interpretation([base, lvl], prob, "stiffness_level") == (
+        "the chain is 20 % softer in its linear (bar) term than the derivation; equivalently a series compliance "
+        "of +5e-06 mm/N (test machine, fixtures, a larger contact flattening)")
+    up = SimpleNamespace(names=("stiffness_level",), params={"stiffness_level.scale": 1.25})
+    assert "25 % stiffer" in interpretation([base, up], prob, "x") and "-4e-06 mm/N" in interpretation(
+        [base, up], prob, "x")
+    lin = SimpleNamespace(data=prob.data, model=SimpleNamespace())  # no coefficients: a linear spring
+    assert interpretation([base, lvl], lin, "stiffness_level") == ""
+
+
+def test_step_dict_is_the_json_contract_of_a_step():
+    from chainid.gap.core.interpret import step_dict
+
+    c = SimpleNamespace(names=("friction", "slack"), params={"spring.k": 1.0, "friction.F_c": 3.0, "slack.s": 0.1},
+                        param_sd={"friction.F_c": float("nan"), "slack.s": 0.01, "spring.k": 0.5}, law="viscous",
+                        nrmse_loto=0.1, nrmse_holdout=float("inf"), shrinkage=0.7, db_holdout=3.0,
+                        step_test={"z": 4.5, "relative_gain": 0.3}, at_bound=("slack.s",))
+    assert step_dict(c, 2) == {
+        "effect": "slack", "effects": ("friction", "slack"), "params": {"friction.F_c": 3.0, "slack.s": 0.1},
+        "params_sd": {"friction.F_c": None, "slack.s": 0.01}, "damping_law": "viscous", "nrmse_loto": 0.1,
+        "nrmse_holdout": None, "shrinkage": 0.7, "db_over_noise": 3.0, "z_loto": 4.5, "relative_gain_loto": 0.3,
+        "at_bound": ["slack.s"]}
+    c.step_test = {}
+    d = step_dict(c, 0)
+    assert d["effect"] == "baseline" and d["z_loto"] is None and d["relative_gain_loto"] is None
+
+
+def test_mechanism_names_and_separating_tests():
+    assert interpret.mechanism("friction+backlash+slack", "") == "friction+play+displacement offset"
+    assert interpret.mechanism("stiffness_level+contact_law", "") == "stiffness"
+    assert interpret.mechanism("hysteresis", "Dahl friction (x_h << A)") == "friction"
+    assert interpret.mechanism("hysteresis", "") == "hysteresis"
+    assert interpret.mechanism("none", "") == "none" and interpret.mechanism("unexplained", "") == "unexplained"
+    assert interpret.separating_test("hysteresis", "friction").startswith("a small-amplitude test")
+    assert "frequency range" in interpret.separating_test("sensor_delay", "friction")
+    assert "amplitude range" in interpret.separating_test("damping_law", "slack")
+    assert "mean-load range" in interpret.separating_test("slack", "stiffness_level")

@@ -1,0 +1,117 @@
+"""The verdict and the JSON contract (chainid.gap.core.verdict): unexplained drift, parameters at their bounds,
+the ranking and the best chain."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+from chainid.gap.core import verdict as vd
+
+
+STAT_OK = {"stationary": True, "trend_change_N": 0.0, "finding": ""}
+
+
+# ---------------------------------------------------------------- verdict.decide
+def _decide(consistent, final, best):
+    warn: list[str] = []
+    v = vd.decide(consistent, final, dict(STAT_OK), 1.0, [], {"stop": "STOP"}, [], warn, best=best)
+    return v, warn
+
+
+def test_no_effect_warning_only_when_the_verdict_is_unexplained():
+    """'no effect passed the step rule' is said only for an `unexplained` verdict with no final step and a best
+    candidate (documented in decide).  Bug caught: `and` → `or` (the warning on a `none` verdict)."""
+    best = SimpleNamespace(names=("friction",), shrinkage=0.9)
+    assert _decide(True, None, best) == ("none", [])  # the baseline is at the noise: nothing to warn about
+    v, warn = _decide(False, None, best)
+    assert v == "unexplained" and warn == ["no effect passed the step rule (STOP)"]
+    assert _decide(False, None, None) == ("unexplained", [])  # no candidate at all: no step rule was tried
+    final = SimpleNamespace(names=("friction", "slack"), shrinkage=vd.MIN_SHRINK)
+    assert _decide(False, final, best) == ("friction+slack", [])
+    short = SimpleNamespace(names=("friction",), shrinkage=0.99 * vd.MIN_SHRINK)
+    assert _decide(False, short, best) == ("unexplained", [])
+
+
+def test_contract_ranking_best_and_chain_text_by_hand():
+    """The JSON contract: ranking = the single effects and the chain's multi-effect steps, by LOTO NRMSE; best
+    = the chain's last step (else the best single); left NRMSE = the last step's (else the baseline's);
+    chain_text = the step texts joined by arrows and the dB left; private keys carry the objects."""
+    from chainid.gap.harmonic.problem import Candidate
+    from chainid.gap.core.verdict import contract
+
+    def cand(name, loto, hold, params=None):
+        c = Candidate(name, params or {}, len(params or {}), nrmse_loto=loto, nrmse_holdout=hold)
+        return c
+
+    base = cand("baseline", 0.9, 0.8)
+    f = cand("friction", 0.4, 0.3, {"friction.F_c": 12.0})
+    s = cand("slack", 0.5, 0.6, {"slack.s": 0.1})
+    fs = cand("friction+slack", 0.2, 0.1, {"friction.F_c": 11.0, "slack.s": 0.05})
+    prob = SimpleNamespace(law="viscous", law_reason="given")
+    model = SimpleNamespace(name="chain")
+    fwd = {"path": [base, f, fs], "singles": [s, f], "stop": "S", "dropped": []}
+    out = contract(prob, model, base, {"noise_sigma_N": 2.0}, fwd, "friction+slack", "", {"db_over_noise": 1.26},
+                   [], [], [], [], ["h"], [])
+    assert [r["effect"] for r in out["ranking"]] == ["friction+slack", "friction", "slack"]
+    assert out["best"]["effect"] == "friction+slack" and out["left_nrmse_holdout"] == 0.1
+    assert [st["effect"] for st in out["steps"]] == ["baseline", "friction", "slack"]
+    # each step names its newest effect with that effect's parameters at the step's fit
+    assert out["chain_text"] == ("baseline [held-out NRMSE 0.8] → friction F_c = 12 N [held-out NRMSE 0.3] → "
+                                 "slack s = 0.05 mm [held-out NRMSE 0.1] → residual 1.3 dB over noise")
+    assert out["baseline"]["model"] == "chain" and out["baseline"]["damping_law"] == "viscous"
+    assert out["baseline"]["noise_sigma_N"] == 2.0 and out["mechanism"] == "friction+displacement offset"
+    assert out["_best"] is fs and out["_path"] == [base, f, fs] and out["_problem"] is prob
+    none = contract(prob, model, base, {}, {"path": [base], "singles": [s, f], "stop": "S", "dropped": []}, "none",
+                    "", {"db_over_noise": 0.0}, [], [], [], [], ["h"], [])
+    assert none["best"]["effect"] == "friction" and none["left_nrmse_holdout"] == 0.8
+    assert none["steps"][0]["effect"] == "baseline" and len(none["steps"]) == 1
+    empty = contract(prob, model, base, {}, {"path": [base], "singles": [], "stop": "S", "dropped": []}, "none",
+                     "", {"db_over_noise": 0.0}, [], [], [], [], ["h"], [])
+    assert empty["best"] is None and empty["_best"] is None
+
+
+def _nonstat(change):
+    return {"stationary": False, "trend_change_N": change, "finding": "non-stationary: X"}
+
+
+def test_verdict_a_drift_of_a_quarter_of_the_residual_is_unexplained():
+    """`unexplained` when what is left drifts by at least NONSTAT_FRACTION = 1/4 of the baseline's systematic
+    residual (8 N here: 2 N is the limit); a smaller drift keeps the named chain with a warning; the finding goes
+    first in `where`."""
+    from chainid.gap.core import verdict as vd
+
+    final = SimpleNamespace(names=("friction",), shrinkage=0.8, at_bound=())
+    for change, want in ((2.0, "unexplained"), (1.99, "friction")):
+        where, warn = [{"finding": "old"}], []
+        v = vd.decide(False, final, _nonstat(change), 8.0, [None, final], {"stop": "S"}, where, warn)
+        assert v == want
+        assert where[0] == {"finding": "non-stationary: X", "kind": "nonstationary", "trend_change_N": change,
+                            "score": change} and where[1] == {"finding": "old"}
+        msg = ("non-stationary: X; the static effects friction absorb part of it, but what is left drifts with "
+               "time")
+        if want == "unexplained":
+            msg += " (trend change 2 N over the window vs systematic residual 8 N: no confident name)"
+        assert warn == [msg]
+    # no chain: the drift is all there is
+    warn = []
+    assert vd.decide(False, None, _nonstat(0.1), 8.0, [None], {"stop": "S"}, [], warn) == "unexplained"
+    assert warn == ["non-stationary: X; no static effect can explain it"]
+    # the baseline at the noise floor: `none`, no drift warning (the finding is still listed)
+    warn, where = [], []
+    assert vd.decide(True, final, _nonstat(5.0), 8.0, [None, final], {"stop": "S"}, where, warn) == "none"
+    assert warn == [] and where[0]["kind"] == "nonstationary"
+
+
+def test_verdict_warns_of_each_step_with_a_parameter_at_its_bound():
+    from chainid.gap.core import verdict as vd
+
+    s1 = SimpleNamespace(name="friction", at_bound=("friction.x_s",))
+    s2 = SimpleNamespace(name="slack", at_bound=())
+    s3 = SimpleNamespace(name="backlash", at_bound=("backlash.b", "backlash.k"), names=("friction", "slack",
+                         "backlash"), shrinkage=0.9)
+    warn = []
+    stat = {"stationary": True, "trend_change_N": 0.0, "finding": ""}
+    assert vd.decide(False, s3, stat, 1.0, [s1, s1, s2, s3], {"stop": "S"}, [], warn) == "friction+slack+backlash"
+    tail = ("at the bound of their physical range; the effect's form may not match the data there (read the value "
+            "as a limit, not an estimate)")
+    # path[0] is the baseline: not warned about even if it had a bound
+    assert warn == [f"friction: parameter(s) friction.x_s {tail}", f"backlash: parameter(s) backlash.b, backlash.k {tail}"]

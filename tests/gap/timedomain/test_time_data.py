@@ -1,0 +1,122 @@
+"""Records prepared for the time-domain route (chainid.gap.timedomain.data): input checks, blocks, reversals and
+travel, the undamped force of each effect, by hand.  Units s, mm, N."""
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from chainid.model.base import LinearModel
+
+
+def test_time_domain_record_checks_and_split_errors():
+    """The time-domain route's input checks name the test and the valid range: >= 64 samples, finite values,
+    t strictly increasing, blocks 1 … n // 16; a split needs something held out and >= 3 training units."""
+    from chainid.gap.timedomain.data import MIN_SAMPLES, prepare_time
+    from chainid.gap.timedomain.problem import AnyProblem
+    from chainid.records.record import Record
+
+    n = 160
+    t = np.arange(n) / 100.0
+    x = 2.0 + 0.1 * np.sin(2 * np.pi * 1.3 * t) + 0.05 * np.sin(2 * np.pi * 3.1 * t)
+    F = 1000.0 * x
+
+    def rec(name="r", tt=t, xx=x, FF=F):
+        return Record(name, tt, xx, FF)
+
+    with pytest.raises(ValueError, match=rf"test 'r': 63 samples; the time-domain route needs >= {MIN_SAMPLES}"):
+        prepare_time(rec(tt=t[:63], xx=x[:63], FF=F[:63]), 1)
+    bad = F.copy()
+    bad[5] = np.nan
+    with pytest.raises(ValueError, match="test 'r': non-finite t, x or F"):
+        prepare_time(SimpleNamespace(test="r", t=t, x=x, F=bad), 1)  # (a Record refuses NaN itself)
+    tt = t.copy()
+    tt[10] = tt[9]
+    with pytest.raises(ValueError, match="test 'r': t must be strictly increasing"):
+        prepare_time(SimpleNamespace(test="r", t=tt, x=x, F=F), 1)
+    for nb in (0, 11):
+        with pytest.raises(ValueError, match=rf"blocks per record = {nb} is out of range for test 'r'; valid range "
+                                             r"1 to 10"):
+            prepare_time(rec(), nb)
+    assert prepare_time(rec(), 10).n_blocks == 10
+    data = [prepare_time(rec(f"r{i}"), 1) for i in range(3)]
+    with pytest.raises(ValueError, match="nothing is held out: give --holdout IDS"):
+        AnyProblem(data, LinearModel(1000.0, 0.0), [], 0)
+    with pytest.raises(ValueError, match=r"the split leaves 2 training unit\(s\) \(time blocks \+ harmonic tests\); "
+                                         "at least 3 are needed"):
+        AnyProblem(data, LinearModel(1000.0, 0.0), ["r0"], 0)
+
+
+def test_reversals_travel_and_blocks_by_hand():
+    from chainid.gap.timedomain.data import reversals, split_blocks, travel_since_reversal
+
+    xd = np.array([1.0, 2.0, 0.0, -1.0, -2.0, 0.0, 0.0, 3.0, 1.0])
+    assert list(reversals(xd)) == [3, 7]  # the sample after each sign change (zeros skipped)
+    assert reversals(np.array([0.0, 1.0, 0.0])).size == 0
+    x = np.array([0.0, 1.0, 2.0, 1.5, 1.0, 0.5, 0.5, 1.0, 3.0])
+    np.testing.assert_allclose(travel_since_reversal(x, xd), [0, 1, 2, 0, 0.5, 1.0, 1.0, 0, 2.0])
+    a = SimpleNamespace(test="a", n_blocks=3)
+    b = SimpleNamespace(test="b", n_blocks=2)
+    tr, ho = split_blocks([a, b], ["b"], 0)
+    assert [(d.test, k) for d, k in tr] == [("a", 0), ("a", 1), ("a", 2)]
+    assert [(d.test, k) for d, k in ho] == [("b", 0), ("b", 1)]
+    tr, ho = split_blocks([a, b], [], 2)
+    assert [(d.test, k) for d, k in tr] == [("a", 0), ("a", 1), ("b", 0)]
+    assert [(d.test, k) for d, k in ho] == [("a", 2), ("b", 1)]
+
+
+def test_undamped_force_of_each_effect_on_a_linear_spring_by_hand():
+    """F_n = m·ẍ·1e-3 + k(x − x_ref) plus: friction (F_c + μ|F_k|)·sgn-with-stick; hysteresis the Dahl operator;
+    backlash k(play(x, b/2) − x_ref) instead of k(x − x_ref); sensor_delay everything at t − τ (linear
+    interpolation); damping_law nothing; slack needs a chain model (a chain-only effect)."""
+    from chainid.gap.timedomain.data import undamped
+    from chainid.model.effects import dahl_operator, play_operator, stick_slip
+
+    t = np.linspace(0.0, 2.0, 401)
+    x = 1.0 + 0.3 * np.sin(2 * np.pi * t)
+    xd = 0.6 * np.pi * np.cos(2 * np.pi * t)
+    xdd = -1.2 * np.pi ** 2 * np.sin(2 * np.pi * t)
+    d = SimpleNamespace(t=t, x=x, xd=xd, xdd=xdd)
+    k, xr, m = 100.0, 0.2, 50.0
+    spring = LinearModel(k, xr, mass=m)
+    Fk = k * (x - xr)
+    base = m * xdd * 1e-3 + Fk
+    F, v = undamped([], {}, spring, d)
+    np.testing.assert_allclose(F, base, rtol=1e-12)
+    np.testing.assert_array_equal(v, xd)
+    F, _ = undamped(["friction"], {"friction.F_c": 5.0, "friction.mu": 0.01}, spring, d)
+    np.testing.assert_allclose(F, base + (5.0 + 0.01 * np.abs(Fk)) * stick_slip(x, xd, 0.0, periodic=False),
+                               rtol=1e-12)
+    F, _ = undamped(["hysteresis"], {"hysteresis.F_h": 7.0, "hysteresis.x_h": 0.05}, spring, d)
+    np.testing.assert_allclose(F, base + dahl_operator(x, 7.0, 0.05, periodic=False), rtol=1e-12)
+    F, _ = undamped(["backlash"], {"backlash.b": 0.1}, spring, d)
+    np.testing.assert_allclose(F, m * xdd * 1e-3 + k * (play_operator(x, 0.05, periodic=False) - xr), rtol=1e-12)
+    with pytest.raises(ValueError, match="effect 'slack' needs a chain model"):  # slack is chain-only
+        undamped(["slack"], {"slack.s": 0.04}, spring, d)
+    F, v = undamped(["sensor_delay", "damping_law"], {"sensor_delay.tau": 0.01}, spring, d)
+    xl, xdl, xddl = (np.interp(t - 0.01, t, y) for y in (x, xd, xdd))
+    np.testing.assert_allclose(F, m * xddl * 1e-3 + k * (xl - xr), rtol=1e-12)
+    np.testing.assert_allclose(v, xdl, rtol=1e-12)
+    idx = np.array([3, 50, 200])
+    F, v = undamped(["hysteresis"], {"hysteresis.F_h": 7.0, "hysteresis.x_h": 0.05}, spring, d, idx)
+    np.testing.assert_allclose(F, (base + dahl_operator(x, 7.0, 0.05, periodic=False))[idx], rtol=1e-12)
+
+
+def test_time_data_blocks_and_properties():
+    """Blocks contiguous in time, sample i in block floor(i·K/n); A half the range, x0 the mean, ω the spectral
+    peak of x; the fit subset every q-th sample with q = min(fs/(40·band), ceil(n/4000)) (at least 1)."""
+    from chainid.gap.timedomain.data import prepare_time
+    from chainid.records.record import Record
+
+    n, fs = 1000, 200.0
+    t = np.arange(n) / fs
+    x = 2.0 + 0.5 * np.sin(2 * np.pi * 2.0 * t)
+    d = prepare_time(Record("r", t, x, 100.0 * x), 3)
+    assert list(d.block) == [min(i * 3 // n, 2) for i in range(n)]
+    assert d.A == pytest.approx(0.5 * np.ptp(d.x)) and d.x0 == pytest.approx(float(np.mean(d.x)))
+    assert d.omega == pytest.approx(2 * np.pi * 2.0, rel=0.03)
+    q = max(1, min(int(fs / (40 * d.f_band)), int(math.ceil(n / 4000))))
+    assert list(d.fit_idx) == list(range(0, n, q))
+    assert d.window == f"time domain, {n} samples, band {d.f_band:.3g} Hz, 3 blocks"
