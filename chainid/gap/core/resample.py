@@ -12,7 +12,8 @@ tests and contiguous blocks, never single samples).  On every resample:
 
 A step is *confident* when its stability is at least :data:`CONFIDENT`.  The resamples run on a pool of forked
 worker processes (the problem is inherited, not copied) when there are more than one core and at least
-:data:`POOL_MIN` resamples.
+:data:`POOL_MIN` resamples, and in this process otherwise: inside a daemonic worker (a benchmark's pool, a dask
+worker), which may not have children and whose cores are already taken.
 
 Units: each parameter's own.
 """
@@ -104,11 +105,12 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
     _JOB.clear()
     _JOB.update(prob=prob, hooks=hooks, cache=fwd["_cache"], base=fwd["path"][0], mult=mult, steps=list(steps),
                 max_effects=max_effects)
-    workers = workers if workers is not None else (os.cpu_count() or 1)
-    try:
-        if workers > 1 and n >= POOL_MIN:
-            import multiprocessing as mp
+    import multiprocessing as mp
 
+    workers = workers if workers is not None else (os.cpu_count() or 1)
+    nested = mp.current_process().daemon  # a worker of a benchmark's pool: no children allowed, the cores are taken
+    try:
+        if workers > 1 and n >= POOL_MIN and not nested:
             with mp.get_context("fork").Pool(min(workers, n)) as pool:
                 out = pool.map(_one, range(n), chunksize=max(1, n // (4 * workers)))
         else:
