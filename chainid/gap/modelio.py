@@ -43,7 +43,12 @@ from chainid.gap.harmonic.prepare import Unusable, prepare_test
 
 
 def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> AugmentedModel:
-    """The augmented model of a scored candidate (a diagnosis step) on problem ``prob`` (either route)."""
+    """The augmented model of a scored candidate (a diagnosis step) on problem ``prob`` (either route).
+
+    A harmonic-route step's damping is its c_e law with the per-test c_e of the training tests [N·s/mm] and k_e
+    [N/mm] the diagnosis baseline's stiffness (a linear baseline's k; a chain's: None, the chain at x0): the k_e
+    the law was fitted with, not the step's refitted spring ``spring.k``.
+    """
     p = cand.params
     names = [e for e in dict.fromkeys(n.split("@", 1)[0] for n in cand.names) if "." not in e]  # effects of the terms
     effects = [(n, {k.split(".", 1)[1]: float(v) for k, v in p.items() if k.startswith(n + ".") and "@" not in k})
@@ -63,7 +68,8 @@ def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> A
     ev = getattr(cand, "_ev", {})
     train = {d.test for d in prob.train}
     per_test = {t: float(c) for t, c in ev.get("c_e", {}).items() if t in train}
-    k_e = None if prob.is_chain else float(prob.model_for(p).k)  # the law's k_e is the diagnosis baseline's
+    # the law's k_e is the diagnosis baseline's (Problem.ke, which the law was fitted with), not the refitted spring's
+    k_e = None if prob.is_chain else float(prob.model.k)
     damping = Damping("law", law=cand.law, coefficients=[float(v) for v in cand.law_params], k_e=k_e,
                       per_test=per_test)
     return AugmentedModel(prob.model_for(p), effects, damping, delay, info=info)

@@ -85,7 +85,8 @@ def test_phase_route_figures_show_the_results_numbers(tmp_path, figs):
         assert [a.get_color() for a in ax.texts] == ["k" if v > 0.6 * vmax else "w" for v in want]
         red = [tuple(c) for c in sc.get_edgecolors()]
         assert sum(c[:3] == (1.0, 0.0, 0.0) for c in red) == 2  # the two held-out tests
-    assert ax1.get_title() == "with friction (red edge: held-out)"
+    assert res["verdict"] == "friction" and len(res["steps"]) == 2  # the chain whose NRMSE the right panel shows
+    assert ax1.get_title() == "NRMSE after the chain (red edge: held-out)"
     assert {a.get_color() for a in ax0.texts + ax1.texts} == {"k", "w"}
     # the residual's systematic excess is sqrt(max(r2 − f2, 0)) and its dB 10·log10(r2/f2): below the floor
     # (friction leaves less than the noise, r2 < f2, dB < 0) the excess is 0
@@ -108,16 +109,19 @@ def test_phase_route_figures_show_the_results_numbers(tmp_path, figs):
 # ---------------------------------------------------------------- the time-route figures show the result's numbers
 @pytest.mark.slow
 def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, figs):
-    """heatmap.png: one pair of bars per record at x ∓ 0.2 (width 0.4), heights the JSON ``tests`` NRMSE before
-    and after; loops.png: the held-out record's held-out samples only (measured F over x); residual_phase.png:
-    the held-out time span shaded; residual_surface.png: the baseline residual over (x, ẋ), colour scale ± its
-    99th percentile of |r|."""
+    """The time route's files (TIME_PLOTS: no heatmap.png, no residual_phase.png); records.png: one pair of bars
+    per record at x ∓ 0.2 (width 0.4), heights the JSON ``tests`` NRMSE before and after; loops.png: the held-out
+    record's held-out samples only (measured F over x); residual_time.png: the held-out time span shaded;
+    residual_surface.png: the baseline residual over (x, ẋ), colour scale ± its 99th percentile of |r|."""
     from chainid.gap.plots import make_plots
 
     res = time_friction
-    make_plots(res, tmp_path / "p")
+    paths = make_plots(res, tmp_path / "p")
+    assert [p.name for p in paths] == ["loops.png", "residual_time.png", "residual_surface.png", "records.png",
+                                       "waterfall.png", "open_world.png"]
+    assert sorted(p.name for p in (tmp_path / "p").iterdir()) == sorted(p.name for p in paths)
     tests = res["tests"]
-    ax = figs["heatmap.png"].axes[0]
+    ax = figs["records.png"].axes[0]
     bars = ax.patches
     assert len(bars) == 2 * len(tests)
     for i, t in enumerate(tests):
@@ -134,8 +138,8 @@ def test_time_route_figures_show_the_results_numbers(time_friction, tmp_path, fi
     assert loops["r2"].get_title() == "r2 (held-out samples)" and loops["r0"].get_title() == "r0 (training)"
     np.testing.assert_array_equal(loops["r2"].lines[0].get_ydata(), d.F[held])
     np.testing.assert_array_equal(loops["r0"].lines[0].get_ydata(), data["r0"].F)
-    spans = figs["residual_phase.png"].axes[2].patches
-    assert len(spans) == 1 and not figs["residual_phase.png"].axes[0].patches
+    spans = figs["residual_time.png"].axes[2].patches
+    assert len(spans) == 1 and not figs["residual_time.png"].axes[0].patches
     sp = spans[0]  # a Rectangle (matplotlib >= 3.9) or a Polygon (older)
     xs = [sp.get_x(), sp.get_x() + sp.get_width()] if hasattr(sp, "get_width") else np.asarray(sp.get_xy())[:, 0]
     assert (min(xs), max(xs)) == (pytest.approx(d.t[held].min()), pytest.approx(d.t[held].max()))

@@ -50,7 +50,8 @@ def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = ()
 
 
 def waterfall(result: dict[str, Any]) -> list[str]:
-    """The explanation chain as table lines: step, effect, held-out NRMSE, shrinkage, dB over noise, params."""
+    """The explanation chain as table lines: step, effect, held-out NRMSE, held-out fit % ("n/a" for a step
+    without one), shrinkage, dB over noise, params."""
     lines = [f"  {'step':<5} {'+ effect':<20} {'LOTO':>8} {'held-out':>9} {'fit %':>6} {'shrink':>7} {'dB/noise':>8}"
              "  parameters"]
     kept = result.get("trusted_steps", len(result.get("steps", [])))
@@ -59,7 +60,7 @@ def waterfall(result: dict[str, Any]) -> list[str]:
                 else "  << raised the held-out error alone (kept: the next step(s) take it lower)")
         fit = st.get("fit_holdout_pct")
         lines.append(f"  {i:<5} {st['effect']:<20} {st['nrmse_loto']:>8.4g} {st['nrmse_holdout']:>9.4g} "
-                     f"{(fit if fit is not None else float('nan')):>6.1f} {100 * (st['shrinkage'] or 0):>6.1f}% "
+                     f"{f'{fit:.1f}' if fit is not None else 'n/a':>6} {100 * (st['shrinkage'] or 0):>6.1f}% "
                      f"{st['db_over_noise']:>8.1f}  "
                      f"{_params(st['params'], st.get('params_sd'), st.get('at_bound', ()))}{mark}")
     r = result.get("residual") or {}
@@ -81,7 +82,11 @@ def _left(result: dict[str, Any]) -> str:
 
 
 def summary(result: dict[str, Any], n_rank: int = 6) -> str:
-    """Readable terminal summary: where, which (the explanation chain), how much, what is left."""
+    """Readable terminal summary: where, which (the explanation chain), how much, what is left.
+
+    How much is the kept chain's held-out NRMSE (``left_nrmse_holdout``, dimensionless) against the baseline's; a
+    result without that number (or with None) prints "n/a" for it and its shrinkage.
+    """
     b = result["baseline"]
     lines = [
         f"Baseline ({b['model']}, damping law: {b['damping_law']}): NRMSE train {b['nrmse_train']:.4g}, "
@@ -124,10 +129,11 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
         lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")
     else:
         lines.append(f"VERDICT: {v} — {result.get('chain_text', '')}")
-        left = result.get("left_nrmse_holdout")
-        shrink = 1.0 - left / b["nrmse_holdout"] if left is not None and b["nrmse_holdout"] else float("nan")
-        lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {left:.4g} (shrinkage {100 * shrink:.0f} %); "
-                     f"{_left(result)}")
+        left = result.get("left_nrmse_holdout")  # absent from a result made before it was in the contract
+        known = left is not None and math.isfinite(left)
+        shrink = (f"{100 * (1.0 - left / b['nrmse_holdout']):.0f} %" if known and b["nrmse_holdout"] else "n/a")
+        lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {f'{left:.4g}' if known else 'n/a'} "
+                     f"(shrinkage {shrink}); {_left(result)}")
     for cd in result.get("covariate_dependence") or []:
         lines.append(f"  operating condition: {cd['text']}")
     ow = result.get("open_world") or {}

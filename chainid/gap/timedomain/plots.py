@@ -1,10 +1,11 @@
 """Figures of ``chainid diagnose --plots DIR`` for the time-domain route (:data:`chainid.gap.plots.TIME_PLOTS`).
 
 loops.png — measured F(x) with the baseline and the final model, over each record's held-out samples;
-residual_phase.png — the residual over time per record (baseline and final model; held-out part marked);
+residual_time.png — the residual over time per record (baseline and final model; held-out part marked);
 residual_surface.png — the baseline residual over (x, ẋ) (multi-valued = memory);
-heatmap.png — NRMSE per record before / after (bars);
+records.png — NRMSE per record before / after (bars);
 waterfall.png — the explanation chain (as the harmonic route).
+(open_world.png, of both routes, is drawn by :func:`chainid.gap.plots.make_plots`.)
 
 Units: mm, N, s.
 """

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import pytest
+
 from chainid.gap.core import interpret
 
 
@@ -67,20 +69,31 @@ def test_interpretation_dahl_and_stiffness_level_by_hand():
 
 
 def test_step_dict_is_the_json_contract_of_a_step():
+    """The step's keys (docs/guide/trust.md): non-finite numbers None, spring.* parameters left out; the held-out
+    fit % = 100·(1 − NRMSE_holdout), the residual over noise 10^(dB/20) (3 dB: 1.41254) and ``worsened_holdout``
+    when the step's held-out NRMSE is above the step before's."""
     from chainid.gap.core.interpret import step_dict
 
     c = SimpleNamespace(names=("friction", "slack"), params={"spring.k": 1.0, "friction.F_c": 3.0, "slack.s": 0.1},
                         param_sd={"friction.F_c": float("nan"), "slack.s": 0.01, "spring.k": 0.5}, law="viscous",
                         nrmse_loto=0.1, nrmse_holdout=float("inf"), shrinkage=0.7, db_holdout=3.0,
                         step_test={"z": 4.5, "relative_gain": 0.3}, at_bound=("slack.s",))
-    assert step_dict(c, 2) == {
+    d = step_dict(c, 2)
+    assert d.pop("residual_over_noise") == pytest.approx(1.4125375446, rel=1e-9)
+    assert d == {
         "effect": "slack", "effects": ("friction", "slack"), "params": {"friction.F_c": 3.0, "slack.s": 0.1},
         "params_sd": {"friction.F_c": None, "slack.s": 0.01}, "damping_law": "viscous", "nrmse_loto": 0.1,
         "nrmse_holdout": None, "shrinkage": 0.7, "db_over_noise": 3.0, "z_loto": 4.5, "relative_gain_loto": 0.3,
-        "at_bound": ["slack.s"]}
+        "at_bound": ["slack.s"], "fit_holdout_pct": None, "worsened_holdout": False}
     c.step_test = {}
     d = step_dict(c, 0)
     assert d["effect"] == "baseline" and d["z_loto"] is None and d["relative_gain_loto"] is None
+    # a finite held-out NRMSE 0.25 after a step at 0.2: fit 75 %, worse than the step before; at 0.3 before: not
+    c.nrmse_holdout, c.db_holdout = 0.25, float("nan")
+    d = step_dict(c, 1, SimpleNamespace(nrmse_holdout=0.2))
+    assert d["fit_holdout_pct"] == pytest.approx(75.0, rel=1e-12) and d["residual_over_noise"] is None
+    assert d["worsened_holdout"] is True
+    assert step_dict(c, 1, SimpleNamespace(nrmse_holdout=0.3))["worsened_holdout"] is False
 
 
 def test_mechanism_names_and_separating_tests():

@@ -43,23 +43,38 @@ TABLE = {("friction",): (0.5, (25.0, 25.0, 16.0), (), 1),
 
 def test_forward_selection_stops_on_an_immaterial_step_by_hand(monkeypatch):
     """Step 1: friction lowers the LOTO NRMSE by 50 % with g_i = ½ln(100/25), ½ln(100/25), ½ln(100/16) (all > 0,
-    mean far above 2 SE): kept; slack (5 %) is not material.  Step 2: slack on top lowers it by 4 %: the chain
-    stops, and the stop text gives the numbers of the rule."""
+    mean far above 2 SE): kept; slack (5 %) is not material.  Step 2: slack on top lowers it by 4 % (1 − 0.48/0.5)
+    with a mean log error ratio above 2 SE: significant but not material, the chain stops, and the stop text names
+    the best rejected candidate and the rule it failed with its numbers.  With slack on top at 0.40 (20 %, material)
+    but carried by one test (g = ½ln(25/10), 0, 0: mean = SE, not > 2 SE) it stops as not significant."""
     sel, base, calls = _world(monkeypatch, TABLE)
     out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
     assert [c.names for c in out["path"]] == [[], ["friction"]]
     assert sorted(c.name for c in out["singles"]) == ["friction", "slack"]
     g = 0.5 * np.log(np.array([25.0, 25.0, 16.0]) / [24.0, 24.0, 15.0])
     se = float(np.std(g, ddof=1)) / math.sqrt(3)
-    assert out["stop"] == (f"no significant improvement: best next effect slack lowers the LOTO NRMSE by 4.0 % (mean "
-                           f"log error ratio over tests {g.mean():.3g}, jack-knife SE {se:.2g}; needs > 2 SE and >= "
-                           "10 %)")
+    assert g.mean() > 2 * se  # significant: the rule it fails is materiality (4 % < 10 %)
+    assert out["stop"] == ("no next effect passes the step rule: the best by LOTO, slack (LOTO NRMSE 0.48), was not "
+                           "taken: not material: lowers the LOTO NRMSE by 4.0 % (needs >= 10 %)")
+    (rej,) = out["rejected"]
+    assert (rej["effect"], rej["nrmse_loto"]) == ("slack", 0.48)
+    assert rej["relative_gain_loto"] == pytest.approx(1 - 0.48 / 0.5, rel=1e-12)
     st = out["path"][1].step_test
     g1 = 0.5 * np.log(100.0 / np.array([25.0, 25.0, 16.0]))
     assert st["delta_loto"] == pytest.approx(g1.mean(), rel=1e-12)
     assert st["se_jackknife"] == pytest.approx(np.std(g1, ddof=1) / math.sqrt(3), rel=1e-12)
     assert st["relative_gain"] == pytest.approx(0.5, rel=1e-12)
     assert out["confounded"] == [] and out["dropped"] == [] and out["swapped"] == []
+    one = dict(TABLE) | {("friction", "slack"): (0.40, (10.0, 25.0, 16.0), (), 2)}
+    g = 0.5 * np.log(np.array([25.0, 25.0, 16.0]) / [10.0, 25.0, 16.0])
+    se = float(np.std(g, ddof=1)) / math.sqrt(3)
+    assert g.mean() == pytest.approx(se, rel=1e-12)  # not > 2 SE
+    sel, base, _ = _world(monkeypatch, one)
+    out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
+    assert [c.names for c in out["path"]] == [[], ["friction"]]
+    assert out["stop"] == ("no next effect passes the step rule: the best by LOTO, slack (LOTO NRMSE 0.4), was not "
+                           f"taken: not significant over the training units: mean log error ratio {g.mean():.3g}, "
+                           f"jack-knife SE {se:.2g} (needs > 2 SE)")
 
 
 def test_forward_selection_stop_reasons(monkeypatch):
@@ -75,9 +90,18 @@ def test_forward_selection_stop_reasons(monkeypatch):
                             ("slack",): (0.95, (90.0, 90.0, 90.0), ("slack.p",), 1)}
     sel, base, _ = _world(monkeypatch, pinned)
     out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
-    assert out["stop"] == ("the best next effect friction needs parameters at the bounds of their physical range: "
-                           "its form does not fit what is left")
+    assert out["stop"] == ("no next effect passes the step rule: the best by LOTO, friction (LOTO NRMSE 0.5), was not "
+                           "taken: parameter(s) friction.p at the bound of their physical range: its form does not fit "
+                           "what is left")
     assert len(out["path"]) == 1 and len(out["singles"]) == 2
+    # the best identified one (no parameter at a bound) is named too when it is another: slack, 1 − 0.95 = 5 %
+    sel, base, _ = _world(monkeypatch, pinned | {("slack",): (0.95, (90.0, 90.0, 90.0), (), 1)})
+    out = sel.forward_select(None, ["friction", "slack"], base, 1.0)
+    assert out["stop"] == ("no next effect passes the step rule: the best by LOTO, friction (LOTO NRMSE 0.5), was not "
+                           "taken: parameter(s) friction.p at the bound of their physical range: its form does not fit "
+                           "what is left; the best identified one, slack (LOTO NRMSE 0.95): not material: lowers the "
+                           "LOTO NRMSE by 5.0 % (needs >= 10 %)")
+    assert len(out["path"]) == 1
 
 
 def test_forward_selection_near_tie_is_confounded_and_look_ahead_takes_the_runner_up(monkeypatch):

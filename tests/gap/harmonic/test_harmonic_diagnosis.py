@@ -264,8 +264,8 @@ def test_cli_json_contract(tmp_path):
 
 @pytest.mark.slow
 def test_plots(tmp_path, monkeypatch):
-    """The four figures show the data they claim: held-out loops over x0 ± A, residuals over a 0–360° phase,
-    and the (ω, A) plan in the heat map."""
+    """The harmonic route's six files (HARMONIC_PLOTS); the figures show the data they claim: held-out loops over
+    x0 ± A, residuals over a 0–360° phase, the (ω, A) plan in the heat map, the open-world check's three states."""
     import matplotlib.figure
 
     from chainid.gap.plots import make_plots
@@ -283,9 +283,20 @@ def test_plots(tmp_path, monkeypatch):
     res = diagnose(records("backlash:b=0.02"), HOLD, MODEL, max_combo=1, uncertainty=False)
     paths = make_plots(res, tmp_path / "figs")
     assert [p.name for p in paths] == ["loops.png", "residual_phase.png", "residual_surface.png", "heatmap.png",
-                                     "waterfall.png"]
+                                     "waterfall.png", "open_world.png"]
     assert all(p.is_file() for p in paths)
+    # the model-free check: partial dependence of what is left on x, ẋ and the travel since reversal
+    ow = figs["open_world.png"]
+    assert [a.get_xlabel() for a in ow.axes] == ["x [mm]", "ẋ [mm/s]", "travel since reversal [mm]"]
+    assert ow.axes[0].get_ylabel() == "predicted residual [N]"
+    assert res["open_world"]["_model"] is not None  # a learner fitted: one partial-dependence line + the zero line
+    assert all(len(a.lines) == 2 for a in ow.axes)
+    share = res["open_world"]["predictable_share"]
+    assert ow._suptitle.get_text().endswith(f"(held-out predictable share {100 * share:.0f} %)")
     spec = {t.test: t for t in plan()}
+    gx = ow.axes[0].lines[0].get_xdata()  # its x grid lies within the plan's strokes x0 ± A
+    lo, hi = min(s.x0 - s.A for s in spec.values()), max(s.x0 + s.A for s in spec.values())
+    assert lo - 0.01 * (hi - lo) <= gx.min() < gx.max() <= hi + 0.01 * (hi - lo)
     # loops: one panel per held-out test; the measured loop spans x0 ± A (bin means of x: within 1 %)
     axs = figs["loops.png"].axes
     assert len(axs) == len(HOLD)

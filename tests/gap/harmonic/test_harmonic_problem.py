@@ -141,23 +141,36 @@ def test_problem_holdout_errors():
 
 def test_problem_keys_spring_bounds_and_no_damping_law_parameters_by_hand():
     """A linear baseline re-fits its spring: k in [0, max(10·k0, 10·F_scale/x_scale)], x_ref within ± 2·x_scale;
+    with ``fit_mass`` also its mass m in [0, 10·F_scale·1e3/(x_scale·ω_max²)] kg (m·ω²·1e-3 up to 10·F/x N/mm);
     ``damping_law`` has no fitted effect parameters (its law coefficients are the damping fit's), also when its
-    name is a string built at run time (read from a command line), not the interned literal."""
+    name is a string built at run time (read from a command line), not the interned literal.  On a linear base the
+    load-dependent friction μ is held (``identifiable``: μ·|F_k| needs the chain's own spring force); on a chain
+    base every friction parameter is fitted."""
     from chainid.gap.harmonic.problem import Problem
     from chainid.model.effects import EFFECT_NAMES, make_effect
 
     effects = {n: make_effect(n, 100.0, 0.5, 10.0) for n in EFFECT_NAMES}
     fake = SimpleNamespace(_spring_start=lambda: {"spring.k": 30.0, "spring.x_ref": 1.0}, x_scale=0.5,
-                           F_scale=100.0, effects=effects)
+                           F_scale=100.0, effects=effects, fit_mass=False, is_chain=False, omega_max=10.0)
     law = "".join(["damping", "_law"])
     keys, lo, hi, x0 = Problem._keys(fake, [law, "friction"])
     fr = effects["friction"]
-    assert keys == ["spring.k", "spring.x_ref"] + [f"friction.{k}" for k in fr.param_names]
+    assert fr.param_names == ("F_c", "mu", "x_s")
+    keep = [0, 2]  # F_c and x_s; mu held on a linear base
+    assert keys == ["spring.k", "spring.x_ref", "friction.F_c", "friction.x_s"]
     # 10·k0 = 300 < 10·F/x = 2000
     assert lo[:2] == [0.0, 1.0 - 2 * 0.5] and hi[:2] == [2000.0, 1.0 + 2 * 0.5] and x0[:2] == [30.0, 1.0]
-    assert lo[2:] == [b[0] for b in fr.bounds] and hi[2:] == [b[1] for b in fr.bounds]
-    assert x0[2:] == list(fr.x0_guess)
+    assert lo[2:] == [fr.bounds[i][0] for i in keep] and hi[2:] == [fr.bounds[i][1] for i in keep]
+    assert x0[2:] == [fr.x0_guess[i] for i in keep]
+    fake.fit_mass = True  # m ≤ 10·100·1e3/(0.5·10²) = 20000 kg, started at 0
+    keys, lo, hi, x0 = Problem._keys(fake, [])
+    assert keys == ["spring.k", "spring.x_ref", "spring.m"]
+    assert (lo[2], hi[2], x0[2]) == (0.0, pytest.approx(20000.0, rel=1e-12), 0.0)
+    fake.fit_mass = False
     fake.effects, fake.F_scale = effects, 1.0  # 10·k0 = 300 > 10·1/0.5 = 20
     assert Problem._keys(fake, [])[2] == [300.0, 2.0]
-    fake._spring_start = lambda: {}  # a chain baseline: no spring parameters
+    fake._spring_start, fake.is_chain = (lambda: {}), True  # a chain baseline: no spring parameters
     assert Problem._keys(fake, [law]) == ([], [], [], [])
+    keys, lo, hi, x0 = Problem._keys(fake, ["friction"])
+    assert keys == [f"friction.{k}" for k in fr.param_names] and x0 == list(fr.x0_guess)
+    assert lo == [b[0] for b in fr.bounds] and hi == [b[1] for b in fr.bounds]

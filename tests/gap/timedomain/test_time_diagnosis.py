@@ -76,13 +76,17 @@ def test_transfer_harmonic_to_random_and_back():
     model, rand = chain_set("hysteresis", {"F_h": 80.0, "x_h": 0.02}, seed=50)
     harm = _harmonic(model)
     res = diagnose(harm, ["5"], model, uncertainty=False, quiet=True, validate=rand)
-    assert res["verdict"] == "hysteresis"
+    assert res["route"] == "harmonic" and res["verdict"] == "hysteresis"
     tr = res["transfer"]
     assert tr["transfers"] is True and tr["pooled"]["shrinkage"] >= 0.7, tr["verdict_text"]
-    assert {r["route"] for r in tr["tests"]} == {"time"}
+    assert {r["route"] for r in tr["tests"]} == {"time"}  # random records: scored in the time domain
     back = diagnose(rand, ["r2"], model, quiet=True, validate=harm)
+    assert back["route"] == "time"
     assert back["transfer"]["transfers"] is True and back["transfer"]["pooled"]["shrinkage"] >= 0.7
-    assert {r["route"] for r in back["transfer"]["tests"]} == {"harmonic"}
+    # a time-route model scores every record of the other set in the time domain, its steady harmonic tests too
+    # (chainid.gap.transfer's docstring): all 9 tests, no phase bins
+    assert [r["test"] for r in back["transfer"]["tests"]] == [r.test for r in harm]
+    assert {r["route"] for r in back["transfer"]["tests"]} == {"time"}
 
 
 @pytest.mark.slow
@@ -100,10 +104,14 @@ def test_mixed_set_one_problem():
     model, rand = chain_set("hysteresis", {"F_h": 80.0, "x_h": 0.02}, seed=80)
     harm = _harmonic(model)
     res = diagnose(harm + rand, ["5", "r2"], model, quiet=True)
-    assert res["route"] == "mixed"
+    # a set with a record that is not a steady harmonic test takes the time route, every record sample by sample
+    # (the route rule of chainid.gap.diagnose): one problem, the harmonic tests in it
+    assert res["route"] == "time"
     assert res["verdict"] == "hysteresis", res["chain_text"]
     assert res["steps"][1]["params"]["hysteresis.F_h"] == pytest.approx(80.0, rel=0.10)
-    assert {t["route"] for t in res["tests"]} == {"time", "harmonic"}
+    assert sorted(t["test"] for t in res["tests"]) == sorted(r.test for r in harm + rand)
+    assert {t["route"] for t in res["tests"]} == {"time"}
+    assert {t["test"] for t in res["tests"] if t["split"] == "holdout"} == {"5", "r2"}
 
 
 def test_holdout_blocks_bad_values():
