@@ -21,9 +21,10 @@ def announce_and_block(folder: str) -> int:
 
 
 def announce_then_run_case(case):
-    """``chainid.gap.benchmark.run_case`` after announcing the worker (a file ``<pid>`` in the folder named by
-    the environment variable CHAINID_TEST_ANNOUNCE)."""
-    from chainid.gap.benchmark import run_case
+    """``chainid.gap.benchmark.grid.run_case`` after announcing the worker (a file ``<pid>`` in the folder named
+    by the environment variable CHAINID_TEST_ANNOUNCE).  The test sets it as ``grid.run_case`` in the parent; the
+    workers are spawned (a fresh import), so ``grid.run_case`` here is the real one."""
+    from chainid.gap.benchmark.grid import run_case
 
     d = Path(os.environ["CHAINID_TEST_ANNOUNCE"])
     if not (d / str(os.getpid())).exists():

@@ -52,13 +52,20 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
 
         from chainid.infra.progress import tracking
 
+        from chainid.records.validate import RecordWarning
+
         with tracking("chainid diagnose", quiet=getattr(args, "quiet", False)) as stages, \
-                warnings.catch_warnings():
+                warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("ignore")  # the diagnosis' warnings are in its result (printed, and in the JSON)
+            warnings.simplefilter("always", RecordWarning)  # ... the records' own are not: kept for the run's channel
             res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
                            allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
                            holdout_blocks=args.holdout_blocks, validate=other, mass_kg=args.mass,
                            resamples=args.resamples, seed=args.seed)
+        from chainid.infra.runlog import warn
+
+        for w in caught:  # a record valid but implausible for the model (a chain force that dips below zero, ...):
+            warn(str(w.message))  # on stderr and in the JSON warnings, as identify reports it
         res["timing_s"] = stages.times
         if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
             res.setdefault("warnings", []).extend(read_doc["warnings"])

@@ -34,7 +34,7 @@ import numpy as np
 
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
-from chainid.model.passivity import OperatingPoint, check_passive, describe, negative_dashpots
+from chainid.model.passivity import OperatingPoint, describe, negative_dashpots
 from chainid.model.timedamping import Damping, dominant, record_features
 from chainid.gap.core import noise as nz
 from chainid.gap.core.verdict import trusted_path
@@ -207,18 +207,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     for r in records:
         d = prepared[r.test]
         points[r.test] = _point(model, d) if d is not None else _record_point(model, r, kin[r.test])
-    bad = []
-    for r in records:  # every record at its own operating conditions (a damping may follow a covariate)
-        m = model.at_conditions(getattr(r, "covariates", None))
-        bad += negative_dashpots(m, [points[r.test]], fitted)
-        check_passive(m.baseline or m, [points[r.test]], fitted=fitted, what="the model's baseline")
-    if bad:
-        everywhere = len(bad) == len(records)
-        c = min(b[1] for b in bad)
-        raise ValueError(f"the model: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at "
-                         "every operating point of the run (a run with a negative dashpot is refused; " + (
-                             "diagnose again with another --damping-law or fewer effects" if everywhere
-                             else "--tests predicts the other tests") + ")")
+    _refuse_negative_dashpots(model, records, points, fitted)
     for r in records:
         d = prepared[r.test]
         if d is not None:
@@ -271,6 +260,25 @@ def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False, k
         F = F + float(np.mean((Fm - F)[~out])) if (~out).any() else F
     F = np.where(out, Fm, F)
     return (F, kin) if with_kinematics else F
+
+
+def _refuse_negative_dashpots(model: AugmentedModel, records: Sequence[Any], points: dict[str, OperatingPoint],
+                              fitted: bool) -> None:
+    """``predict``'s passivity rule (:mod:`chainid.model.passivity`): the model, then its baseline when it has one
+    of its own (else the model is its own baseline), each judged at every record's operating point and conditions
+    (a damping may follow a covariate); one error naming all the records where it is a negative dashpot, the
+    lowest c [N·s/mm] and where, suggesting ``--tests`` only when some records are passive."""
+    for who, pick in (("the model", lambda m: m), ("the model's baseline", lambda m: m.baseline)):
+        bad = []
+        for r in records:
+            m = pick(model.at_conditions(getattr(r, "covariates", None)))
+            bad += negative_dashpots(m, [points[r.test]], fitted) if m is not None else []
+        if bad:
+            c = min(b[1] for b in bad)
+            raise ValueError(f"{who}: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at "
+                             "every operating point of the run (a run with a negative dashpot is refused; " + (
+                                 "diagnose again with another --damping-law or fewer effects"
+                                 if len(bad) == len(records) else "--tests predicts the other tests") + ")")
 
 
 def _prepared(r: Any, ev: dict[str, Any]) -> Any:

@@ -86,7 +86,8 @@ def transfer(result: dict[str, Any], other: Sequence[Any], n_bins: int = 64,
     Parameters
     ----------
     result : dict
-        The result of :func:`chainid.gap.diagnose.diagnose` (its private ``_problem`` and ``_path``).
+        The result of :func:`chainid.gap.diagnose.diagnose` (its private ``_path``, the steps, and ``_models``,
+        the runnable model of each step that :func:`chainid.gap.modelio.attach_models` adds; ``route``).
     other : sequence of Record
         The other excitation's records (t s, x mm, F N).
 

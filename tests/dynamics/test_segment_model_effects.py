@@ -67,21 +67,31 @@ def test_memory_and_mass_effects_map_to_the_line(tmp_path):
     assert notes[2] == "the model's delay tau = 0.004 s is a measurement lag; the chain is simulated without it"
 
 
-@pytest.mark.parametrize("text, words", [
-    (_effect("hardening", k3=5.0), "effect 'hardening' is not supported by dynamics segments: a chain base has no "
-                                   "linear spring to harden"),
-    (_effect("backlash", b=0.01) + _effect("backlash", b=0.02), "effect 'backlash': a second backlash effect; "
-                                                                "valid: one"),
-    (_effect("deadband", k_d=1.0) + _effect("deadband", k_d=2.0), "a second deadband effect; valid: one"),
-    (_effect("stribeck", F_c=10.0, dF=12.0), "dF = 12 N is out of range: valid range |dF| <= F_c = 10 N"),
-    (_effect("friction", F_c=-1.0), "effect 'friction': F_c = -1.0 is out of range; valid range >= 0"),
-    (_effect("bouc_wen", F_y=5.0, n=30.0), "effect 'bouc_wen': n = 30.0 is out of range; valid range 0.1 to 20"),
-    (_effect("stiffness_level", scale=0.0), "effect 'stiffness_level': scale = 0.0 is out of range"),
+_SEG, _FILE = "--segment-model", "model file"  # who names the refusal: segment_kwargs, or the model file's schema
+
+
+@pytest.mark.parametrize("text, src, words", [
+    (_effect("hardening", k3=5.0), _SEG, "effect 'hardening' is not supported by dynamics segments: a chain base has "
+                                         "no linear spring to harden"),
+    (_effect("backlash", b=0.01) + _effect("backlash", b=0.02), _SEG, "effect 'backlash': a second backlash effect; "
+                                                                      "valid: one"),
+    (_effect("deadband", k_d=1.0) + _effect("deadband", k_d=2.0), _SEG, "a second deadband effect; valid: one"),
+    (_effect("stribeck", F_c=10.0, dF=12.0), _SEG, "dF = 12 N is out of range: valid range |dF| <= F_c = 10 N"),
+    # a parameter outside its physical range is refused by the model file's schema when the file is read (the
+    # same error in every command; ranges of docs/reference/contracts.md: friction F_c >= 0 and <= 1e9 N,
+    # bouc_wen n 0.1 to 20, stiffness_level scale 1e-3 to 1e3)
+    (_effect("friction", F_c=-1.0), _FILE, "effects[0].params.F_c = -1.0 is out of range: valid range >= 0 and "
+                                           "<= 1e+09 N"),
+    (_effect("bouc_wen", F_y=5.0, n=30.0), _FILE, "effects[0].params.n = 30.0 is out of range: valid range >= 0.1 "
+                                                  "and <= 20"),
+    (_effect("stiffness_level", scale=0.0), _FILE, "effects[0].params.scale = 0.0 is out of range: valid range "
+                                                   ">= 0.001 and <= 1000"),
 ])
-def test_refusals_name_the_effect_and_the_range(tmp_path, text, words):
+def test_refusals_name_the_effect_and_the_range(tmp_path, text, src, words):
+    p = _file(tmp_path, text)
     with pytest.raises(ValueError) as exc:
-        segment_kwargs(_file(tmp_path, text))
-    assert words in str(exc.value) and "--segment-model" in str(exc.value)
+        segment_kwargs(p)
+    assert str(exc.value).startswith(f"{src} {str(p)!r}: ") and words in str(exc.value)
 
 
 def test_covariate_terms_are_resolved_at_the_given_conditions(tmp_path):

@@ -46,6 +46,9 @@ def test_predict_names_the_negative_viscous_c_and_where():
     assert "h0, h1" in msg and "c = -2.5 N·s/mm" in msg and "is invalid: valid range >= 0 N·s/mm" in msg
     # the lowest c is the same at both tests (a constant law): the first is named, ω = 2π·0.5
     assert f"ω = {2 * math.pi * 0.5:.4g} rad/s" in msg and "A = 0.5 mm" in msg
+    # negative at every record: no other test to run, so the message does not suggest --tests
+    assert msg.startswith("the model: ") and msg.endswith("(a run with a negative dashpot is refused; diagnose again "
+                                                          "with another --damping-law or fewer effects)")
 
 
 @pytest.mark.parametrize("alpha", [0.0, C])

@@ -16,6 +16,7 @@ def test_transfer_of_the_true_model_leaves_harmonic_records_at_their_noise_floor
     from chainid.gap.harmonic.prepare import prepare_test
     from chainid.gap.harmonic.problem import Problem
     from chainid.gap.core.selection import baseline_candidate
+    from chainid.gap.modelio import step_models
     from chainid.gap.transfer import transfer
     from chainid.model.base import ChainModel
     from chainid.model.laws import ViscousLaw
@@ -27,7 +28,9 @@ def test_transfer_of_the_true_model_leaves_harmonic_records_at_their_noise_floor
     other = simulate(paper_plan(), model, ViscousLaw([2834.4]), seed=2, **kw)
     prob = Problem([prepare_test(r) for r in fit], model, ["5"])
     base = baseline_candidate(prob)
-    tr = transfer({"_problem": prob, "_path": [base]}, other)
+    result = {"_problem": prob, "_path": [base]}
+    result["_models"] = step_models(result)  # the runnable model of each step, as diagnose attaches them
+    tr = transfer(result, other)
     assert abs(tr["pooled"]["model_db_over_noise"]) < 1.0 and tr["pooled"]["model_at_noise_floor"] is True
     assert tr["transfers"] is False and tr["chain"] == "baseline"
     assert tr["verdict_text"].startswith("no effect was named on the fitting set; on the other set the baseline "
@@ -35,24 +38,32 @@ def test_transfer_of_the_true_model_leaves_harmonic_records_at_their_noise_floor
 
 
 def _fake_scores(monkeypatch, model_r2):
-    """Per (candidate, record) SSEs: baseline b, model m, after the linear refit br/mr, variance v; the model's
-    squared residual r2 against the noise floor f2 over n samples of σ = 1 N."""
+    """Per (step model, record) SSEs: baseline b, model m, after the linear refit br/mr, variance v; the model's
+    squared residual r2 against the noise floor f2 over n samples of σ = 1 N.  ``transfer`` scores the models of
+    ``result["_models"]`` (one per step of ``_path``); a third step that raised the held-out NRMSE is not the
+    verdict's chain, so its model has no scores here (scoring it fails)."""
     from chainid.gap import transfer as tr
 
     table = {("r1", "base"): (100.0, 64.0), ("r1", "final"): (16.0, 25.0),
              ("r2", "base"): (300.0, 100.0), ("r2", "final"): (20.0, 20.0)}
     var = {"r1": 400.0, "r2": 600.0}
 
-    def score(prob, cand, rec, n_bins, steady_tol):  # noqa: ANN001
-        sse, sse_r = table[(rec.test, cand.tag)]
+    def score(model, rec, n_bins, steady_tol, time_only):  # noqa: ANN001
+        sse, sse_r = table[(rec.test, model.tag)]
         return {"route": "time" if rec.test == "r1" else "harmonic", "sse": sse, "sse_refit": sse_r,
                 "var": var[rec.test], "r2": model_r2[rec.test], "f2": 100.0, "n": 100, "sigma": 1.0}
 
     monkeypatch.setattr(tr, "_score", score)
-    base = SimpleNamespace(names=(), tag="base")
-    final = SimpleNamespace(names=("friction", "slack"), tag="final")
+    base = SimpleNamespace(names=(), nrmse_holdout=0.6)
+    final = SimpleNamespace(names=("friction", "slack"), nrmse_holdout=0.2)
+    over = SimpleNamespace(names=("friction", "slack", "backlash"), nrmse_holdout=0.25)  # over-fitted
+    models = [SimpleNamespace(tag="base"), SimpleNamespace(tag="final"), SimpleNamespace(tag="over")]
     recs = [SimpleNamespace(test="r1"), SimpleNamespace(test="r2")]
-    return tr, base, final, recs
+    return tr, base, final, over, models, recs
+
+
+def _result(path, models):
+    return {"_problem": None, "_path": list(path), "_models": models[:len(path)]}
 
 
 def test_transfer_pooled_numbers_and_rule_by_hand(monkeypatch):
@@ -60,8 +71,8 @@ def test_transfer_pooled_numbers_and_rule_by_hand(monkeypatch):
     sqrt(36/1000) (shrinkage 1 − sqrt(36/400) = 0.7); refit sqrt(164/1000) → sqrt(45/1000) (shrinkage
     1 − sqrt(45/164) = 0.476 < 0.5).  The model leaves r2/f2 = (4000/200)/(200/200) = 20 (13.0 dB, not at the
     floor): it does NOT transfer.  At its noise floor (r2 = f2) the same numbers transfer."""
-    tr, base, final, recs = _fake_scores(monkeypatch, {"r1": 1000.0, "r2": 3000.0})
-    out = tr.transfer({"_problem": None, "_path": [base, final]}, recs)
+    tr, base, final, over, models, recs = _fake_scores(monkeypatch, {"r1": 1000.0, "r2": 3000.0})
+    out = tr.transfer(_result([base, final, over], models), recs)  # the verdict's chain: base, final
     r1 = out["tests"][0]
     assert r1["test"] == "r1" and r1["route"] == "time"
     assert (r1["nrmse_baseline"], r1["nrmse_model"]) == (pytest.approx(0.5), pytest.approx(0.2))
@@ -78,21 +89,21 @@ def test_transfer_pooled_numbers_and_rule_by_hand(monkeypatch):
         "baseline 0.632 → model 0.19 (shrinkage 70 %); with offset, stiffness and viscous term refitted per record "
         "0.405 → 0.212 (shrinkage 48 %); the model leaves 13.0 dB over the other set's noise; it transfers when the "
         "first reaches 50 % and the second does too or the model is at the noise floor")
-    tr, base, final, recs = _fake_scores(monkeypatch, {"r1": 100.0, "r2": 100.0})
-    out = tr.transfer({"_problem": None, "_path": [base, final]}, recs)
+    tr, base, final, over, models, recs = _fake_scores(monkeypatch, {"r1": 100.0, "r2": 100.0})
+    out = tr.transfer(_result([base, final], models), recs)
     assert out["pooled"]["model_at_noise_floor"] is True and out["transfers"] is True
     assert "TRANSFERS" in out["verdict_text"] and "noise (at its noise floor)" in out["verdict_text"]
 
 
 def test_transfer_without_a_named_effect_and_without_records(monkeypatch):
-    tr, base, final, recs = _fake_scores(monkeypatch, {"r1": 100.0, "r2": 100.0})
-    out = tr.transfer({"_problem": None, "_path": [base]}, recs)
+    tr, base, final, over, models, recs = _fake_scores(monkeypatch, {"r1": 100.0, "r2": 100.0})
+    out = tr.transfer(_result([base], models), recs)
     assert out["transfers"] is False and out["chain"] == "baseline"
     assert out["pooled"]["shrinkage"] == 0.0  # the model is the baseline
     assert out["verdict_text"] == ("no effect was named on the fitting set; on the other set the baseline leaves "
                                    "NRMSE 0.632 (0.405 after the linear refit)")
     with pytest.raises(ValueError, match="--validate: the other set has no records"):
-        tr.transfer({"_problem": None, "_path": [base, final]}, [])
+        tr.transfer(_result([base, final], models), [])
 
 
 def test_transfer_refit_removes_offset_stiffness_and_viscous_terms():
@@ -112,9 +123,9 @@ def test_validate_record_too_short_for_the_time_domain(monkeypatch):
     from chainid.gap.timedomain.data import MIN_SAMPLES
     from chainid.records.record import Record
 
-    tr, base, final, _ = _fake_scores(monkeypatch, {"r1": 1.0, "r2": 1.0})
+    tr, base, final, _, models, _ = _fake_scores(monkeypatch, {"r1": 1.0, "r2": 1.0})
     monkeypatch.undo()
     t = np.arange(20) / 100.0
     short = Record("v", t, 2.0 + 0.1 * np.sin(8 * t), 1000.0 + 10 * np.sin(8 * t))
     with pytest.raises(ValueError, match=rf"--validate: test 'v' has 20 samples; need >= {MIN_SAMPLES}"):
-        tr.transfer({"_problem": None, "_path": [base, final]}, [short])
+        tr.transfer(_result([base, final], models), [short])

@@ -235,9 +235,9 @@ def test_ctrl_c_on_a_dask_local_cluster_no_worker_traceback(tmp_path):
 def test_ctrl_c_on_benchmark_gap_exits_130_with_one_line(tmp_path):
     code = """
         import sys
-        import chainid.gap.benchmark as benchmark
+        import chainid.gap.benchmark.grid as grid
         import worker_cases
-        benchmark.run_case = worker_cases.announce_then_run_case  # each case announces its worker, then runs
+        grid.run_case = worker_cases.announce_then_run_case  # each case announces its worker, then runs
         from chainid.cli import main
         sys.exit(main(["benchmark-gap", "--small", "--scheduler", "processes", "--workers", "2", "--no-progress"]))
     """

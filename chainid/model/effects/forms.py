@@ -70,14 +70,21 @@ def sliding_sign(xd: np.ndarray, periodic: bool = True, v_err: float | np.ndarra
     """The sign of sliding friction: sgn(ẋ) with 0 at a reversal (:func:`coulomb_sign`) for exact velocities; for a
     velocity estimated with an RMS error ``v_err`` [mm/s] > 0, its expectation given the estimate,
     E[sgn(ẋ) | ẋ̂] = erf(ẋ̂/(√2·v_err)) — the least-squares force where the direction is uncertain (near a
-    reversal, at rest), instead of a full 2·F_c jump at a noise-decided sample.  ``v_err`` may vary per sample."""
+    reversal, at rest), instead of a full 2·F_c jump at a noise-decided sample.  ``v_err`` may vary per sample.
+
+    The sample at a reversal (the one :func:`coulomb_sign` sets to 0: the set-valued force at its midpoint) is 0
+    with an estimated velocity too, so the expectation tends to :func:`coulomb_sign` as ``v_err`` → 0 (an erf
+    alone gives ±1 there: one full F_c off at every reversal of a well-measured record, which a least-squares fit
+    takes up as a larger viscous c and a smaller F_c)."""
     ve = np.asarray(v_err, float)
+    hard = coulomb_sign(xd, periodic)
     if np.any(ve > 0.0):
         from scipy.special import erf
 
         soft = erf(np.asarray(xd, float) / (math.sqrt(2.0) * np.maximum(ve, 1e-300)))
-        return np.where(ve > 0.0, soft, coulomb_sign(xd, periodic)) if np.any(ve <= 0.0) else soft
-    return coulomb_sign(xd, periodic)
+        soft = np.where(hard == 0.0, 0.0, soft)
+        return np.where(ve > 0.0, soft, hard) if np.any(ve <= 0.0) else soft
+    return hard
 
 
 def stick_slip(x: np.ndarray, xd: np.ndarray, x_s: float, periodic: bool = True,

@@ -184,12 +184,13 @@ def _result(steps=("baseline", "friction", "friction+slack"), **kw):
 
 def test_time_rows_time_the_case(monkeypatch):
     """``run_case_time``: the row's seconds are the case's own duration (simulation and diagnosis), for a
-    diagnosed case and for one whose diagnosis raises (the error row: verdict, snr ∞, no transfer numbers)."""
+    diagnosed case and for one whose diagnosis raises (the error row: verdict, snr ∞, no transfer numbers); a
+    diagnosed case's effect SNRs are computed with the records' own viscous c (``c_records``)."""
     import chainid.gap.diagnose  # noqa: F401
     from chainid.gap.benchmark import nonharmonic as bt
 
     monkeypatch.setattr(bt, "records", lambda case: (time.sleep(0.05), ([], {"nominal": None, "motions": [], "true": None, "hooks": [], "c": 0.0,
-                                                        "sigmas": []}))[1])
+                                                        "c_records": [3.0, 4.0], "sigmas": []}))[1])
 
     def boom(*a, **k):  # noqa: ANN001
         raise RuntimeError("bad")
@@ -205,10 +206,11 @@ def test_time_rows_time_the_case(monkeypatch):
             row["stationary"], row["steps"]) == (None, None, None, None, None, [])
     monkeypatch.setattr(sys.modules["chainid.gap.diagnose"], "diagnose", lambda *a, **k: _result(
         ranking=[], where=[], residual={"stationary": True, "where": []}))
-    monkeypatch.setattr(bt, "effect_snr", lambda *a: [1.0])
+    # each effect's SNR is taken with the damping of each record (the device's c varies over the records)
+    monkeypatch.setattr(bt, "effect_snr", lambda motions, true, hooks, c, sigmas: [1.0] + list(c))
     t0 = time.perf_counter()
     row = bt.run_case_time(case)
-    assert 0.05 <= row["seconds"] <= time.perf_counter() - t0 and row["effect_snr"] == [1.0]
+    assert 0.05 <= row["seconds"] <= time.perf_counter() - t0 and row["effect_snr"] == [1.0, 3.0, 4.0]
 
 
 @pytest.mark.slow

@@ -15,7 +15,7 @@ def test_time_domain_record_checks_and_split_errors():
     """The time-domain route's input checks name the test and the valid range: >= 64 samples, finite values,
     t strictly increasing, blocks 1 … n // 16; a split needs something held out and >= 3 training units."""
     from chainid.gap.timedomain.data import MIN_SAMPLES, prepare_time
-    from chainid.gap.timedomain.problem import AnyProblem
+    from chainid.gap.timedomain.problem import TimeProblem
     from chainid.records.record import Record
 
     n = 160
@@ -43,10 +43,11 @@ def test_time_domain_record_checks_and_split_errors():
     assert prepare_time(rec(), 10).n_blocks == 10
     data = [prepare_time(rec(f"r{i}"), 1) for i in range(3)]
     with pytest.raises(ValueError, match="nothing is held out: give --holdout IDS"):
-        AnyProblem(data, LinearModel(1000.0, 0.0), [], 0)
-    with pytest.raises(ValueError, match=r"the split leaves 2 training unit\(s\) \(time blocks \+ harmonic tests\); "
-                                         "at least 3 are needed"):
-        AnyProblem(data, LinearModel(1000.0, 0.0), ["r0"], 0)
+        TimeProblem(data, None, [], 0)
+    # a mixed set runs whole on the time route (harmonic tests are records there): the units are time blocks
+    with pytest.raises(ValueError, match=r"the split leaves 2 training unit\(s\) \(time blocks\); at least 3 are "
+                                         "needed"):
+        TimeProblem(data, None, ["r0"], 0)
 
 
 def test_reversals_travel_and_blocks_by_hand():
@@ -68,40 +69,68 @@ def test_reversals_travel_and_blocks_by_hand():
 
 
 def test_undamped_force_of_each_effect_on_a_linear_spring_by_hand():
-    """F_n = m·ẍ·1e-3 + k(x − x_ref) plus: friction (F_c + μ|F_k|)·sgn-with-stick; hysteresis the Dahl operator;
-    backlash k(play(x, b/2) − x_ref) instead of k(x − x_ref); sensor_delay everything at t − τ (linear
-    interpolation); damping_law nothing; slack needs a chain model (a chain-only effect)."""
-    from chainid.gap.timedomain.data import undamped
-    from chainid.model.effects import dahl_operator, play_operator, stick_slip
+    """The library's composition (chainid.model.effects.undamped_force, the one place effects make one force) on a
+    linear spring: F_n = m·ẍ·1e-3 + k(x − x_ref) plus: friction (F_c + μ|F_k|)·sgn-with-stick; hysteresis the Dahl
+    operator; backlash k(play(x, b/2) − x_ref) instead of k(x − x_ref); slack a shifted spring k(x − s − x_ref)
+    (a linear spring has no kernel to modify: modify_model refuses it); sensor_delay and damping_law nothing (the
+    caller evaluates the inputs at t − τ and the damping)."""
+    from chainid.model.effects import dahl_operator, modify_model, play_operator, stick_slip, undamped_force
 
     t = np.linspace(0.0, 2.0, 401)
     x = 1.0 + 0.3 * np.sin(2 * np.pi * t)
     xd = 0.6 * np.pi * np.cos(2 * np.pi * t)
     xdd = -1.2 * np.pi ** 2 * np.sin(2 * np.pi * t)
-    d = SimpleNamespace(t=t, x=x, xd=xd, xdd=xdd)
     k, xr, m = 100.0, 0.2, 50.0
     spring = LinearModel(k, xr, mass=m)
     Fk = k * (x - xr)
     base = m * xdd * 1e-3 + Fk
-    F, v = undamped([], {}, spring, d)
-    np.testing.assert_allclose(F, base, rtol=1e-12)
-    np.testing.assert_array_equal(v, xd)
-    F, _ = undamped(["friction"], {"friction.F_c": 5.0, "friction.mu": 0.01}, spring, d)
-    np.testing.assert_allclose(F, base + (5.0 + 0.01 * np.abs(Fk)) * stick_slip(x, xd, 0.0, periodic=False),
-                               rtol=1e-12)
-    F, _ = undamped(["hysteresis"], {"hysteresis.F_h": 7.0, "hysteresis.x_h": 0.05}, spring, d)
-    np.testing.assert_allclose(F, base + dahl_operator(x, 7.0, 0.05, periodic=False), rtol=1e-12)
-    F, _ = undamped(["backlash"], {"backlash.b": 0.1}, spring, d)
-    np.testing.assert_allclose(F, m * xdd * 1e-3 + k * (play_operator(x, 0.05, periodic=False) - xr), rtol=1e-12)
-    with pytest.raises(ValueError, match="effect 'slack' needs a chain model"):  # slack is chain-only
-        undamped(["slack"], {"slack.s": 0.04}, spring, d)
-    F, v = undamped(["sensor_delay", "damping_law"], {"sensor_delay.tau": 0.01}, spring, d)
-    xl, xdl, xddl = (np.interp(t - 0.01, t, y) for y in (x, xd, xdd))
-    np.testing.assert_allclose(F, m * xddl * 1e-3 + k * (xl - xr), rtol=1e-12)
-    np.testing.assert_allclose(v, xdl, rtol=1e-12)
-    idx = np.array([3, 50, 200])
-    F, v = undamped(["hysteresis"], {"hysteresis.F_h": 7.0, "hysteresis.x_h": 0.05}, spring, d, idx)
-    np.testing.assert_allclose(F, (base + dahl_operator(x, 7.0, 0.05, periodic=False))[idx], rtol=1e-12)
+
+    def F(*effects):
+        return undamped_force(effects, spring, t, x, xd, xdd, 2 * np.pi, 0.3, 1.0, periodic=False)
+
+    np.testing.assert_allclose(F(), base, rtol=1e-12)
+    np.testing.assert_allclose(F(("friction", {"F_c": 5.0, "mu": 0.01})),
+                               base + (5.0 + 0.01 * np.abs(Fk)) * stick_slip(x, xd, 0.0, periodic=False), rtol=1e-12)
+    np.testing.assert_allclose(F(("hysteresis", {"F_h": 7.0, "x_h": 0.05})),
+                               base + dahl_operator(x, 7.0, 0.05, periodic=False), rtol=1e-12)
+    np.testing.assert_allclose(F(("backlash", {"b": 0.1})),
+                               m * xdd * 1e-3 + k * (play_operator(x, 0.05, periodic=False) - xr), rtol=1e-12)
+    np.testing.assert_allclose(F(("slack", {"s": 0.04})), m * xdd * 1e-3 + k * (x - 0.04 - xr), rtol=1e-12)
+    with pytest.raises(ValueError, match="effect 'slack' needs a chain model"):  # no kernel to modify
+        modify_model("slack", {"s": 0.04}, spring)
+    np.testing.assert_allclose(F(("sensor_delay", {"tau": 0.01}), ("damping_law", {"eta": 0.1})), base, rtol=1e-12)
+
+
+def test_time_route_design_lags_the_motion_and_runs_memory_over_the_view():
+    """The time route's design (chainid.gap.timedomain.design.build) on a linear device with a given mass:
+    sensor_delay evaluates the motion at t − τ by linear interpolation (columns x(t − τ), ẋ(t − τ), fixed
+    m·ẍ(t − τ)·1e-3, each minus its mean: per-record offsets), and the samples whose t − τ is before the record
+    carry no residual (their columns 0, the target the fixed force); a view (idx) runs the memory operators over
+    its own samples in order (Dahl column = dahl_operator(x[idx], 1, x_h))."""
+    from chainid.gap.timedomain.design import Base, build
+    from chainid.model.effects import dahl_operator
+
+    t = np.linspace(0.0, 2.0, 401)  # dt = 5 ms
+    x = 1.0 + 0.3 * np.sin(2 * np.pi * t)
+    xd = 0.6 * np.pi * np.cos(2 * np.pi * t)
+    xdd = -1.2 * np.pi ** 2 * np.sin(2 * np.pi * t)
+    F = 100.0 * x + 3.0 * xd
+    d = SimpleNamespace(test="r", t=t, x=x, xd=xd, xdd=xdd, F=F, omega_c=2 * np.pi, A=0.3, covariates={})
+    m, tau = 50.0, 0.0125
+    f, Phi, y = build(Base("linear", mass_kg=m), ["sensor_delay"], {"sensor_delay.tau": tau}, d)
+    xl, xdl, xddl = (np.interp(t - tau, t, v) for v in (x, xd, xdd))
+    f_hand = m * xddl * 1e-3 - np.mean(m * xddl * 1e-3)
+    cols = np.column_stack([xl - xl.mean(), xdl - xdl.mean()])  # spring.k, damping.c
+    out = t - tau < 0.0
+    assert list(np.flatnonzero(out)) == [0, 1, 2]  # 0, 5, 10 ms < 12.5 ms
+    cols[out] = 0.0
+    np.testing.assert_allclose(f, f_hand, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(Phi, cols, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(y, np.where(out, f_hand, F - F.mean()), rtol=0, atol=1e-12)
+    idx = np.arange(3, 401, 7)
+    _, Phi, _ = build(Base("linear", mass_kg=m), ["hysteresis"], {"hysteresis.x_h": 0.05}, d, idx)
+    dahl = dahl_operator(x[idx], 1.0, 0.05, periodic=False)
+    np.testing.assert_allclose(Phi[:, 2], dahl - dahl.mean(), rtol=0, atol=1e-12)
 
 
 def test_time_data_blocks_and_properties():
