@@ -32,11 +32,11 @@ def _job(queue) -> None:  # noqa: ANN001
 def test_resampling_runs_inside_a_daemonic_worker():
     from chainid.gap.core.resample import POOL_MIN
 
-    ctx = mp.get_context("fork")
+    ctx = mp.get_context("spawn")  # a fresh interpreter: forking a threaded test worker (xdist) can deadlock
     q = ctx.Queue()
     p = ctx.Process(target=_job, args=(q,), daemon=True)
     p.start()
-    status, verdict, n = q.get(timeout=600)
+    status, verdict, n = q.get(timeout=300)
     p.join(30)
     assert status == "ok", verdict
     assert (verdict, n) == ("friction", POOL_MIN)
