@@ -1,5 +1,7 @@
 """Case functions for worker-process tests (importable by spawned workers: ``tests/`` is on their PYTHONPATH).
 
+``alive(pid)`` tells whether a process exists and is not a zombie (Linux ``/proc``).
+
 ``announce_and_block(folder)`` writes the worker's pid as an empty file ``folder/<pid>`` (the test reads it as
 "this case is running in that process") and then blocks until ``folder/release`` exists (or 600 s pass).
 """
@@ -31,3 +33,12 @@ def announce_then_run_case(case):
         (d / f"{os.getpid()}.tmp").write_text("")
         os.replace(d / f"{os.getpid()}.tmp", d / str(os.getpid()))
     return run_case(case)
+
+
+def alive(pid: int) -> bool:
+    """Whether process ``pid`` exists and is not a zombie (its state in ``/proc/<pid>/stat``)."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"

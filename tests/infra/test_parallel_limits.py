@@ -24,6 +24,7 @@ import pytest
 from chainid.infra import parallel
 from chainid.infra.parallel import MAX_WORKERS, run_cases, worker_count
 from fake_servers import greeting_listener
+from worker_cases import alive
 from repo_paths import REPO as ROOT
 
 ENV = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
@@ -141,12 +142,6 @@ def _descendants(pid: int) -> list[int]:
     return out
 
 
-def _alive(pid: int) -> bool:
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
 
 
 def _sigint_ignored_by(pid: int) -> bool:
@@ -196,9 +191,9 @@ def _finish(p: subprocess.Popen, kids: list[int], folder: Path) -> tuple[int, st
     finally:
         (folder / "release").write_text("")  # a blocked case that outlived the parent returns now
     deadline = time.monotonic() + 10
-    while time.monotonic() < deadline and any(_alive(k) for k in kids):
+    while time.monotonic() < deadline and any(alive(k) for k in kids):
         time.sleep(0.1)
-    left = [k for k in kids if _alive(k)]
+    left = [k for k in kids if alive(k)]
     for k in left:  # do not leave them behind even when the test fails
         os.kill(k, signal.SIGKILL)
     assert not left, f"processes left alive: {left}"

@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 import pytest
+from worker_cases import alive
 
 ROOT = Path(__file__).resolve().parents[2]
 ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), str(ROOT / "tests")]), MPLBACKEND="Agg")
@@ -27,12 +28,6 @@ PARENT = """
 """
 
 
-def _alive(pid: int) -> bool:
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
 
 
 def _wait_for(cond, timeout: float, what: str):
@@ -63,13 +58,13 @@ def test_sigkilled_parent_leaves_no_worker(sched, tmp_path):
         assert len(workers) == 2 and p.pid not in workers
         p.kill()  # SIGKILL: the parent runs no clean-up at all
         p.wait(30)
-        _wait_for(lambda: not any(_alive(w) for w in workers), 30, f"workers {workers} gone")
+        _wait_for(lambda: not any(alive(w) for w in workers), 30, f"workers {workers} gone")
     finally:
         (tmp_path / "release").write_text("")  # a worker that outlived the test would end now
         if p.poll() is None:
             p.kill()
         for w in _pids(tmp_path):
-            if _alive(w):
+            if alive(w):
                 os.kill(w, signal.SIGKILL)
 
 
@@ -106,11 +101,11 @@ def test_die_with_parent_ends_the_child_when_the_parent_is_killed(no_prctl, tmp_
         child = kids[0]
         launcher.kill()
         launcher.wait(30)
-        _wait_for(lambda: not _alive(child), 10, "the child ended")
+        _wait_for(lambda: not alive(child), 10, "the child ended")
     finally:
         if launcher.poll() is None:
             launcher.kill()
-        if child is not None and _alive(child):
+        if child is not None and alive(child):
             os.kill(child, signal.SIGKILL)
 
 

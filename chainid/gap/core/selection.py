@@ -121,11 +121,6 @@ def pinned_params(c: Candidate) -> list[str]:
     return [k for k in c.at_bound if k.startswith(new)]
 
 
-def _pinned_new(c: Candidate) -> bool:
-    """Whether a parameter of the candidate's newest effect is pinned at a bound of its physical range."""
-    return bool(pinned_params(c))
-
-
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
     pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
@@ -200,7 +195,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         # the best candidate that passes the rule (the lowest-LOTO one may fail it: an improvement carried by
         # a few tests), near-ties resolved by pick, then the one-step look-ahead among those that pass; a step
         # must be physically identified: the new effect's parameters inside their bounds (rule 4)
-        passing = [c for c in cands if not _pinned_new(c) and passes(c.step_test)]  # type: ignore[attr-defined]
+        passing = [c for c in cands if not pinned_params(c) and passes(c.step_test)]  # type: ignore[attr-defined]
         if not passing:
             rejected = rejections(cands)
             stop = stop_message(rejected)
@@ -232,8 +227,8 @@ def rejections(cands: Sequence[Candidate]) -> list[dict[str, Any]]:
     out = []
     for c in sorted(cands, key=lambda c: c.nrmse_loto):
         st = getattr(c, "step_test", None) or {}
-        if _pinned_new(c):
-            pins = pinned_params(c)
+        pins = pinned_params(c)
+        if pins:
             reason = (f"parameter(s) {', '.join(pins)} at the bound of their physical range: its form does not fit "
                       "what is left")
         elif st and not st["delta_loto"] > Z * st["se_jackknife"]:
@@ -396,7 +391,7 @@ def _rebuild(prob: Problem, base: Candidate, final: Candidate, base_hold: float)
         prev = path[-1]
         ck.step_test = step_test(prev, ck)  # type: ignore[attr-defined]
         path.append(ck)
-        left.remove(left[0] if len(left) == 1 else ck.names[-1])  # the final fit keeps its own order of names
+        left.remove(ck.names[-1])
     return path
 
 

@@ -117,15 +117,16 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
     if v == "none":
         lines.append("VERDICT: none — the baseline's held-out residual is consistent with the noise.")
     elif v == "unexplained":
-        why = "no library effect passed the step rule or shrinks the held-out gap by half"
         part = result.get("partial")
-        if part:
+        if (result.get("residual") or {}).get("stationary") is False:
+            why = "what is left changes with time within the tests (no static effect explains that)"
+        elif part:
             why = (f"{part['effects']} passed the step rule and holds on the held-out data (held-out NRMSE "
                    f"{part['nrmse_holdout_before']:.4g} → {part['nrmse_holdout']:.4g}, {100 * part['shrinkage']:.0f} %), "
                    f"but closes less than {100 * part['min_shrink']:.0f} % of the held-out gap: a part of it, not its "
                    "cause")
-        if (result.get("residual") or {}).get("stationary") is False:
-            why = "what is left changes with time within the tests (no static effect explains that)"
+        else:
+            why = "no library effect passed the step rule or shrinks the held-out gap by half"
         lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")
     else:
         lines.append(f"VERDICT: {v} — {result.get('chain_text', '')}")
