@@ -111,15 +111,15 @@ def main(argv: list[str] | None = None) -> int:
     if not REAL.is_dir():
         print(f"no shared real data at {REAL} (set CHAINID_SHARED)")
         return 2
-    todo = a.sets.split(",")
-    unknown = [s for s in todo if s not in sets()]
+    todo, known = a.sets.split(","), sets()
+    unknown = [s for s in todo if s not in known]
     if unknown:
-        ap.error(f"--sets: unknown {unknown}; valid: {','.join(sets())}")
+        ap.error(f"--sets: unknown {unknown}; valid: {','.join(known)}")
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     rows = []
     for s in todo:
-        rows.append(run_set(s, sets()[s], out))
+        rows.append(run_set(s, known[s], out))
         r = rows[-1]
         print(f"{s}: {r['verdict']} {r['base']:.3f} -> {r['left']:.3f} ({100 * r['shrink']:.0f} %) {r['wall_s']:.0f} s",
               flush=True)
