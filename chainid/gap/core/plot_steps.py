@@ -30,8 +30,10 @@ def waterfall_figure(result: dict[str, Any]) -> Any:
         last = steps[-1]
         floor = last["nrmse_holdout"] / 10 ** (max(last["db_over_noise"], 0.0) / 20)
         ax.axhline(floor, color="k", ls="--", lw=0.8)
-        ax.annotate(f"noise floor (NRMSE {floor:.3g})", (len(steps) - 0.5, floor), fontsize=7, va="bottom",
-                    ha="right")
+        # at the left edge of the axes, just above the line, clear of the last bars' labels (in axes fraction: a
+        # data x beyond the last bar falls outside the axes and is not drawn)
+        ax.annotate(f"noise floor (NRMSE {floor:.3g})", (0.01, floor), xycoords=("axes fraction", "data"),
+                    fontsize=7, va="bottom", ha="left")
         ax.set_yscale("log")
         ax.set_ylim(min(vals + [floor]) / 3, max(vals) * 4)
     ax.set_xticks(list(xs))

@@ -33,6 +33,11 @@ def test_waterfall_figure_bars_shrinkage_and_noise_floor():
         (line,) = ax.lines
         assert line.get_ydata()[0] == pytest.approx(floor, rel=1e-12) and line.get_linestyle() == "--"
         assert texts[3] == "noise floor (NRMSE 0.0251)"
+        # the label is drawn: inside the axes once rendered (a label anchored beyond the last bar is not drawn)
+        fig.canvas.draw()
+        box, frame = ax.texts[3].get_window_extent(), ax.get_window_extent()
+        assert ax.texts[3].get_visible() and frame.x0 <= box.x0 and box.x1 <= frame.x1
+        assert box.y0 == pytest.approx(ax.transData.transform((0.5, floor))[1], abs=1.0)  # just above the line
         assert ax.get_yscale() == "log"
         assert ax.get_ylim() == (pytest.approx(floor / 3, rel=1e-12), pytest.approx(1.6, rel=1e-12))
         assert ax.get_title() == "explanation chain: friction+slack" and ax.get_ylabel() == "held-out NRMSE"
