@@ -5,6 +5,7 @@ unit-slip warnings)."""
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import Any
 
 __all__ = ["add_reader_options", "reader_spec", "load_records", "chain_for_checks"]
