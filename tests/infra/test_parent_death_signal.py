@@ -1,0 +1,68 @@
+"""On Linux the kernel itself ends a worker whose parent dies (``prctl(PR_SET_PDEATHSIG, SIGKILL)``, set by
+:func:`chainid.infra.parallel.die_with_parent`): with the watchdog thread switched off, a child that armed it is
+gone soon after its parent is SIGKILLed, and a child that did not arm it outlives the parent (the control, so
+the test can fail).
+"""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+from worker_cases import alive
+
+ROOT = Path(__file__).resolve().parents[2]
+ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), str(ROOT / "tests")]), MPLBACKEND="Agg")
+
+CHILD = """
+    import os, time
+    from chainid.infra import parallel
+    parallel._watchdog = lambda parent, interval: None  # the kernel's signal alone
+    if {arm}:
+        parallel.die_with_parent(interval=0.05)
+    with open({pidfile!r}, "w") as f:
+        f.write(str(os.getpid()))
+    time.sleep(600)
+"""
+
+LAUNCHER = """
+    import subprocess, sys, time
+    subprocess.Popen([sys.executable, "-c", {code!r}])
+    time.sleep(600)
+"""
+
+
+def _wait_for(cond, timeout: float) -> bool:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if cond():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
+@pytest.mark.parametrize("arm", [True, False])
+def test_the_kernel_ends_an_armed_child_when_its_parent_is_killed(arm, tmp_path):
+    pidfile = tmp_path / "child.pid"
+    code = textwrap.dedent(CHILD.format(arm=arm, pidfile=str(pidfile)))
+    launcher = subprocess.Popen([sys.executable, "-c", textwrap.dedent(LAUNCHER.format(code=code))], env=ENV,
+                                start_new_session=True)
+    child = None
+    try:
+        assert _wait_for(lambda: pidfile.exists() and pidfile.read_text().strip(), 120), "the child never started"
+        child = int(pidfile.read_text())
+        launcher.kill()
+        launcher.wait(30)
+        gone = _wait_for(lambda: not alive(child), 10)
+        assert gone is arm
+    finally:
+        if launcher.poll() is None:
+            launcher.kill()
+        if child is not None and alive(child):
+            os.kill(child, signal.SIGKILL)
