@@ -21,7 +21,8 @@ def folder(tmp_path):
         rows = ["t,x,F"]
         for i in range(200):
             t = i * 0.01
-            rows.append(f"{t:.2f},{1 + 0.2 * math.sin(4 * math.pi * t):.6f},{1000 + 100 * math.sin(4 * math.pi * t):.4f}")
+            s = math.sin(4 * math.pi * t)
+            rows.append(f"{t:.2f},{1 + 0.2 * s:.6f},{1000 + 100 * s:.4f}")
             if i == 50:
                 rows.append("oops,bad,line")
         (d / f"T{k}.csv").write_text("\n".join(rows) + "\n")

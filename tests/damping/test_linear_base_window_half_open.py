@@ -1,5 +1,6 @@
-"""The linear spring fitted for ``--model linear`` without ``--k`` (:func:`chainid.damping.identify.linear_model_from_records`)
-uses each record's steady window half-open, [t_start, t_end): a sample exactly on t_end is not used.
+"""The linear spring fitted for ``--model linear`` without ``--k``
+(:func:`chainid.damping.identify.linear_model_from_records`) uses each record's steady window half-open,
+[t_start, t_end): a sample exactly on t_end is not used.
 
 The record is a linear spring with a dashpot, F = k (x − x_ref) + c·ẋ, 64 samples per period, its window set on
 sample times exactly (the analysis is replaced by that estimate).  The reference is a hand least-squares line
