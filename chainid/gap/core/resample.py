@@ -29,7 +29,7 @@ import numpy as np
 
 from chainid.gap.core.selection import passes, pick, step_test, term_prefix
 
-__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "attach"]
+__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "widen", "attach"]
 
 #: a step is named as confident when at least this share of resamples chooses it
 CONFIDENT = 0.8
@@ -146,6 +146,25 @@ def _summarise(chains: list[list[str]], params: list[list[dict[str, float]]], st
     same = sum(set(c) == set(names) for c in chains) / n
     return {"resamples": n, "seed": seed, "confident_at": CONFIDENT, "steps": rows,
             "chains": [{"chain": k, "share": v / n} for k, v in top], "same_chain": same}
+
+
+def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], reason: str | None = None,
+          order: int = 2) -> None:
+    """Widen each step's 90 % interval by a bias that resampling cannot see (the same sampling in every resample).
+
+    ``shifts[k][param]`` is the estimated bias of step k's parameter [its unit]
+    (:mod:`chainid.gap.timedomain.discretisation`); the interval [lo, hi] becomes the union of itself and
+    [lo − bias, hi − bias], so a bias within the resampling spread changes little and a larger one is taken in.
+    The biases are kept per step (``bias_dt``) and ``stab["discretisation"]`` says how they were estimated (or
+    ``reason`` why not)."""
+    for row, sh in zip(stab["steps"], shifts):
+        row["bias_dt"] = dict(sh)
+        for key, (lo, hi) in list(row["params_ci90"].items()):
+            b = sh.get(key)
+            if b is not None and math.isfinite(b):
+                row["params_ci90"][key] = [min(lo, lo - b), max(hi, hi - b)]
+    stab["discretisation"] = {"method": "Richardson extrapolation in the sampling interval (records decimated by 2), "
+                                        f"bias order {order}", "skipped": reason}
 
 
 def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:

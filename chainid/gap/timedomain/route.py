@@ -25,7 +25,7 @@ from chainid.gap.core import selection as fw
 from chainid.gap.core.candidate import Candidate
 from chainid.gap.core.interpret import interpretation, separating_test
 from chainid.gap.core.openworld import open_world
-from chainid.gap.core.resample import attach, resample
+from chainid.gap.core.resample import attach, resample, widen
 from chainid.infra.progress import stage
 from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
 from chainid.gap.timedomain.data import prepare_time
@@ -136,8 +136,14 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     if resamples:
         stage("resampling", f"{resamples} resamples")
         from chainid.gap.timedomain import resampling
+        from chainid.gap.timedomain.discretisation import ORDER, richardson_shifts
 
-        attach(summary, resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo)))
+        stab = resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo))
+        stage("discretisation bias", "records decimated by 2")
+        shifts, why = richardson_shifts(records, prob, ok_path,
+                                        lambda rs: build_problem(rs, holdout, holdout_blocks, model, mass_kg))
+        widen(stab, shifts, why, ORDER)
+        attach(summary, stab)
     summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
     summary["base"] = {"model": prob.base.kind, "mass_given_kg": mass_kg, "offsets": "per test" if prob.base.offsets
                        else "none", "covariates": list(prob.covariates)}
