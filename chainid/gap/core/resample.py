@@ -8,7 +8,10 @@ tests and contiguous blocks, never single samples).  On every resample:
   its damping law) refitted exactly and its shape parameters kept (the route's ``rescore``) — the share of
   resamples that choose each step is its *stability*;
 * **the parameters of every step of the chain are refitted** (the route's ``refit``: shapes polished from the full
-  fit, amplitudes exact) — the 5th and 95th percentiles of each are its 90 % interval.
+  fit, amplitudes exact) — the 5th and 95th percentiles of each are its 90 % interval, recentred on the
+  reported estimate: every refit is shifted by θ̂ − θ*₀, θ*₀ the same refit on the data as they are (the route's
+  ``identity`` multiplicities).  The refit's polish need not end where the diagnosis' own fit did (another
+  search, another subset); without the shift an interval can miss its own estimate.
 
 A step is *confident* when its stability is at least :data:`CONFIDENT`.  The resamples run on a pool of forked
 worker processes (the problem is inherited, not copied) when there are more than one core and at least
@@ -87,7 +90,7 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
 
     Parameters
     ----------
-    prob, hooks : the route's problem and its resampling module (``draw``, ``rescore``, ``refit``)
+    prob, hooks : the route's problem and its resampling module (``draw``, ``identity``, ``rescore``, ``refit``)
     fwd : the forward selection's result (its ``_cache`` of fitted effect sets, its ``path``)
     steps : the steps of the chain to report (baseline first)
     n, seed : resamples and the seed of their draws
@@ -102,6 +105,9 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
     """
     rng = np.random.default_rng(seed)
     mult = [hooks.draw(prob, rng) for _ in range(n)]
+    ident = hooks.identity(prob)
+    shift = [{k: float(v) - float(c0[k]) for k, v in st.params.items() if k in c0 and math.isfinite(c0[k])
+              and math.isfinite(v)} for st, c0 in ((st, hooks.refit(prob, st, ident)) for st in steps)]
     _JOB.clear()
     _JOB.update(prob=prob, hooks=hooks, cache=fwd["_cache"], base=fwd["path"][0], mult=mult, steps=list(steps),
                 max_effects=max_effects)
@@ -117,19 +123,20 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
             out = [_one(i) for i in range(n)]
     finally:
         _JOB.clear()
-    return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed)
+    return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed, shift)
 
 
 def _summarise(chains: list[list[str]], params: list[list[dict[str, float]]], steps: Sequence[Any], n: int,
-               seed: int) -> dict[str, Any]:
+               seed: int, shift: Sequence[dict[str, float]] | None = None) -> dict[str, Any]:
     names = [s.names[-1] for s in steps[1:]]
     rows = []
     for k, s in enumerate(steps):
         vals: dict[str, list[float]] = {}
+        d = shift[k] if shift else {}
         for p in params:
             for key, v in p[k].items():
                 if math.isfinite(v):
-                    vals.setdefault(key, []).append(v)
+                    vals.setdefault(key, []).append(v + d.get(key, 0.0))
         ci = {key: [float(np.percentile(v, 5)), float(np.percentile(v, 95))] for key, v in vals.items()
               if len(v) >= max(10, n // 2)}
         row: dict[str, Any] = {"effect": "baseline" if k == 0 else names[k - 1], "params_ci90": ci}

@@ -21,7 +21,7 @@ import numpy as np
 
 from chainid.gap.harmonic import law_choice as L
 
-__all__ = ["unit_keys", "draw", "rescore", "refit"]
+__all__ = ["unit_keys", "draw", "identity", "rescore", "refit"]
 
 
 def unit_keys(prob: Any) -> list[str]:
@@ -33,6 +33,11 @@ def draw(prob: Any, rng: np.random.Generator) -> np.ndarray:
     """Multiplicities of the training tests: a multinomial draw of as many tests as there are."""
     n = len(prob.train)
     return rng.multinomial(n, np.full(n, 1.0 / n)).astype(float)
+
+
+def identity(prob: Any) -> np.ndarray:
+    """The multiplicities of the data as they are: every training test once."""
+    return np.ones(len(prob.train))
 
 
 def _wfit(X: np.ndarray, c: np.ndarray, w: np.ndarray) -> np.ndarray:

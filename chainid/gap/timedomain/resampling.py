@@ -19,7 +19,7 @@ import numpy as np
 
 from chainid.gap.timedomain.lsq import Blocks, sse_at
 
-__all__ = ["unit_keys", "draw", "rescore", "refit"]
+__all__ = ["unit_keys", "draw", "identity", "rescore", "refit"]
 
 
 def unit_keys(prob: Any) -> list[tuple[str, int]]:
@@ -34,6 +34,11 @@ def draw(prob: Any, rng: np.random.Generator) -> np.ndarray:
     out = np.zeros_like(base)
     out[idx] = rng.multinomial(idx.size, np.full(idx.size, 1.0 / idx.size))
     return out
+
+
+def identity(prob: Any) -> np.ndarray:
+    """The multiplicities of the data as they are: every training block once."""
+    return prob._train_mult()
 
 
 def rescore(prob: Any, cand: Any, mult: np.ndarray) -> tuple[dict[str, float], float, bool]:
