@@ -6,13 +6,10 @@ from typing import Any
 
 import numpy as np
 
+from chainid.gap.benchmark.paramscore import CANONICAL
 
 #: a case counts for the right-verdict rates when the baseline's residual is at least this many noise σ
 SNR_MIN = 3.0
-
-
-#: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
-CANONICAL = {"machine_compliance": "stiffness_level"}
 
 
 def open_world_row(res: dict[str, Any]) -> dict[str, Any]:
