@@ -236,7 +236,7 @@ def add_subparsers(subparsers: Any) -> None:
                    help="worker processes (default: the machine's cores; at most the cases and 4 x cores, <= 64)")
     b.add_argument("--resamples", type=int, default=0, metavar="N",
                    help="resample every diagnosis N times (default 0: none; >= 20): the steps' stability and the "
-                        "percentile intervals, whose coverage of the truth the ode generator reports per effect")
+                        "percentile intervals, whose coverage of the true parameters both generators report per effect")
     b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
     b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     b.set_defaults(func=cmd_benchmark)

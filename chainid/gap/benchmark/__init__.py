@@ -5,7 +5,12 @@ The project's simulator (``--generator sim``, the default):
 * :mod:`.grid` — the harmonic case families and the benchmark run;
 * :mod:`.nonharmonic` — the non-harmonic excitation families and the transfer cases;
 * :mod:`.chain` — the chain a case runs on (built-in or the user's, scaled to the same stress);
-* :mod:`.report` — scores per family and the confusion matrix.
+* :mod:`.report` — scores per family, the confusion matrix and, with resamples, the coverage of the 90 % intervals;
+* :mod:`.simtruth` — a case's true parameters (its effect specs and base-model mismatch) and the diagnosis' numbers
+  to score them with.
+
+Both generators score parameters against their truth with :mod:`.paramscore` (relative error, interval coverage,
+the calibration table per effect).
 
 A second world written apart from it (``--generator ode``): effects as ODE states integrated with LSODA, other
 excitations, force-driven resonant devices, a logger with lag, noise, ADC steps and offsets:
@@ -19,5 +24,5 @@ excitations, force-driven resonant devices, a logger with lag, noise, ADC steps 
 * :mod:`.odescore` — right verdicts per family, parameter errors and interval coverage.
 """
 
-__all__ = ["grid", "nonharmonic", "chain", "report", "odeworld", "odeshapes", "odedevice", "odemeasure", "odecases",
-           "odefamilies", "odescore"]
+__all__ = ["grid", "nonharmonic", "chain", "report", "simtruth", "paramscore", "odeworld", "odeshapes", "odedevice",
+           "odemeasure", "odecases", "odefamilies", "odescore"]

@@ -32,6 +32,7 @@ import numpy as np
 from chainid.gap.benchmark.report import CANONICAL, canon, open_world_row  # noqa: F401  (part of the API)
 from chainid.gap.benchmark.chain import case_chain, on_chain, x_scale
 from chainid.gap.benchmark.nonharmonic import effect_spec  # noqa: F401  (part of the benchmark API)
+from chainid.gap.benchmark.simtruth import case_truth, trusted_fields
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the effects of the harmonic single-effect family, in the order their cases (and seeds) are drawn
@@ -102,12 +103,14 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
     S = float(np.median(nominal.stiffness(x0s) * As))
     wmax = max(p.omega for p in plan)
     law = PolynomialLaw([0.0, 0.0, 0.0, 0.0, 0.02 * k / wmax])  # ~2 % loss at the top frequency
-    hooks = []
+    hooks, specs = [], []
     for eff, lv in zip(case["effects"], case["levels"]):
         if eff in EFFECT_NAMES:
-            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax, float(np.median(x0s))), true))
+            specs.append(effect_spec(eff, lv, S, k, float(As.min()), wmax, float(np.median(x0s))))
+            hooks.append(parse_effect(specs[-1], true))
         else:
             hooks.append(_outside_hook(eff, lv, S))
+    truth = case_truth(case, specs)
 
     def hook(t, x, xd, xdd, F):  # noqa: ANN001
         for h in hooks:
@@ -125,15 +128,15 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
                        seed=int(case.get("seed", 0)))
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
-                "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None,
-                "confounded": []}
+                "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "params_ci90": {},
+                "true_params": truth, "stationary": None, "confounded": []}
     best = res.get("best") or {}
     b = res["baseline"]
     last = res["steps"][-1] if res.get("steps") else {}
     return {**case, "verdict": res["verdict"], "seconds": time.perf_counter() - t0,
             "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
             "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
-            "steps": [s["effect"] for s in res.get("steps", [])[1:]], "params": last.get("params"),
+            "steps": [s["effect"] for s in res.get("steps", [])[1:]], **trusted_fields(res), "true_params": truth,
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"], "open_world": open_world_row(res)}
 

@@ -38,6 +38,7 @@ import numpy as np
 
 from chainid.gap.benchmark.chain import case_chain, scale_motion, x_scale
 from chainid.gap.benchmark.report import open_world_row
+from chainid.gap.benchmark.simtruth import case_truth, trusted_fields
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the non-harmonic excitation families
@@ -196,8 +197,9 @@ def _outside(kind: str, level: float, S: float, F_c: float, rng: np.random.Gener
     return hook
 
 
-def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, float, float]:
-    """Nominal and true models, the effect hooks, the dynamic force scale S [N] and the mean damping c [N·s/mm].
+def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, float, float, dict[str, float]]:
+    """Nominal and true models, the effect hooks, the dynamic force scale S [N], the mean damping c [N·s/mm] and the
+    true parameters of the in-library effects (:func:`chainid.gap.benchmark.simtruth.case_truth`).
 
     A chain case runs on its chain (nominal and true kernels).  A device case (``case["base"]``: ``damped`` or
     ``resonant``) runs on a linear mass–spring–damper about the motion's mean: k from the force scale, the
@@ -225,13 +227,14 @@ def _device(case: dict[str, Any], motions: list[Any]) -> tuple[Any, Any, Any, fl
         S = float(k * np.median(As))
         c = case["c_rel"] * k / wmax * 2.0  # viscous loss ~ c_rel of k·A at half the top frequency
         x_mid = float(np.median(x0s))
-    hooks = []
+    hooks, specs = [], []
     for eff, lv in zip(case["effects"], case["levels"]):
         if eff in EFFECT_NAMES:
-            hooks.append(parse_effect(effect_spec(eff, lv, S, k, float(As.min()), wmax, x_mid), true))
+            specs.append(effect_spec(eff, lv, S, k, float(As.min()), wmax, x_mid))
+            hooks.append(parse_effect(specs[-1], true))
         else:
             hooks.append(_outside(eff, lv, S, 0.1 * S, rng))
-    return nominal, true, hooks, S, c
+    return nominal, true, hooks, S, c, case_truth(case, specs)
 
 
 def record_damping(case: dict[str, Any], motions: list[Any], c: float) -> list[float]:
@@ -286,12 +289,13 @@ def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: Any, sigmas:
 
 def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
     """The case's records (``r1`` … ``r4``) and the device: nominal and true models, effect hook, dynamic force
-    scale S [N], viscous c [N·s/mm] and the records' motions."""
+    scale S [N], viscous c [N·s/mm], the records' motions and ``true_params`` (the in-library effects' true
+    parameters keyed ``effect.param``, :mod:`chainid.gap.benchmark.simtruth`)."""
     from chainid.records.excitation import simulate_motion
 
     rng = np.random.default_rng(case["seed"])
     motions = [scale_motion(motion(case["excitation"], rng), x_scale(case)) for _ in range(N_RECORDS)]
-    nominal, true, hooks, S, c = _device(case, motions)
+    nominal, true, hooks, S, c, truth = _device(case, motions)
     hook = _compose(hooks)
     cs = record_damping(case, motions, c)
     recs, sigmas = [], []
@@ -302,10 +306,10 @@ def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
                                     noise_x=rng.uniform(0.0, 0.003) * m.A, quantum_F=q, rng=rng))
         sigmas.append(math.sqrt(sig * sig + q * q / 12))
     return recs, {"nominal": nominal, "true": true, "hook": hook, "S": S, "c": c, "c_records": cs,
-                  "motions": motions, "hooks": hooks, "sigmas": sigmas}
+                  "motions": motions, "hooks": hooks, "sigmas": sigmas, "true_params": truth}
 
 
-def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]:
+def _row(case: dict[str, Any], res: dict[str, Any], t0: float, truth: dict[str, float]) -> dict[str, Any]:
     best = res.get("best") or {}
     b = res["baseline"]
     last = res["steps"][-1] if res.get("steps") else {}
@@ -313,7 +317,7 @@ def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]
     return {**case, "verdict": res["verdict"], "seconds": time.perf_counter() - t0,
             "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
             "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
-            "steps": [s["effect"] for s in res.get("steps", [])[1:]], "params": last.get("params"),
+            "steps": [s["effect"] for s in res.get("steps", [])[1:]], **trusted_fields(res), "true_params": truth,
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"],
             "ranked_first": (res.get("ranking") or [{}])[0].get("effect"),
@@ -322,8 +326,9 @@ def _row(case: dict[str, Any], res: dict[str, Any], t0: float) -> dict[str, Any]
 
 def _error(case: dict[str, Any], exc: Exception, t0: float) -> dict[str, Any]:
     return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
-            "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "stationary": None,
-            "confounded": [], "chatter": False, "transfer_shrinkage": None, "transfer_shrinkage_refit": None}
+            "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "params_ci90": {}, "true_params": {},
+            "stationary": None, "confounded": [], "chatter": False, "transfer_shrinkage": None,
+            "transfer_shrinkage_refit": None}
 
 
 def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
@@ -338,7 +343,7 @@ def run_case_time(case: dict[str, Any]) -> dict[str, Any]:
         snr = effect_snr(dev["motions"], dev["true"], dev["hooks"], dev["c_records"], dev["sigmas"])
     except Exception as exc:  # a crash is a miss to report, not the end of the run
         return _error(case, exc, t0)
-    return _row(case, res, t0) | {"effect_snr": snr}
+    return _row(case, res, t0, dev["true_params"]) | {"effect_snr": snr}
 
 
 def transfer_plan(motions: list[Any], s: float = 1.0) -> list[Any]:
@@ -380,7 +385,7 @@ def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
             res = diagnose(rand, [case["hold"]], nominal, uncertainty=False, quiet=True, validate=harm)
     except Exception as exc:
         return _error(case, exc, t0)
-    row = _row(case, res, t0)
+    row = _row(case, res, t0, dev["true_params"])
     tr = res["transfer"]
     row.update({"transfer_shrinkage": tr["pooled"]["shrinkage"], "transfer_shrinkage_refit": tr["pooled"]["shrinkage_refit"],
                 "transfers": tr["transfers"], "transfer_chain": tr["chain"]})

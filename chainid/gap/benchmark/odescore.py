@@ -14,8 +14,9 @@ last step's ``params``) is compared with the truth: the relative error |est − 
 reported interval covers the truth — ``params_ci90`` [lo, hi] when given, else est ± 1.645·``params_sd`` (a 90 %
 normal interval); no interval, no coverage.  A covariate's parameter is compared with its law at the mean operating
 condition of the records.  Effects the verdict shares a physics with count by their canonical name
-(:data:`chainid.gap.benchmark.report.CANONICAL`).  Coverage is also pooled per effect (every parameter of that
-effect), the calibration table of the resampled intervals.
+(:data:`chainid.gap.benchmark.paramscore.CANONICAL`).  Coverage is also pooled per effect (every parameter of that
+effect), the calibration table of the resampled intervals (:mod:`chainid.gap.benchmark.paramscore`, shared with the
+``sim`` generator).
 
 The model-free check (``open_world``, :mod:`chainid.gap.core.openworld`) is scored apart: it should flag a missing
 effect on ``outside`` cases and stay silent on controls and on cases whose verdict is right (the library explains
@@ -28,7 +29,8 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark.report import CANONICAL
+from chainid.gap.benchmark.paramscore import (CANONICAL, Z90, coverage_by_effect, param_scores,  # noqa: F401  (API)
+                                              param_table, pool_scores)
 
 __all__ = ["FAMILIES", "OUTSIDE_SHRINK", "SNR_MIN", "score_row", "verdict_names", "summarise", "format_table", "coverage_by_effect", "open_world_rates",
            "markdown_table"]
@@ -38,8 +40,6 @@ FAMILIES = ("control", "single", "pair", "outside", "covariate")
 OUTSIDE_SHRINK = 0.5
 #: the "detectable" subset: the baseline's held-out residual is at least this many noise σ
 SNR_MIN = 3.0
-#: z of a two-sided 90 % normal interval
-Z90 = 1.6448536269514722
 
 
 def verdict_names(verdict: str) -> list[str]:
@@ -47,38 +47,6 @@ def verdict_names(verdict: str) -> list[str]:
     if verdict in ("none", "unexplained") or verdict.startswith("error"):
         return []
     return [CANONICAL.get(n, n) for n in verdict.split("+") if n]
-
-
-def _truth_value(truth: dict[str, Any], eff: str, p: str, v: float) -> float:
-    cov = truth.get("covariate")
-    if cov and cov["effect"] == eff and cov["param"] == p:
-        return float(cov["p0"] + cov["p1"] * np.mean(cov["values"]))
-    return float(v)
-
-
-def param_scores(row: dict[str, Any], named: list[str]) -> list[dict[str, Any]]:
-    """Estimate vs truth for every parameter of a named true effect that the diagnosis reports."""
-    truth = row.get("truth") or {}
-    out = []
-    for eff, params in (truth.get("effects") or {}).items():
-        if CANONICAL.get(eff, eff) not in named:
-            continue
-        for p, v in params.items():
-            key = f"{eff}.{p}"
-            est = (row.get("params") or {}).get(key)
-            if est is None:
-                continue
-            tv = _truth_value(truth, eff, p, v)
-            rel = abs(est - tv) / abs(tv) if tv != 0 else None
-            ci, sd = (row.get("params_ci90") or {}).get(key), (row.get("params_sd") or {}).get(key)
-            if ci is not None:
-                cover: bool | None = bool(ci[0] <= tv <= ci[1])
-            elif sd is not None and sd > 0:
-                cover = bool(abs(est - tv) <= Z90 * sd)
-            else:
-                cover = None
-            out.append({"param": key, "truth": tv, "estimate": float(est), "rel_error": rel, "covered": cover})
-    return out
 
 
 def score_row(row: dict[str, Any]) -> dict[str, Any]:
@@ -127,18 +95,8 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
                               for e in sorted({r["excitation"] for r in rr})},
             "verdicts": dict(sorted(verdicts.items(), key=lambda kv: -kv[1])),
         }
-    ps: dict[str, list[dict[str, Any]]] = {}
-    for r in rows:
-        for p in r["score"]["params"]:
-            ps.setdefault(p["param"], []).append(p)
-    out["params"] = {k: {"n": len(v),
-                         "median_rel_error": float(np.median([p["rel_error"] for p in v if p["rel_error"] is not None]))
-                         if any(p["rel_error"] is not None for p in v) else None,
-                         "n_interval": sum(p["covered"] is not None for p in v),
-                         "coverage": (sum(bool(p["covered"]) for p in v if p["covered"] is not None)
-                                      / max(1, sum(p["covered"] is not None for p in v)))
-                         if any(p["covered"] is not None for p in v) else None}
-                     for k, v in sorted(ps.items())}
+    ps = pool_scores(r["score"]["params"] for r in rows)
+    out["params"] = param_table(ps)
     out["coverage_by_effect"] = coverage_by_effect(ps)
     out["open_world"] = open_world_rates(rows)
     out["errors"] = [{"label": r.get("label"), "error": r["verdict"]} for r in rows if r["score"]["error"]]
@@ -147,21 +105,6 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
     out["median_seconds"] = float(np.median([r["seconds"] for r in rows])) if rows else None
     out["median_sim_seconds"] = float(np.median([r["sim_seconds"] for r in rows])) if rows else None
     return out
-
-
-def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
-    """Per effect (the part of ``effect.param`` before the dot): the parameters with an interval and the share whose
-    90 % interval covers the truth (calibrated: 85–95 %)."""
-    out: dict[str, Any] = {}
-    for key, v in ps.items():
-        eff = key.split(".", 1)[0]
-        e = out.setdefault(eff, {"n_interval": 0, "covered": 0})
-        for p in v:
-            if p["covered"] is not None:
-                e["n_interval"] += 1
-                e["covered"] += bool(p["covered"])
-    return {k: v | {"coverage": v["covered"] / v["n_interval"] if v["n_interval"] else None}
-            for k, v in sorted(out.items())}
 
 
 def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:

@@ -1,4 +1,5 @@
-"""Scores of ``chainid benchmark-gap``: per case family, against the targets, and the confusion matrix."""
+"""Scores of ``chainid benchmark-gap``: per case family, against the targets, and the confusion matrix; with
+resamples, the coverage of the 90 % intervals of the true parameters (right verdicts only, :func:`param_coverage`)."""
 
 from __future__ import annotations
 
@@ -6,13 +7,12 @@ from typing import Any
 
 import numpy as np
 
+from chainid.gap.benchmark.paramscore import (CANONICAL, coverage_by_effect, coverage_lines, param_scores, param_table,
+                                              pool_scores)
+from chainid.gap.benchmark.simtruth import nested
 
 #: a case counts for the right-verdict rates when the baseline's residual is at least this many noise σ
 SNR_MIN = 3.0
-
-
-#: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
-CANONICAL = {"machine_compliance": "stiffness_level"}
 
 
 def open_world_row(res: dict[str, Any]) -> dict[str, Any]:
@@ -155,8 +155,43 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
     tr = [r for r in rows if r.get("excitation") == "transfer"]
     if tr:
         out["transfer"] = transfer_rates(tr)
+    cov = param_coverage(rows)
+    if cov is not None:
+        out["param_coverage"] = cov
+        rows = [r | {"param_scores": row_param_scores(r)} for r in rows]
     out["rows"] = rows
     return out
+
+
+def row_param_scores(r: dict[str, Any]) -> list[dict[str, Any]]:
+    """The parameter scores of a row (:func:`chainid.gap.benchmark.paramscore.param_scores`: estimate of the last
+    trusted step vs ``true_params``, relative error, whether ``params_ci90`` covers the truth) when its verdict is
+    right — it names exactly the true effects (by canonical name) —, else [] (an error, a wrong or partial
+    verdict)."""
+    if str(r["verdict"]).startswith("error") or not r.get("true_params") or named(r) != canon(r["truth"]):
+        return []
+    return param_scores({**r, "truth": nested(r["true_params"])}, sorted(named(r)))
+
+
+def param_coverage(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """The calibration of the 90 % intervals over every row with a right verdict (:func:`row_param_scores`):
+    ``by_effect`` (intervals, covered, coverage, median relative error per effect) and ``params`` (the same per
+    parameter); None when no row was diagnosed with resamples."""
+    n = max((int(r.get("resamples") or 0) for r in rows), default=0)
+    if n <= 0:
+        return None
+    ps = pool_scores(row_param_scores(r) for r in rows)
+    return {"resamples": n, "by_effect": coverage_by_effect(ps), "params": param_table(ps)}
+
+
+def coverage_text(s: dict[str, Any]) -> list[str]:
+    """Terminal lines of :func:`param_coverage` (none without resamples)."""
+    cov = s.get("param_coverage")
+    if not cov:
+        return []
+    title = (f"\n90 % intervals ({cov['resamples']} resamples) covering the true parameter, per effect (right "
+             f"verdicts only; calibrated: 85-95 %):")
+    return coverage_lines(cov["by_effect"], title) if cov["by_effect"] else [title, "  no parameter scored"]
 
 
 TARGETS = {"single_right_rate": 0.92, "compound_both_named_rate": 0.85, "control_none_rate": 0.95}
@@ -230,6 +265,7 @@ def format_summary(s: dict[str, Any]) -> str:
         if s.get("errors") or s.get("nonharmonic", {}).get("errors"):
             e = (s.get("errors") or []) + s.get("nonharmonic", {}).get("errors", [])
             tail.append(f"\n{len(e)} case(s) raised an error (counted as misses), e.g. {e[0]['error']}")
+        tail += coverage_text(s)
         return "\n".join([f"{s['n_cases']} cases" + (f"; wall {s['wall_seconds']:.0f} s" if "wall_seconds" in s
                                                       else "")] + tail)
     lines = [
@@ -268,4 +304,5 @@ def format_summary(s: dict[str, Any]) -> str:
         for m in s["misses"][:10]:
             lines.append(f"  {m['family']}: truth {'+'.join(m['truth']) or 'none'} -> {m['verdict']} "
                          f"(snr {m['snr']:.1f}, {m['chain']}, {m['plan']}, noise {m['noise']})")
+    lines += coverage_text(s)
     return "\n".join(lines)

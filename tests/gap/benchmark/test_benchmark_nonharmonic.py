@@ -190,7 +190,8 @@ def test_time_rows_time_the_case(monkeypatch):
     from chainid.gap.benchmark import nonharmonic as bt
 
     monkeypatch.setattr(bt, "records", lambda case: (time.sleep(0.05), ([], {"nominal": None, "motions": [], "true": None, "hooks": [], "c": 0.0,
-                                                        "c_records": [3.0, 4.0], "sigmas": []}))[1])
+                                                        "c_records": [3.0, 4.0], "sigmas": [],
+                                                        "true_params": {}}))[1])
 
     def boom(*a, **k):  # noqa: ANN001
         raise RuntimeError("bad")
