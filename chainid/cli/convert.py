@@ -16,6 +16,8 @@ import os
 import sys
 from typing import Any
 
+from chainid.infra.runlog import note
+
 __all__ = ["cmd_convert", "add_subparsers"]
 
 
@@ -88,10 +90,9 @@ def cmd_convert(args: argparse.Namespace) -> int:
                 print(f"wrote {side}: covariates of {sum(bool(r.covariates) for r in recs)} test(s) "
                       "(test,name,value)", file=sys.stderr if args.to == "-" else sys.stdout)
             else:
-                print("note: the covariates are not written (give --covariates-to FILE)", file=sys.stderr)
+                note("the covariates are not written (give --covariates-to FILE)")
         if any(r.channels for r in recs):
-            print("note: kept channels (--keep) are not part of the canonical test,t,x,F and are not written",
-                  file=sys.stderr)
+            note("kept channels (--keep) are not part of the canonical test,t,x,F and are not written")
     except ValueError as exc:
         print(f"chainid convert: error: {exc}", file=sys.stderr)
         return 2

@@ -18,6 +18,8 @@ import warnings
 from pathlib import Path
 from typing import Any
 
+from chainid.infra.runlog import note
+
 __all__ = ["add_subparsers", "cmd_dynamics"]
 
 _FIGS = ("dynamics_heatmap.png", "dynamics_drive_tension.png", "dynamics_modes.png")
@@ -222,7 +224,7 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
         kw.update(seg)
         chain = kw["chain"]
         for m in notes:
-            print(f"note: {m}", file=sys.stderr)
+            note(m)
         seg_notes = notes
     else:
         chain = load_chain(args.chain)

@@ -160,10 +160,10 @@ def load_records(args: argparse.Namespace, paths: Any, chain: Any = None, doc: d
         + grouped(log.warnings)
     if msgs and getattr(args, "strict", False):
         raise ValueError("--strict: implausible records: " + "; ".join(msgs))
-    from chainid.infra.runlog import warn
+    from chainid.infra.runlog import note, warn
 
     for m in grouped(log.notes):
-        print(f"note: {m}", file=sys.stderr)
+        note(m)
     for m in msgs:
         warn(m)  # on stderr and in the run's JSON warnings
     if doc is not None and msgs:

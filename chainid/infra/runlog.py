@@ -7,6 +7,7 @@ A command of the ``chainid`` CLI runs inside :func:`collecting`.  In that block
 * every Python warning that would be shown (``warnings.warn`` in the library: plausibility, a load beyond the
   chain's limits, a model-file value that is valid but implausible, a run check) is printed and recorded the
   same way instead of Python's two-line ``file:line: Category: message`` form;
+* :func:`note` prints ``chainid <command>: note: <message>`` (information, not recorded);
 * :func:`merge_warnings` adds the recorded messages, in order and without repeats, to a JSON document's
   ``warnings`` list: :func:`chainid.infra.fileio.write_json` calls it for every document it writes, so a
   warning printed on stderr is also in the JSON (one rule for every command).
@@ -22,7 +23,7 @@ import warnings
 from dataclasses import dataclass, field
 from typing import Any, Iterator
 
-__all__ = ["warn", "collecting", "collected", "merge_warnings", "active"]
+__all__ = ["warn", "note", "collecting", "collected", "merge_warnings", "active"]
 
 
 @dataclass
@@ -56,6 +57,14 @@ def warn(message: str) -> None:
         _emit(_RUNS[-1], message)
     else:
         warnings.warn(str(message), UserWarning, stacklevel=2)
+
+
+def note(message: str) -> None:
+    """Print an informational note on stderr: ``chainid <command>: note: <message>`` inside a CLI run (the same
+    prefix as its warnings and errors), ``note: <message>`` outside one.  A note is not a warning: it is not
+    recorded in the JSON."""
+    prefix = f"chainid {_RUNS[-1].command}: " if _RUNS else ""
+    print(f"{prefix}note: {str(message).strip()}", file=sys.stderr, flush=True)
 
 
 def collected() -> list[str]:

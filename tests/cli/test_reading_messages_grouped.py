@@ -1,5 +1,6 @@
 """What reading notices in many files is one line per check (:func:`chainid.records.plausible.grouped`), as a
-warning (``--bad-lines warn``) or as a note (``--bad-lines skip``), and the note never ends in a traceback.
+warning (``--bad-lines warn``) or as a note (``--bad-lines skip``), each with the command's prefix, and the note never
+ends in a traceback.
 
 Three text files, each a 2 Hz sine in s, mm, N with one line of text in the middle (line 53 of each file, counting
 the header as line 1); the reference is the file layout written here.
@@ -40,6 +41,6 @@ def test_one_bad_line_in_every_file_is_one_line(folder, tmp_path, capsys, mode, 
     assert f"file {first!r}: 1 bad line(s) left out (--bad-lines {mode}); the first: {first}, line 53:" in lines[0]
     assert lines[0].endswith(f"[the same check on 2 more file(s): {str(folder / 'T1.csv')!r}, "
                              f"{str(folder / 'T2.csv')!r}]")
-    assert (f"chainid convert: {kind}: " if kind == "warning" else "note: ") in lines[0]
+    assert lines[0].startswith(f"chainid convert: {kind}: ")  # a note carries the command's prefix too
     assert "Traceback" not in err
     assert out.read_text().count("\n") == 1 + 3 * 200  # header + every good row of the three files
