@@ -433,25 +433,32 @@ def rank_laws(
             "n_params": law.n_params,
             "fitted": law,
         })
-    rows.sort(key=lambda r: (_tie_key(r["loo_rmse"], c), r["n_params"]))
-    return rows
+    return _ranked(rows, c)
 
 
 #: leave-one-out errors closer than this (relative, or below it times the RMS of c_e) are equal for the ranking
 LOO_TIE_REL = 1e-9
 
 
-def _tie_key(loo: float, c: np.ndarray) -> float:
-    """The ranking key of a leave-one-out RMSE: equal errors (within :data:`LOO_TIE_REL` relative, and every
-    error below LOO_TIE_REL·RMS(c_e), i.e. an exact fit up to round-off) give equal keys, so that the law with
-    fewer parameters ranks first among them."""
-    if not math.isfinite(loo):
-        return loo
+def _ranked(rows: list[dict[str, Any]], c: np.ndarray) -> list[dict[str, Any]]:
+    """Rows by leave-one-out RMSE, the law with fewer parameters first among equal errors.
+
+    Errors are equal when they lie within :data:`LOO_TIE_REL` (relative) of the smallest error of their group, or
+    are all below LOO_TIE_REL·RMS(c_e) (an exact fit up to round-off); groups are formed along the sorted errors,
+    so two errors that straddle a rounding boundary are still equal.  Non-finite errors (a failed fit) come last.
+    """
     floor = LOO_TIE_REL * float(np.sqrt(np.mean(c * c)))
-    v = max(loo, floor)
-    if v <= 0:
-        return 0.0
-    return float(f"{v:.{max(1, -int(math.floor(math.log10(LOO_TIE_REL))))}g}")
+    order = sorted(rows, key=lambda r: (not math.isfinite(r["loo_rmse"]), r["loo_rmse"], r["n_params"]))
+    out: list[dict[str, Any]] = []
+    group: list[dict[str, Any]] = []
+    for r in order:
+        v = max(r["loo_rmse"], floor)
+        if group and math.isfinite(v) and v <= max(group[0]["loo_rmse"], floor) * (1 + LOO_TIE_REL):
+            group.append(r)
+            continue
+        out += sorted(group, key=lambda g: g["n_params"])
+        group = [r]
+    return out + sorted(group, key=lambda g: g["n_params"])
 
 
 def law_from_dict(d: dict[str, Any], model: StiffnessLike | None = None) -> DampingLaw:

@@ -72,3 +72,17 @@ def test_constant_damping_ranks_the_viscous_law_first(c0):
     # c_e ≡ c0 is fitted exactly by viscous (1 parameter), viscous+Coulomb (2) and Eq. 21 (5): a tie
     order = _order([PolynomialLaw(), CombinedLaw(), ViscousLaw()], np.full(W.size, c0))
     assert order == ["viscous", "viscous+coulomb", "polynomial"]
+
+
+def test_equal_errors_that_straddle_a_rounding_boundary_are_equal():
+    # 1.0000000049 and 1.0000000051 differ by 2e-10 relative (within the 1e-9 tie), but rounded to nine significant
+    # digits they are 1.00000000 and 1.00000001: a tie judged on rounded values ranks the five-parameter law first
+    laws = [StandIn("five", 5, 1.0000000049), StandIn("one", 1, 1.0000000051)]
+    assert _order(laws) == ["one", "five"]
+
+
+def test_a_failed_fit_ranks_last_and_ties_do_not_chain_past_the_tolerance():
+    # 0.5, 0.5·(1 + 0.6e-9), 0.5·(1 + 1.2e-9): the third is 1.2e-9 from the group's smallest error, not a tie
+    laws = [StandIn("failed", 1, None), StandIn("six", 6, 0.5 * (1 + 1.2e-9)), StandIn("four", 4, 0.5),
+            StandIn("three", 3, 0.5 * (1 + 0.6e-9))]
+    assert _order(laws) == ["three", "four", "six", "failed"]
