@@ -73,7 +73,7 @@ def loto_jackknife(prev: Candidate, new: Candidate) -> tuple[float, float]:
     a = np.array([prev.loto_num[t] for t in tests])
     b = np.array([new.loto_num[t] for t in tests])
     tiny = 1e-300
-    g = 0.5 * np.log(np.maximum(a, tiny) / np.maximum(b, tiny))
+    g = 0.5 * (np.log(np.maximum(a, tiny)) - np.log(np.maximum(b, tiny)))  # a difference of logs: never overflows
     n = g.size
     if n < 2:
         return float(g.mean()) if n else 0.0, float("inf")
