@@ -66,6 +66,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/signal/test_harmonic_estimate.py",
         "tests/signal/test_steady_window.py",
         "tests/signal/test_estimate_window_half_open.py",
+        "tests/signal/test_sample_on_a_cycle_boundary.py",
     ),
     "model": (
         "tests/damping/test_identify.py::test_fewer_than_six_tests_refused",
@@ -149,6 +150,8 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/records/test_plausible_slips.py",
         "tests/records/test_slack_warning_throughout_only.py",
         "tests/records/test_time_unit_slip_by_speed.py",
+        "tests/records/test_daq_text.py",
+        "tests/records/test_segments_split.py",
     ),
     "damping": (
         "tests/damping/test_audit.py",
