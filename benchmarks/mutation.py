@@ -95,6 +95,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/gap/harmonic/test_jackknife.py::test_jackknife_of_a_mean_is_the_standard_error",
         "tests/gap/timedomain/test_time_where.py::test_local_peak_over_the_octave_median",
         "tests/model/test_augmented_model.py",
+        "tests/model/test_bouc_wen_operator.py",
         "tests/model/test_base_models.py",
         "tests/model/test_effects.py",
         "tests/model/test_kernels.py",
