@@ -96,6 +96,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/gap/timedomain/test_time_where.py::test_local_peak_over_the_octave_median",
         "tests/model/test_augmented_model.py",
         "tests/model/test_bouc_wen_operator.py",
+        "tests/model/test_pinned_at_a_bound.py",
         "tests/model/test_base_models.py",
         "tests/model/test_effects.py",
         "tests/model/test_kernels.py",
