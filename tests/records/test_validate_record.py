@@ -206,8 +206,10 @@ def test_a_time_that_goes_backwards_is_named_at_its_first_sample():
     27): the first bad step ``dt <= 0`` → ``dt == 0`` (a step back was named at sample 1, or at the later repeat)."""
     x = np.ones(6)
     t = np.array([0.0, 0.1, 0.2, 0.3, 0.25, 0.5])
-    with pytest.raises(ValueError, match=r"test 'b': t is not strictly increasing at sample 4 \(t = 0\.3 s then 0\.25 s\)"):
+    with pytest.raises(ValueError,
+                       match=r"test 'b': t is not strictly increasing at sample 4 \(t = 0\.3 s then 0\.25 s\)"):
         check_data(Record("b", t, x, x))
     t = np.array([0.0, 0.1, 0.05, 0.3, 0.3, 0.5])
-    with pytest.raises(ValueError, match=r"test 'b': t is not strictly increasing at sample 2 \(t = 0\.1 s then 0\.05 s\)"):
+    with pytest.raises(ValueError,
+                       match=r"test 'b': t is not strictly increasing at sample 2 \(t = 0\.1 s then 0\.05 s\)"):
         check_data(Record("b", t, x, x))
