@@ -171,6 +171,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "--deselect=tests/gap/benchmark/test_benchmark_grid.py::test_small_benchmark",
         "tests/gap/benchmark/test_benchmark_nonharmonic.py",
         "tests/gap/benchmark/test_benchmark_report.py",
+        "tests/gap/benchmark/test_ode_chirp_plan.py",
         "tests/gap/core/test_fit_starts.py",
         "tests/gap/core/test_interpret.py",
         "tests/gap/core/test_noise.py",
