@@ -12,7 +12,8 @@ def test_chirp_rests_are_five_to_fifteen_per_cent_of_the_record():
     """Every base, seeds 0–9 (308 chirp records of 0.8–40 s): the n_sweeps + 1 rests together take
     5–15 % of the record's n/fs seconds, n_sweeps is 1–3, and each sweep, (n/fs − (n_sweeps + 1)·rest)/n_sweeps s
     (hand, the layout of odeshapes.chirp), holds at least 4 periods of f_lo.  Bug caught (seed 27): the record's
-    length ``n / fs`` → ``n // fs`` (whole seconds: the rests drawn from a shorter record: 4.76 % of it in the first failing record; a record under 1 s gets none)."""
+    length ``n / fs`` → ``n // fs`` (whole seconds: the rests drawn from a shorter record: 4.76 % of it in the
+    first failing record; a record under 1 s gets none)."""
     fracs = []
     for base in BASES:
         for seed in range(10):
