@@ -243,6 +243,10 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/dynamics/test_work_bound.py",
         "tests/dynamics/test_drive_resolution.py",
         "tests/dynamics/test_output_aliasing_bound.py",
+        "tests/dynamics/test_segment_effects.py",
+        "--deselect=tests/dynamics/test_segment_effects.py::test_stiffness_level_scales_the_link_term",
+        "tests/dynamics/test_segment_effects_series.py",
+        "tests/dynamics/test_segment_model_effects.py",
     ),
     "infra": (
         "tests/infra/test_fileio.py",
