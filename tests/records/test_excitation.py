@@ -344,3 +344,15 @@ def test_band_random_refuses_a_band_out_of_order_by_its_own_rule(f_lo, f_hi):
     with pytest.raises(ValueError, match=re.escape(f"band [{f_lo}, {f_hi}] Hz is invalid: valid range "
                                                    "0 < f_lo < f_hi < fs/2 = 50")):
         band_random(1000, 100.0, f_lo, f_hi, 0.1, 0.0, np.random.default_rng(0))
+
+
+def test_linear_sweep_acceleration_closed_form():
+    """Linear sweep 1 → 21 Hz over 4 s (k = 5 Hz/s), A = 0.5 mm: φ = 2π(f0·t + k·t²/2), so
+    ẍ = A·(2π·k·cos φ − (2π(f0 + k·t))²·sin φ) (hand), to 1e-9 of its largest value; the sweep-rate term
+    A·2π·k = 15.7 mm/s² is what the check sees near the start (there ω²A = 19.7 mm/s²).  Bug caught (seed 27):
+    ``2 * np.pi * k`` → ``2 % np.pi * k`` (φ'' = 2k instead of 2πk)."""
+    m = sweep(4000, 1000.0, 1.0, 21.0, 0.5, 2.0)
+    t = np.arange(4000) / 1000.0
+    ph = 2 * np.pi * (1.0 * t + 0.5 * 5.0 * t * t)
+    want = 0.5 * (2 * np.pi * 5.0 * np.cos(ph) - (2 * np.pi * (1.0 + 5.0 * t)) ** 2 * np.sin(ph))
+    np.testing.assert_allclose(m.xdd, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))

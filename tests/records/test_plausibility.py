@@ -175,3 +175,23 @@ def test_stiffness_ratio_names_the_slip_within_a_factor_three(ratio, text):
     from chainid.records.plausible import _slip
 
     assert text in _slip(ratio)
+
+
+def test_the_main_frequency_rule_does_not_depend_on_the_unit_of_x():
+    """The rule "the peak and its two neighbours each side hold half the power" is a ratio, so it gives the same
+    answer in any unit of x: white noise of 1 µm (x a dead channel's noise, 10 seeds at 1 kHz) has no main
+    frequency and draws no sampling warning, like the same noise of 1 mm; a 300 Hz sine of 1 µm at 1 kHz (3.3
+    samples per cycle) is named aliased, at 300 Hz, like the same sine of 1 mm.  Bug caught (seed 27): the power
+    ``spec ** 2`` → ``spec - 2`` (a unit-dependent rule: every line of a small-valued x below 2 counts as negative
+    power, so the largest noise line becomes a main frequency: seed 0 is called aliased at 334 Hz)."""
+    from chainid.records.plausible import sampling_warnings
+    from chainid.records.record import Record
+
+    t = np.arange(2000) / 1000.0
+    for scale in (1e-3, 1.0):
+        for seed in range(10):
+            x = 2.2 + scale * np.random.default_rng(seed).standard_normal(t.size)
+            assert sampling_warnings([Record("n", t, x, 1000.0 + 10.0 * x)]) == [], (scale, seed)
+        x = 2.2 + scale * np.sin(2 * np.pi * 300.0 * t)
+        (w,) = sampling_warnings([Record("s", t, x, 1000.0 + 10.0 * x)])
+        assert "1000 Hz sampling gives 3.3 samples per cycle of the main frequency 300 Hz " in w, scale

@@ -198,3 +198,18 @@ def test_a_noisy_record_under_one_cycle_is_measured_by_the_spanned_cycles_fit():
     with pytest.raises(ValueError, match=r"^test 'p': less than one whole cycle: x\(t\) spans about 0\.7 period\(s\) "
                                          r"of its oscillation \(period ~1 s, record 0\.7 s\)"):
         validate_record(Record("p", t, x, 1000.0 + 500.0 * np.sin(2 * np.pi * t)))
+
+
+def test_a_time_that_goes_backwards_is_named_at_its_first_sample():
+    """t = 0, 0.1, 0.2, 0.3, 0.25, 0.5 (a step back at sample 4): the message names sample 4 and both times; with
+    a step back at sample 2 and a repeated time at sample 4, the first one (sample 2) is named.  Bug caught (seed
+    27): the first bad step ``dt <= 0`` → ``dt == 0`` (a step back was named at sample 1, or at the later repeat)."""
+    x = np.ones(6)
+    t = np.array([0.0, 0.1, 0.2, 0.3, 0.25, 0.5])
+    with pytest.raises(ValueError,
+                       match=r"test 'b': t is not strictly increasing at sample 4 \(t = 0\.3 s then 0\.25 s\)"):
+        check_data(Record("b", t, x, x))
+    t = np.array([0.0, 0.1, 0.05, 0.3, 0.3, 0.5])
+    with pytest.raises(ValueError,
+                       match=r"test 'b': t is not strictly increasing at sample 2 \(t = 0\.1 s then 0\.05 s\)"):
+        check_data(Record("b", t, x, x))
