@@ -334,6 +334,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/report/test_report_gap.py",
         "tests/report/test_report_steps.py",
         "tests/report/test_report_table1.py",
+        "tests/report/test_eq26_inverse.py",
     ),
 }
 PACKAGES = tuple(TARGETS)
