@@ -46,14 +46,14 @@ def test_cli_diagnose_excludes_an_unusable_test(tmp_path, capsys):
     strict flag not passed through, the JSON's ``excluded`` empty."""
     data = _data(tmp_path)
     out = tmp_path / "r.json"
-    assert main(["diagnose", str(data), "--holdout", "3,7,11", "--max-combo", "1", "--json", str(out)]) == 0
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3,7,11", "--max-combo", "1", "--json", str(out)]) == 0
     err = capsys.readouterr().err
     lines = [ln for ln in err.splitlines() if "excluded" in ln]
     assert len(lines) == 1 and "short" in lines[0]
     doc = json.loads(out.read_text())
     assert [e["test"] for e in doc["excluded"]] == ["short"] and doc["excluded"][0]["reason"]
     assert "short" not in [t["test"] for t in doc.get("tests", [])]
-    assert main(["diagnose", str(data), "--holdout", "3,7,11", "--max-combo", "1", "--strict"]) == 2
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3,7,11", "--max-combo", "1", "--strict"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "short" in err[0] and "Traceback" not in err[0]
 
@@ -75,7 +75,7 @@ def test_cli_max_combo_default_is_the_documented_one(tmp_path, monkeypatch):
 
     monkeypatch.setattr(dg, "diagnose", fake)
     data = _data(tmp_path, with_short=False)
-    assert main(["diagnose", str(data), "--holdout", "3"]) == 2
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3"]) == 2
     assert seen["max_combo"] == documented
 
 
@@ -92,7 +92,7 @@ def test_cli_diagnose_steady_tol_range(tmp_path, monkeypatch, capsys, tol, ok):
 
     monkeypatch.setattr(dg, "diagnose", fake)
     data = _data(tmp_path, with_short=False)
-    assert main(["diagnose", str(data), "--holdout", "3", "--steady-tol", tol]) == 2
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3", "--steady-tol", tol]) == 2
     err = capsys.readouterr().err
     assert ("stand-in stops here" in err) is ok and ("--steady-tol" in err) is (not ok)
 
@@ -129,7 +129,7 @@ def test_diagnose_checks_every_step_file_before_it_runs(tmp_path, capsys, max_co
     last = step_paths(m, max_combo + 1)[-1]
     assert last.name == f"m.step{max_combo}.toml"
     last.write_text("mine")
-    rc = main(["diagnose", str(tmp_path / "missing.csv"), "--holdout", "1", "--max-combo", str(max_combo),
+    rc = main(["diagnose", "--resamples", "0", str(tmp_path / "missing.csv"), "--holdout", "1", "--max-combo", str(max_combo),
                "--save-model", str(m), "--save-steps"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and last.name in err[0] and "missing.csv" not in err[0], err
@@ -137,7 +137,7 @@ def test_diagnose_checks_every_step_file_before_it_runs(tmp_path, capsys, max_co
     # one step more is not checked: the data error comes first
     last.unlink()
     step_paths(m, max_combo + 2)[-1].write_text("mine")
-    rc = main(["diagnose", str(tmp_path / "missing.csv"), "--holdout", "1", "--max-combo", str(max_combo),
+    rc = main(["diagnose", "--resamples", "0", str(tmp_path / "missing.csv"), "--holdout", "1", "--max-combo", str(max_combo),
                "--save-model", str(m), "--save-steps"])
     assert rc == 2 and "missing.csv" in capsys.readouterr().err
 
@@ -149,7 +149,7 @@ def test_saved_model_records_the_command_line_and_the_data_hash(tmp_path):
 
     data, m = tmp_path / "d.csv", tmp_path / "m.toml"
     assert main(["simulate", str(data), "--cycles", "5", "--samples-per-cycle", "48", "--noise-F", "5"]) == 0
-    argv = ["diagnose", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(m)]
+    argv = ["diagnose", "--resamples", "0", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(m)]
     assert main(argv) == 0
     prov = load_model(m).info["provenance"]
     assert prov["command"] == "chainid " + " ".join(argv)
@@ -178,7 +178,7 @@ def test_diagnose_model_linear_hands_no_chain_model(chain_records, monkeypatch):
     monkeypatch.setattr(importlib.import_module("chainid.gap.diagnose"), "diagnose", stand_in)
     for extra in (["--model", "linear"], []):
         with pytest.raises(_Reached):
-            main(["diagnose", str(chain_records), "--holdout", "3,7", "--quiet", *extra])
+            main(["diagnose", "--resamples", "0", str(chain_records), "--holdout", "3,7", "--quiet", *extra])
     assert seen[0] is None and isinstance(seen[1], ChainModel)
 
 

@@ -32,7 +32,7 @@ def _err(capsys, argv):
     (["identify", "{d}", "--mass", "1", "--mass", "2"], "--mass"),
     (["stiffness", "--x", "1", "--x", "2"], "--x"),
     (["stiffness", "--x", "1", "--force", "--force"], "--force"),
-    (["diagnose", "{d}", "--holdout", "3", "--holdout", "7"], "--holdout"),
+    (["diagnose", "--resamples", "0", "{d}", "--holdout", "3", "--holdout", "7"], "--holdout"),
     (["simulate", "{o}/s.csv", "--effect", "friction:F_c=100", "--effect", "backlash:b=0.01"], "--effect"),
 ])
 def test_option_given_twice_is_refused(data, tmp_path, capsys, argv, opt):
@@ -69,7 +69,7 @@ def test_side_file_duplicate_rows_refused(data, tmp_path, capsys):
 
 @pytest.mark.parametrize("holdout", ["", ",", " , "])
 def test_empty_holdout_is_one_clear_line(data, capsys, holdout):
-    rc, err = _err(capsys, ["diagnose", str(data), f"--holdout={holdout}"])
+    rc, err = _err(capsys, ["diagnose", "--resamples", "0", str(data), f"--holdout={holdout}"])
     assert rc == 2 and len(err) == 1
     assert err[0] == "chainid diagnose: error: --holdout: no test held out; give test ids or --holdout-blocks K"
 
@@ -81,14 +81,14 @@ def _scaled(data, tmp_path, name, fn):
 
 def test_diagnose_huge_force_is_a_clear_error(data, tmp_path, capsys):
     p = _scaled(data, tmp_path, "big.csv", lambda F: F * 1e150)
-    rc, err = _err(capsys, ["diagnose", str(p), "--holdout", "3", "--max-combo", "1"])
+    rc, err = _err(capsys, ["diagnose", "--resamples", "0", str(p), "--holdout", "3", "--max-combo", "1"])
     assert rc == 2 and len(err) == 1, err
     assert "|F| = " in err[0] and "e+154 N is out of range; valid range |F| <= 1e+12 N" in err[0]
 
 
 def test_diagnose_zero_force_is_a_clear_error(data, tmp_path, capsys):
     p = _scaled(data, tmp_path, "zero.csv", np.zeros_like)
-    rc, err = _err(capsys, ["diagnose", str(p), "--holdout", "3", "--max-combo", "1"])
+    rc, err = _err(capsys, ["diagnose", "--resamples", "0", str(p), "--holdout", "3", "--max-combo", "1"])
     assert rc == 2 and len(err) == 1, err
     assert "the force F is constant (0 N in all" in err[0] and "nothing to diagnose" in err[0]
 

@@ -52,7 +52,7 @@ def test_predict_plots_show_the_residuals_over_t_and_x(tmp_path):
 def test_predict_table_lists_each_test_and_the_pooled_row(tmp_path, capsys):
     data, m, js = tmp_path / "d.csv", tmp_path / "m.toml", tmp_path / "p.json"
     assert main(["simulate", str(data), "--cycles", "5", "--samples-per-cycle", "48", "--noise-F", "5"]) == 0
-    assert main(["diagnose", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(m)]) == 0
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(m)]) == 0
     capsys.readouterr()
     assert main(["predict", str(m), str(data), "--tests", " 7, 3 ,", "--json", str(js)]) == 0
     out = capsys.readouterr().out.splitlines()

@@ -32,7 +32,7 @@ def test_friction_effect_adds_coulomb_force_and_is_diagnosed(tmp_path, capsys):
         assert np.mean(np.sign(dF) == np.sign(v[moving])) > 0.99
     capsys.readouterr()
     out = tmp_path / "d.json"
-    assert main(["diagnose", str(tmp_path / "fric.csv"), "--holdout", "3,7", "--json", str(out)]) == 0
+    assert main(["diagnose", "--resamples", "0", str(tmp_path / "fric.csv"), "--holdout", "3,7", "--json", str(out)]) == 0
     doc = json.loads(out.read_text())
     assert doc["verdict"] == "friction"
     best = next(r for r in doc["ranking"] if r["effect"] == "friction")  # (stribeck, which nests it, may rank level)

@@ -37,7 +37,7 @@ def _bad_inputs(tmp):
         "identify": ["identify", missing],
         "simulate": ["simulate", str(existing)],
         "audit": ["audit", "--data", missing],
-        "diagnose": ["diagnose", missing, "--holdout", "1"],
+        "diagnose": ["diagnose", "--resamples", "0", missing, "--holdout", "1"],
         "benchmark-gap": ["benchmark-gap", "--workers", "0"],
         "report": ["report", "--out", str(tmp / "rep"), "--data", missing],
         "chains": ["chains", "din22252:1x1"],
@@ -75,10 +75,10 @@ def test_an_unknown_option_names_the_command(command, capsys):
 
 
 @pytest.mark.parametrize("argv, one, other", [
-    (["diagnose", "D", "--holdout", "1", "--save-model", "X.json", "--json", "X.json"], "--save-model 'X.json'",
+    (["diagnose", "--resamples", "0", "D", "--holdout", "1", "--save-model", "X.json", "--json", "X.json"], "--save-model 'X.json'",
      "--json 'X.json'"),
     (["identify", "D", "--json", "S.csv", "--write-side", "S.csv"], "--write-side 'S.csv'", "--json 'S.csv'"),
-    (["diagnose", "D", "--holdout", "1", "--save-model", "M.toml", "--save-steps", "--json", "M.step1.toml"],
+    (["diagnose", "--resamples", "0", "D", "--holdout", "1", "--save-model", "M.toml", "--save-steps", "--json", "M.step1.toml"],
      "--save-steps 'M.step1.toml'", "--json 'M.step1.toml'"),
 ])
 def test_two_outputs_that_are_one_file_are_refused(argv, one, other, tmp_path, capsys, monkeypatch):
@@ -98,6 +98,6 @@ def test_the_same_file_by_another_spelling_is_refused(tmp_path, capsys, monkeypa
     monkeypatch.chdir(tmp_path)
     (tmp_path / "sub").mkdir()
     (tmp_path / "D").write_text("test,t,x,F\n")
-    rc = main(["diagnose", "D", "--holdout", "1", "--save-model", "sub/../X.json", "--json", "./X.json"])
+    rc = main(["diagnose", "--resamples", "0", "D", "--holdout", "1", "--save-model", "sub/../X.json", "--json", "./X.json"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and "--save-model 'sub/../X.json' is the same file as --json './X.json'" in err[0], err

@@ -19,7 +19,7 @@ def files(tmp_path_factory):
     data = d / "d.csv"
     assert main(["simulate", str(data), "--cycles", "5", "--samples-per-cycle", "48"]) == 0
     model = d / "m.toml"
-    assert main(["diagnose", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(model)]) == 0
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3,7", "--max-combo", "1", "--save-model", str(model)]) == 0
     return data, model
 
 
@@ -33,7 +33,7 @@ def _run(capsys, argv):
 @pytest.mark.slow
 @pytest.mark.parametrize("argv, key", [
     (["identify", "{data}", "--json", "-"], "tests"),
-    (["diagnose", "{data}", "--holdout", "3,7", "--max-combo", "1", "--json", "-"], "verdict"),
+    (["diagnose", "--resamples", "0", "{data}", "--holdout", "3,7", "--max-combo", "1", "--json", "-"], "verdict"),
     (["audit", "--json", "-"], None),
     (["stiffness", "--x", "2.2", "--json", "-"], "points"),
     (["chains", "--json", "-"], "presets"),

@@ -35,7 +35,7 @@ def files(tmp_path_factory):
 COMMANDS = {
     "identify": lambda d, m: ["identify", d, "--quiet"],
     "audit": lambda d, m: ["audit", "--data", d],
-    "diagnose": lambda d, m: ["diagnose", d, "--holdout", "9", "--max-combo", "1"],
+    "diagnose": lambda d, m: ["diagnose", "--resamples", "0", d, "--holdout", "9", "--max-combo", "1"],
     "predict": lambda d, m: ["predict", m, d],
     "stiffness": lambda d, m: ["stiffness", "--F", "150000"],
     "dynamics": lambda d, m: ["dynamics", "--links", "100", "--masses", "10", "--t-end", "0.05", "--pretension",

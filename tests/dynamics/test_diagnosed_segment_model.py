@@ -17,7 +17,7 @@ def test_diagnosed_friction_model_drives_the_segments(tmp_path, capsys):
                     samples_per_cycle=128, noise_F=20.0, seed=1, force_fn=parse_effect("friction:F_c=150", model))
     data, m, out = tmp_path / "d.csv", tmp_path / "m.toml", tmp_path / "dyn.json"
     write_records(data, recs)
-    assert main(["diagnose", str(data), "--holdout", "3,7,11", "--max-combo", "1", "--save-model", str(m)]) == 0
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3,7,11", "--max-combo", "1", "--save-model", str(m)]) == 0
     capsys.readouterr()
     w, A = 10.0, 0.2
     assert main(["dynamics", "--links", "400", "--masses", "25", "--pretension", "2000", "--drive", "polygon",

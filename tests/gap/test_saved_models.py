@@ -37,7 +37,7 @@ def test_saved_model_reproduces_the_diagnosis_held_out_nrmse(tmp_path, effect, b
     data = tmp_path / "d.csv"
     write_records(data, records(effect))
     m, r, p = tmp_path / "m.toml", tmp_path / "r.json", tmp_path / "p.json"
-    assert main(["diagnose", str(data), "--holdout", HOLD, "--max-combo", "1", "--model", base, "--json", str(r),
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", HOLD, "--max-combo", "1", "--model", base, "--json", str(r),
                  "--save-model", str(m), "--save-steps"]) == 0
     diag = json.loads(r.read_text())
     assert diag["verdict"] == effect.split(":")[0]
@@ -65,7 +65,7 @@ def test_simulate_model_then_predict_round_trips_to_the_noise_level(tmp_path):
     write_records(data, records("friction:F_c=150"))
     write_plan(plan, grid3x3_plan(prefix=""))
     m = tmp_path / "m.toml"
-    assert main(["diagnose", str(data), "--holdout", HOLD, "--max-combo", "1", "--save-model", str(m)]) == 0
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", HOLD, "--max-combo", "1", "--save-model", str(m)]) == 0
     sigma = 20.0
     out = {}
     for noise in (sigma, 0.0):

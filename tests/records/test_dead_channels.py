@@ -57,7 +57,7 @@ EXPECTED = {
 def test_a_dead_channel_is_the_same_error_everywhere(command, dead, files, capsys):
     data = files[dead]
     argv = {"identify": ["identify", data, "--quiet"], "audit": ["audit", "--data", data],
-            "diagnose": ["diagnose", data, "--holdout", "7"], "predict": ["predict", files["model"], data]}[command]
+            "diagnose": ["diagnose", "--resamples", "0", data, "--holdout", "7"], "predict": ["predict", files["model"], data]}[command]
     assert main(argv) == 2
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     n = _records(dead)[0].t.size

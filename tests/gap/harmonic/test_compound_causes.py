@@ -115,7 +115,7 @@ def test_cli_steps_json_and_options(tmp_path, capsys):
     data = tmp_path / "d.csv"
     write_records(data, records("friction:F_c=150"))
     out = tmp_path / "r.json"
-    assert main(["diagnose", str(data), "--holdout", "3,7,11", "--json", str(out)]) == 0
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3,7,11", "--json", str(out)]) == 0
     text = capsys.readouterr().out
     assert "WHICH effects, in order" in text and "stiffness_level" in text
     doc = json.loads(out.read_text())
@@ -123,10 +123,10 @@ def test_cli_steps_json_and_options(tmp_path, capsys):
     assert [s["effect"] for s in doc["steps"]] == ["baseline", "stiffness_level", "friction"]
     assert doc["excluded"] == []
     assert {"db_over_noise", "stationary"} <= set(doc["residual"])
-    assert main(["diagnose", str(data), "--holdout", "3", "--steady-tol", "2"]) == 2
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3", "--steady-tol", "2"]) == 2
     assert "--steady-tol" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:  # argparse's own choice check
-        main(["diagnose", str(data), "--holdout", "3", "--damping-law", "cubic"])
+        main(["diagnose", "--resamples", "0", str(data), "--holdout", "3", "--damping-law", "cubic"])
     assert exc.value.code == 2
 
 

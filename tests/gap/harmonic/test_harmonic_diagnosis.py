@@ -251,7 +251,7 @@ def test_cli_json_contract(tmp_path):
     data = tmp_path / "d.csv"
     write_records(data, records("friction:F_c=150"))
     out = tmp_path / "r.json"
-    assert main(["diagnose", str(data), "--holdout", "3,7,11", "--json", str(out), "--max-combo", "1"]) == 0
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "3,7,11", "--json", str(out), "--max-combo", "1"]) == 0
     doc = json.loads(out.read_text())
     assert set(doc["baseline"]) >= {"nrmse_train", "nrmse_holdout"}
     assert doc["where"] and all("finding" in f for f in doc["where"])
@@ -263,7 +263,7 @@ def test_cli_json_contract(tmp_path):
         pytest.approx(150.0, rel=0.1)  # sliding force at the plan's x0 = 2 mm against the simulated 150 N
     assert fr["shrinkage"] == pytest.approx(1 - fr["nrmse_holdout"] / doc["baseline"]["nrmse_holdout"], rel=1e-9)
     assert fr["nrmse_holdout"] < 0.3 * doc["baseline"]["nrmse_holdout"]
-    assert main(["diagnose", str(data), "--holdout", "zz"]) == 2
+    assert main(["diagnose", "--resamples", "0", str(data), "--holdout", "zz"]) == 2
 
 
 @pytest.mark.slow

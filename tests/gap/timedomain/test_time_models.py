@@ -74,7 +74,7 @@ def test_cli_saves_a_time_domain_model_that_predict_simulate_and_dynamics_run(sw
     m, d = tmp_path / "m.toml", tmp_path / "d.json"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        assert main(["diagnose", str(data), "--holdout", case["hold"], "--quiet", "--save-model", str(m),
+        assert main(["diagnose", "--resamples", "0", str(data), "--holdout", case["hold"], "--quiet", "--save-model", str(m),
                      "--save-steps", "--json", str(d)]) == 0
     assert m.is_file() and (tmp_path / "m.step0.toml").is_file()
     doc = tomllib.loads(m.read_text())
