@@ -318,6 +318,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/cli/test_warnings_through_the_run.py",
         "tests/cli/test_identify_load_warnings.py",
         "tests/cli/test_benchmark_generator_options.py",
+        "tests/cli/test_convert_chain_checks.py",
     ),
     "report": (
         "tests/cli/test_cli_outputs.py::test_report_force_replaces_only_the_files_it_wrote",
