@@ -10,7 +10,6 @@ t_end must change nothing, a spike on the sample at t_start must.
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 import pytest
@@ -18,28 +17,13 @@ import pytest
 from chainid.damping import identify
 from chainid.records.record import Record
 from chainid.records.validate import analyse_record
-
-K, XR, C, F_HZ, X0, AMP = 300.0, 0.1, 5.0, 2.0, 2.0, 0.4
-W = 2 * math.pi * F_HZ
-SPC = 64
-DT = 1.0 / (F_HZ * SPC)
-I0, I1 = 2 * SPC, 6 * SPC
-
-
-def _record(spike_at: int | None = None) -> Record:
-    t = np.arange(10 * SPC + 1) * DT
-    x = X0 + AMP * np.sin(W * t)
-    F = K * (x - XR) + C * AMP * W * np.cos(W * t)
-    if spike_at is not None:
-        F[spike_at] += 1e6
-    return Record("h", t, x, F)
+from window_cases import I0, I1, K, XR, on_samples
+from window_cases import spring_record as _record
 
 
 def _fit(rec: Record, monkeypatch) -> tuple[float, float]:
     est = analyse_record(_record(), allow_compression=True)
-    win = dataclasses.replace(est.window, t_start=float(rec.t[I0]), t_end=float(rec.t[I1]),
-                              cycles_kept=list(range((I1 - I0) // SPC)))
-    est = dataclasses.replace(est, window=win)
+    est = dataclasses.replace(est, window=on_samples(est.window, rec.t))
     monkeypatch.setattr(identify, "try_analyse", lambda r, **kw: (est, None))
     m = identify.linear_model_from_records([rec])
     return float(m.k), float(m.x_ref)

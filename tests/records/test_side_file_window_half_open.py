@@ -10,27 +10,17 @@ sqrt(5² / 257) = 0.31 mm (and the record would be refused: A = 0.4 mm < 3 x noi
 """
 from __future__ import annotations
 
-import dataclasses
-import math
-
-import numpy as np
 import pytest
 
 from chainid.records import validate
 from chainid.records.record import Record
 from chainid.signal.steady import select_steady
-
-F_HZ, X0, AMP = 2.0, 2.0, 0.4
-W = 2 * math.pi * F_HZ
-SPC = 64
-I0, I1 = 2 * SPC, 6 * SPC
+from window_cases import AMP, I0, I1, W, X0, on_samples, sine
 
 
 def test_side_file_noise_and_phase_leave_out_the_sample_on_t_end(monkeypatch):
-    t = np.arange(10 * SPC + 1) / (F_HZ * SPC)
-    x = X0 + AMP * np.sin(W * t)
-    win = dataclasses.replace(select_steady(t, x, W, 0.0), t_start=float(t[I0]), t_end=float(t[I1]),
-                              cycles_kept=list(range((I1 - I0) // SPC)))
+    t, x = sine()
+    win = on_samples(select_steady(t, x, W, 0.0), t)
     monkeypatch.setattr(validate, "select_steady", lambda *a, **k: win)
     x[I1] += 5.0
     rec = Record("S", t, x, 1000.0 + 100.0 * x)

@@ -8,7 +8,6 @@ least-squares fit of x0 + a·sin ωt + b·cos ωt over the samples t_start <= t 
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -16,18 +15,12 @@ import pytest
 
 from chainid.signal import harmonic
 from chainid.signal.steady import select_steady
-
-F_HZ, X0, AMP = 2.0, 2.0, 0.4
-W = 2 * math.pi * F_HZ
-SPC = 64
-I0, I1 = 2 * SPC, 6 * SPC
+from window_cases import I0, I1, W, on_samples, sine
 
 
 def test_the_final_fit_leaves_out_the_sample_on_t_end(monkeypatch):
-    t = np.arange(10 * SPC + 1) / (F_HZ * SPC)
-    x = X0 + AMP * np.sin(W * t)
-    win = dataclasses.replace(select_steady(t, x, W, 0.0), t_start=float(t[I0]), t_end=float(t[I1]),
-                              cycles_kept=list(range((I1 - I0) // SPC)))
+    t, x = sine()
+    win = on_samples(select_steady(t, x, W, 0.0), t)
     monkeypatch.setattr(harmonic, "select_steady", lambda *a, **k: win)
     xs = x.copy()
     xs[I1] += 5.0

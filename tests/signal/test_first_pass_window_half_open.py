@@ -10,27 +10,20 @@ spike on it.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
 
 from chainid.signal import harmonic
 from chainid.signal.steady import select_steady
-
-F_HZ, X0, AMP = 2.0, 2.0, 0.4
-W = 2 * math.pi * F_HZ
-SPC = 64
-I0, I1 = 2 * SPC, 6 * SPC
+from window_cases import AMP, I0, I1, W, X0, on_samples, sine
 
 
 def test_the_first_pass_candidate_fit_leaves_out_the_sample_on_t_end(monkeypatch):
-    t = np.arange(10 * SPC + 1) / (F_HZ * SPC)
-    x = X0 + AMP * np.sin(W * t)
+    t, x = sine()
     x[I1] += 5.0
     real = select_steady
-    provisional = dataclasses.replace(real(t, x, W, 0.0), t_start=float(t[I0]), t_end=float(t[I1]),
-                                      cycles_kept=list(range((I1 - I0) // SPC)))
+    provisional = on_samples(real(t, x, W, 0.0), t)
 
     def steady(tt, xx, w, theta, **kw):
         # only the first pass is lenient on the drift: that call gets the window on sample times
