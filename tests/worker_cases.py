@@ -4,12 +4,34 @@
 
 ``announce_and_block(folder)`` writes the worker's pid as an empty file ``folder/<pid>`` (the test reads it as
 "this case is running in that process") and then blocks until ``folder/release`` exists (or 600 s pass).
+
+``LAUNCHER`` is the source of a parent process that starts a child running ``{code}`` and then sleeps (the test
+kills it to see what becomes of the child); ``poll(cond, timeout)`` waits for an event.
 """
 from __future__ import annotations
 
 import os
 import time
 from pathlib import Path
+
+
+LAUNCHER = """
+    import subprocess, sys, time
+    subprocess.Popen([sys.executable, "-c", {code!r}])
+    time.sleep(600)
+"""
+
+
+def poll(cond, timeout: float):
+    """``cond()`` once it is true (checked every 50 ms), or None after ``timeout`` [s] (a wait for an event, not a
+    timing assumption)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        got = cond()
+        if got:
+            return got
+        time.sleep(0.05)
+    return None
 
 
 def announce_and_block(folder: str) -> int:

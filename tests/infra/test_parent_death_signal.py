@@ -10,11 +10,10 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import pytest
-from worker_cases import alive
+from worker_cases import LAUNCHER, alive, poll
 
 ROOT = Path(__file__).resolve().parents[2]
 ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), str(ROOT / "tests")]), MPLBACKEND="Agg")
@@ -30,20 +29,9 @@ CHILD = """
     time.sleep(600)
 """
 
-LAUNCHER = """
-    import subprocess, sys, time
-    subprocess.Popen([sys.executable, "-c", {code!r}])
-    time.sleep(600)
-"""
-
 
 def _wait_for(cond, timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if cond():
-            return True
-        time.sleep(0.05)
-    return False
+    return bool(poll(cond, timeout))
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")

@@ -11,11 +11,10 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import pytest
-from worker_cases import alive
+from worker_cases import LAUNCHER, alive, poll
 
 ROOT = Path(__file__).resolve().parents[2]
 ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), str(ROOT / "tests")]), MPLBACKEND="Agg")
@@ -28,16 +27,11 @@ PARENT = """
 """
 
 
-
-
 def _wait_for(cond, timeout: float, what: str):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        got = cond()
-        if got:
-            return got
-        time.sleep(0.05)
-    pytest.fail(f"not within {timeout:g} s: {what}")
+    got = poll(cond, timeout)
+    if not got:
+        pytest.fail(f"not within {timeout:g} s: {what}")
+    return got
 
 
 def _pids(folder: Path) -> list[int]:
@@ -76,12 +70,6 @@ WATCHED = """
         parallel._parent_death_signal = lambda: False  # the watchdog alone (as on a system without prctl)
     parallel.die_with_parent(interval=0.05)
     open({flag!r}, "w").close()
-    time.sleep(600)
-"""
-
-LAUNCHER = """
-    import subprocess, sys, time
-    subprocess.Popen([sys.executable, "-c", {code!r}])
     time.sleep(600)
 """
 
