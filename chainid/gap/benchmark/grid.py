@@ -29,10 +29,10 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark.report import CANONICAL, canon, open_world_row  # noqa: F401  (part of the API)
+from chainid.gap.benchmark.report import CANONICAL, canon, case_row, open_world_row  # noqa: F401  (part of the API)
 from chainid.gap.benchmark.chain import case_chain, on_chain, x_scale
 from chainid.gap.benchmark.nonharmonic import effect_spec  # noqa: F401  (part of the benchmark API)
-from chainid.gap.benchmark.simtruth import case_truth, trusted_fields
+from chainid.gap.benchmark.simtruth import case_truth
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the effects of the harmonic single-effect family, in the order their cases (and seeds) are drawn
@@ -130,15 +130,7 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
         return {**case, "verdict": f"error: {type(exc).__name__}: {exc}", "seconds": time.perf_counter() - t0,
                 "snr": float("inf"), "shrinkage": None, "steps": [], "params": None, "params_ci90": {},
                 "true_params": truth, "stationary": None, "confounded": []}
-    best = res.get("best") or {}
-    b = res["baseline"]
-    last = res["steps"][-1] if res.get("steps") else {}
-    return {**case, "verdict": res["verdict"], "seconds": time.perf_counter() - t0,
-            "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
-            "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
-            "steps": [s["effect"] for s in res.get("steps", [])[1:]], **trusted_fields(res), "true_params": truth,
-            "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
-            "stationary": res["residual"]["stationary"], "open_world": open_world_row(res)}
+    return case_row(case, res, time.perf_counter() - t0, truth)
 
 
 #: every excitation of the benchmark: the harmonic plans, the non-harmonic families and the transfer cases

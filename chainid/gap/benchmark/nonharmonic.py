@@ -37,8 +37,8 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark.chain import case_chain, scale_motion, x_scale
-from chainid.gap.benchmark.report import open_world_row
-from chainid.gap.benchmark.simtruth import case_truth, trusted_fields
+from chainid.gap.benchmark.report import case_row
+from chainid.gap.benchmark.simtruth import case_truth
 from chainid.model.effects import EFFECT_NAMES, parse_effect
 
 #: the non-harmonic excitation families
@@ -310,18 +310,10 @@ def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
 
 
 def _row(case: dict[str, Any], res: dict[str, Any], t0: float, truth: dict[str, float]) -> dict[str, Any]:
-    best = res.get("best") or {}
-    b = res["baseline"]
-    last = res["steps"][-1] if res.get("steps") else {}
     where = res.get("where", []) + res.get("residual", {}).get("where", [])
-    return {**case, "verdict": res["verdict"], "seconds": time.perf_counter() - t0,
-            "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
-            "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
-            "steps": [s["effect"] for s in res.get("steps", [])[1:]], **trusted_fields(res), "true_params": truth,
-            "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
-            "stationary": res["residual"]["stationary"],
-            "ranked_first": (res.get("ranking") or [{}])[0].get("effect"),
-            "chatter": any(f.get("kind") == "chatter" for f in where), "open_world": open_world_row(res)}
+    return case_row(case, res, time.perf_counter() - t0, truth) | {
+        "ranked_first": (res.get("ranking") or [{}])[0].get("effect"),
+        "chatter": any(f.get("kind") == "chatter" for f in where)}
 
 
 def _error(case: dict[str, Any], exc: Exception, t0: float) -> dict[str, Any]:

@@ -9,10 +9,25 @@ import numpy as np
 
 from chainid.gap.benchmark.paramscore import (CANONICAL, coverage_by_effect, coverage_lines, param_scores, param_table,
                                               pool_scores)
-from chainid.gap.benchmark.simtruth import nested
+from chainid.gap.benchmark.simtruth import nested, trusted_fields
 
 #: a case counts for the right-verdict rates when the baseline's residual is at least this many noise σ
 SNR_MIN = 3.0
+
+
+def case_row(case: dict[str, Any], res: dict[str, Any], seconds: float, truth: dict[str, float]) -> dict[str, Any]:
+    """A sim case's row: the case with its diagnosis' verdict, time [s], baseline signal-to-noise, shrinkage, steps,
+    the last trusted step's ``params`` and ``params_ci90``, ``true_params``, ties, stationarity and the model-free
+    check (both routes' cases, :mod:`.grid` and :mod:`.nonharmonic`)."""
+    best = res.get("best") or {}
+    b = res["baseline"]
+    last = res["steps"][-1] if res.get("steps") else {}
+    return {**case, "verdict": res["verdict"], "seconds": seconds,
+            "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
+            "shrinkage": last.get("shrinkage") if len(res.get("steps", [])) > 1 else best.get("shrinkage"),
+            "steps": [s["effect"] for s in res.get("steps", [])[1:]], **trusted_fields(res), "true_params": truth,
+            "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
+            "stationary": res["residual"]["stationary"], "open_world": open_world_row(res)}
 
 
 def open_world_row(res: dict[str, Any]) -> dict[str, Any]:
