@@ -34,7 +34,7 @@ import numpy as np
 
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
-from chainid.model.passivity import OperatingPoint, describe, negative_dashpots
+from chainid.model.passivity import OperatingPoint, describe, negative_dashpots, refusal
 from chainid.model.timedamping import Damping, dominant, record_features
 from chainid.gap.core import noise as nz
 from chainid.gap.core.verdict import trusted_path
@@ -274,11 +274,9 @@ def _refuse_negative_dashpots(model: AugmentedModel, records: Sequence[Any], poi
             m = pick(model.at_conditions(getattr(r, "covariates", None)))
             bad += negative_dashpots(m, [points[r.test]], fitted) if m is not None else []
         if bad:
-            c = min(b[1] for b in bad)
-            raise ValueError(f"{who}: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at "
-                             "every operating point of the run (a run with a negative dashpot is refused; " + (
-                                 "diagnose again with another --damping-law or fewer effects"
-                                 if len(bad) == len(records) else "--tests predicts the other tests") + ")")
+            raise ValueError(refusal(who, bad, "a run with a negative dashpot is refused; " + (
+                "diagnose again with another --damping-law or fewer effects" if len(bad) == len(records)
+                else "--tests predicts the other tests")))
 
 
 def _prepared(r: Any, ev: dict[str, Any]) -> Any:

@@ -23,7 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Iterable
 
-__all__ = ["OperatingPoint", "negative_dashpots", "describe", "check_passive"]
+__all__ = ["OperatingPoint", "negative_dashpots", "describe", "refusal", "check_passive"]
 
 
 @dataclass(frozen=True)
@@ -74,6 +74,14 @@ def describe(bad: list[tuple[OperatingPoint, float]]) -> str:
             "law is extrapolated")
 
 
+def refusal(who: str, bad: list[tuple[OperatingPoint, float]], hint: str = "") -> str:
+    """The error refusing a run of ``who`` where its damping is a negative dashpot at the points ``bad`` (with their
+    c [N·s/mm]): the points, the lowest c and where, the valid range (c >= 0) and ``hint``."""
+    c = min(b[1] for b in bad)
+    return (f"{who}: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at every operating "
+            "point of the run" + (f" ({hint})" if hint else ""))
+
+
 def check_passive(model: Any, points: Iterable[OperatingPoint], *, fitted: bool = False, what: str = "model",
                   hint: str = "", with_baseline: bool = False) -> None:
     """Refuse a run of ``model`` (and, ``with_baseline``, of its ``baseline``: ``predict`` runs both) at
@@ -92,6 +100,4 @@ def check_passive(model: Any, points: Iterable[OperatingPoint], *, fitted: bool 
             continue
         bad = negative_dashpots(m, points, fitted)
         if bad:
-            c = min(b[1] for b in bad)
-            raise ValueError(f"{who}: {describe(bad)}; c = {c:.4g} N·s/mm is invalid: valid range >= 0 N·s/mm at "
-                             "every operating point of the run" + (f" ({hint})" if hint else ""))
+            raise ValueError(refusal(who, bad, hint))
