@@ -143,6 +143,20 @@ def diagnose(
         chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force or displacement
         (:func:`check_magnitudes`, i.e. :func:`chainid.records.validate.check_channels`).
     """
+    from chainid.infra.threads import one_blas_thread
+
+    with one_blas_thread():  # many small products: BLAS threads only wait (chainid.infra.threads)
+        return _diagnose(records, holdout, model, effects=effects, max_combo=max_combo, n_bins=n_bins,
+                         uncertainty=uncertainty, damping_law=damping_law, allow_compression=allow_compression,
+                         steady_tol=steady_tol, strict=strict, quiet=quiet, holdout_blocks=holdout_blocks,
+                         validate=validate, mass_kg=mass_kg, resamples=resamples, seed=seed)
+
+
+def _diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None, *, effects: Sequence[str] | None,
+              max_combo: int, n_bins: int, uncertainty: bool, damping_law: str, allow_compression: bool,
+              steady_tol: float | None, strict: bool, quiet: bool, holdout_blocks: int,
+              validate: Sequence[Any] | None, mass_kg: float | None, resamples: int, seed: int) -> dict[str, Any]:
+    """:func:`diagnose`'s work (its arguments, as documented there)."""
     holdout = _check_args(records, holdout, max_combo, holdout_blocks, validate, mass_kg)
     holdout_blocks = int(holdout_blocks)
     is_chain = model is not None and hasattr(model, "hertz_scale")
@@ -185,7 +199,7 @@ def diagnose(
     evaluation["route"] = res["route"] = "time" if res.get("route") == "time" else "harmonic"
     stage("models")
     for msg in attach_models(res, evaluation):  # the model found, runnable and savable on any excitation
-        warnings.warn(msg, stacklevel=2)
+        warnings.warn(msg, stacklevel=3)
     if validate is not None:
         from chainid.gap.transfer import transfer
 

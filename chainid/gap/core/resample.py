@@ -13,10 +13,9 @@ tests and contiguous blocks, never single samples).  On every resample:
   ``identity`` multiplicities).  The refit's polish need not end where the diagnosis' own fit did (another
   search, another subset); without the shift an interval can miss its own estimate.
 
-A step is *confident* when its stability is at least :data:`CONFIDENT`.  The resamples run on a pool of forked
-worker processes (the problem is inherited, not copied) when there are more than one core and at least
-:data:`POOL_MIN` resamples, and in this process otherwise: inside a daemonic worker (a benchmark's pool, a dask
-worker), which may not have children and whose cores are already taken.
+A step is *confident* when its stability is at least :data:`CONFIDENT`.  The resamples run on forked
+worker processes (:func:`chainid.gap.core.forkmap.fork_map`: the problem is inherited, not copied) when there are
+at least :data:`POOL_MIN` of them, and in this process otherwise.
 
 Units: each parameter's own.
 """
@@ -24,12 +23,12 @@ Units: each parameter's own.
 from __future__ import annotations
 
 import math
-import os
 from types import SimpleNamespace
 from typing import Any, Sequence
 
 import numpy as np
 
+from chainid.gap.core.forkmap import can_fork, fork_map
 from chainid.gap.core.selection import passes, pick, step_test, term_prefix
 
 __all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "widen", "attach"]
@@ -40,9 +39,6 @@ CONFIDENT = 0.8
 RESAMPLES = 200
 #: fewest resamples worth a process pool
 POOL_MIN = 40
-
-_JOB: dict[str, Any] = {}
-
 
 def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, mult: np.ndarray,
            max_effects: int) -> list[str]:
@@ -76,8 +72,7 @@ def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, 
     return chain
 
 
-def _one(i: int) -> tuple[list[str], list[dict[str, float]]]:
-    j = _JOB
+def _one(j: dict[str, Any], i: int) -> tuple[list[str], list[dict[str, float]]]:
     mult = j["mult"][i]
     chain = replay(j["prob"], j["hooks"], j["cache"], j["base"], mult, j["max_effects"])
     params = [j["hooks"].refit(j["prob"], c, mult) for c in j["steps"]]
@@ -108,21 +103,10 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
     ident = hooks.identity(prob)
     shift = [{k: float(v) - float(c0[k]) for k, v in st.params.items() if k in c0 and math.isfinite(c0[k])
               and math.isfinite(v)} for st, c0 in ((st, hooks.refit(prob, st, ident)) for st in steps)]
-    _JOB.clear()
-    _JOB.update(prob=prob, hooks=hooks, cache=fwd["_cache"], base=fwd["path"][0], mult=mult, steps=list(steps),
-                max_effects=max_effects)
-    import multiprocessing as mp
-
-    workers = workers if workers is not None else (os.cpu_count() or 1)
-    nested = mp.current_process().daemon  # a worker of a benchmark's pool: no children allowed, the cores are taken
-    try:
-        if workers > 1 and n >= POOL_MIN and not nested:
-            with mp.get_context("fork").Pool(min(workers, n)) as pool:
-                out = pool.map(_one, range(n), chunksize=max(1, n // (4 * workers)))
-        else:
-            out = [_one(i) for i in range(n)]
-    finally:
-        _JOB.clear()
+    job = dict(prob=prob, hooks=hooks, cache=fwd["_cache"], base=fwd["path"][0], mult=mult, steps=list(steps),
+               max_effects=max_effects)
+    out = fork_map(lambda i: _one(job, i), range(n), workers, min_items=POOL_MIN,
+                   chunksize=max(1, n // (4 * (can_fork(workers) or 1))))
     return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed, shift)
 
 

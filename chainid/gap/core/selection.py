@@ -35,6 +35,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.candidate import Candidate, Problem
+from chainid.gap.core.forkmap import fork_map
 from chainid.infra.progress import stage
 
 #: jack-knife z of the LOTO improvement required to keep a step
@@ -187,6 +188,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         if not remaining:
             stop = "no library effect left"
             break
+        prefetch(prob, cache, [(cur, n) for n in remaining], base_hold)
         cands = [cached(cur, n) for n in remaining]
         if not singles:
             singles = list(cands)
@@ -201,7 +203,8 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
             stop = stop_message(rejected)
             break
         chosen, ties = pick(passing)
-        chosen = _look_ahead(prob, cur, chosen, passing, remaining, cached, max_effects)
+        chosen = _look_ahead(prob, cur, chosen, passing, remaining, cached, max_effects,
+                             lambda jobs: prefetch(prob, cache, jobs, base_hold))
         for t in ties:
             confounded.append({"step": len(path), "pair": [chosen.names[-1], t.names[-1]],
                                "loto": [chosen.nrmse_loto, t.nrmse_loto]})
@@ -309,7 +312,7 @@ LOOKAHEAD = 0.3
 
 
 def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Candidate], remaining: list[str],
-                cached: Any, max_effects: int) -> Candidate:
+                cached: Any, max_effects: int, fetch: Any = None) -> Candidate:
     """Greedy selection with a one-step look-ahead.
 
     Two effects can explain part of each other's signature (a delayed Coulomb switch looks like Dahl
@@ -327,14 +330,36 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
     def best_next(c: Candidate) -> float:
         return min(cached(c, n).nrmse_loto for n in remaining if n not in c.names)
 
-    mine = best_next(chosen)
     alt = alts[0]
+    if fetch is not None:  # both extensions' fits at once (in parallel on a large problem)
+        fetch([(c, n) for c in (chosen, alt) for n in remaining if n not in c.names])
+    mine = best_next(chosen)
     return alt if best_next(alt) < (1 - TIE) * mine else chosen
 
 
 #: effects that can stand in for each other (same physical family): the exchange pass swaps within these
 FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
             ("friction", "hysteresis", "stribeck", "bouc_wen"))
+
+
+def prefetch(prob: Problem, cache: dict[tuple[str, ...], Candidate], jobs: Sequence[tuple[Candidate, str]],
+             base_hold: float) -> None:
+    """Fit and score, into ``cache``, the effect sets ``current + [new]`` of ``jobs`` that it lacks: on forked
+    workers (:func:`chainid.gap.core.forkmap.fork_map`) when the problem says its fits are worth it
+    (``prob.parallel_fits``), each fit exactly as the selection would make it (warm-started from its current
+    chain).  Otherwise nothing: the selection fits them one by one as it reaches them."""
+    if not getattr(prob, "parallel_fits", False):
+        return
+    todo: dict[tuple[str, ...], tuple[list[str], dict[str, float]]] = {}
+    for cur, n in jobs:
+        key = tuple(sorted(cur.names + [n]))
+        if key not in cache and key not in todo:
+            todo[key] = (cur.names + [n], cur.params)
+    if len(todo) < 2:
+        return
+    stage("selection", f"{len(todo)} effect sets on worker processes")
+    fits = fork_map(lambda job: _fit_score(prob, job[0], job[1], base_hold), list(todo.values()))
+    cache.update(zip(todo, fits))
 
 
 def _fit_score(prob: Problem, names: list[str], start: dict[str, float], base_hold: float) -> Candidate:

@@ -29,14 +29,18 @@ from chainid.gap.core.kinematics import Kinematics, estimate
 from chainid.model.timedamping import record_features
 
 __all__ = ["MIN_SAMPLES", "TimeData", "prepare_time", "low_edge", "reversals",
-           "travel_since_reversal", "split_blocks"]
+           "travel_since_reversal", "split_blocks", "fit_subsets", "FIT_TOTAL"]
 
 #: fewest samples of a time-domain record
 MIN_SAMPLES = 64
 #: samples per period of the band edge kept by the fit subset (the score uses every sample)
 FIT_SAMPLES_PER_PERIOD = 40
-#: most samples per record in the fit subset
+#: most samples per record in the fit subset, unless the band needs more (``FIT_SAMPLES_PER_PERIOD``)
 FIT_MAX = 4000
+#: most samples of the fit subsets of all training records together (:func:`fit_subsets`)
+FIT_TOTAL = 131_072
+#: a thinned fit subset keeps whole windows of this many periods of the record's low band edge
+FIT_WINDOW_PERIODS = 4
 
 
 @dataclass
@@ -150,6 +154,37 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     return TimeData(rec.test, t, xs, xd, xdd, F, np.asarray(rec.x, float), sigma, fb, fs,
                     sigma_hf, block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
                     covariates=cov, omega_c=record_features(t, xs)[0], f_low=low_edge(t, xs))
+
+
+def fit_subsets(data: Sequence[TimeData], held: Sequence[str] = (), total: int = FIT_TOTAL) -> dict[str, np.ndarray]:
+    """Each record's fit subset for the shape search, bounded so that the search's cost does not grow with the data.
+
+    A record held out whole (``held``) is weighted 0 in the search: its subset is its first ``MIN_SAMPLES``
+    samples (nothing changes numerically).  When the other records' subsets (:attr:`TimeData.fit_idx`) hold more
+    than ``total`` samples together, each keeps the same fraction of its subset as evenly spaced contiguous windows
+    of ``FIT_WINDOW_PERIODS`` periods of its low band edge (at least ``MIN_SAMPLES`` samples each): inside a window
+    the memory operators see every subset sample, as without thinning.  The amplitudes and every score still use
+    all samples.
+    """
+    out = {d.test: d.fit_idx[:MIN_SAMPLES] if d.test in held else d.fit_idx for d in data}
+    n = sum(v.size for k, v in out.items() if k not in held)
+    if n <= total:
+        return out
+    frac = total / n
+    return {d.test: out[d.test] if d.test in held else _windows(d, frac) for d in data}
+
+
+def _windows(d: TimeData, frac: float) -> np.ndarray:
+    """A fraction ``frac`` of a record's fit subset as evenly spaced contiguous windows."""
+    idx = d.fit_idx
+    keep = min(idx.size, max(int(frac * idx.size), MIN_SAMPLES))
+    dt = float(d.t[idx[1]] - d.t[idx[0]]) if idx.size > 1 else 1.0
+    per = FIT_WINDOW_PERIODS / max(d.f_low, 1e-9) / dt if math.isfinite(d.f_low) else float(keep)
+    w = int(min(keep, max(MIN_SAMPLES, math.ceil(per))))
+    n_win = max(1, keep // w)
+    w = keep // n_win
+    starts = np.linspace(0, idx.size - w, n_win).astype(np.int64)
+    return np.concatenate([idx[s:s + w] for s in starts])
 
 
 def reversals(xd: np.ndarray) -> np.ndarray:

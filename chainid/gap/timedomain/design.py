@@ -187,9 +187,16 @@ class ColumnCache:
 
 
 def _view(d: Any, idx: np.ndarray | None, tau: float) -> tuple[np.ndarray, ...]:
+    """x, ẋ, ẍ and the velocity's error spread at the view's samples, each lagged by ``tau`` (interpolated at
+    the view's times only)."""
     sel = slice(None) if idx is None else idx
-    v_err = _shift(d.t, d.kin.v_spread(d.t), tau)[sel] if getattr(d, "kin", None) is not None else np.zeros(0)
-    return (_shift(d.t, d.x, tau)[sel], _shift(d.t, d.xd, tau)[sel], _shift(d.t, d.xdd, tau)[sel], v_err)
+    ts = d.t[sel] - tau
+
+    def at(y: np.ndarray) -> np.ndarray:
+        return np.interp(ts, d.t, y) if tau else y[sel]
+
+    v_err = at(d.kin.v_spread(d.t)) if getattr(d, "kin", None) is not None else np.zeros(0)
+    return at(d.x), at(d.xd), at(d.xdd), v_err
 
 
 def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, idx: np.ndarray | None = None,

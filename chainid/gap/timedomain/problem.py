@@ -26,7 +26,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.candidate import Candidate, jackknife_sd
-from chainid.gap.timedomain.data import TimeData, split_blocks
+from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
 from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, shape_names,
                                            split_name)
 from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
@@ -37,6 +37,10 @@ __all__ = ["TimeProblem"]
 
 #: fewest training records with distinct features for a damping law over them
 MIN_LAW_RECORDS = 3
+#: records of at least this many samples together fit a selection round's effect sets on forked workers
+#: (:func:`chainid.gap.core.selection.prefetch`); below it a round takes a few seconds and the workers' start and
+#: their cold column caches cost about what they save (``python benchmarks/diagnosis_scale.py``)
+PARALLEL_SAMPLES = 200_000
 #: relative sd × √n of the force-noise estimate σ̂² (1.4826·MAD(Δ²F))²/6 on n samples of white noise (Monte Carlo:
 #: 2.83, 2.92, 2.84 at n = 1 000, 8 000, 30 000, 400 draws each)
 SIGMA2_REL_SD = 2.9
@@ -98,6 +102,8 @@ class TimeProblem:
                     tr |= d.block == b
             self._mask[d.test] = tr
         self.data = self.tdata
+        # the shape search's samples per record, bounded (records held out whole keep a token subset)
+        self._fit_idx = fit_subsets(self.tdata, [d.test for d in self.tdata if not self._mask[d.test].any()])
         self.hold = [d for d in self.tdata if any(u[0] is d for u in self.hold_units)]
         self.train = [d for d in self.tdata if any(u[0] is d for u in self.train_units)]
         train_recs = [d for d in self.tdata if self._mask[d.test].any()]
@@ -121,6 +127,7 @@ class TimeProblem:
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.tdata])))
         self.F_mean = {d.test: float(np.mean(d.F)) for d in self.tdata}
         self._cache = ColumnCache()
+        self.parallel_fits = sum(d.t.size for d in self.tdata) >= PARALLEL_SAMPLES
 
     # ------------------------------------------------------------------ set-up
     def _lag_range(self) -> float:
@@ -166,7 +173,7 @@ class TimeProblem:
         """Per record: block statistics and (f, Φ, y) on the fit subset or on every sample."""
         stats, parts = [], []
         for d in self.tdata:
-            idx = d.fit_idx if subset else None
+            idx = self._fit_idx[d.test] if subset else None
             f, Phi, y = build(self.base, names, shapes, d, idx, self._cache)
             blk = d.block if idx is None else d.block[idx]
             stats.append(Blocks.from_columns(Phi, y - f, blk, d.n_blocks, 1.0 / d.sigma**2))
@@ -207,7 +214,7 @@ class TimeProblem:
             out = []
             off = 0
             for d, (f, Phi, y) in zip(self.tdata, parts):
-                w = np.sqrt(mult[off + d.block[d.fit_idx]])  # the block's multiplicity on each sample
+                w = np.sqrt(mult[off + d.block[self._fit_idx[d.test]]])  # the block's multiplicity per sample
                 out.append((y - f - Phi @ a) * w / d.sigma)
                 off += d.n_blocks
             return np.concatenate(out)

@@ -1,0 +1,31 @@
+"""One BLAS thread for chainid's many small linear-algebra products.
+
+chainid's matrices are small: a diagnosis' Gram matrices have one row per amplitude (at most a few tens), and it
+makes tens of thousands of such products per selection.  OpenBLAS' threads cost more than they give on them: they
+wait for each other, and spin against every other busy process on the cores.  Measured on this project's 2-core
+machine with one other busy process, one fit and one score of a 2-million-sample set: 1.17 s and 0.79 s with the
+default two threads, 0.68 s and 0.14 s with one; at 500 000 samples the two are equal
+(``python benchmarks/blas_threads.py --samples 125000``, and ``--samples 31250``).
+
+:func:`one_blas_thread` limits BLAS to one thread in this process while a block runs (threadpoolctl), and restores
+the limit after.  The diagnosis and the ``chainid`` command run inside it; process-level parallelism (forked
+workers, a process pool, dask) is what uses the other cores.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from typing import Iterator
+
+__all__ = ["one_blas_thread"]
+
+
+@contextlib.contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """Run the block with BLAS limited to one thread (OpenBLAS, MKL, BLIS: any that threadpoolctl controls)."""
+    import numpy  # noqa: F401  (threadpoolctl reaches only the BLAS libraries loaded: numpy's and scipy's)
+    import scipy.linalg  # noqa: F401
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
