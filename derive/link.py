@@ -59,6 +59,13 @@ def strain_energy_parts(shear_factor: sp.Expr = sp.Integer(1)) -> dict[str, sp.E
     dict with keys ``straight`` (axial + bending over AB), ``curved_axial_shear``
     and ``curved_bending`` (over BC, ds = R dθ).
     """
+    return dict(_strain_energy_parts(shear_factor))
+
+
+@lru_cache(maxsize=None)
+def _strain_energy_parts(shear_factor: sp.Expr) -> tuple[tuple[str, sp.Expr], ...]:
+    """The integrals of :func:`strain_energy_parts`, once per shear factor (the verification, the emission and
+    the variants all start from them)."""
     st = internal_forces_straight()
     cu = internal_forces_curved()
     U_AB = sp.integrate(st["N"] ** 2 / (2 * E * A_S) + st["M"] ** 2 / (2 * E * J_1), (s, 0, L))
@@ -66,7 +73,7 @@ def strain_energy_parts(shear_factor: sp.Expr = sp.Integer(1)) -> dict[str, sp.E
         (cu["N"] ** 2 / (2 * E * A_S) + shear_factor * cu["Q"] ** 2 / (2 * G * A_S)) * R, (theta, 0, sp.pi / 2)
     )
     U_b = sp.integrate(cu["M"] ** 2 / (2 * E * J_2) * R, (theta, 0, sp.pi / 2))
-    return {"straight": U_AB, "curved_axial_shear": U_ax, "curved_bending": U_b}
+    return (("straight", U_AB), ("curved_axial_shear", U_ax), ("curved_bending", U_b))
 
 
 def strain_energy_quarter(shear_factor: sp.Expr = sp.Integer(1)) -> sp.Expr:

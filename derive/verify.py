@@ -324,7 +324,7 @@ _CACHE: list[Check] | None = None
 
 
 def run_checks(progress: Callable[[str], None] | None = None) -> list[Check]:
-    """Run every derived-vs-paper check (~30 s: the SymPy integrals; cached for the process)."""
+    """Run every derived-vs-paper check (~4 s on 2 cores: the SymPy integrals and solves; cached for the process)."""
     global _CACHE
     if _CACHE is not None:
         if progress:

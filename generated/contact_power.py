@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
 # variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
-# derivation source hash: fd917c5a6be47f9b
+# derivation source hash: 9da5adbac9c5967a
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 VARIANT = "contact_power"
-SOURCE_HASH = "fd917c5a6be47f9b"
+SOURCE_HASH = "9da5adbac9c5967a"
 SYMPY_VERSION = "1.14.0"
 
 

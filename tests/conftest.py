@@ -23,7 +23,7 @@ def repo() -> Path:
 
 @pytest.fixture(scope="session")
 def verify_checks():
-    """Run the SymPy verification once per test session (~100 s)."""
+    """Run the SymPy verification once per test session (~4 s on 2 cores)."""
     from chainid.derive import verify
 
     return {c.equation: c for c in verify.run_checks()}
@@ -33,7 +33,7 @@ def verify_checks():
 # so a module-scoped fixture (a simulation, a diagnosis) is built once, not once per worker.  The files that run
 # SymPy in the test process go to one worker together: the verification is cached for the process
 # (chainid.derive.verify.run_checks) and the derivation's expressions too (lru_cache), so the emission after the
-# verification takes ~1 s instead of ~30 s, and `chainid report`'s own check of the paper ~10 s instead of ~90 s.
+# verification takes ~0.4 s instead of ~3 s, and `chainid report`'s own check of the paper none instead of ~4 s.
 # (xdist's ``loadgroup`` does not group under pytest 9: it renames node ids through ``item._nodeid``, which
 # pytest 9 no longer reads.)
 SAME_WORKER = {  # path under the repository (a folder ends with /) -> the unit it runs in

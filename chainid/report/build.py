@@ -35,7 +35,7 @@ def _say(msg: str) -> None:
 # -- step 1 ----------------------------------------------------------------------
 
 def step_verification(folder: Path, say: Progress) -> str:
-    """Equation-by-equation table, derived vs the paper (SymPy; ~30 s)."""
+    """Equation-by-equation table, derived vs the paper (SymPy; ~4 s, or none when this process has run it already)."""
     from chainid.derive import verify
 
     checks = verify.run_checks(progress=lambda s: say(f"verification: {s}"))

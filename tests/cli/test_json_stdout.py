@@ -2,7 +2,7 @@
 ``--json``; stdout is parsed with ``json.loads``.
 
 Two commands are cut short so the file stays fast: ``verify`` runs one of its SymPy checks (Eq. 4, not the
-~60 s of all of them) and ``benchmark-gap`` one case of its small grid (serial).  The routing under test (the
+~4 s of all of them) and ``benchmark-gap`` one case of its small grid (serial).  The routing under test (the
 command's own printing) is unchanged by that."""
 from __future__ import annotations
 

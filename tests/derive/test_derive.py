@@ -7,7 +7,7 @@ import pytest
 
 import paper_forms  # tests/paper_forms.py: the paper's closed forms in plain Python
 
-pytestmark = pytest.mark.slow  # the SymPy verification (~100 s) behind most of these tests
+pytestmark = pytest.mark.slow  # the SymPy verification (~4 s) behind most of these tests
 
 # Equation -> expected status.  "differs" rows are the paper's known errors and the model-assumption findings.
 EXPECTED = {

@@ -8,7 +8,7 @@ import pytest
 
 from chainid.derive import emit
 
-pytestmark = pytest.mark.slow  # the SymPy emission (~30 s) and subprocesses
+pytestmark = pytest.mark.slow  # the SymPy emission (~3 s) and subprocesses
 
 
 _EXPECTED: dict[str, dict[str, str]] = {}
@@ -16,7 +16,7 @@ _EMIT_EXPECTED_FILES = emit.expected_files
 
 
 def _expected_files_once() -> dict[str, str]:
-    """emit.expected_files() computed once per session (the SymPy emission takes ~30-60 s)."""
+    """emit.expected_files() computed once per session (the SymPy emission takes ~3 s)."""
     if "files" not in _EXPECTED:
         _EXPECTED["files"] = _EMIT_EXPECTED_FILES()
     return dict(_EXPECTED["files"])
