@@ -39,7 +39,6 @@ def verify_checks():
 SAME_WORKER = {  # path under the repository (a folder ends with /) -> the unit it runs in
     "tests/derive/": "sympy",
     "tests/report/test_report_command.py": "sympy",
-    "tests/cli/test_json_stdout.py": "sympy",
     "tests/cli/test_cli_generate.py": "sympy",
     "tests/model/test_practice.py": "sympy",
 }
