@@ -94,6 +94,7 @@ class Problem:
         self.is_chain = hasattr(model, "hertz_scale")
         self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
+        self._mult: np.ndarray | None = None  # multiplicities of the training tests in a fit (a resample)
         x_mid = float(np.mean([d.x0 for d in self.data]))
         v_max = float(max(d.omega * d.A for d in self.data))
         self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max, v_scale=v_max, x_mid=x_mid)
@@ -260,10 +261,13 @@ class Problem:
 
     # --------------------------------------------------------------------- fit
     def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
+        """Whitened residuals of the training tests, each weighted by √(its multiplicity) in a resample (the same
+        sum of squares as the test repeated, without evaluating it again)."""
         out = []
-        for d in self.train:
+        for i, d in enumerate(self.train):
             Fn, v = self._parts(names, p, d)
-            out.append(np.sqrt(d.counts) * (d.Fbar - Fn - _ce(d, Fn, v) * v) / d.sigma)
+            w = np.sqrt(d.counts) if self._mult is None else np.sqrt(d.counts * self._mult[i])
+            out.append(w * (d.Fbar - Fn - _ce(d, Fn, v) * v) / d.sigma)
         return np.concatenate(out)
 
     def _keys(self, names: Sequence[str]) -> tuple[list[str], list[float], list[float], list[float]]:
@@ -294,7 +298,8 @@ class Problem:
         return keys, lo, hi, x0
 
     def fit(self, names: Sequence[str], train_only: Sequence[TestData] | None = None,
-            start: dict[str, float] | None = None, polish_only: bool = False) -> Candidate:
+            start: dict[str, float] | None = None, polish_only: bool = False,
+            weights: Sequence[float] | None = None) -> Candidate:
         """Fit all parameters of an effect set jointly on the training tests.
 
         Parameters
@@ -308,14 +313,19 @@ class Problem:
             effects' parameters are started from a coarse grid.
         polish_only : bool
             Only a local least-squares polish from ``start`` (jack-knife refits).
+        weights : sequence of float, optional
+            A multiplicity (> 0) per test fitted (a resample's draw counts), instead of 1 each.
         """
         from chainid.gap.core.fitgrid import starts
 
         keys, lo, hi, x0 = self._keys(names)
         lo_a, hi_a = np.array(lo), np.array(hi)
+        tests = list(train_only) if train_only is not None else self.train
+        mult = None if weights is None else np.asarray(weights, float)
+        if mult is not None and mult.shape != (len(tests),):
+            raise ValueError(f"weights: {mult.size} given for {len(tests)} tests")
         saved = self.train
-        if train_only is not None:
-            self.train = list(train_only)
+        self.train, self._mult = tests, mult
         try:
             if not keys:
                 return Candidate("+".join(names), {}, 0)
@@ -353,6 +363,7 @@ class Problem:
             return Candidate("+".join(names), p, len(keys), at_bound=at_bound)
         finally:
             self.train = saved
+            self._mult = None
 
     def score(self, cand: Candidate, names: Sequence[str], base_hold: float) -> Candidate:
         """Score a fitted candidate: the damping law re-identified (LOTO-best of :meth:`laws_for`)."""

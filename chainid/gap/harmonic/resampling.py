@@ -7,7 +7,7 @@ and each drawn test's error is that of the law refitted without it, weighted by 
 drawn tests are fewer than the law's coefficients (a 5-coefficient law and few distinct tests in the draw), the
 law without that test is fitted on every other training test instead (the plain leave-one-test-out): a resample
 never loses a test, so the steps' stability is not diluted by draws that could score nothing.  :func:`refit`
-polishes a candidate's parameters on the drawn tests (duplicates repeated).
+polishes a candidate's parameters on the drawn tests (each weighted by its multiplicity).
 
 Units: N² for the errors; each parameter's own unit.
 """
@@ -76,7 +76,8 @@ def rescore(prob: Any, cand: Any, mult: np.ndarray) -> tuple[dict[str, float], f
 
 
 def refit(prob: Any, cand: Any, mult: np.ndarray) -> dict[str, float]:
-    """A candidate's parameters polished on a resample's tests (each repeated by its multiplicity)."""
-    tests = [d for d, m in zip(prob.train, mult) for _ in range(int(m))]
-    c = prob.fit(cand.names, train_only=tests, start=cand.params, polish_only=True)
+    """A candidate's parameters polished on a resample's tests (each weighted by its multiplicity)."""
+    drawn = [(d, float(m)) for d, m in zip(prob.train, mult) if m > 0]
+    c = prob.fit(cand.names, train_only=[d for d, _ in drawn], weights=[m for _, m in drawn], start=cand.params,
+                 polish_only=True)
     return dict(c.params)
