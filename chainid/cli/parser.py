@@ -232,11 +232,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         from chainid.cli.common import check_io
         from chainid.infra.runlog import collecting
-        from chainid.infra.threads import one_blas_thread
 
         check_io(args)  # an output that is an input of the same run (or of another output): refused before any work
-        # warnings: once on stderr, and in every JSON the run writes; small matrices: one BLAS thread
-        with collecting(args.command), one_blas_thread():
+        with collecting(args.command):  # warnings: once on stderr, and in every JSON the run writes
             if getattr(args, "json", None) == "-":  # the JSON alone on stdout, every other line on stderr
                 from chainid.infra.fileio import json_to_stdout
 

@@ -58,7 +58,7 @@ from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
 __all__ = ["run_cases", "dask_available", "SCHEDULERS", "MAX_WORKERS", "worker_count", "probe_scheduler",
-           "die_with_parent"]
+           "die_with_parent", "worker_init", "stop_pool", "sigint_ignored"]
 
 #: The named schedulers; any other string is a dask scheduler address.
 SCHEDULERS: tuple[str, ...] = ("local", "processes", "serial")
@@ -88,7 +88,7 @@ def worker_count(n_workers: int | None, n_cases: int) -> int:
 
 
 @contextlib.contextmanager
-def _sigint_ignored() -> Iterator[None]:
+def sigint_ignored() -> Iterator[None]:
     """Ignore SIGINT (SIG_IGN) while worker processes are started: an ignored signal stays ignored across
     exec, and Python then installs no KeyboardInterrupt handler, so the workers never see a Ctrl-C (no
     traceback each, no race with their start-up).  A Ctrl-C in this window is lost (a blocked mask would
@@ -163,7 +163,8 @@ def die_with_parent(parent: int | None = None, interval: float = WATCHDOG_S) -> 
                      daemon=True).start()
 
 
-def _worker_init(parent: int | None = None) -> None:  # pragma: no cover - runs in the workers
+def worker_init(parent: int | None = None) -> None:  # pragma: no cover - runs in the workers
+    """A pool worker's start: SIGINT ignored, and it ends with its parent (``parent``: the expected pid)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     die_with_parent(parent)
 
@@ -356,10 +357,10 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
 
     before = set(multiprocessing.active_children())
     ex = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                             initializer=_worker_init, initargs=(os.getpid(),))
+                             initializer=worker_init, initargs=(os.getpid(),))
     ok = False
     try:
-        with _sigint_ignored():  # the workers start on submit
+        with sigint_ignored():  # the workers start on submit
             futures = [ex.submit(fn, c) for c in cases]
         pending = set(futures)
         while pending:
@@ -375,11 +376,11 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
         if ok:
             ex.shutdown(wait=True)
         else:
-            with _sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
-                _stop_pool(ex, before)
+            with sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
+                stop_pool(ex, before)
 
 
-def _stop_pool(ex: Any, before: set) -> None:
+def stop_pool(ex: Any, before: set) -> None:
     """Cancel what has not started; stop what is running (no orphan workers)."""
     import multiprocessing
 
@@ -414,7 +415,7 @@ def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: in
     futures: list = []
     try:
         if address is None:
-            with _sigint_ignored():
+            with sigint_ignored():
                 cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
                                        # (a worker's case error comes back as an exception; shutdown
                                        # chatter such as a heartbeat to a closed scheduler is not shown)
@@ -447,7 +448,7 @@ def _run_dask(fn: Callable[[Any], Any], cases: list, bar: _Bar, *, n_workers: in
             bar.update()
         return client.gather(futures)
     finally:
-        with _sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
+        with sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
             if client is not None:
                 try:
                     if futures:

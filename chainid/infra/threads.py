@@ -8,8 +8,9 @@ default two threads, 0.68 s and 0.14 s with one; at 500 000 samples the two are 
 (``python benchmarks/blas_threads.py --samples 125000``, and ``--samples 31250``).
 
 :func:`one_blas_thread` limits BLAS to one thread in this process while a block runs (threadpoolctl), and restores
-the limit after.  The diagnosis and the ``chainid`` command run inside it; process-level parallelism (forked
-workers, a process pool, dask) is what uses the other cores.
+the limit after.  The diagnosis (:func:`chainid.gap.diagnose`, whichever command or
+caller runs it) runs inside it; process-level parallelism (forked workers, a process pool, dask) is what uses the
+other cores.
 """
 
 from __future__ import annotations

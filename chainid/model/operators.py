@@ -294,11 +294,13 @@ def coulomb_sign(xd: Any, periodic: bool = True) -> np.ndarray:
     if xd.size < 3:
         return s
     a = np.abs(xd)
-    prev, nxt = np.roll(a, 1), np.roll(a, -1)
-    near = (np.roll(s, 1) * np.roll(s, -1) < 0) & (a < 0.5 * np.minimum(prev, nxt))
-    if not periodic:
-        near[0] = near[-1] = False
-    return np.where(near, 0.0, s)
+    near = np.zeros(xd.size, bool)  # interior samples: neighbours i − 1 and i + 1
+    near[1:-1] = (s[:-2] * s[2:] < 0) & (a[1:-1] < 0.5 * np.minimum(a[:-2], a[2:]))
+    if periodic:  # the ends' neighbours wrap around
+        near[0] = s[-1] * s[1] < 0 and a[0] < 0.5 * min(a[-1], a[1])
+        near[-1] = s[-2] * s[0] < 0 and a[-1] < 0.5 * min(a[-2], a[0])
+    s[near] = 0.0
+    return s
 
 
 def jenkins(x: Any, F_c: float, x_s: float, y0: float | None = None,

@@ -14,7 +14,7 @@ tests and contiguous blocks, never single samples).  On every resample:
   search, another subset); without the shift an interval can miss its own estimate.
 
 A step is *confident* when its stability is at least :data:`CONFIDENT`.  The resamples run on forked
-worker processes (:func:`chainid.gap.core.forkmap.fork_map`: the problem is inherited, not copied) when there are
+worker processes (:func:`chainid.infra.forkpool.fork_map`: the problem is inherited, not copied) when there are
 at least :data:`POOL_MIN` of them, and in this process otherwise.
 
 Units: each parameter's own.
@@ -28,7 +28,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.core.forkmap import can_fork, fork_map
+from chainid.infra.forkpool import can_fork, fork_map
 from chainid.gap.core.selection import passes, pick, step_test, term_prefix
 
 __all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "widen", "attach"]

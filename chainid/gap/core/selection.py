@@ -35,7 +35,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.candidate import Candidate, Problem
-from chainid.gap.core.forkmap import fork_map
+from chainid.infra.forkpool import fork_map
 from chainid.infra.progress import stage
 
 #: jack-knife z of the LOTO improvement required to keep a step
@@ -318,7 +318,8 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
     Two effects can explain part of each other's signature (a delayed Coulomb switch looks like Dahl
     hysteresis with a short travel), so the best single step can block the best pair.  When a runner-up is
     within ``LOOKAHEAD`` of the choice, both are extended by every remaining effect; the runner-up is taken
-    when its best extension beats the choice's best extension by more than ``TIE``.
+    when its best extension beats the choice's best extension by more than ``TIE``.  ``fetch(jobs)``, when
+    given, fits all those extensions at once first (:func:`prefetch`).
     """
     if len(cur.names) + 2 > max_effects or len(remaining) < 2:
         return chosen
@@ -344,10 +345,19 @@ FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
 
 def prefetch(prob: Problem, cache: dict[tuple[str, ...], Candidate], jobs: Sequence[tuple[Candidate, str]],
              base_hold: float) -> None:
-    """Fit and score, into ``cache``, the effect sets ``current + [new]`` of ``jobs`` that it lacks: on forked
-    workers (:func:`chainid.gap.core.forkmap.fork_map`) when the problem says its fits are worth it
-    (``prob.parallel_fits``), each fit exactly as the selection would make it (warm-started from its current
-    chain).  Otherwise nothing: the selection fits them one by one as it reaches them."""
+    """Fit and score, into ``cache``, the effect sets ``current + [new]`` of ``jobs`` that it lacks, on forked
+    workers (:func:`chainid.infra.forkpool.fork_map`), when the problem says its fits are worth it
+    (``prob.parallel_fits``); otherwise nothing: the selection fits them one by one as it reaches them.
+
+    Parameters
+    ----------
+    prob : Problem
+    cache : the selection's fitted effect sets, keyed by their sorted names
+    jobs : (current chain's candidate, effect to add) pairs; each set is fitted exactly as :func:`fit_cached`
+        would fit it (named in that order, warm-started from the current chain's parameters), the first job
+        naming a set winning as in the serial order
+    base_hold : the baseline's held-out NRMSE (the shrinkage of each)
+    """
     if not getattr(prob, "parallel_fits", False):
         return
     todo: dict[tuple[str, ...], tuple[list[str], dict[str, float]]] = {}

@@ -56,7 +56,7 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
         ok, msg = damping_separable(prob.train)
         if not ok:
             warn.append(msg)
-            warnings.warn(msg, stacklevel=3)
+            warnings.warn(msg, stacklevel=4)  # the caller of chainid.gap.diagnose
     stage("baseline")
     base_c = fw.baseline_candidate(prob)
     where = localise(prob, base_c._ev)  # type: ignore[attr-defined]

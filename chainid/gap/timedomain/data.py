@@ -29,7 +29,7 @@ from chainid.gap.core.kinematics import Kinematics, estimate
 from chainid.model.timedamping import record_features
 
 __all__ = ["MIN_SAMPLES", "TimeData", "prepare_time", "low_edge", "reversals",
-           "travel_since_reversal", "split_blocks", "fit_subsets", "FIT_TOTAL"]
+           "travel_since_reversal", "split_blocks", "fit_subsets", "windows", "FIT_TOTAL"]
 
 #: fewest samples of a time-domain record
 MIN_SAMPLES = 64
@@ -39,8 +39,10 @@ FIT_SAMPLES_PER_PERIOD = 40
 FIT_MAX = 4000
 #: most samples of the fit subsets of all training records together (:func:`fit_subsets`)
 FIT_TOTAL = 131_072
-#: a thinned fit subset keeps whole windows of this many periods of the record's low band edge
+#: a thinned fit subset keeps whole windows of this many periods of the record's low band edge ...
 FIT_WINDOW_PERIODS = 4
+#: ... but at least this many windows per record (and one per block)
+FIT_MIN_WINDOWS = 4
 
 
 @dataclass
@@ -156,35 +158,71 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
                     covariates=cov, omega_c=record_features(t, xs)[0], f_low=low_edge(t, xs))
 
 
-def fit_subsets(data: Sequence[TimeData], held: Sequence[str] = (), total: int = FIT_TOTAL) -> dict[str, np.ndarray]:
-    """Each record's fit subset for the shape search, bounded so that the search's cost does not grow with the data.
+def fit_subsets(data: Sequence[TimeData], train: dict[str, np.ndarray], total: int = FIT_TOTAL
+                ) -> dict[str, tuple[np.ndarray, np.ndarray | None]]:
+    """Each record's samples for the shape search, bounded so that the search's cost does not grow with the data.
 
-    A record held out whole (``held``) is weighted 0 in the search: its subset is its first ``MIN_SAMPLES``
-    samples (nothing changes numerically).  When the other records' subsets (:attr:`TimeData.fit_idx`) hold more
-    than ``total`` samples together, each keeps the same fraction of its subset as evenly spaced contiguous windows
-    of ``FIT_WINDOW_PERIODS`` periods of its low band edge (at least ``MIN_SAMPLES`` samples each): inside a window
-    the memory operators see every subset sample, as without thinning.  The amplitudes and every score still use
-    all samples.
+    Parameters
+    ----------
+    data : the records
+    train : per test, the boolean mask of its training samples
+    total : the most samples of the training records' subsets together
+
+    Returns
+    -------
+    dict
+        Per test ``(idx, lead)``: the sample indices of the search's view, in order, and None or a boolean mask
+        over them of lead-in samples, which the search weighs 0.
+
+    A record with no training sample (held out whole) is weighed 0 in the search: its view is its first
+    ``MIN_SAMPLES`` samples (nothing changes numerically).  When the training records' subsets
+    (:attr:`TimeData.fit_idx`, up to ``FIT_SAMPLES_PER_PERIOD`` samples per period of the band edge) hold more
+    than ``total`` samples together, each keeps the same fraction of its training subset as evenly spaced
+    contiguous windows (:func:`windows`); the amplitudes and every score still use all samples.
     """
-    out = {d.test: d.fit_idx[:MIN_SAMPLES] if d.test in held else d.fit_idx for d in data}
-    n = sum(v.size for k, v in out.items() if k not in held)
+    out: dict[str, tuple[np.ndarray, np.ndarray | None]] = {}
+    n = 0
+    for d in data:
+        tr = train[d.test]
+        if not tr.any():
+            out[d.test] = (d.fit_idx[:MIN_SAMPLES], None)
+        else:
+            out[d.test] = (d.fit_idx, None)
+            n += int(np.count_nonzero(tr[d.fit_idx]))
     if n <= total:
         return out
     frac = total / n
-    return {d.test: out[d.test] if d.test in held else _windows(d, frac) for d in data}
+    return {d.test: out[d.test] if not train[d.test].any() else windows(d, frac, train[d.test]) for d in data}
 
 
-def _windows(d: TimeData, frac: float) -> np.ndarray:
-    """A fraction ``frac`` of a record's fit subset as evenly spaced contiguous windows."""
-    idx = d.fit_idx
+def windows(d: TimeData, frac: float, train: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A fraction ``frac`` of a record's training subset as evenly spaced contiguous windows, each after a lead-in.
+
+    Windows: ``FIT_WINDOW_PERIODS`` periods of the low band edge long, but at least ``FIT_MIN_WINDOWS`` of them
+    and at least one per block (and >= ``MIN_SAMPLES`` samples each), spread from the first training sample of the
+    subset to the last.  The memory operators (friction with stick, Dahl, Bouc–Wen, play) run over the view in
+    order, so a window would start from the state the previous one left; the ``lead`` samples before each
+    window (one period of the band centre, where there is a gap) let the state forget that, and are weighed 0.
+    Returns ``(idx, lead)`` as :func:`fit_subsets`.
+    """
+    idx = d.fit_idx[train[d.fit_idx]]
     keep = min(idx.size, max(int(frac * idx.size), MIN_SAMPLES))
     dt = float(d.t[idx[1]] - d.t[idx[0]]) if idx.size > 1 else 1.0
-    per = FIT_WINDOW_PERIODS / max(d.f_low, 1e-9) / dt if math.isfinite(d.f_low) else float(keep)
-    w = int(min(keep, max(MIN_SAMPLES, math.ceil(per))))
+    per = FIT_WINDOW_PERIODS / d.f_low / dt if math.isfinite(d.f_low) and d.f_low > 0 else math.inf
+    w = int(max(MIN_SAMPLES, min(per, keep // max(FIT_MIN_WINDOWS, d.n_blocks))))
+    w = min(w, keep)
     n_win = max(1, keep // w)
     w = keep // n_win
+    period = 2 * math.pi / d.omega_c / dt if math.isfinite(d.omega_c) and d.omega_c > 0 else MIN_SAMPLES
+    n_lead = int(min(max(math.ceil(period), 1), w))
     starts = np.linspace(0, idx.size - w, n_win).astype(np.int64)
-    return np.concatenate([idx[s:s + w] for s in starts])
+    pieces, leads, end = [], [], 0
+    for s in starts:
+        a = int(max(s - n_lead, end)) if s > end else int(s)  # no lead-in where the previous window ends here
+        pieces.append(idx[a:s + w])
+        leads.append(np.arange(a, s + w) < s)
+        end = int(s + w)
+    return np.concatenate(pieces), np.concatenate(leads)
 
 
 def reversals(xd: np.ndarray) -> np.ndarray:

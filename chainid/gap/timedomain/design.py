@@ -200,12 +200,15 @@ def _view(d: Any, idx: np.ndarray | None, tau: float) -> tuple[np.ndarray, ...]:
 
 
 def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, idx: np.ndarray | None = None,
-          cache: ColumnCache | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+          cache: ColumnCache | None = None, lead: np.ndarray | None = None
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Fixed force f [N], columns Φ (n, p) and target y = F [N] of an effect set on record ``d`` at ``shapes``.
 
     ``d`` is a :class:`chainid.gap.timedomain.data.TimeData` (its smooth kinematics, features, covariates);
-    ``idx`` the samples of the view (None: all; the memory operators run over them in order).  With per-record
-    offsets (a linear base) f, Φ and y lose their mean over the view.  ``cache`` keeps pieces between calls.
+    ``idx`` the samples of the view (None: all; the memory operators run over them in order); ``lead`` a boolean
+    mask over the view of lead-in samples, which carry the operators' state but are not fitted (their rows of Φ
+    are 0 and y = f there).  With per-record offsets (a linear base) f, Φ and y lose their mean over the view's
+    fitted samples.  ``cache`` keeps pieces between calls.
     """
     cache = cache if cache is not None else ColumnCache(0)
     tau = float(shapes.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
@@ -266,9 +269,13 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
         src = Phi[:, col[f"{e}.{par}"]] if f"{e}.{par}" in col else effect_cols(e)[par]
         Phi[:, col[t]] = (d.covariates.get(cov, math.nan) - base.refs.get(f"cov:{cov}", 0.0)) * src
     if base.offsets:
-        f = f - f.mean()
-        y = y - y.mean()
-        Phi = Phi - Phi.mean(axis=0)
+        fit = slice(None) if lead is None else ~lead
+        f = f - f[fit].mean()
+        y = y - y[fit].mean()
+        Phi = Phi - Phi[fit].mean(axis=0)
+    if lead is not None:
+        Phi[lead] = 0.0
+        y = np.where(lead, f, y)
     if tau:  # samples whose lagged motion falls before the record's start (or after its end) are not modelled
         ts = np.asarray(d.t, float)[slice(None) if idx is None else idx] - tau
         out = (ts < d.t[0]) | (ts > d.t[-1])

@@ -38,8 +38,8 @@ __all__ = ["TimeProblem"]
 #: fewest training records with distinct features for a damping law over them
 MIN_LAW_RECORDS = 3
 #: records of at least this many samples together fit a selection round's effect sets on forked workers
-#: (:func:`chainid.gap.core.selection.prefetch`); below it a round takes a few seconds and the workers' start and
-#: their cold column caches cost about what they save (``python benchmarks/diagnosis_scale.py``)
+#: (:func:`chainid.gap.core.selection.prefetch`); below it a round takes a few seconds, and the workers' start and
+#: the column-cache entries they make and lose with them cost about what they save
 PARALLEL_SAMPLES = 200_000
 #: relative sd × √n of the force-noise estimate σ̂² (1.4826·MAD(Δ²F))²/6 on n samples of white noise (Monte Carlo:
 #: 2.83, 2.92, 2.84 at n = 1 000, 8 000, 30 000, 400 draws each)
@@ -102,8 +102,8 @@ class TimeProblem:
                     tr |= d.block == b
             self._mask[d.test] = tr
         self.data = self.tdata
-        # the shape search's samples per record, bounded (records held out whole keep a token subset)
-        self._fit_idx = fit_subsets(self.tdata, [d.test for d in self.tdata if not self._mask[d.test].any()])
+        # the shape search's samples per record (bounded; lead-in samples weighed 0)
+        self._fit = fit_subsets(self.tdata, self._mask)
         self.hold = [d for d in self.tdata if any(u[0] is d for u in self.hold_units)]
         self.train = [d for d in self.tdata if any(u[0] is d for u in self.train_units)]
         train_recs = [d for d in self.tdata if self._mask[d.test].any()]
@@ -173,8 +173,8 @@ class TimeProblem:
         """Per record: block statistics and (f, Φ, y) on the fit subset or on every sample."""
         stats, parts = [], []
         for d in self.tdata:
-            idx = self._fit_idx[d.test] if subset else None
-            f, Phi, y = build(self.base, names, shapes, d, idx, self._cache)
+            idx, lead = self._fit[d.test] if subset else (None, None)
+            f, Phi, y = build(self.base, names, shapes, d, idx, self._cache, lead)
             blk = d.block if idx is None else d.block[idx]
             stats.append(Blocks.from_columns(Phi, y - f, blk, d.n_blocks, 1.0 / d.sigma**2))
             parts.append((f, Phi, y))
@@ -214,7 +214,7 @@ class TimeProblem:
             out = []
             off = 0
             for d, (f, Phi, y) in zip(self.tdata, parts):
-                w = np.sqrt(mult[off + d.block[self._fit_idx[d.test]]])  # the block's multiplicity per sample
+                w = np.sqrt(mult[off + d.block[self._fit[d.test][0]]])  # the block's multiplicity per sample
                 out.append((y - f - Phi @ a) * w / d.sigma)
                 off += d.n_blocks
             return np.concatenate(out)

@@ -65,19 +65,21 @@ def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, 
         else:
             rest.append((n, pp))
     m = float(getattr(model, "mass_kg", 0.0))
-    base = m * xdd * 1e-3 + np.asarray(model.force(x), float)
+    Fk = np.asarray(model.force(x), float)
+    base = m * xdd * 1e-3 + Fk
     Fn = base.copy()
     for n, pp in rest:
         if n in ("damping_law", "sensor_delay"):
             continue
-        Fe, _, _ = effect_force(make_effect(n), pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err)
+        Fe, _, _ = effect_force(make_effect(n), pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err,
+                                Fk=Fk)
         Fn += Fe - base
     return Fn
 
 
 def effect_force(eff: Any, p: dict[str, float], model: Any, t: np.ndarray, x: np.ndarray, xd: np.ndarray,
                  xdd: np.ndarray, omega: float, A: float, x0: float, xfun: Callable | None = None,
-                 periodic: bool = True, v_err: float | np.ndarray = 0.0
+                 periodic: bool = True, v_err: float | np.ndarray = 0.0, Fk: np.ndarray | None = None
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Undamped force [N], the velocity the damping acts on [mm/s], and an extra c_e factor [N·s/mm] of one
     effect ``eff`` (:class:`.library.Effect`) with parameters ``p`` on ``model``.
@@ -85,11 +87,12 @@ def effect_force(eff: Any, p: dict[str, float], model: Any, t: np.ndarray, x: np
     Returns ``(F_nodamp, xd_damp, extra_c)`` with the model force F = F_nodamp + (c_e + extra_c)·xd_damp.
     ``periodic``: the memory operators return the periodic steady state of a series that is one period (the
     diagnosis' phase grid); False runs them forward from their stated initial state, for any x(t).  ``v_err``
-    [mm/s]: the RMS error of an estimated velocity (the sign of sliding, :func:`sliding_sign`).
+    [mm/s]: the RMS error of an estimated velocity (the sign of sliding, :func:`sliding_sign`).  ``Fk``: the
+    model's spring force at x [N] when the caller has it already (it is computed otherwise).
     """
     m = float(getattr(model, "mass_kg", 0.0))
     inert = m * xdd * 1e-3
-    Fk = np.asarray(model.force(x), dtype=float)
+    Fk = np.asarray(model.force(x), dtype=float) if Fk is None else Fk
     name = eff.name
     if eff.kind in ("force", "mass"):
         q = dict(eff.fixed) | p

@@ -9,7 +9,7 @@ import pytest
 
 import recovery_cases as rc
 from chainid.gap.core import selection
-from chainid.gap.core.forkmap import can_fork
+from chainid.infra.forkpool import can_fork
 from chainid.gap.diagnose import diagnose
 from chainid.gap.timedomain import problem as tp
 
@@ -44,3 +44,7 @@ def test_forked_fits_give_the_chain_and_numbers_of_the_serial_fits(monkeypatch):
         for k in a["params"]:
             assert a["params"][k] == pytest.approx(b["params"][k], rel=1e-12, abs=1e-15), k
         assert a["nrmse_holdout"] == pytest.approx(b["nrmse_holdout"], rel=1e-12)
+    assert par["stop"] == ser["stop"] and par["confounded"] == ser["confounded"]
+    assert [r["effect"] for r in par["ranking"]] == [r["effect"] for r in ser["ranking"]]
+    for a, b in zip(par["ranking"], ser["ranking"]):
+        assert a["nrmse_loto"] == pytest.approx(b["nrmse_loto"], rel=1e-12)

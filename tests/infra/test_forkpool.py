@@ -6,7 +6,7 @@ import os
 
 import pytest
 
-from chainid.gap.core.forkmap import can_fork, fork_map
+from chainid.infra.forkpool import can_fork, fork_map
 
 STATE = {"offset": 0}
 
@@ -45,3 +45,48 @@ def _fails_on_three(x: int) -> int:
 def test_a_case_error_reaches_the_caller_with_its_message():
     with pytest.raises(ValueError, match="case 3: F_c = -1 N"):
         fork_map(_fails_on_three, range(6), workers=2)
+
+
+PARENT = {"pid": 0}
+
+
+def _dies_in_a_worker_on_two(x: int) -> int:
+    import signal
+
+    if x == 2 and os.getpid() != PARENT["pid"]:
+        os.kill(os.getpid(), signal.SIGKILL)  # the OOM killer's way
+    return 10 * x
+
+
+@needs_two
+def test_a_worker_that_dies_does_not_hang_the_map_its_items_run_here_with_a_warning():
+    PARENT["pid"] = os.getpid()
+    with pytest.warns(RuntimeWarning, match="a worker process died"):
+        out = fork_map(_dies_in_a_worker_on_two, range(6), workers=2)
+    assert out == [0, 10, 20, 30, 40, 50]
+
+
+def _warns(x: int) -> int:
+    import warnings
+
+    warnings.warn(f"item {x}: x = {x} mm is implausible", UserWarning)
+    return x
+
+
+@needs_two
+def test_the_warnings_of_the_items_reach_this_process_in_item_order():
+    import warnings
+
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        assert fork_map(_warns, range(4), workers=2) == [0, 1, 2, 3]
+    assert [str(w.message) for w in seen] == [f"item {x}: x = {x} mm is implausible" for x in range(4)]
+
+
+def _forks_here(_: int) -> int:
+    return can_fork(2)
+
+
+@needs_two
+def test_a_worker_does_not_fork_workers_of_its_own():
+    assert fork_map(_forks_here, range(2), workers=2) == [0, 0]
