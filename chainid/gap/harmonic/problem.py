@@ -52,6 +52,10 @@ def damping_separable(data: Sequence[TestData]) -> tuple[bool, str]:
     return True, ""
 
 
+#: most remembered (effect set, parameters, test) evaluations of a problem (:meth:`Problem._parts`)
+PARTS_MEMO = 20_000
+
+
 class Problem:
     """Prepared data + baseline model; evaluates any effect set.
 
@@ -95,6 +99,8 @@ class Problem:
         self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
         self._mult: np.ndarray | None = None  # multiplicities of the training tests in a fit (a resample)
+        self._own = {d.test: d for d in self.data}
+        self._memo: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         x_mid = float(np.mean([d.x0 for d in self.data]))
         v_max = float(max(d.omega * d.A for d in self.data))
         self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max, v_scale=v_max, x_mid=x_mid)
@@ -169,7 +175,24 @@ class Problem:
         return self._parts(names, p, d)
 
     def _parts(self, names: Sequence[str], p: dict[str, float], d: TestData) -> tuple[np.ndarray, np.ndarray]:
-        """Bin means of the undamped force [N] and of the velocity the damping acts on [mm/s]."""
+        """Bin means of the undamped force [N] and of the velocity the damping acts on [mm/s], remembered per test
+        of this problem, effect set and parameters (a resample's refits all start from the same parameters; a score
+        evaluates those a fit ended at; at most ``PARTS_MEMO`` entries of 2 × n_bins numbers)."""
+        mine = self._own.get(d.test) is d
+        key = (tuple(names), tuple(sorted(p.items())), d.test)
+        if mine and key in self._memo:
+            return self._memo[key]
+        out = self._compute_parts(names, p, d)
+        for a in out:
+            a.setflags(write=False)  # shared by every caller of the same key
+        if mine:
+            if len(self._memo) >= PARTS_MEMO:
+                self._memo.clear()
+            self._memo[key] = out
+        return out
+
+    def _compute_parts(self, names: Sequence[str], p: dict[str, float], d: TestData
+                       ) -> tuple[np.ndarray, np.ndarray]:
         model = self.model_for(p)
         eff = [(n, {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")}) for n in names]
         g = d.grid
