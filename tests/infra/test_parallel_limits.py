@@ -157,8 +157,11 @@ def _start(code: str, folder: Path, n_cases: int) -> tuple[subprocess.Popen, lis
     run (``worker_cases``: a file per worker pid in ``folder``) and the parent handles SIGINT again (it left
     the window in which it ignores SIGINT while it starts the workers).  Bounded by 240 s."""
     env = dict(ENV, PYTHONPATH=os.pathsep.join([str(ROOT), str(ROOT / "tests")]), CHAINID_TEST_ANNOUNCE=str(folder))
+    # a terminal's program starts with SIGINT at its default, whatever the test runner inherited (a runner started
+    # in the background by a non-interactive shell ignores SIGINT, and a child would inherit that)
     p = subprocess.Popen([sys.executable, "-c", textwrap.dedent(code)], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+                         stderr=subprocess.PIPE, text=True, env=env, start_new_session=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 240
     while time.monotonic() < deadline:
         if p.poll() is not None:

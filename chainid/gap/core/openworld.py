@@ -14,6 +14,15 @@ time block, a harmonic test) g = ½·ln(SSE_before/SSE_after); a missing effect 
 to be named — and what is left is above its noise floor.  The learner is fitted once, with fixed hyper-parameters
 stated here, never tuned to a data set.
 
+Two changes no state variable carries are found by the diagnosis' own where-analysis and reported here too, so that
+the check answers "is something outside the library?" whatever its kind:
+
+* **a change in time** — the residual's trend over the cycles of each test or the blocks of each record
+  (:mod:`.stationarity`: a drift, a relaxation, wear, warming);
+* **stick-slip chatter** — ringing while the contact slides (:mod:`chainid.gap.timedomain.where`).
+
+``missing_effect`` is then any of the three (``kinds``: ``state``, ``time``, ``chatter``), above the noise floor.
+
 Units: the residual in N; the features in mm, mm/s, mm/s², N and the covariates' units.
 """
 
@@ -38,8 +47,10 @@ LEARNER = {"max_iter": 100, "learning_rate": 0.1, "max_leaf_nodes": 15, "min_sam
 MAX_TRAIN = 10000
 
 
-def open_world(table: dict[str, Any], at_floor: bool, keep_model: bool = False) -> dict[str, Any]:
-    """Fit the learner on the training rows of a state ``table`` and score it on the held-out rows.
+def open_world(table: dict[str, Any], at_floor: bool, keep_model: bool = False, stat: dict[str, Any] | None = None,
+               chatter: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Whether something outside the library is left: the learner on the state (its training rows of ``table``,
+    scored on the held-out rows), a change in time (``stat``) and chatter (``chatter``).
 
     Parameters
     ----------
@@ -50,14 +61,38 @@ def open_world(table: dict[str, Any], at_floor: bool, keep_model: bool = False) 
         Whether what is left is at its noise floor (the diagnosis' own rule).
     keep_model : bool
         Keep the fitted learner under the private key ``_model`` (partial-dependence plots).
+    stat : dict, optional
+        The stationarity check of what is left (``stationary`` False: it changes in time; ``finding``).
+    chatter : dict, optional
+        The chatter finding of what is left (``frequency_Hz``, ``rms_N``), when there is one.
 
     Returns
     -------
     dict
         ``predictable_share`` (held-out: 1 − SSE_after/SSE_before), ``significant`` (the step rule's test),
-        ``missing_effect`` (significant, material and above the floor), ``at_noise_floor``, ``z``, ``features``,
-        ``message``.
+        ``kinds`` (of ``state``, ``time``, ``chatter``: what was found), ``missing_effect`` (any, above the floor),
+        ``at_noise_floor``, ``z``, ``features``, ``message``.
     """
+    out = _learner(table, at_floor, keep_model)
+    kinds = (["state"] if out["significant"] else []) + (["time"] if stat and stat.get("stationary") is False
+                                                          else []) + (["chatter"] if chatter else [])
+    out["kinds"] = kinds
+    out["missing_effect"] = bool(kinds) and not at_floor
+    if at_floor or not kinds or kinds == ["state"]:
+        return out
+    parts = [out["message"]] if "state" in kinds else []
+    if "time" in kinds:
+        parts.append("what is left changes in time, which no state variable carries (a drift, a relaxation, wear): "
+                     "an effect outside the library")
+    if "chatter" in kinds:
+        parts.append(f"stick-slip chatter while sliding ({chatter['frequency_Hz']:.3g} Hz, RMS {chatter['rms_N']:.3g}"
+                     " N): an effect outside the library")
+    out["message"] = "; ".join(parts)
+    return out
+
+
+def _learner(table: dict[str, Any], at_floor: bool, keep_model: bool) -> dict[str, Any]:
+    """The learner's part of :func:`open_world` (its return keys but ``kinds``)."""
     from sklearn.ensemble import HistGradientBoostingRegressor
 
     Xt, rt = np.asarray(table["X_train"], float), np.asarray(table["r_train"], float)

@@ -97,7 +97,8 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     out = contract(prob, model, base_c, noise, fwd, verdict, interp, residual, where, list(excluded), confounded,
                    warn, list(hold), tests)
     stage("model-free check")
-    out["open_world"] = open_world(prob.state_table(left._ev), bool(residual["at_noise_floor"]), keep_model=True)  # type: ignore
+    out["open_world"] = open_world(prob.state_table(left._ev), bool(residual["at_noise_floor"]),  # type: ignore
+                                   keep_model=True, stat=stat)
     if resamples:
         stage("resampling", f"{resamples} resamples")
         from chainid.gap.harmonic import resampling

@@ -132,7 +132,8 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
                                            list(excluded), confounded, warn, list(holdout),
                                            _tests(prob, base_c, left))
     stage("model-free check")
-    summary["open_world"] = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True)
+    summary["open_world"] = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True,
+                                       stat=stat, chatter=chatter)
     if resamples:
         stage("resampling", f"{resamples} resamples")
         from chainid.gap.timedomain import resampling
