@@ -11,8 +11,8 @@ libraries are not safe in a forked child; Windows has no fork), inside a process
 (a benchmark case's pool, a dask worker, a worker of this module: their cores are already taken), or when fewer
 than ``min_items`` items would not pay the start of the workers.
 
-The workers ignore SIGINT and die with this process (:func:`chainid.infra.parallel.worker_init`).  A Ctrl-C or an
-error in an item stops them (:func:`chainid.infra.parallel.stop_pool`) and reaches the caller as it was.  A worker
+The workers ignore SIGINT and die with this process, and a Ctrl-C or an error in an item stops them and reaches the
+caller as it was (:func:`chainid.infra.parallel.process_pool`).  A worker
 that dies (the OOM killer, a signal) does not hang the map: its items, and all others not done, run in this process,
 with a warning.  One map at a time per process (a lock): the workers inherit this module's job.
 """
@@ -26,7 +26,7 @@ import threading
 import warnings
 from typing import Any, Callable, Sequence
 
-from chainid.infra.parallel import sigint_ignored, stop_pool, worker_init
+from chainid.infra.parallel import process_pool
 
 __all__ = ["fork_map", "can_fork"]
 
@@ -96,22 +96,10 @@ def fork_map(fn: Callable[[Any], Any], items: Sequence[Any], workers: int | None
 
 def _run(workers: int, n: int, chunksize: int) -> list[Any] | None:
     """The workers' results, or None when one of them died."""
-    from concurrent.futures import ProcessPoolExecutor
     from concurrent.futures.process import BrokenProcessPool
 
-    before = set(mp.active_children())
-    ex = ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("fork"), initializer=worker_init,
-                             initargs=(os.getpid(),))
-    ok = False
     try:
-        outs = list(ex.map(_call, range(n), chunksize=chunksize))
-        ok = True
-        return outs
+        with process_pool(workers, "fork") as ex:
+            return list(ex.map(_call, range(n), chunksize=chunksize))
     except BrokenProcessPool:
         return None
-    finally:
-        if ok:
-            ex.shutdown(wait=True)
-        else:
-            with sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
-                stop_pool(ex, before)

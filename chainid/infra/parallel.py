@@ -58,7 +58,7 @@ from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
 __all__ = ["run_cases", "dask_available", "SCHEDULERS", "MAX_WORKERS", "worker_count", "probe_scheduler",
-           "die_with_parent", "worker_init", "stop_pool", "sigint_ignored"]
+           "die_with_parent", "worker_init", "stop_pool", "sigint_ignored", "process_pool"]
 
 #: The named schedulers; any other string is a dask scheduler address.
 SCHEDULERS: tuple[str, ...] = ("local", "processes", "serial")
@@ -352,14 +352,9 @@ def _run_serial(fn: Callable[[Any], Any], cases: list, bar: _Bar) -> list:
 
 
 def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Bar) -> list:
-    import multiprocessing
-    from concurrent.futures import FIRST_EXCEPTION, ProcessPoolExecutor, wait
+    from concurrent.futures import FIRST_EXCEPTION, wait
 
-    before = set(multiprocessing.active_children())
-    ex = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                             initializer=worker_init, initargs=(os.getpid(),))
-    ok = False
-    try:
+    with process_pool(workers, "spawn") as ex:
         with sigint_ignored():  # the workers start on submit
             futures = [ex.submit(fn, c) for c in cases]
         pending = set(futures)
@@ -369,15 +364,28 @@ def _run_processes(fn: Callable[[Any], Any], cases: list, workers: int, bar: _Ba
                 if f.exception() is not None:
                     raise f.exception()
             bar.update(len(done))
-        results = [f.result() for f in futures]
-        ok = True
-        return results
-    finally:
-        if ok:
-            ex.shutdown(wait=True)
-        else:
-            with sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
-                stop_pool(ex, before)
+        return [f.result() for f in futures]
+
+
+@contextlib.contextmanager
+def process_pool(workers: int, start: str = "spawn") -> Iterator[Any]:
+    """A ``concurrent.futures.ProcessPoolExecutor`` of ``workers`` processes started by ``start`` ("spawn",
+    "fork"), whose workers ignore SIGINT and die with this process (:func:`worker_init`).  Leaving the block
+    normally shuts the pool down; leaving it by any exception (a Ctrl-C included) stops its workers at once
+    (:func:`stop_pool`) and re-raises."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    before = set(multiprocessing.active_children())
+    ex = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(start),
+                             initializer=worker_init, initargs=(os.getpid(),))
+    try:
+        yield ex
+    except BaseException:
+        with sigint_ignored():  # a second Ctrl-C must not break the clean-up half-way
+            stop_pool(ex, before)
+        raise
+    ex.shutdown(wait=True)
 
 
 def stop_pool(ex: Any, before: set) -> None:
