@@ -21,7 +21,9 @@ the check answers "is something outside the library?" whatever its kind:
   (:mod:`.stationarity`: a drift, a relaxation, wear, warming);
 * **stick-slip chatter** — ringing while the contact slides (:mod:`chainid.gap.timedomain.where`).
 
-``missing_effect`` is then any of the three (``kinds``: ``state``, ``time``, ``chatter``), above the noise floor.
+``missing_effect`` is then any of the three (``kinds``: ``state``, ``time``, ``chatter``): the learner's finding
+above the noise floor only, the other two whatever the floor says (they carry their own tests, and a residual at
+its floor per phase bin or per sample can still trend over the cycles).
 
 Units: the residual in N; the features in mm, mm/s, mm/s², N and the covariates' units.
 """
@@ -70,17 +72,20 @@ def open_world(table: dict[str, Any], at_floor: bool, keep_model: bool = False, 
     -------
     dict
         ``predictable_share`` (held-out: 1 − SSE_after/SSE_before), ``significant`` (the step rule's test),
-        ``kinds`` (of ``state``, ``time``, ``chatter``: what was found), ``missing_effect`` (any, above the floor),
+        ``kinds`` (of ``state``, ``time``, ``chatter``: what was found), ``missing_effect`` (any; ``state`` above
+        the floor),
         ``at_noise_floor``, ``z``, ``features``, ``message``.
     """
     out = _learner(table, at_floor, keep_model)
     kinds = (["state"] if out["significant"] else []) + (["time"] if stat and stat.get("stationary") is False
                                                           else []) + (["chatter"] if chatter else [])
     out["kinds"] = kinds
-    out["missing_effect"] = bool(kinds) and not at_floor
-    if at_floor or not kinds or kinds == ["state"]:
+    # the learner's gain must clear the noise floor; a trend and chatter come with their own tests, and a phase bin
+    # (a cycle average) or a per-sample floor does not carry a trend over the cycles
+    out["missing_effect"] = bool(kinds) and not (at_floor and kinds == ["state"])
+    if not kinds or kinds == ["state"]:
         return out
-    parts = [out["message"]] if "state" in kinds else []
+    parts = [out["message"]] if "state" in kinds and not at_floor else []
     if "time" in kinds:
         parts.append("what is left changes in time, which no state variable carries (a drift, a relaxation, wear): "
                      "an effect outside the library")

@@ -51,7 +51,16 @@ def test_structure_in_the_state_is_found_by_the_learner():
     assert ow["message"].startswith(f"{100 * ow['predictable_share']:.0f} % of what is left")
 
 
-def test_nothing_is_missing_at_the_noise_floor_whatever_was_found():
-    ow = open_world(_noise_table(), at_floor=True, stat=DRIFTS, chatter=CHATTER)
-    assert ow["kinds"] == ["time", "chatter"] and ow["missing_effect"] is False
-    assert ow["message"] == "what is left is at the noise floor: nothing more to explain"
+def test_at_the_noise_floor_the_state_is_silent_but_a_trend_and_chatter_still_count():
+    """A phase bin averages the cycles and a per-sample floor ignores their order: a trend over the cycles and
+    chatter carry their own tests, so the floor does not silence them; it does silence the learner."""
+    t = _noise_table()
+    t["r_train"] = t["r_train"] + 5.0 * np.tanh(t["X_train"][:, 1])
+    t["r_hold"] = t["r_hold"] + 5.0 * np.tanh(t["X_hold"][:, 1])
+    quiet = open_world(t, at_floor=True, stat=STATIONARY)
+    assert quiet["kinds"] == ["state"] and quiet["missing_effect"] is False
+    assert quiet["message"] == "what is left is at the noise floor: nothing more to explain"
+    ow = open_world(t, at_floor=True, stat=DRIFTS, chatter=CHATTER)
+    assert ow["kinds"] == ["state", "time", "chatter"] and ow["missing_effect"] is True
+    assert "changes in time" in ow["message"] and "212 Hz" in ow["message"]
+    assert "predictable from the state" not in ow["message"] and "noise floor" not in ow["message"]
