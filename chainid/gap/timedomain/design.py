@@ -143,10 +143,6 @@ def _params_of(p: dict[str, float], name: str) -> dict[str, float]:
     return {k[len(pre):]: v for k, v in p.items() if k.startswith(pre)}
 
 
-def _shift(t: np.ndarray, y: np.ndarray, tau: float) -> np.ndarray:
-    return np.interp(t - tau, t, y) if tau else y
-
-
 class ColumnCache:
     """Memo of a problem's design pieces that do not change between evaluations: the motion of a view at a lag,
     the play output, the chain's spring force at its stiffness-side shapes, and each effect's columns at its own
