@@ -6,145 +6,26 @@ leave-one-test-out (LOTO) over the training tests.  The best candidate is kept
 when the improvement is significant; then a backward pass drops any earlier
 effect that the later ones made redundant.
 
-The acceptance rule (stated, tested, and the same for every data set):
-
-1. **Above the noise floor.** The current model's LOTO residual on the training
-   tests is not yet statistically consistent with the noise (χ² ratio test,
-   :func:`train_floor`).
-2. **Significant over tests.** Per training test, the log ratio of its LOTO
-   error before and after the step, g_i = ½·ln(SSE_{k−1,i}/SSE_{k,i}); the mean
-   of g over the tests must exceed ``Z`` times its jack-knife standard error
-   (sd/√n): the improvement must hold across tests, so one test cannot carry
-   (or veto) a step.
-3. **Material.** The LOTO NRMSE falls by at least ``MIN_GAIN`` (a tenth) of
-   what is left: an effect that explains less is not worth a name.
-4. **Identified.** None of the new effect's parameters is pinned at a bound of
-   its physical range (then its form does not fit what is left).
-
-Near-ties at a step (LOTO within ``TIE`` of the best) go to the effect with fewer
-parameters pinned at a bound, then fewer parameters, then BIC; they are reported
-as confounded.
+The acceptance rule and the near-tie order live in :mod:`chainid.gap.core.steprule`; the final chain's second
+look (exchanges, backward pass, alternatives) in :mod:`chainid.gap.core.refine`.
 """
 
 from __future__ import annotations
 
-import copy
-import math
 from typing import Any, Sequence
 
-import numpy as np
-
 from chainid.gap.core.candidate import Candidate, Problem
+from chainid.gap.core.refine import backward, exchange, rebuild, split_richer, take_tie_break, two_for_one
+from chainid.gap.core.steprule import (ALIASES, FAMILIES, MIN_GAIN, NONE_FRACTION, TIE, Z, at_noise_floor,
+                                      fit_cached, fit_score, loto_jackknife, passes, pick, pinned_params, step_test,
+                                      term_prefix, train_floor)
 from chainid.infra.forkpool import fork_map
 from chainid.infra.progress import stage
 
-#: jack-knife z of the LOTO improvement required to keep a step
-Z = 2.0
-#: smallest relative LOTO improvement that earns a name
-MIN_GAIN = 0.10
-#: candidates within this relative LOTO NRMSE of the best are "equally good" (confounded)
-TIE = 0.05
-#: systematic residual below this fraction of the raw noise σ counts as "consistent with the noise"
-NONE_FRACTION = 0.5
-#: effects that are the same physics as another library member for the diagnosis (kept for ``simulate``)
-ALIASES = {"machine_compliance": "stiffness_level"}
-
-
-def at_noise_floor(r2: float, f2: float, sigma: float, n_bins: int, f2_rel_sd: float = 0.0) -> bool:
-    """Whether a mean squared bin residual r2 [N²] is consistent with its noise floor f2 [N²].
-
-    Consistent when the systematic part sqrt(r2 − f2) is below ``NONE_FRACTION``·σ
-    (σ the raw per-sample noise [N]) or the ratio r2/f2 is within 5 standard
-    deviations of 1: sqrt(2/n_bins) for the χ² of the residual, and ``f2_rel_sd`` for the floor itself when it is
-    an estimate (a force noise measured on the record).
-    """
-    excess = math.sqrt(max(r2 - f2, 0.0))
-    ratio = r2 / f2 if f2 > 0 else float("inf")
-    return excess < NONE_FRACTION * sigma or ratio < 1 + 5 * math.sqrt(2.0 / max(n_bins, 1) + f2_rel_sd**2)
-
-
-def loto_jackknife(prev: Candidate, new: Candidate) -> tuple[float, float]:
-    """Mean over training tests of the log LOTO-error ratio, g_i = ½·ln(SSE_prev,i / SSE_new,i), and its
-    jack-knife standard error (for a mean: sd/√n).
-
-    Scale-free per test, so one test with a large force cannot carry (or veto) a step alone; g > 0 means
-    the new model predicts the left-out tests better.
-    """
-    tests = list(prev.loto_num)
-    a = np.array([prev.loto_num[t] for t in tests])
-    b = np.array([new.loto_num[t] for t in tests])
-    tiny = 1e-300
-    g = 0.5 * (np.log(np.maximum(a, tiny)) - np.log(np.maximum(b, tiny)))  # a difference of logs: never overflows
-    n = g.size
-    if n < 2:
-        return float(g.mean()) if n else 0.0, float("inf")
-    return float(g.mean()), float(g.std(ddof=1) / math.sqrt(n))
-
-
-def step_test(prev: Candidate, new: Candidate) -> dict[str, float]:
-    """The step rule's numbers for going from ``prev`` to ``new``: mean log error ratio over the training
-    tests, its jack-knife SE, z, and the relative drop of the pooled LOTO NRMSE."""
-    delta, se = loto_jackknife(prev, new)
-    gain = 1.0 - new.nrmse_loto / prev.nrmse_loto if prev.nrmse_loto > 0 else 0.0
-    return {"delta_loto": delta, "se_jackknife": se, "z": delta / se if se > 0 else float("inf"),
-            "relative_gain": gain}
-
-
-def passes(st: dict[str, float]) -> bool:
-    """Rules 2 and 3: significant over tests (> ``Z`` jack-knife SE) and material (>= ``MIN_GAIN``)."""
-    return st["delta_loto"] > Z * st["se_jackknife"] and st["relative_gain"] >= MIN_GAIN
-
-
-def train_floor(prob: Problem, cand: Candidate) -> bool:
-    """Whether the candidate's LOTO residual on the training tests is statistically at the noise floor:
-    the ratio of the mean squared bin residual to its noise floor within 5 standard deviations of a χ²
-    mean (the stricter half of :func:`at_noise_floor`; a residual a little above the noise can still hold a
-    second effect, and the step rule decides whether it does)."""
-    ev = cand._ev  # type: ignore[attr-defined]
-    r2, f2, _ = prob.noise_db(ev, "train")
-    n = prob.n_cells("train")  # noise cells: phase bins of harmonic tests, samples of time-domain records
-    u = getattr(prob, "floor_rel_sd", lambda split: 0.0)("train")
-    return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1) + u**2)
-
-
-def term_prefix(term: str) -> str:
-    """The parameter prefix of a chain term: ``effect.`` for an effect and for ``effect@cov`` (the effect with its
-    amplitudes following a covariate); the term itself for a slope ``effect.param@cov``."""
-    head = term.split("@", 1)[0]
-    return head + "." if "." not in head else term
-
-
-def pinned_params(c: Candidate) -> list[str]:
-    """The parameters of the candidate's newest term pinned at a bound of their physical range."""
-    if not c.names:
-        return []
-    new = term_prefix(c.names[-1])
-    return [k for k in c.at_bound if k.startswith(new)]
-
-
-def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
-    """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
-    pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
-    Returns (chosen, tied others)."""
-    cands = sorted(cands, key=lambda c: c.nrmse_loto)
-    best = cands[0]
-    ties = [c for c in cands if c.nrmse_loto <= (1 + TIE) * best.nrmse_loto]
-    chosen = min(ties, key=lambda c: (len(c.at_bound), c.n_params, c.bic))
-    return chosen, [c for c in ties if c is not chosen]
-
-
-def fit_cached(cache: dict[tuple[str, ...], Candidate], fit: Any, names: list[str]) -> Candidate:
-    """The fitted candidate of an effect set, fitted once per set (``fit(names)`` on a miss), whatever the order
-    the chain reaches it in; returned named in ``names``' order (a copy when the cached fit came in another)."""
-    key = tuple(sorted(names))
-    if key not in cache:
-        stage("selection", f"step {len(names)}: {'+'.join(names)}")
-        cache[key] = fit(list(names))
-    hit = cache[key]
-    if hit.names != list(names):  # the same set reached in another order: named in this chain's order
-        hit = copy.copy(hit)
-        hit.name = "+".join(names)
-    return hit
+__all__ = ["ALIASES", "FAMILIES", "LOOKAHEAD", "MIN_GAIN", "NONE_FRACTION", "TIE", "Z", "at_noise_floor",
+           "baseline_candidate", "fit_cached", "fit_score", "forward_select", "library", "loto_jackknife", "passes",
+           "pick", "pinned_params", "prefetch", "rejections", "step_test", "stop_message", "term_prefix",
+           "train_floor"]
 
 
 def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_hold: float,
@@ -169,7 +50,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     cache: dict[tuple[str, ...], Candidate] = {}
 
     def cached(cur: Candidate, n: str) -> Candidate:
-        return fit_cached(cache, lambda names_k: _fit_score(prob, names_k, cur.params, base_hold), cur.names + [n])
+        return fit_cached(cache, lambda names_k: fit_score(prob, names_k, cur.params, base_hold), cur.names + [n])
 
     path = [base]
     cur = base
@@ -213,13 +94,19 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         remaining.remove(chosen.names[-1])
     swaps: list[str] = []
     if len(path) > 2:
-        final, swaps = _exchange(prob, path[-1], names, base_hold)
+        final, swaps = exchange(prob, path[-1], names, base_hold)
         if swaps:
-            path[:] = _rebuild(prob, base, final, base_hold)
-    dropped = _backward(prob, path, base_hold)
-    alts = _two_for_one(prob, path[-1], names, base_hold)
+            path[:] = rebuild(prob, base, final, base_hold)
+    dropped = backward(prob, path, base_hold)
+    split = split_richer(prob, path, cache, names, base_hold, max_effects)
+    if split is not None:
+        confounded.append(split)
+        swaps.append(f"{split['pair'][1]} -> {split['pair'][0]}")
+        stop += (f"; then {split['pair'][1]} was split into {split['pair'][0]}: as good a fit (LOTO NRMSE "
+                 f"{split['loto'][0]:.4g} against {split['loto'][1]:.4g}) with no more parameters")
+    alts = two_for_one(prob, path[-1], names, base_hold)
     confounded += [a["report"] for a in alts]
-    _take_tie_break(prob, base, path, alts, base_hold)
+    take_tie_break(prob, base, path, alts, base_hold)
     return {"path": path, "singles": singles, "stop": stop, "rejected": rejected, "confounded": confounded,
             "dropped": dropped, "swapped": swaps, "_cache": cache}
 
@@ -261,52 +148,6 @@ def stop_message(rejected: Sequence[dict[str, Any]]) -> str:
     return msg
 
 
-def _tie_key(c: Candidate) -> tuple[int, int, float]:
-    """The near-tie order of :func:`pick`: fewer parameters pinned at a bound, then fewer parameters, then BIC."""
-    return (len(c.at_bound), c.n_params, c.bic)
-
-
-def _take_tie_break(prob: Problem, base: Candidate, path: list[Candidate], alts: list[dict[str, Any]],
-                    base_hold: float) -> None:
-    """Apply the step rule's near-tie order to the two-for-one alternatives of the final chain.
-
-    An alternative within ``TIE`` that comes first in :func:`_tie_key` (same number of parameters and a lower BIC:
-    a Hertz law's scale and exponent against a stiffness level and a slack) replaces the chain, when each of its
-    effects survives the backward pass; otherwise the chain stands.  Either way the pair is reported as confounded.
-    """
-    full = path[-1]
-    better = [a for a in alts if _tie_key(a["cand"]) < _tie_key(full)]
-    if not better:
-        return
-    pick = min(better, key=lambda a: _tie_key(a["cand"]))
-    new = _rebuild(prob, base, pick["cand"], base_hold)
-    if not _backward(prob, new, base_hold):
-        path[:] = new
-        rep = pick["report"]  # now the chain's pair is the verdict and the replaced effect the alternative
-        rep["pair"], rep["loto"] = rep["pair"][::-1], rep["loto"][::-1]
-
-
-def _two_for_one(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> list[dict[str, Any]]:
-    """Stiffness-side effects that the plan cannot tell apart from a pair of others (e.g. a Hertz law with a
-    fitted exponent vs a stiffness level plus an offset), each as ``{"report": confounded entry, "cand": the
-    alternative's fit}``."""
-    out: list[dict[str, Any]] = []
-    fam = FAMILIES[0]
-    for n in full.names:
-        if n not in fam:
-            continue
-        others = [m for m in fam if m != n and m not in full.names and m in allowed]
-        for i, a in enumerate(others):
-            for b in others[i + 1:]:
-                names = [k for k in full.names if k != n] + [a, b]
-                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
-                c = _fit_score(prob, names, start, base_hold)
-                if c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and not c.at_bound:
-                    out.append({"report": {"step": len(full.names), "pair": [n, f"{a}+{b}"],
-                                           "loto": [full.nrmse_loto, c.nrmse_loto]}, "cand": c})
-    return out
-
-
 #: a runner-up within this relative LOTO NRMSE of the step's choice is explored one step further
 LOOKAHEAD = 0.3
 
@@ -338,11 +179,6 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
     return alt if best_next(alt) < (1 - TIE) * mine else chosen
 
 
-#: effects that can stand in for each other (same physical family): the exchange pass swaps within these
-FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
-            ("friction", "hysteresis", "stribeck", "bouc_wen"))
-
-
 def prefetch(prob: Problem, cache: dict[tuple[str, ...], Candidate], jobs: Sequence[tuple[Candidate, str]],
              base_hold: float) -> None:
     """Fit and score, into ``cache``, the effect sets ``current + [new]`` of ``jobs`` that it lacks, on forked
@@ -368,87 +204,8 @@ def prefetch(prob: Problem, cache: dict[tuple[str, ...], Candidate], jobs: Seque
     if len(todo) < 2:
         return
     stage("selection", f"{len(todo)} effect sets on worker processes")
-    fits = fork_map(lambda job: _fit_score(prob, job[0], job[1], base_hold), list(todo.values()))
+    fits = fork_map(lambda job: fit_score(prob, job[0], job[1], base_hold), list(todo.values()))
     cache.update(zip(todo, fits))
-
-
-def _fit_score(prob: Problem, names: list[str], start: dict[str, float], base_hold: float) -> Candidate:
-    """Fit ``names`` (warm-started from ``start``) and score it."""
-    return prob.score(prob.fit(names, start=start), names, base_hold)
-
-
-def _exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> tuple[Candidate, list[str]]:
-    """Swap a chosen effect for a member of its family when that fits better (LOTO lower by more than TIE, or
-    within TIE with fewer parameters) and is identified (rule 4: none of its parameters at a bound of its physical
-    range): the first pick of a step is made before later effects are known."""
-    swaps: list[str] = []
-    for _ in range(2):
-        improved = False
-        for n in list(full.names):
-            fam = next((f for f in FAMILIES if n in f), ())
-            for m in fam:
-                if m == n or m in full.names or m not in allowed:
-                    continue
-                names = [m if k == n else k for k in full.names]
-                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
-                c = _fit_score(prob, names, start, base_hold)
-                # rule 4 holds for a swap too: a member whose parameters sit at a bound of their physical range
-                # does not fit (Dahl hysteresis with x_h at its floor is Coulomb friction under another name)
-                if any(k.startswith(m + ".") for k in c.at_bound):
-                    continue
-                better = c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
-                    c.nrmse_loto <= (1 + TIE) * full.nrmse_loto
-                    and (len(c.at_bound), c.n_params) < (len(full.at_bound), full.n_params))
-                if better:
-                    swaps.append(f"{n} -> {m}")
-                    full, improved = c, True
-                    break
-        if not improved:
-            break
-    return full, swaps
-
-
-def _rebuild(prob: Problem, base: Candidate, final: Candidate, base_hold: float) -> list[Candidate]:
-    """The explanation chain for the effect set of ``final``, ordered greedily (largest LOTO drop first)."""
-    left = list(final.names)
-    path = [base]
-    while left:
-        if len(left) == 1:  # the final fit, named in the chain's order
-            ck = final
-            ck.name = "+".join(path[-1].names + left)
-        else:
-            cands = []
-            for n in left:
-                sub = path[-1].names + [n]
-                start = {k: v for k, v in final.params.items() if k.split(".", 1)[0] in sub or k.startswith("spring.")}
-                cands.append(_fit_score(prob, sub, start, base_hold))
-            ck = min(cands, key=lambda c: c.nrmse_loto)
-        prev = path[-1]
-        ck.step_test = step_test(prev, ck)  # type: ignore[attr-defined]
-        path.append(ck)
-        left.remove(ck.names[-1])
-    return path
-
-
-def _backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[str]:
-    """Drop effects made redundant by later ones (refit without each; drop if not significantly worse)."""
-    dropped: list[str] = []
-    while len(path[-1].names) >= 2:
-        full = path[-1]
-        best_drop = None
-        for n in full.names:
-            rest = [m for m in full.names if m != n]
-            start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
-            c = _fit_score(prob, rest, start, base_hold)
-            if not passes(step_test(c, full)):
-                if best_drop is None or c.nrmse_loto < best_drop[1].nrmse_loto:
-                    best_drop = (n, c)
-        if best_drop is None:
-            break
-        n, c = best_drop
-        dropped.append(n)
-        path[:] = _rebuild(prob, path[0], c, base_hold)
-    return dropped
 
 
 def baseline_candidate(prob: Any) -> Candidate:

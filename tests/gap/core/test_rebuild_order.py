@@ -2,7 +2,7 @@
 final fit itself, renamed in the chain's order (a candidate's names are read from its name)."""
 from __future__ import annotations
 
-from chainid.gap.core import selection
+from chainid.gap.core import refine
 from chainid.gap.core.candidate import Candidate
 
 
@@ -12,10 +12,10 @@ def test_the_chain_is_rebuilt_greedily_and_ends_on_the_final_fit_in_the_chains_o
     def fit_score(prob, names, start, base_hold):
         return Candidate("+".join(names), {}, len(names), nrmse_loto=loto[tuple(names)])
 
-    monkeypatch.setattr(selection, "_fit_score", fit_score)
-    monkeypatch.setattr(selection, "step_test", lambda prev, new: {})
+    monkeypatch.setattr(refine, "fit_score", fit_score)
+    monkeypatch.setattr(refine, "step_test", lambda prev, new: {})
     base = Candidate("baseline", {}, 0, nrmse_loto=1.0)
     final = Candidate("a+b", {}, 2, nrmse_loto=0.1)
-    path = selection._rebuild(None, base, final, 1.0)
+    path = refine.rebuild(None, base, final, 1.0)
     assert [c.names for c in path] == [[], ["b"], ["b", "a"]]
     assert path[-1] is final

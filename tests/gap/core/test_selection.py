@@ -29,7 +29,10 @@ def _world(monkeypatch, table, floor=()):
         c.nrmse_loto, c.loto_num, c.bic = loto, dict(zip("ABC", sse)), 10.0 * k
         return c
 
-    monkeypatch.setattr(sel, "_fit_score", fit_score)
+    from chainid.gap.core import refine
+
+    for mod in (sel, refine):  # the forward steps and the final chain's second look fit through the same function
+        monkeypatch.setattr(mod, "fit_score", fit_score)
     monkeypatch.setattr(sel, "train_floor", lambda prob, c: tuple(sorted(c.names)) in floor)
     base = Candidate("baseline", {}, 0)
     base.nrmse_loto, base.loto_num = 1.0, {"A": 100.0, "B": 100.0, "C": 100.0}
@@ -259,7 +262,7 @@ def test_at_noise_floor_chi2_band():
 
 
 def test_two_for_one_reports_identified_pairs_within_the_tie(monkeypatch):
-    """``_two_for_one``: a stiffness-side effect of the final chain (contact_law) against every pair of the other
+    """``refine.two_for_one``: a stiffness-side effect of the final chain (contact_law) against every pair of the other
     members of its family that are allowed and not in the chain; a pair is reported when its LOTO NRMSE is within
     ``TIE`` (5 %) of the chain's and none of its parameters is at a bound (rule 4).  The pair is fitted with the
     chain's other effects, warm-started from their parameters (the replaced effect's dropped)."""
@@ -280,9 +283,11 @@ def test_two_for_one_reports_identified_pairs_within_the_tie(monkeypatch):
         c.nrmse_loto, c.at_bound = loto, list(ab)
         return c
 
-    monkeypatch.setattr(fw, "_fit_score", fake)
+    from chainid.gap.core import refine
+
+    monkeypatch.setattr(refine, "fit_score", fake)
     allowed = ["friction", "contact_law", "stiffness_level", "slack", "machine_compliance"]
-    out = fw._two_for_one(None, full, allowed, 1.0)
+    out = refine.two_for_one(None, full, allowed, 1.0)
     assert [o["report"] for o in out] == [{"step": 2, "pair": ["contact_law", "stiffness_level+slack"],
                                            "loto": [1.0, 1.04]}]
     assert out[0]["cand"].name == "friction+stiffness_level+slack"
@@ -292,12 +297,12 @@ def test_two_for_one_reports_identified_pairs_within_the_tie(monkeypatch):
     assert all(s[1] == {"friction.F_c": 3.0} for s in seen)
     # a member not allowed is not tried; an effect outside the family (friction) has no alternatives
     seen.clear()
-    assert fw._two_for_one(None, full, ["friction", "contact_law", "stiffness_level", "slack"], 1.0)[0]["report"][
+    assert refine.two_for_one(None, full, ["friction", "contact_law", "stiffness_level", "slack"], 1.0)[0]["report"][
         "pair"] == ["contact_law", "stiffness_level+slack"]
     assert [s[0] for s in seen] == [["friction", "stiffness_level", "slack"]]
     seen.clear()
     only_friction = Candidate("friction", {"friction.F_c": 3.0}, 1)
-    assert fw._two_for_one(None, only_friction, allowed, 1.0) == [] and seen == []
+    assert refine.two_for_one(None, only_friction, allowed, 1.0) == [] and seen == []
 
 
 def test_train_floor_is_five_chi2_standard_deviations_by_hand():

@@ -372,3 +372,30 @@ def test_spectrum_outside_the_band_of_a_40_hz_sine_by_hand():
                                   "noise of the records' σ over that bandwidth" + tail)
     wide = SimpleNamespace(test="r", t=t, fs=fs, f_band=11.25, sigma=1.0)  # 4 · 11.25 = 45 Hz = 0.45 fs
     assert spectrum_outside([wide], {"r": np.sin(2 * np.pi * 40.0 * t)}) == {}
+
+
+def test_sliding_median_equals_one_median_per_window():
+    """The sliding sorted window gives every window's ``np.median`` exactly, for windows that grow, shrink, jump
+    past each other and hold ties, and the peak search over it equals a brute-force loop of one median per bin."""
+    from chainid.gap.timedomain.where import OCT, _local_peak, sliding_median
+
+    rng = np.random.default_rng(5)
+    vals = np.round(rng.exponential(1.0, 600), 1)  # ties on purpose
+    lo = np.sort(rng.integers(0, 550, 300))
+    hi = np.minimum(np.maximum.accumulate(lo + rng.integers(1, 60, lo.size)), vals.size)
+    ref = np.array([np.median(vals[a:b]) for a, b in zip(lo, hi)])
+    assert np.array_equal(sliding_median(vals, lo, hi), ref)
+    nan = vals.copy()
+    nan[10] = np.nan
+    assert np.array_equal(sliding_median(nan, lo, hi), np.array([np.median(nan[a:b]) for a, b in zip(lo, hi)]),
+                          equal_nan=True)
+    f = np.fft.rfftfreq(4096, 1 / 2000.0)
+    P = rng.chisquare(2, f.size) * (1 + 1e3 / (1 + f))
+    P[1234] *= 40.0
+    best = (float("nan"), 0.0)
+    for k in np.flatnonzero(f >= 30.0):
+        m = (f >= f[k] / OCT) & (f <= f[k] * OCT)
+        if m.sum() >= 5 and P[k] / np.median(P[m]) > best[1]:
+            best = (float(f[k]), float(P[k] / np.median(P[m])))
+    assert _local_peak(f, P, 30.0) == best
+    assert best[0] == f[1234]

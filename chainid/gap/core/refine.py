@@ -1,0 +1,185 @@
+"""The final chain's second look: family exchanges, the backward pass, and the alternatives that explain as
+much with as few parameters.
+
+* :func:`exchange` swaps a chosen effect for a member of its family that fits better (the first pick of a step is
+  made before later effects are known);
+* :func:`backward` drops an effect that later ones made redundant;
+* :func:`two_for_one` finds stiffness-side pairs the plan cannot tell from one effect, and :func:`take_tie_break`
+  applies the near-tie order to them;
+* :func:`rebuild` orders an effect set as an explanation chain (largest LOTO drop first).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+from chainid.gap.core.candidate import Candidate, Problem
+from chainid.gap.core.steprule import FAMILIES, TIE, fit_score, passes, step_test, term_prefix, tie_key
+
+
+def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> tuple[Candidate, list[str]]:
+    """Swap a chosen effect for a member of its family when that fits better (LOTO lower by more than TIE, or
+    within TIE with fewer parameters) and is identified (rule 4: none of its parameters at a bound of its physical
+    range): the first pick of a step is made before later effects are known."""
+    swaps: list[str] = []
+    for _ in range(2):
+        improved = False
+        for n in list(full.names):
+            fam = next((f for f in FAMILIES if n in f), ())
+            for m in fam:
+                if m == n or m in full.names or m not in allowed:
+                    continue
+                names = [m if k == n else k for k in full.names]
+                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
+                c = fit_score(prob, names, start, base_hold)
+                # rule 4 holds for a swap too: a member whose parameters sit at a bound of their physical range
+                # does not fit (Dahl hysteresis with x_h at its floor is Coulomb friction under another name)
+                if any(k.startswith(m + ".") for k in c.at_bound):
+                    continue
+                better = c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
+                    c.nrmse_loto <= (1 + TIE) * full.nrmse_loto
+                    and (len(c.at_bound), c.n_params) < (len(full.at_bound), full.n_params))
+                if better:
+                    swaps.append(f"{n} -> {m}")
+                    full, improved = c, True
+                    break
+        if not improved:
+            break
+    return full, swaps
+
+
+def rebuild(prob: Problem, base: Candidate, final: Candidate, base_hold: float) -> list[Candidate]:
+    """The explanation chain for the effect set of ``final``, ordered greedily (largest LOTO drop first)."""
+    left = list(final.names)
+    path = [base]
+    while left:
+        if len(left) == 1:  # the final fit, named in the chain's order
+            ck = final
+            ck.name = "+".join(path[-1].names + left)
+        else:
+            cands = []
+            for n in left:
+                sub = path[-1].names + [n]
+                start = {k: v for k, v in final.params.items() if k.split(".", 1)[0] in sub or k.startswith("spring.")}
+                cands.append(fit_score(prob, sub, start, base_hold))
+            ck = min(cands, key=lambda c: c.nrmse_loto)
+        prev = path[-1]
+        ck.step_test = step_test(prev, ck)  # type: ignore[attr-defined]
+        path.append(ck)
+        left.remove(ck.names[-1])
+    return path
+
+
+def backward(prob: Problem, path: list[Candidate], base_hold: float) -> list[str]:
+    """Drop effects made redundant by later ones (refit without each; drop if not significantly worse)."""
+    dropped: list[str] = []
+    while len(path[-1].names) >= 2:
+        full = path[-1]
+        best_drop = None
+        for n in full.names:
+            rest = [m for m in full.names if m != n]
+            start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
+            c = fit_score(prob, rest, start, base_hold)
+            if not passes(step_test(c, full)):
+                if best_drop is None or c.nrmse_loto < best_drop[1].nrmse_loto:
+                    best_drop = (n, c)
+        if best_drop is None:
+            break
+        n, c = best_drop
+        dropped.append(n)
+        path[:] = rebuild(prob, path[0], c, base_hold)
+    return dropped
+
+
+def two_for_one(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> list[dict[str, Any]]:
+    """Stiffness-side effects that the plan cannot tell apart from a pair of others (e.g. a Hertz law with a
+    fitted exponent vs a stiffness level plus an offset), each as ``{"report": confounded entry, "cand": the
+    alternative's fit}``."""
+    out: list[dict[str, Any]] = []
+    fam = FAMILIES[0]
+    for n in full.names:
+        if n not in fam:
+            continue
+        others = [m for m in fam if m != n and m not in full.names and m in allowed]
+        for i, a in enumerate(others):
+            for b in others[i + 1:]:
+                names = [k for k in full.names if k != n] + [a, b]
+                start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
+                c = fit_score(prob, names, start, base_hold)
+                if c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and not c.at_bound:
+                    out.append({"report": {"step": len(full.names), "pair": [n, f"{a}+{b}"],
+                                           "loto": [full.nrmse_loto, c.nrmse_loto]}, "cand": c})
+    return out
+
+
+def take_tie_break(prob: Problem, base: Candidate, path: list[Candidate], alts: list[dict[str, Any]],
+                    base_hold: float) -> None:
+    """Apply the step rule's near-tie order to the two-for-one alternatives of the final chain.
+
+    An alternative within ``TIE`` that comes first in :func:`tie_key` (same number of parameters and a lower BIC:
+    a Hertz law's scale and exponent against a stiffness level and a slack) replaces the chain, when each of its
+    effects survives the backward pass; otherwise the chain stands.  Either way the pair is reported as confounded.
+    """
+    full = path[-1]
+    better = [a for a in alts if tie_key(a["cand"]) < tie_key(full)]
+    if not better:
+        return
+    pick = min(better, key=lambda a: tie_key(a["cand"]))
+    new = rebuild(prob, base, pick["cand"], base_hold)
+    if not backward(prob, new, base_hold):
+        path[:] = new
+        rep = pick["report"]  # now the chain's pair is the verdict and the replaced effect the alternative
+        rep["pair"], rep["loto"] = rep["pair"][::-1], rep["loto"][::-1]
+
+
+#: the simpler member a richer effect reduces to (Stribeck friction without its static peak and asymmetry is
+#: Coulomb friction; Bouc–Wen with n = 1 is Dahl hysteresis)
+SIMPLER = {"stribeck": "friction", "bouc_wen": "hysteresis"}
+#: next effects tried with the simpler member: the best of the last round's candidates by LOTO
+N_SPLIT = 3
+
+
+def split_richer(prob: Problem, path: list[Candidate], cache: dict[tuple[str, ...], Candidate],
+                 allowed: Sequence[str], base_hold: float, max_effects: int) -> dict[str, Any] | None:
+    """Replace a richer effect of the final chain by its simpler member plus a next effect, when that explains as
+    much with no more parameters.
+
+    A richer effect's extra parameters can stand in for a second cause (a Stribeck peak and asymmetry for a slack
+    at the stroke's end), and then the second cause no longer passes the step rule on top of it.  For each richer
+    effect n of the chain (:data:`SIMPLER`) and each of the ``N_SPLIT`` best next effects x of the last round (by
+    LOTO, from ``cache``), the chain with n → SIMPLER[n] plus x is fitted.  It replaces the chain when it is
+    identified (no parameter of the new effects at a bound), its LOTO is lower by more than ``TIE`` or within
+    ``TIE`` and first in the near-tie order (:func:`~chainid.gap.core.steprule.tie_key`), and every effect of it
+    survives the backward pass.  Returns the confounded-pair report of a replacement (``path`` rebuilt in place),
+    else None.
+    """
+    full = path[-1]
+    if len(full.names) + 1 > max_effects:
+        return None
+    nexts = sorted((c for k, c in cache.items() if len(k) == len(full.names) + 1 and set(full.names) <= set(k)),
+                   key=lambda c: c.nrmse_loto)
+    xs = [next(n for n in c.names if n not in full.names) for c in nexts][:N_SPLIT]
+    tried: list[tuple[Candidate, str, str, str]] = []
+    for n in full.names:
+        a = SIMPLER.get(n)
+        if a is None or a in full.names or a not in allowed:
+            continue
+        start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
+        for x in (x for x in xs if x != a and x in allowed):
+            names = [a if k == n else k for k in full.names] + [x]
+            c = fit_score(prob, names, start, base_hold)
+            if any(k.startswith((term_prefix(a), term_prefix(x))) for k in c.at_bound):
+                continue
+            if c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
+                    c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and tie_key(c) < tie_key(full)):
+                tried.append((c, n, a, x))
+    if not tried:
+        return None
+    best = min(t[0].nrmse_loto for t in tried)  # near-ties to the best go by the near-tie order, as in a step
+    for c, n, a, x in sorted(tried, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0]))):
+        new = rebuild(prob, path[0], c, base_hold)
+        if backward(prob, new, base_hold):
+            continue
+        path[:] = new
+        return {"step": len(c.names), "pair": [f"{a}+{x}", n], "loto": [c.nrmse_loto, full.nrmse_loto]}
+    return None

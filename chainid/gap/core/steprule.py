@@ -1,0 +1,155 @@
+"""The step rule of the explanation chain: when a candidate effect earns its place, and the near-tie order.
+
+The acceptance rule (stated, tested, and the same for every data set):
+
+1. **Above the noise floor.** The current model's LOTO residual on the training
+   tests is not yet statistically consistent with the noise (χ² ratio test,
+   :func:`train_floor`).
+2. **Significant over tests.** Per training test, the log ratio of its LOTO
+   error before and after the step, g_i = ½·ln(SSE_{k−1,i}/SSE_{k,i}); the mean
+   of g over the tests must exceed ``Z`` times its jack-knife standard error
+   (sd/√n): the improvement must hold across tests, so one test cannot carry
+   (or veto) a step.
+3. **Material.** The LOTO NRMSE falls by at least ``MIN_GAIN`` (a tenth) of
+   what is left: an effect that explains less is not worth a name.
+4. **Identified.** None of the new effect's parameters is pinned at a bound of
+   its physical range (then its form does not fit what is left).
+
+Near-ties at a step (LOTO within ``TIE`` of the best) go to the effect with fewer
+parameters pinned at a bound, then fewer parameters, then BIC; they are reported
+as confounded.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from typing import Any
+
+import numpy as np
+
+from chainid.gap.core.candidate import Candidate, Problem
+from chainid.infra.progress import stage
+
+#: jack-knife z of the LOTO improvement required to keep a step
+Z = 2.0
+#: smallest relative LOTO improvement that earns a name
+MIN_GAIN = 0.10
+#: candidates within this relative LOTO NRMSE of the best are "equally good" (confounded)
+TIE = 0.05
+#: systematic residual below this fraction of the raw noise σ counts as "consistent with the noise"
+NONE_FRACTION = 0.5
+#: effects that are the same physics as another library member for the diagnosis (kept for ``simulate``)
+ALIASES = {"machine_compliance": "stiffness_level"}
+
+
+def at_noise_floor(r2: float, f2: float, sigma: float, n_bins: int, f2_rel_sd: float = 0.0) -> bool:
+    """Whether a mean squared bin residual r2 [N²] is consistent with its noise floor f2 [N²].
+
+    Consistent when the systematic part sqrt(r2 − f2) is below ``NONE_FRACTION``·σ
+    (σ the raw per-sample noise [N]) or the ratio r2/f2 is within 5 standard
+    deviations of 1: sqrt(2/n_bins) for the χ² of the residual, and ``f2_rel_sd`` for the floor itself when it is
+    an estimate (a force noise measured on the record).
+    """
+    excess = math.sqrt(max(r2 - f2, 0.0))
+    ratio = r2 / f2 if f2 > 0 else float("inf")
+    return excess < NONE_FRACTION * sigma or ratio < 1 + 5 * math.sqrt(2.0 / max(n_bins, 1) + f2_rel_sd**2)
+
+
+def loto_jackknife(prev: Candidate, new: Candidate) -> tuple[float, float]:
+    """Mean over training tests of the log LOTO-error ratio, g_i = ½·ln(SSE_prev,i / SSE_new,i), and its
+    jack-knife standard error (for a mean: sd/√n).
+
+    Scale-free per test, so one test with a large force cannot carry (or veto) a step alone; g > 0 means
+    the new model predicts the left-out tests better.
+    """
+    tests = list(prev.loto_num)
+    a = np.array([prev.loto_num[t] for t in tests])
+    b = np.array([new.loto_num[t] for t in tests])
+    tiny = 1e-300
+    g = 0.5 * (np.log(np.maximum(a, tiny)) - np.log(np.maximum(b, tiny)))  # a difference of logs: never overflows
+    n = g.size
+    if n < 2:
+        return float(g.mean()) if n else 0.0, float("inf")
+    return float(g.mean()), float(g.std(ddof=1) / math.sqrt(n))
+
+
+def step_test(prev: Candidate, new: Candidate) -> dict[str, float]:
+    """The step rule's numbers for going from ``prev`` to ``new``: mean log error ratio over the training
+    tests, its jack-knife SE, z, and the relative drop of the pooled LOTO NRMSE."""
+    delta, se = loto_jackknife(prev, new)
+    gain = 1.0 - new.nrmse_loto / prev.nrmse_loto if prev.nrmse_loto > 0 else 0.0
+    return {"delta_loto": delta, "se_jackknife": se, "z": delta / se if se > 0 else float("inf"),
+            "relative_gain": gain}
+
+
+def passes(st: dict[str, float]) -> bool:
+    """Rules 2 and 3: significant over tests (> ``Z`` jack-knife SE) and material (>= ``MIN_GAIN``)."""
+    return st["delta_loto"] > Z * st["se_jackknife"] and st["relative_gain"] >= MIN_GAIN
+
+
+def train_floor(prob: Problem, cand: Candidate) -> bool:
+    """Whether the candidate's LOTO residual on the training tests is statistically at the noise floor:
+    the ratio of the mean squared bin residual to its noise floor within 5 standard deviations of a χ²
+    mean (the stricter half of :func:`at_noise_floor`; a residual a little above the noise can still hold a
+    second effect, and the step rule decides whether it does)."""
+    ev = cand._ev  # type: ignore[attr-defined]
+    r2, f2, _ = prob.noise_db(ev, "train")
+    n = prob.n_cells("train")  # noise cells: phase bins of harmonic tests, samples of time-domain records
+    u = getattr(prob, "floor_rel_sd", lambda split: 0.0)("train")
+    return f2 > 0 and r2 / f2 < 1 + 5 * math.sqrt(2.0 / max(n, 1) + u**2)
+
+
+def term_prefix(term: str) -> str:
+    """The parameter prefix of a chain term: ``effect.`` for an effect and for ``effect@cov`` (the effect with its
+    amplitudes following a covariate); the term itself for a slope ``effect.param@cov``."""
+    head = term.split("@", 1)[0]
+    return head + "." if "." not in head else term
+
+
+def pinned_params(c: Candidate) -> list[str]:
+    """The parameters of the candidate's newest term pinned at a bound of their physical range."""
+    if not c.names:
+        return []
+    new = term_prefix(c.names[-1])
+    return [k for k in c.at_bound if k.startswith(new)]
+
+
+def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
+    """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
+    pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
+    Returns (chosen, tied others)."""
+    cands = sorted(cands, key=lambda c: c.nrmse_loto)
+    best = cands[0]
+    ties = [c for c in cands if c.nrmse_loto <= (1 + TIE) * best.nrmse_loto]
+    chosen = min(ties, key=lambda c: (len(c.at_bound), c.n_params, c.bic))
+    return chosen, [c for c in ties if c is not chosen]
+
+
+def fit_cached(cache: dict[tuple[str, ...], Candidate], fit: Any, names: list[str]) -> Candidate:
+    """The fitted candidate of an effect set, fitted once per set (``fit(names)`` on a miss), whatever the order
+    the chain reaches it in; returned named in ``names``' order (a copy when the cached fit came in another)."""
+    key = tuple(sorted(names))
+    if key not in cache:
+        stage("selection", f"step {len(names)}: {'+'.join(names)}")
+        cache[key] = fit(list(names))
+    hit = cache[key]
+    if hit.names != list(names):  # the same set reached in another order: named in this chain's order
+        hit = copy.copy(hit)
+        hit.name = "+".join(names)
+    return hit
+
+
+#: effects that can stand in for each other (same physical family): the exchange pass swaps within these
+FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
+            ("friction", "hysteresis", "stribeck", "bouc_wen"))
+
+
+def tie_key(c: Candidate) -> tuple[int, int, float]:
+    """The near-tie order of :func:`pick`: fewer parameters pinned at a bound, then fewer parameters, then BIC."""
+    return (len(c.at_bound), c.n_params, c.bic)
+
+
+def fit_score(prob: Problem, names: list[str], start: dict[str, float], base_hold: float) -> Candidate:
+    """Fit ``names`` (warm-started from ``start``) and score it."""
+    return prob.score(prob.fit(names, start=start), names, base_hold)

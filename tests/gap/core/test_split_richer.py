@@ -1,0 +1,107 @@
+"""A richer effect whose extra parameters stood in for a second cause is split into its simpler member plus that
+cause (:func:`chainid.gap.core.refine.split_richer`), on hand-made tables of fits."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from chainid.gap.core import refine, selection
+from chainid.gap.harmonic.problem import Candidate
+
+
+def _sse(loto: float, spread: float) -> tuple[float, float, float]:
+    """LOTO SSE of three tests for a pooled LOTO NRMSE (the baseline's 1.0 is 100 per test), spread apart so the
+    jack-knife SE of a step is not 0."""
+    return tuple(100.0 * loto**2 * f for f in (1.0, 1.0 + spread, 1.0 - spread))
+
+
+#: sorted effect names → (LOTO NRMSE, per-test SSE, at_bound, n_params): a Stribeck law takes most of a
+#: friction-plus-slack world alone (its peak and asymmetry standing in for the slack); slack on top of it is not
+#: material (4 %), while friction plus slack explains as much with the same number of parameters
+TABLE = {("stribeck",): (0.039, _sse(0.039, 0.05), (), 5),
+         ("friction",): (0.084, _sse(0.084, 0.08), (), 4),
+         ("slack",): (0.154, _sse(0.154, 0.03), (), 2),
+         ("slack", "stribeck"): (0.0374, _sse(0.0374, 0.06), (), 6),
+         ("friction", "stribeck"): (0.0385, _sse(0.0385, 0.04), (), 8),
+         ("friction", "slack"): (0.0373, _sse(0.0373, 0.07), (), 5)}
+
+
+def _select(monkeypatch, table, names=("stribeck", "friction", "slack")):
+    calls = []
+
+    def fit_score(prob, names_k, start, base_hold):  # noqa: ANN001
+        key = tuple(sorted(names_k))
+        calls.append(key)
+        loto, sse, bound, k = table[key]
+        c = Candidate("+".join(names_k), {f"{n}.p": 1.0 for n in names_k}, k, at_bound=list(bound))
+        # BIC of n = 3000 samples: n·ln(mean square) + k·ln(n), the mean square following the LOTO NRMSE
+        c.nrmse_loto, c.loto_num, c.bic = loto, dict(zip("ABC", sse)), 3000 * math.log(loto**2) + k * math.log(3000)
+        return c
+
+    for mod in (selection, refine):
+        monkeypatch.setattr(mod, "fit_score", fit_score)
+    monkeypatch.setattr(selection, "train_floor", lambda prob, c: False)
+    base = Candidate("baseline", {}, 0)
+    base.nrmse_loto, base.loto_num = 1.0, {"A": 100.0, "B": 100.0, "C": 100.0}
+    return selection.forward_select(None, list(names), base, 1.0), calls
+
+
+def test_stribeck_standing_in_for_a_slack_is_split_into_friction_and_slack(monkeypatch):
+    """Stribeck is chosen (LOTO 0.039 against friction's 0.084, beyond the look-ahead's 30 %); slack on top of it
+    lowers the LOTO by 4 % only (not material) and the chain stops.  Friction plus slack reaches 0.0373 with 5
+    parameters, as many as Stribeck's: within TIE and first by BIC, each step passes and neither is redundant, so
+    it replaces the chain, reported as confounded with Stribeck and named in the stop text."""
+    out, calls = _select(monkeypatch, TABLE)
+    assert [c.names for c in out["path"]] == [[], ["friction"], ["friction", "slack"]]
+    assert {"step": 2, "pair": ["friction+slack", "stribeck"], "loto": [0.0373, 0.039]} in out["confounded"]
+    assert out["swapped"] == ["stribeck -> friction+slack"]
+    assert out["stop"].endswith("then stribeck was split into friction+slack: as good a fit (LOTO NRMSE 0.0373 "
+                                "against 0.039) with no more parameters")
+    assert 1 - 0.0373 / 0.039 < selection.TIE  # a near-tie, decided by the parameter count and BIC
+
+
+def test_no_split_when_the_simpler_pair_fits_worse_than_the_tie(monkeypatch):
+    """Friction plus slack at 0.0410 is 5.1 % worse than Stribeck alone (TIE is 5 %): Stribeck stands."""
+    worse = TABLE | {("friction", "slack"): (0.0410, _sse(0.0410, 0.07), (), 5)}
+    assert 0.0410 > (1 + selection.TIE) * 0.039
+    out, _ = _select(monkeypatch, worse)
+    assert [c.names for c in out["path"]] == [[], ["stribeck"]]
+    assert out["swapped"] == [] and "split" not in out["stop"]
+
+
+def test_no_split_with_more_parameters_inside_the_tie_or_a_pinned_new_effect(monkeypatch):
+    """Within TIE but with one parameter more (6 against 5): the near-tie order keeps Stribeck.  Better by more than
+    TIE but with the slack's parameter at a bound of its physical range: not identified, no split."""
+    more = TABLE | {("friction", "slack"): (0.0373, _sse(0.0373, 0.07), (), 6)}
+    out, _ = _select(monkeypatch, more)
+    assert [c.names for c in out["path"]] == [[], ["stribeck"]]
+    pinned = TABLE | {("friction", "slack"): (0.030, _sse(0.030, 0.07), ("slack.p",), 5)}
+    out, _ = _select(monkeypatch, pinned)
+    assert [c.names for c in out["path"]] == [[], ["stribeck"]]
+
+
+def test_split_prefers_fewer_parameters_among_near_tied_next_effects(monkeypatch):
+    """Two next effects after Stribeck: a Hertz law (2 parameters) a hair better by LOTO than the slack (1).  Their
+    splits tie within TIE (0.00677 and 0.00681); the near-tie order takes the one with fewer parameters: slack."""
+    table = {("stribeck",): (0.00726, _sse(0.00726, 0.05), (), 5),
+             ("friction",): (0.0150, _sse(0.0150, 0.08), (), 4),
+             ("slack",): (0.0210, _sse(0.0210, 0.03), (), 2),
+             ("contact_law",): (0.0215, _sse(0.0215, 0.02), (), 3),
+             ("slack", "stribeck"): (0.00677, _sse(0.00677, 0.06), (), 6),
+             ("contact_law", "stribeck"): (0.00675, _sse(0.00675, 0.06), (), 7),
+             ("friction", "stribeck"): (0.0071, _sse(0.0071, 0.04), (), 8),
+             ("friction", "slack"): (0.00681, _sse(0.00681, 0.07), (), 5),
+             ("contact_law", "friction"): (0.00677, _sse(0.00677, 0.07), (), 6)}
+    out, calls = _select(monkeypatch, table, ("stribeck", "friction", "slack", "contact_law"))
+    assert [c.names for c in out["path"]] == [[], ["friction"], ["friction", "slack"]]
+    assert ("contact_law", "friction") in calls  # both splits were fitted
+    assert out["swapped"] == ["stribeck -> friction+slack"]
+
+
+def test_simpler_members_are_the_nested_special_cases():
+    """Stribeck friction reduces to Coulomb friction and Bouc–Wen to Dahl hysteresis; nothing else is split."""
+    assert refine.SIMPLER == {"stribeck": "friction", "bouc_wen": "hysteresis"}
+    assert refine.N_SPLIT == 3
+    with pytest.raises(KeyError):
+        refine.SIMPLER["friction"]
