@@ -15,7 +15,7 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 from chainid.gap.core.candidate import Candidate, Problem
-from chainid.gap.core.refine import backward, exchange, rebuild, split_richer, take_tie_break, two_for_one
+from chainid.gap.core.refine import SIMPLER, backward, exchange, rebuild, split_richer, take_tie_break, two_for_one
 from chainid.gap.core.steprule import (ALIASES, FAMILIES, MIN_GAIN, NONE_FRACTION, TIE, Z, at_noise_floor,
                                       fit_cached, fit_score, loto_jackknife, passes, pick, pinned_params, step_test,
                                       term_prefix, train_floor)
@@ -159,13 +159,19 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
     Two effects can explain part of each other's signature (a delayed Coulomb switch looks like Dahl
     hysteresis with a short travel), so the best single step can block the best pair.  When a runner-up is
     within ``LOOKAHEAD`` of the choice, both are extended by every remaining effect; the runner-up is taken
-    when its best extension beats the choice's best extension by more than ``TIE``.  ``fetch(jobs)``, when
-    given, fits all those extensions at once first (:func:`prefetch`).
+    when its best extension beats the choice's best extension by more than ``TIE``.  A runner-up that nests the
+    choice or is nested in it (:data:`~chainid.gap.core.refine.SIMPLER`: Stribeck and Coulomb friction, Bouc–Wen
+    and Dahl hysteresis) is not explored: its extensions are the choice's with a parameter more or less, which the
+    final chain's exchange (the richer one, when it fits better) and split (the simpler one plus a second cause)
+    decide; the best other runner-up within ``LOOKAHEAD`` is.  ``fetch(jobs)``, when given, fits all those
+    extensions at once first (:func:`prefetch`).
     """
     if len(cur.names) + 2 > max_effects or len(remaining) < 2:
         return chosen
-    alts = sorted((c for c in cands if c is not chosen and c.nrmse_loto <= (1 + LOOKAHEAD) * chosen.nrmse_loto),
-                  key=lambda c: c.nrmse_loto)[:1]
+    new = chosen.names[-1]
+    nested = {new, SIMPLER.get(new)} | {k for k, v in SIMPLER.items() if v == new}
+    alts = sorted((c for c in cands if c is not chosen and c.names[-1] not in nested
+                   and c.nrmse_loto <= (1 + LOOKAHEAD) * chosen.nrmse_loto), key=lambda c: c.nrmse_loto)[:1]
     if not alts:
         return chosen
 

@@ -105,3 +105,28 @@ def test_simpler_members_are_the_nested_special_cases():
     assert refine.N_SPLIT == 3
     with pytest.raises(KeyError):
         refine.SIMPLER["friction"]
+
+
+def test_look_ahead_explores_the_best_runner_up_that_does_not_nest_the_choice(monkeypatch):
+    """Hysteresis is chosen (0.100); Bouc–Wen (0.101, which nests Dahl hysteresis) and friction (0.120) are within
+    the look-ahead's 30 %.  Bouc–Wen plus slack would be the best pair (0.070), but the look-ahead extends friction,
+    not Bouc–Wen: friction's best extension (0.080) beats hysteresis's (0.090) by more than TIE, so friction is
+    taken, then slack; the final chain's exchange then swaps friction for Bouc–Wen (0.070 against 0.080, better
+    by more than TIE).  Exploring Bouc–Wen at step 1 would have taken it directly, with no swap."""
+    table = {("hysteresis",): (0.100, _sse(0.100, 0.05), (), 3),
+             ("bouc_wen",): (0.101, _sse(0.101, 0.05), (), 5),
+             ("friction",): (0.120, _sse(0.120, 0.08), (), 3),
+             ("slack",): (0.300, _sse(0.300, 0.03), (), 2),
+             ("friction", "hysteresis"): (0.095, _sse(0.095, 0.04), (), 5),
+             ("hysteresis", "slack"): (0.090, _sse(0.090, 0.06), (), 4),
+             ("bouc_wen", "hysteresis"): (0.099, _sse(0.099, 0.04), (), 7),
+             ("friction", "slack"): (0.080, _sse(0.080, 0.06), (), 4),
+             ("bouc_wen", "friction"): (0.095, _sse(0.095, 0.04), (), 7),
+             ("bouc_wen", "slack"): (0.070, _sse(0.070, 0.05), (), 6),
+             ("bouc_wen", "friction", "slack"): (0.079, _sse(0.079, 0.04), (), 9),
+             ("friction", "hysteresis", "slack"): (0.079, _sse(0.079, 0.04), (), 7),
+             ("bouc_wen", "friction", "hysteresis"): (0.094, _sse(0.094, 0.04), (), 10)}
+    out, calls = _select(monkeypatch, table, ("hysteresis", "bouc_wen", "friction", "slack"))
+    assert 0.080 < (1 - selection.TIE) * 0.090 and 0.070 < (1 - selection.TIE) * 0.080
+    assert out["swapped"] == ["friction -> bouc_wen"]
+    assert [c.names for c in out["path"]] == [[], ["bouc_wen"], ["bouc_wen", "slack"]]
