@@ -25,7 +25,8 @@ from scipy.optimize import least_squares
 
 from chainid.gap.core.candidate import MIN_TRAIN, Candidate, jackknife_sd  # noqa: F401  (re-exported)
 from chainid.gap.harmonic import law_choice as L
-from chainid.model.effects import EFFECT_NAMES, identifiable, make_effect, pinned, undamped_force
+from chainid.model.effects import (EFFECT_NAMES, STIFFNESS_SIDE, changed_model, identifiable, make_effect, pinned,
+                                   undamped_force)
 from chainid.gap.harmonic.prepare import TestData
 
 def _ce(d: TestData, Fn: np.ndarray, v: np.ndarray) -> float:
@@ -101,6 +102,7 @@ class Problem:
         self._mult: np.ndarray | None = None  # multiplicities of the training tests in a fit (a resample)
         self._own = {d.test: d for d in self.data}
         self._memo: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+        self._fk: dict[tuple, np.ndarray] = {}
         x_mid = float(np.mean([d.x0 for d in self.data]))
         v_max = float(max(d.omega * d.A for d in self.data))
         self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max, v_scale=v_max, x_mid=x_mid)
@@ -200,9 +202,28 @@ class Problem:
         if "sensor_delay" in names:  # the force channel lags the whole force: evaluate everything at t − τ
             tau = float(p.get("sensor_delay.tau", 0.0))
             x, xd, xdd = d.xfun(t - tau)
-        Fn = undamped_force(eff, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun)
+        Fn = undamped_force(eff, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun, Fk=self._spring(d, eff, p, model, x))
         v = xd
         return d.gridmean(Fn), d.gridmean(v)
+
+    def _spring(self, d: TestData, eff: list[tuple[str, dict[str, float]]], p: dict[str, float], model: Any,
+                x: np.ndarray) -> np.ndarray:
+        """The spring force [N] at x of the model as the stiffness-side effects change it, kept per test of this
+        problem between the evaluations of a fit that moves only the other effects' parameters (it depends on the
+        stiffness-side parameters, a fitted linear spring and the lag alone)."""
+        side = tuple((n, tuple(sorted(pp.items()))) for n, pp in eff if n in STIFFNESS_SIDE)
+        key = (d.test, side, float(p.get("sensor_delay.tau", 0.0)),
+               tuple(sorted((k, v) for k, v in p.items() if k.startswith("spring."))))
+        mine = self._own.get(d.test) is d
+        if mine and key in self._fk:
+            return self._fk[key]
+        Fk = np.asarray(changed_model(eff, model).force(x), float)
+        Fk.setflags(write=False)
+        if mine:
+            if len(self._fk) >= PARTS_MEMO:
+                self._fk.clear()
+            self._fk[key] = Fk
+        return Fk
 
     def evaluate(self, names: Sequence[str], p: dict[str, float], law: str | None = None) -> dict[str, Any]:
         """Errors of an effect set with parameters ``p`` and damping law ``law`` (default: the baseline's)."""

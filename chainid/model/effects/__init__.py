@@ -8,7 +8,7 @@
 Units: x mm, ẋ mm/s, ẍ mm/s², F N, t s, ω rad/s, m kg (m·ẍ·1e-3 = N).
 """
 
-from chainid.model.effects.compose import effect_force, modify_model, undamped_force
+from chainid.model.effects.compose import changed_model, effect_force, modify_model, undamped_force
 from chainid.model.effects.forms import (bouc_wen_operator, columns, coulomb_sign, dahl_operator,
                                          is_chain, play_operator, series_compliance_force, sliding_sign,
                                          stick_slip)
@@ -19,5 +19,5 @@ from chainid.model.effects.library import (DEFAULTS, EFFECT_NAMES, SPECS, STIFFN
 
 __all__ = ["EFFECT_NAMES", "STIFFNESS_SIDE", "DEFAULTS", "SPECS", "Effect", "EffectSpec", "Param", "Scales",
            "make_effect", "valid_range", "applies_to", "pinned", "identifiable", "parse_effect", "parse_spec", "check_params", "modify_model",
-           "undamped_force", "columns", "effect_force", "play_operator", "dahl_operator", "bouc_wen_operator",
+           "undamped_force", "changed_model", "columns", "effect_force", "play_operator", "dahl_operator", "bouc_wen_operator",
            "coulomb_sign", "sliding_sign", "stick_slip", "series_compliance_force", "is_chain"]

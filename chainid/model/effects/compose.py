@@ -46,32 +46,49 @@ def modify_model(name: str, p: dict[str, float], model: Any) -> Any:
     raise ValueError(f"effect {name!r} is not a stiffness-side effect; those are: {', '.join(STIFFNESS_SIDE)}")
 
 
+def changed_model(effects: Sequence[tuple[str, dict[str, float]]], model: Any) -> Any:
+    """The stiffness model as the stiffness-side effects of an ordered effect set change it (a chain model only: on
+    a linear spring, slack and compliance are force terms); the other effects leave it as it is."""
+    for n, pp in effects:
+        if n in STIFFNESS_SIDE and is_chain(model):
+            model = modify_model(n, pp, model)
+    return model
+
+
+_NAMED: dict[str, Any] = {}
+
+
+def _named(name: str) -> Any:
+    """The library effect ``name`` at the default scales (its kind and fixed references: what composing needs),
+    made once."""
+    if name not in _NAMED:
+        _NAMED[name] = make_effect(name)
+    return _NAMED[name]
+
+
 def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, t: np.ndarray, x: np.ndarray,
                    xd: np.ndarray, xdd: np.ndarray, omega: float, A: float, x0: float,
                    xfun: Callable | None = None, periodic: bool = True,
-                   v_err: float | np.ndarray = 0.0) -> np.ndarray:
+                   v_err: float | np.ndarray = 0.0, Fk: np.ndarray | None = None) -> np.ndarray:
     """Undamped model force [N] of an ordered effect set on a stiffness model (paper Eq. 1 without c_e·ẋ).
 
     The one place where effects are composed (the diagnosis and :class:`chainid.model.augmented.AugmentedModel`):
     stiffness-side effects change the model (:func:`modify_model`), the others add their force change on the
     changed model.  ``sensor_delay`` and ``damping_law`` are not force terms here: the caller evaluates the
     inputs at t − τ and the damping law.  ``v_err`` [mm/s]: the RMS error of an estimated velocity (the sign of
-    sliding friction).  Units: t s, x mm, ẋ mm/s, ẍ mm/s², ω rad/s, A mm, x0 mm.
+    sliding friction).  ``Fk`` [N]: the spring force at x of the model as the stiffness-side effects change it, when
+    the caller has it already (computed otherwise).  Units: t s, x mm, ẋ mm/s, ẍ mm/s², ω rad/s, A mm, x0 mm.
     """
-    rest = []
-    for n, pp in effects:
-        if n in STIFFNESS_SIDE and is_chain(model):  # (a linear spring: slack/compliance as force terms)
-            model = modify_model(n, pp, model)
-        else:
-            rest.append((n, pp))
+    model = changed_model(effects, model)
+    rest = [(n, pp) for n, pp in effects if not (n in STIFFNESS_SIDE and is_chain(model))]
     m = float(getattr(model, "mass_kg", 0.0))
-    Fk = np.asarray(model.force(x), float)
+    Fk = np.asarray(model.force(x), float) if Fk is None else Fk
     base = m * xdd * 1e-3 + Fk
     Fn = base.copy()
     for n, pp in rest:
         if n in ("damping_law", "sensor_delay"):
             continue
-        Fe, _, _ = effect_force(make_effect(n), pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err,
+        Fe, _, _ = effect_force(_named(n), pp, model, t, x, xd, xdd, omega, A, x0, xfun, periodic, v_err,
                                 Fk=Fk)
         Fn += Fe - base
     return Fn
