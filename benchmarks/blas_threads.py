@@ -39,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
     from threadpoolctl import threadpool_info
 
     from chainid.gap.timedomain.route import build_problem
-    from chainid.infra.threads import one_blas_thread
+    from chainid.infra.threads import one_thread
     from diagnosis_scale import _device_records
 
     recs = _device_records(a.records, a.samples)
@@ -51,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
     runs: dict[str, list[tuple[float, float]]] = {"default": [], "one": []}
     for _ in range(a.repeats):
         runs["default"].append(_time(prob, names, base.nrmse_holdout))
-        with one_blas_thread():
+        with one_thread():
             runs["one"].append(_time(prob, names, base.nrmse_holdout))
     med = {k: (statistics.median(r[0] for r in v), statistics.median(r[1] for r in v)) for k, v in runs.items()}
     n = sum(r.t.size for r in recs)

@@ -7,13 +7,15 @@ from pathlib import Path
 import numpy  # noqa: F401  (loads numpy's and scipy's BLAS, so that the limit below reaches them)
 import pytest
 import scipy.linalg  # noqa: F401
+import sklearn.ensemble  # noqa: F401  (loads scikit-learn's OpenMP runtime, for the same reason)
 import threadpoolctl
 
 from repo_paths import REPO
 
-# Every test process (each xdist worker) runs numpy's BLAS on one thread, as the `chainid` command and the
-# diagnosis do (chainid.infra.threads): two workers with two BLAS threads each would spin against each other.
+# Every test process (each xdist worker) runs numpy's BLAS and scikit-learn's OpenMP on one thread, as the diagnosis
+# does (chainid.infra.threads): two workers with two threads each would spin against each other.
 threadpoolctl.threadpool_limits(limits=1, user_api="blas")
+threadpoolctl.threadpool_limits(limits=1, user_api="openmp")
 
 
 @pytest.fixture(scope="session")

@@ -143,9 +143,9 @@ def diagnose(
         chain model without ``allow_compression``, |F| > 1e12 N or |x| > 1e9 mm, a constant force or displacement
         (:func:`check_magnitudes`, i.e. :func:`chainid.records.validate.check_channels`).
     """
-    from chainid.infra.threads import one_blas_thread
+    from chainid.infra.threads import one_thread
 
-    with one_blas_thread():  # many small products: BLAS threads only wait (chainid.infra.threads)
+    with one_thread():  # many small products and one small learner: more threads only wait (chainid.infra.threads)
         return _diagnose(records, holdout, model, effects=effects, max_combo=max_combo, n_bins=n_bins,
                          uncertainty=uncertainty, damping_law=damping_law, allow_compression=allow_compression,
                          steady_tol=steady_tol, strict=strict, quiet=quiet, holdout_blocks=holdout_blocks,
