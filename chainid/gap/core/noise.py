@@ -21,11 +21,13 @@ cycle, so the noise is estimated from the record itself:
 * **Excitation band [Hz]** — the frequency below which ``BAND_FRACTION`` of the
   displacement's variance (linear trend removed, the flat noise floor of the
   spectrum's upper half subtracted) lies.
-* **Smooth kinematics** — x, ẋ, ẍ from a zero-phase low-pass (Butterworth,
-  run forward and backward) of the measured x at ``CUT_FACTOR`` times the band:
+* **Plain smooth kinematics** (:func:`kinematics`) — x, ẋ, ẍ from a zero-phase low-pass (Butterworth,
+  run forward and backward) of the measured x at ``CUT_FACTOR`` times the band, then central differences:
   the excitation passes unchanged, the displacement noise above it is removed
   before it can switch a memory operator (a false reversal) or be amplified by
-  differentiation.
+  differentiation.  The diagnosis itself uses the estimator chosen by the record's own spectrum
+  (:mod:`chainid.gap.core.kinematics`: spectral derivatives on a periodic record, the least-error low-pass
+  otherwise, each with its predicted error); this one is the plain reference it is checked against.
 
 Units: t s, x mm, F N, f Hz.
 """
@@ -114,7 +116,9 @@ def sample_rate(t: np.ndarray) -> float:
     return 1.0 / dt
 
 
-def _psd(y: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
+def psd(y: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies [Hz] and Hann-windowed periodogram (unnormalised power, the signal's unit squared) of ``y``
+    sampled at ``fs`` [Hz], its linear trend removed (a shifted mean or a drift is not a band)."""
     y = np.asarray(y, float)
     n = y.size
     tt = np.arange(n)
@@ -132,7 +136,7 @@ def excitation_band(t: np.ndarray, x: np.ndarray) -> float:
     there); a record whose spectrum is flat (no band) returns the Nyquist frequency.
     """
     fs = sample_rate(t)
-    f, P = _psd(x, fs)
+    f, P = psd(x, fs)
     if f.size < 8:
         return 0.5 * fs
     floor = float(np.median(P[f.size // 2:]))
@@ -150,7 +154,7 @@ def hf_floor(t: np.ndarray, F: np.ndarray, f_band: float) -> float:
     noise level σ that would give the median power there (an independent check of :func:`force_noise`;
     equal to it for white noise, larger when the force has broadband content, e.g. chatter)."""
     fs = sample_rate(t)
-    f, P = _psd(F, fs)
+    f, P = psd(F, fs)
     m = f > CUT_FACTOR * f_band
     if m.sum() < 8:
         return float("nan")
@@ -246,7 +250,7 @@ def is_broadband(t: np.ndarray, x: np.ndarray) -> bool:
     """Whether the displacement is clearly not one sine: less than ``LINE_SHARE`` of its variance (linear trend
     removed) within ± ``LINE_WIDTH`` (relative) of the spectral peak.  Such a record skips the harmonic
     estimate (it has no steady cycles to find) and goes straight to the time-domain route."""
-    f, P = _psd(x, sample_rate(t))
+    f, P = psd(x, sample_rate(t))
     if f.size < 8:
         return False
     P[0] = 0.0

@@ -75,7 +75,7 @@ class TimeData:
     @property
     def omega(self) -> float:
         """Dominant angular frequency [rad/s] (peak of the displacement spectrum)."""
-        f, P = nz._psd(self.x, self.fs)
+        f, P = nz.psd(self.x, self.fs)
         P[0] = 0.0
         return 2 * math.pi * float(f[int(np.argmax(P))])
 
@@ -98,7 +98,7 @@ def low_edge(t: np.ndarray, x: np.ndarray, fraction: float = 0.01) -> float:
     """The lower edge [Hz] of a displacement's band: the frequency below which ``fraction`` of its variance lies
     (the longest useful period is 1/low_edge)."""
     fs = nz.sample_rate(t)
-    f, P = nz._psd(x, fs)
+    f, P = nz.psd(x, fs)
     if f.size < 8:
         return float(f[1]) if f.size > 1 else 0.0
     floor = float(np.median(P[f.size // 2:]))
