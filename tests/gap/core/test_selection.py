@@ -11,32 +11,12 @@ import pytest
 from chainid.gap.core import selection as fw
 from chainid.gap.core.selection import TIE, pick as _pick
 from chainid.gap.harmonic.problem import Candidate
+from selection_tables import table_world
 
 
 def _world(monkeypatch, table, floor=()):
-    """Fits looked up in ``table`` (sorted effect names → (LOTO NRMSE, LOTO SSE per test A, B, C, at_bound,
-    n_params)); ``floor``: effect sets whose training residual is at the noise floor."""
-    from chainid.gap.core import selection as sel
-    from chainid.gap.harmonic.problem import Candidate
-
-    calls = []
-
-    def fit_score(prob, names, start, base_hold):  # noqa: ANN001
-        key = tuple(sorted(names))
-        calls.append(key)
-        loto, sse, bound, k = table[key]
-        c = Candidate("+".join(names), {f"{n}.p": 1.0 for n in names}, k, at_bound=list(bound))
-        c.nrmse_loto, c.loto_num, c.bic = loto, dict(zip("ABC", sse)), 10.0 * k
-        return c
-
-    from chainid.gap.core import refine
-
-    for mod in (sel, refine):  # the forward steps and the final chain's second look fit through the same function
-        monkeypatch.setattr(mod, "fit_score", fit_score)
-    monkeypatch.setattr(sel, "train_floor", lambda prob, c: tuple(sorted(c.names)) in floor)
-    base = Candidate("baseline", {}, 0)
-    base.nrmse_loto, base.loto_num = 1.0, {"A": 100.0, "B": 100.0, "C": 100.0}
-    return sel, base, calls
+    """Fits looked up in ``table`` (:func:`selection_tables.table_world`, BIC 10 per parameter)."""
+    return table_world(monkeypatch, table, floor)
 
 
 TABLE = {("friction",): (0.5, (25.0, 25.0, 16.0), (), 1),

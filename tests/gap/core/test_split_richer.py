@@ -7,7 +7,7 @@ import math
 import pytest
 
 from chainid.gap.core import refine, selection
-from chainid.gap.harmonic.problem import Candidate
+from selection_tables import table_world
 
 
 def _sse(loto: float, spread: float) -> tuple[float, float, float]:
@@ -27,24 +27,14 @@ TABLE = {("stribeck",): (0.039, _sse(0.039, 0.05), (), 5),
          ("friction", "slack"): (0.0373, _sse(0.0373, 0.07), (), 5)}
 
 
+def _bic(loto: float, k: int) -> float:
+    """BIC of n = 3000 samples: n·ln(mean square) + k·ln(n), the mean square following the LOTO NRMSE."""
+    return 3000 * math.log(loto**2) + k * math.log(3000)
+
+
 def _select(monkeypatch, table, names=("stribeck", "friction", "slack")):
-    calls = []
-
-    def fit_score(prob, names_k, start, base_hold):  # noqa: ANN001
-        key = tuple(sorted(names_k))
-        calls.append(key)
-        loto, sse, bound, k = table[key]
-        c = Candidate("+".join(names_k), {f"{n}.p": 1.0 for n in names_k}, k, at_bound=list(bound))
-        # BIC of n = 3000 samples: n·ln(mean square) + k·ln(n), the mean square following the LOTO NRMSE
-        c.nrmse_loto, c.loto_num, c.bic = loto, dict(zip("ABC", sse)), 3000 * math.log(loto**2) + k * math.log(3000)
-        return c
-
-    for mod in (selection, refine):
-        monkeypatch.setattr(mod, "fit_score", fit_score)
-    monkeypatch.setattr(selection, "train_floor", lambda prob, c: False)
-    base = Candidate("baseline", {}, 0)
-    base.nrmse_loto, base.loto_num = 1.0, {"A": 100.0, "B": 100.0, "C": 100.0}
-    return selection.forward_select(None, list(names), base, 1.0), calls
+    sel, base, calls = table_world(monkeypatch, table, bic=_bic)
+    return sel.forward_select(None, list(names), base, 1.0), calls
 
 
 def test_stribeck_standing_in_for_a_slack_is_split_into_friction_and_slack(monkeypatch):
