@@ -3,10 +3,11 @@
 The training units (time blocks, harmonic tests) are drawn with replacement ``n`` times (a block bootstrap: whole
 tests and contiguous blocks, never single samples).  On every resample:
 
-* **the chain is chosen again** by the step rule (:mod:`.selection`: significance over units, materiality,
-  identification) among the effect sets the diagnosis fitted, each scored on the resample with its amplitudes (or
-  its damping law) refitted exactly and its shape parameters kept (the route's ``rescore``) — the share of
-  resamples that choose each step is its *stability*;
+* **the chain is chosen again** by the step rule (:mod:`.steprule`: significance over units, materiality,
+  identification), then the final chain's split of a richer effect (:func:`split_replay`), among the effect sets
+  the diagnosis fitted, each scored on the resample with its amplitudes (or its damping law) refitted exactly and
+  its shape parameters kept (the route's ``rescore``) — the share of resamples that choose each step is its
+  *stability*;
 * **the parameters of every step of the chain are refitted** (the route's ``refit``: shapes polished from the full
   fit, amplitudes exact) — the 5th and 95th percentiles of each are its 90 % interval, recentred on the
   reported estimate: every refit is shifted by θ̂ − θ*₀, θ*₀ the same refit on the data as they are (the route's
@@ -28,10 +29,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from chainid.gap.core.refine import SIMPLER
+from chainid.gap.core.steprule import TIE, passes, pick, step_test, term_prefix, tie_key
 from chainid.infra.forkpool import can_fork, fork_map
-from chainid.gap.core.selection import passes, pick, step_test, term_prefix
 
-__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "widen", "attach"]
+__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "split_replay", "widen", "attach"]
 
 #: a step is named as confident when at least this share of resamples chooses it
 CONFIDENT = 0.8
@@ -69,6 +71,38 @@ def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, 
         chosen, _ = pick(ok)
         chain.append(next(n for n in chosen.names if n not in chain))
         cur = chosen
+    return split_replay(chain, cur, cache, score, max_effects)
+
+
+def split_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any], score: Any, max_effects: int
+                 ) -> list[str]:
+    """The final chain's split (:func:`chainid.gap.core.refine.split_richer`) on one resample, among the effect sets
+    fitted: a richer effect n of ``chain`` (scored ``cur``) becomes its simpler member plus a next effect x when that
+    set was fitted and, rescored, is identified and lower by more than ``TIE`` or within it and first in the
+    near-tie order.  (The backward check of the full diagnosis is not repeated here.)"""
+    if len(chain) + 1 > max_effects:
+        return chain
+    for n in chain:
+        a = SIMPLER.get(n)
+        if a is None or a in chain:
+            continue
+        rest = set(chain) - {n}
+        alts = []
+        for key, c in cache.items():
+            extra = set(key) - rest - {a}
+            if len(key) != len(chain) + 1 or a not in key or n in key or not rest <= set(key) or len(extra) != 1:
+                continue
+            sc = score(c)
+            x = extra.pop()
+            if any(k.startswith((term_prefix(a), term_prefix(x))) for k in sc.at_bound):
+                continue
+            if sc.nrmse_loto < (1 - TIE) * cur.nrmse_loto or (
+                    sc.nrmse_loto <= (1 + TIE) * cur.nrmse_loto and tie_key(sc) < tie_key(cur)):
+                alts.append((sc, x))
+        if alts:
+            best = min(c.nrmse_loto for c, _ in alts)
+            _, x = min(alts, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0])))
+            return [a if k == n else k for k in chain] + [x]
     return chain
 
 

@@ -107,6 +107,8 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
     alts = two_for_one(prob, path[-1], names, base_hold)
     confounded += [a["report"] for a in alts]
     take_tie_break(prob, base, path, alts, base_hold)
+    for c in path[1:]:  # the final chain's sets, whatever pass made them, for a resample's replay
+        cache.setdefault(tuple(sorted(c.names)), c)
     return {"path": path, "singles": singles, "stop": stop, "rejected": rejected, "confounded": confounded,
             "dropped": dropped, "swapped": swaps, "_cache": cache}
 
