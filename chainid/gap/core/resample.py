@@ -4,10 +4,10 @@ The training units (time blocks, harmonic tests) are drawn with replacement ``n`
 tests and contiguous blocks, never single samples).  On every resample:
 
 * **the chain is chosen again** by the step rule (:mod:`.steprule`: significance over units, materiality,
-  identification), then the final chain's split of a richer effect (:func:`split_replay`), among the effect sets
-  the diagnosis fitted, each scored on the resample with its amplitudes (or its damping law) refitted exactly and
-  its shape parameters kept (the route's ``rescore``) — the share of resamples that choose each step is its
-  *stability*;
+  identification), then the final chain's family exchange and split of a richer effect
+  (:func:`exchange_replay`, :func:`split_replay`), among the effect sets the diagnosis fitted, each scored on the
+  resample with its amplitudes (or its damping law) refitted exactly and its shape parameters kept (the route's
+  ``rescore``) — the share of resamples that choose each step is its *stability*;
 * **the parameters of every step of the chain are refitted** (the route's ``refit``: shapes polished from the full
   fit, amplitudes exact) — the 5th and 95th percentiles of each are its 90 % interval, recentred on the
   reported estimate: every refit is shifted by θ̂ − θ*₀, θ*₀ the same refit on the data as they are (the route's
@@ -30,10 +30,10 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.refine import SIMPLER
-from chainid.gap.core.steprule import TIE, passes, pick, step_test, term_prefix, tie_key
+from chainid.gap.core.steprule import FAMILIES, TIE, passes, pick, step_test, term_prefix, tie_key
 from chainid.infra.forkpool import can_fork, fork_map
 
-__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "split_replay", "widen", "attach"]
+__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "widen", "attach"]
 
 #: a step is named as confident when at least this share of resamples chooses it
 CONFIDENT = 0.8
@@ -71,7 +71,34 @@ def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, 
         chosen, _ = pick(ok)
         chain.append(next(n for n in chosen.names if n not in chain))
         cur = chosen
+    chain, cur = exchange_replay(chain, cur, cache, score)
     return split_replay(chain, cur, cache, score, max_effects)
+
+
+def exchange_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any], score: Any
+                    ) -> tuple[list[str], Any]:
+    """The final chain's family exchange (:func:`chainid.gap.core.refine.exchange`) on one resample, among the
+    effect sets fitted (chains of two or more effects, as there): an effect swaps for a member of its family when
+    that set, rescored, is identified and lower by more than ``TIE``, or within it with fewer parameters pinned or
+    fewer parameters.  Returns the chain and its scored set."""
+    if len(chain) < 2:
+        return chain, cur
+    for i, n in enumerate(list(chain)):
+        fam = next((f for f in FAMILIES if n in f), ())
+        for m in fam:
+            if m == n or m in chain:
+                continue
+            key = tuple(sorted([m if k == n else k for k in chain]))
+            if key not in cache:
+                continue
+            sc = score(cache[key])
+            if any(k.startswith(term_prefix(m)) for k in sc.at_bound):
+                continue
+            if sc.nrmse_loto < (1 - TIE) * cur.nrmse_loto or (sc.nrmse_loto <= (1 + TIE) * cur.nrmse_loto and (
+                    len(sc.at_bound), sc.n_params) < (len(cur.at_bound), cur.n_params)):
+                chain[i], cur = m, sc
+                break
+    return chain, cur
 
 
 def split_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any], score: Any, max_effects: int

@@ -45,3 +45,20 @@ def test_replay_splits_a_richer_effect_when_the_simpler_pair_was_fitted():
     assert replay(None, _hooks(loto), more, base, mult, 3) == ["stribeck"]
     less = {k: c for k, c in cache.items() if k != ("friction", "slack")}
     assert replay(None, _hooks(loto), less, base, mult, 3) == ["stribeck"]
+
+
+def test_replay_exchanges_within_a_family_when_the_swapped_set_was_fitted():
+    """Forward: friction (0.12), then slack (0.080; 0.30 alone).  The swapped set Bouc–Wen plus slack was fitted
+    (0.070, better by more than TIE): the replay's chain is Bouc–Wen then slack, in the chain's order.  With the
+    swapped set's Bouc–Wen parameter at a bound, or the set not fitted, it stays friction then slack."""
+    names = {("friction",): 3, ("slack",): 2, ("friction", "slack"): 4, ("bouc_wen", "slack"): 6}
+    loto = {(): 1.0, ("friction",): 0.12, ("slack",): 0.30, ("friction", "slack"): 0.080, ("bouc_wen", "slack"): 0.070}
+    cache = {k: _cand(list(k), n) for k, n in names.items()}
+    base = _cand([], 0)
+    mult = np.ones(3)
+    assert 0.070 < (1 - 0.05) * 0.080
+    assert replay(None, _hooks(loto), cache, base, mult, 3) == ["bouc_wen", "slack"]
+    pinned = dict(cache) | {("bouc_wen", "slack"): _cand(["bouc_wen", "slack"], 6, bound=("bouc_wen.p",))}
+    assert replay(None, _hooks(loto), pinned, base, mult, 3) == ["friction", "slack"]
+    less = {k: c for k, c in cache.items() if k != ("bouc_wen", "slack")}
+    assert replay(None, _hooks(loto), less, base, mult, 3) == ["friction", "slack"]
