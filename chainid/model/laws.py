@@ -74,13 +74,17 @@ class DampingLaw:
     param_units: tuple[str, ...] = ()
 
     def __init__(self, params: Sequence[float] | None = None) -> None:
-        self.params: np.ndarray | None = None if params is None else np.asarray(params, dtype=float)
+        # a one-parameter law may be given its value alone (ViscousLaw(0.05)): params are always a 1-D array
+        self.params: np.ndarray | None = None if params is None else np.asarray(params, dtype=float).reshape(-1)
         self.fit_: LawFit | None = None
         if self.params is not None and self.params.size != len(self.param_names):
             raise ValueError(
                 f"{self.name}: params has {self.params.size} values; expected {len(self.param_names)} "
                 f"({', '.join(self.param_names)})"
             )
+        if self.params is not None and not np.all(np.isfinite(self.params)):
+            raise ValueError(f"{self.name}: params = {[float(v) for v in self.params]} must be finite numbers "
+                             f"({', '.join(self.param_names)} in {', '.join(self.param_units)})")
 
     @property
     def n_params(self) -> int:

@@ -219,3 +219,16 @@ def test_hysteretic_law_uses_the_given_mean_elongation():
     assert law.predict(4.0, 0.5, 3.0)[0] == pytest.approx(15.0, rel=1e-12)
     with pytest.raises(ValueError, match="x0"):
         law.predict(4.0, 0.5)
+
+
+def test_a_one_parameter_law_takes_its_value_alone_and_refuses_a_non_finite_one():
+    """``ViscousLaw(0.05)`` is c_e = 0.05 N·s/mm at any ω and A (it crashed in ``predict`` on a 0-d array); a NaN or
+    an infinite parameter is refused by name, with the law's parameter names and units."""
+    from chainid.model.laws import PolynomialLaw, ViscousLaw
+
+    np.testing.assert_array_equal(ViscousLaw(0.05).predict([1.0, 10.0], [0.1, 0.5]), [0.05, 0.05])
+    assert ViscousLaw(0.05).params.shape == (1,)
+    with pytest.raises(ValueError, match=r"viscous: params = \[nan\] must be finite numbers \(c in N s/mm\)"):
+        ViscousLaw(float("nan"))
+    with pytest.raises(ValueError, match="must be finite"):
+        PolynomialLaw([0.0, 0.0, float("inf"), 0.0, 1.0])

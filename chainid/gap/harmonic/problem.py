@@ -35,6 +35,37 @@ def _ce(d: TestData, Fn: np.ndarray, v: np.ndarray) -> float:
     return float(np.sum(d.counts * (d.Fbar - Fn) * v) / max(np.sum(d.counts * v * v), 1e-300))
 
 
+def linear_start(train: Sequence[TestData], fit_mass: bool, mass_kg: float = 0.0) -> dict[str, float]:
+    """A linear base's spring k [N/mm], x_ref [mm] and, with ``fit_mass``, mass m [kg] >= 0, by linear least squares
+    on the training tests' bin means: F̄ = k·x + b + m·ẍ·1e-3 + c_i·ẋ with one viscous c_i per test (each test's
+    own c_e, as the harmonic route scores it), rows weighted by √count/σ; x_ref = −b/k.  Without ``fit_mass`` the
+    mass is ``mass_kg``.  A resonant device's inertia is in the start (a static fit of F on x reads m·ω² as a
+    softer spring, and near resonance as none at all).  Returns {} when k <= 0 or the system is singular."""
+    n = len(train)
+    p = 2 + int(fit_mass) + n
+    rows, ys = [], []
+    for i, d in enumerate(train):
+        g = d.grid
+        xb, vb, ab = d.gridmean(g["x"]), d.gridmean(g["xd"]), d.gridmean(g["xdd"]) * 1e-3
+        X = np.zeros((xb.size, p))
+        X[:, 0], X[:, 1] = xb, 1.0
+        if fit_mass:
+            X[:, 2] = ab
+        X[:, 2 + int(fit_mass) + i] = vb
+        w = np.sqrt(d.counts) / max(d.sigma, 1e-300)
+        rows.append(w[:, None] * X)
+        ys.append(w * (d.Fbar - (0.0 if fit_mass else mass_kg * ab)))
+    A, y = np.vstack(rows), np.concatenate(ys)
+    coef, _, rank, _ = np.linalg.lstsq(A, y, rcond=None)
+    k = float(coef[0])
+    if rank < p or not np.all(np.isfinite(coef)) or k <= 0.0:
+        return {}
+    out = {"spring.k": k, "spring.x_ref": -float(coef[1]) / k}
+    if fit_mass:
+        out["spring.m"] = max(float(coef[2]), 0.0)
+    return out
+
+
 def damping_separable(data: Sequence[TestData]) -> tuple[bool, str]:
     """Whether the plan can separate damping forms: >= 3 distinct ω and >= 3 distinct A, full-rank Eq. 21."""
     w = np.array([d.omega for d in data])
@@ -103,6 +134,7 @@ class Problem:
         self._own = {d.test: d for d in self.data}
         self._memo: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self._fk: dict[tuple, np.ndarray] = {}
+        self._start: dict[str, float] | None = None
         x_mid = float(np.mean([d.x0 for d in self.data]))
         v_max = float(max(d.omega * d.A for d in self.data))
         self.effects = {n: make_effect(n, self.F_scale, self.x_scale, self.omega_max, v_scale=v_max, x_mid=x_mid)
@@ -152,9 +184,15 @@ class Problem:
 
     # ------------------------------------------------------------------- model
     def _spring_start(self) -> dict[str, float]:
-        if not self.is_chain and hasattr(self.model, "k"):
-            return {"spring.k": float(self.model.k), "spring.x_ref": float(self.model.x_ref)}
-        return {}
+        """Start of a linear base's spring (and mass, when fitted): :func:`linear_start` on the training tests, the
+        given model's spring when that fails; {} for a chain."""
+        if self.is_chain or not hasattr(self.model, "k"):
+            return {}
+        if self._start is None:
+            m0 = float(getattr(self.model, "mass_kg", 0.0))
+            self._start = linear_start(self.train, self.fit_mass, m0) or {
+                "spring.k": float(self.model.k), "spring.x_ref": float(self.model.x_ref)}
+        return self._start
 
     def model_for(self, p: dict[str, float]) -> Any:
         """The stiffness model, with a re-fitted linear spring when ``spring.k`` is in p."""
@@ -326,8 +364,8 @@ class Problem:
             if self.fit_mass:  # m·ω² up to 10 times the force scale over the displacement scale
                 keys.append("spring.m")
                 lo.append(0.0)
-                hi.append(10.0 * self.F_scale * 1e3 / (xs * self.omega_max ** 2))
-                x0.append(0.0)
+                hi.append(max(10.0 * self.F_scale * 1e3 / (xs * self.omega_max ** 2), 2.0 * sp.get("spring.m", 0.0)))
+                x0.append(sp.get("spring.m", 0.0))
         for n in names:
             if n == "damping_law":
                 continue
