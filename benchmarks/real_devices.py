@@ -102,6 +102,28 @@ def markdown(rows: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def provenance() -> str:
+    """The run's date (UTC), the repository's commit (``+changes`` when the tree differs from it), the cores, and
+    what the table's columns mean."""
+    import datetime
+
+    def git(*args: str) -> str:
+        try:
+            return subprocess.run(["git", *args], cwd=REPO, capture_output=True, text=True, timeout=30).stdout.strip()
+        except (OSError, subprocess.SubprocessError):
+            return ""
+
+    commit = git("rev-parse", "--short", "HEAD") or "unknown"
+    if git("status", "--porcelain", "--untracked-files=no"):
+        commit += "+changes"
+    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    return (f"{when}, commit {commit}, {os.cpu_count()} cores (each run resamples 200×, the CLI's default). Origins "
+            "and licences: each set's SOURCE.md in `../shared/realdata/`. \"part\": an unexplained verdict's partial "
+            "explanation (passed the step rule, held on the held-out data, closes less than half the gap). \"open "
+            "world\": the share of what is left that a model-free learner predicts from the state on the held-out "
+            "data.")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sets", default=",".join(sets()), help="comma-separated set names (default: all)")
@@ -130,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
 
         with atomic_open(a.markdown, force=True, what="--markdown") as fh:
             fh.write("# Real devices: `python benchmarks/real_devices.py --markdown benchmarks/RESULTS_real.md`\n\n"
-                     + md)
+                     + provenance() + "\n\n" + md)
     return 0
 
 
