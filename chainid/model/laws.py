@@ -75,7 +75,11 @@ class DampingLaw:
 
     def __init__(self, params: Sequence[float] | None = None) -> None:
         # a one-parameter law may be given its value alone (ViscousLaw(0.05)): params are always a 1-D array
-        self.params: np.ndarray | None = None if params is None else np.asarray(params, dtype=float).reshape(-1)
+        arr = None if params is None else np.asarray(params, dtype=float)
+        if arr is not None and arr.ndim > 1:
+            raise ValueError(f"{self.name}: params must be a flat list of {len(self.param_names)} values "
+                             f"({', '.join(self.param_names)}); got an array of shape {arr.shape}")
+        self.params: np.ndarray | None = None if arr is None else arr.reshape(-1)
         self.fit_: LawFit | None = None
         if self.params is not None and self.params.size != len(self.param_names):
             raise ValueError(

@@ -223,7 +223,7 @@ def test_hysteretic_law_uses_the_given_mean_elongation():
 
 def test_a_one_parameter_law_takes_its_value_alone_and_refuses_a_non_finite_one():
     """``ViscousLaw(0.05)`` is c_e = 0.05 N·s/mm at any ω and A (it crashed in ``predict`` on a 0-d array); a NaN or
-    an infinite parameter is refused by name, with the law's parameter names and units."""
+    an infinite parameter is refused by name, with the law's parameter names and units; so is a nested list."""
     from chainid.model.laws import PolynomialLaw, ViscousLaw
 
     np.testing.assert_array_equal(ViscousLaw(0.05).predict([1.0, 10.0], [0.1, 0.5]), [0.05, 0.05])
@@ -232,3 +232,6 @@ def test_a_one_parameter_law_takes_its_value_alone_and_refuses_a_non_finite_one(
         ViscousLaw(float("nan"))
     with pytest.raises(ValueError, match="must be finite"):
         PolynomialLaw([0.0, 0.0, float("inf"), 0.0, 1.0])
+    with pytest.raises(ValueError,
+                       match=r"viscous: params must be a flat list of 1 values \(c\); got an array of shape \(1, 1\)"):
+        ViscousLaw([[0.05]])

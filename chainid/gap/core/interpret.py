@@ -30,8 +30,22 @@ def mechanism(verdict: str, interpretation: str) -> str:
     return "+".join(fams)
 
 
+#: what shows a richer effect's own shape against its simpler member (the final chain's split)
+RICHER_SHAPE = {"stribeck": "tests that slide slowly (speeds near the Stribeck velocity v_s) show a static peak and a "
+                            "direction asymmetry that Coulomb friction lacks",
+                "bouc_wen": "small-amplitude tests (A near the yield travel x_y) show the Bouc–Wen loop's shape that "
+                            "Dahl hysteresis lacks"}
+
+
 def separating_test(a: str, b: str) -> str:
-    """A test that would separate two near-tied effects."""
+    """A test that would separate two near-tied explanations: two effects, or an effect and a pair (a richer
+    effect against its simpler member plus a second cause, ``stribeck`` ~ ``friction+slack``)."""
+    if "+" in a or "+" in b:
+        diff = set(a.split("+")) ^ set(b.split("+"))
+        rich = next((n for n in sorted(diff) if n in RICHER_SHAPE), None)
+        if rich is not None:
+            rest = sorted(diff - {rich} - {"friction" if rich == "stribeck" else "hysteresis"})
+            return RICHER_SHAPE[rich] + (f"; then {separating_test(rich, rest[0])} for {rest[0]}" if rest else "")
     s = {a, b}
     if s == {"friction", "hysteresis"}:
         return "a small-amplitude test (A comparable to the hysteresis travel x_h) separates sliding from smooth hysteresis"

@@ -6,7 +6,9 @@ much with as few parameters.
 * :func:`backward` drops an effect that later ones made redundant;
 * :func:`two_for_one` finds stiffness-side pairs the plan cannot tell from one effect, and :func:`take_tie_break`
   applies the near-tie order to them;
-* :func:`rebuild` orders an effect set as an explanation chain (largest LOTO drop first).
+* :func:`split_richer` replaces a richer effect (Stribeck, Bouc–Wen) by its simpler member plus a second cause;
+* :func:`rebuild` orders an effect set as an explanation chain (largest LOTO drop first);
+* :func:`second_look` runs them in order on the final chain.
 """
 
 from __future__ import annotations
@@ -17,10 +19,12 @@ from chainid.gap.core.candidate import Candidate, Problem
 from chainid.gap.core.steprule import FAMILIES, TIE, fit_score, passes, step_test, term_prefix, tie_key
 
 
-def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float) -> tuple[Candidate, list[str]]:
+def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float,
+             cache: dict[tuple[str, ...], Candidate] | None = None) -> tuple[Candidate, list[str]]:
     """Swap a chosen effect for a member of its family when that fits better (LOTO lower by more than TIE, or
     within TIE with fewer parameters) and is identified (rule 4: none of its parameters at a bound of its physical
-    range): the first pick of a step is made before later effects are known."""
+    range): the first pick of a step is made before later effects are known.  Every set fitted is added to
+    ``cache`` when given (a resample's replay chooses among them)."""
     swaps: list[str] = []
     for _ in range(2):
         improved = False
@@ -32,6 +36,8 @@ def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: 
                 names = [m if k == n else k for k in full.names]
                 start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
                 c = fit_score(prob, names, start, base_hold)
+                if cache is not None:
+                    cache.setdefault(tuple(sorted(names)), c)
                 # rule 4 holds for a swap too: a member whose parameters sit at a bound of their physical range
                 # does not fit (Dahl hysteresis with x_h at its floor is Coulomb friction under another name)
                 if any(k.startswith(m + ".") for k in c.at_bound):
@@ -147,28 +153,43 @@ def split_richer(prob: Problem, path: list[Candidate], cache: dict[tuple[str, ..
     A richer effect's extra parameters can stand in for a second cause (a Stribeck peak and asymmetry for a slack
     at the stroke's end), and then the second cause no longer passes the step rule on top of it.  For each richer
     effect n of the chain (:data:`SIMPLER`) and each of the ``N_SPLIT`` best next effects x of the last round (by
-    LOTO, from ``cache``), the chain with n → SIMPLER[n] plus x is fitted.  It replaces the chain when it is
-    identified (no parameter of the new effects at a bound), its LOTO is lower by more than ``TIE`` or within
-    ``TIE`` and first in the near-tie order (:func:`~chainid.gap.core.steprule.tie_key`), and every effect of it
-    survives the backward pass.  Returns the confounded-pair report of a replacement (``path`` rebuilt in place),
-    else None.
+    LOTO, from ``cache``; x neither in the chain nor n's simpler member), the chain with n → SIMPLER[n] plus x is
+    fitted.  It replaces the chain when it has no more parameters, is identified (no parameter of the new effects at
+    a bound), its LOTO is lower by more than ``TIE`` or within ``TIE`` and first in the near-tie order
+    (:func:`~chainid.gap.core.steprule.tie_key`), and every effect of it survives the backward pass.
+
+    Parameters
+    ----------
+    prob : the diagnosis problem (fits and scores effect sets)
+    path : the explanation chain, baseline first; rebuilt in place on a replacement
+    cache : the selection's fitted sets by sorted names; every set fitted here is added
+    allowed : the library effects the selection may name
+    base_hold : the baseline's held-out NRMSE (for the shrinkage)
+    max_effects : most effects in a chain
+
+    Returns
+    -------
+    dict or None
+        The confounded-pair report of a replacement (``step``, ``pair`` [the split, the richer effect], ``loto``),
+        else None.
     """
     full = path[-1]
     if len(full.names) + 1 > max_effects:
         return None
     nexts = sorted((c for k, c in cache.items() if len(k) == len(full.names) + 1 and set(full.names) <= set(k)),
                    key=lambda c: c.nrmse_loto)
-    xs = [next(n for n in c.names if n not in full.names) for c in nexts][:N_SPLIT]
+    order = [next(n for n in c.names if n not in full.names) for c in nexts]
     tried: list[tuple[Candidate, str, str, str]] = []
     for n in full.names:
         a = SIMPLER.get(n)
         if a is None or a in full.names or a not in allowed:
             continue
         start = {k: v for k, v in full.params.items() if not k.startswith(term_prefix(n))}
-        for x in (x for x in xs if x != a and x in allowed):
+        for x in [x for x in order if x != a and x in allowed][:N_SPLIT]:
             names = [a if k == n else k for k in full.names] + [x]
             c = fit_score(prob, names, start, base_hold)
-            if any(k.startswith((term_prefix(a), term_prefix(x))) for k in c.at_bound):
+            cache.setdefault(tuple(sorted(names)), c)
+            if c.n_params > full.n_params or any(k.startswith((term_prefix(a), term_prefix(x))) for k in c.at_bound):
                 continue
             if c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
                     c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and tie_key(c) < tie_key(full)):
@@ -183,3 +204,37 @@ def split_richer(prob: Problem, path: list[Candidate], cache: dict[tuple[str, ..
         path[:] = new
         return {"step": len(c.names), "pair": [f"{a}+{x}", n], "loto": [c.nrmse_loto, full.nrmse_loto]}
     return None
+
+
+def split_text(split: dict[str, Any]) -> str:
+    """The stop text's account of a split (:func:`split_richer`'s report)."""
+    return (f"; then {split['pair'][1]} was split into {split['pair'][0]}: as good a fit (LOTO NRMSE "
+            f"{split['loto'][0]:.4g} against {split['loto'][1]:.4g}) with no more parameters")
+
+
+def second_look(prob: Problem, path: list[Candidate], allowed: Sequence[str], base_hold: float,
+                cache: dict[tuple[str, ...], Candidate], max_effects: int) -> dict[str, Any]:
+    """The final chain's second look, in order: the family exchange (chains of two or more effects), the backward
+    pass, the split of a richer effect, and the two-for-one alternatives with the near-tie break.  ``path`` (baseline
+    first) is rebuilt in place; every set fitted goes into ``cache``, and so do the final chain's (a resample's
+    replay chooses among them).  Returns ``dropped`` and ``swapped`` (lists of str), ``confounded`` (reports) and
+    ``stop`` (text to add to the forward steps' stop message)."""
+    base = path[0]
+    swaps: list[str] = []
+    if len(path) > 2:
+        final, swaps = exchange(prob, path[-1], allowed, base_hold, cache)
+        if swaps:
+            path[:] = rebuild(prob, base, final, base_hold)
+    dropped = backward(prob, path, base_hold)
+    confounded, stop = [], ""
+    split = split_richer(prob, path, cache, allowed, base_hold, max_effects)
+    if split is not None:
+        confounded.append(split)
+        swaps.append(f"{split['pair'][1]} -> {split['pair'][0]}")
+        stop = split_text(split)
+    alts = two_for_one(prob, path[-1], allowed, base_hold)
+    confounded += [a["report"] for a in alts]
+    take_tie_break(prob, base, path, alts, base_hold)
+    for c in path[1:]:
+        cache.setdefault(tuple(sorted(c.names)), c)
+    return {"dropped": dropped, "swapped": swaps, "confounded": confounded, "stop": stop}

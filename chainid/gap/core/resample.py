@@ -33,7 +33,8 @@ from chainid.gap.core.refine import SIMPLER
 from chainid.gap.core.steprule import FAMILIES, TIE, passes, pick, step_test, term_prefix, tie_key
 from chainid.infra.forkpool import can_fork, fork_map
 
-__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "widen", "attach"]
+__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "order_replay", "widen",
+           "attach"]
 
 #: a step is named as confident when at least this share of resamples chooses it
 CONFIDENT = 0.8
@@ -71,33 +72,53 @@ def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, 
         chosen, _ = pick(ok)
         chain.append(next(n for n in chosen.names if n not in chain))
         cur = chosen
-    chain, cur = exchange_replay(chain, cur, cache, score)
-    return split_replay(chain, cur, cache, score, max_effects)
+    swapped, cur = exchange_replay(chain, cur, cache, score)
+    split = split_replay(swapped, cur, cache, score, max_effects)
+    return chain if split == chain else order_replay(split, cache, score)
+
+
+def order_replay(effects: list[str], cache: dict[tuple[str, ...], Any], score: Any) -> list[str]:
+    """An effect set ordered as the diagnosis orders a chain its exchange or split changed
+    (:func:`chainid.gap.core.refine.rebuild`): greedily, the effect whose fitted set with those before it has the
+    lowest rescored LOTO first; effects whose sets were not fitted keep their order at the end."""
+    path: list[str] = []
+    left = list(effects)
+    while left:
+        keys = [(n, tuple(sorted(path + [n]))) for n in left]
+        fitted = [(score(cache[k]).nrmse_loto, i, n) for i, (n, k) in enumerate(keys) if k in cache]
+        if not fitted:
+            return path + left
+        n = min(fitted)[2]
+        path.append(n)
+        left.remove(n)
+    return path
 
 
 def exchange_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any], score: Any
                     ) -> tuple[list[str], Any]:
     """The final chain's family exchange (:func:`chainid.gap.core.refine.exchange`) on one resample, among the
-    effect sets fitted (chains of two or more effects, as there): an effect swaps for a member of its family when
-    that set, rescored, is identified and lower by more than ``TIE``, or within it with fewer parameters pinned or
-    fewer parameters.  Returns the chain and its scored set."""
+    effect sets fitted (chains of two or more effects, as there; at most two passes): an effect swaps for a member
+    of its family when that set, rescored, is identified and lower by more than ``TIE``, or within it with fewer
+    parameters pinned or fewer parameters.  Returns the new chain (in the old one's order) and its scored set."""
+    chain = list(chain)
     if len(chain) < 2:
         return chain, cur
-    for i, n in enumerate(list(chain)):
-        fam = next((f for f in FAMILIES if n in f), ())
-        for m in fam:
-            if m == n or m in chain:
-                continue
-            key = tuple(sorted([m if k == n else k for k in chain]))
-            if key not in cache:
-                continue
-            sc = score(cache[key])
-            if any(k.startswith(term_prefix(m)) for k in sc.at_bound):
-                continue
-            if sc.nrmse_loto < (1 - TIE) * cur.nrmse_loto or (sc.nrmse_loto <= (1 + TIE) * cur.nrmse_loto and (
-                    len(sc.at_bound), sc.n_params) < (len(cur.at_bound), cur.n_params)):
-                chain[i], cur = m, sc
-                break
+    for _ in range(2):
+        improved = False
+        for i, n in enumerate(list(chain)):
+            for m in next((f for f in FAMILIES if n in f), ()):
+                key = tuple(sorted([m if k == n else k for k in chain]))
+                if m == n or m in chain or key not in cache:
+                    continue
+                sc = score(cache[key])
+                if any(k.startswith(term_prefix(m)) for k in sc.at_bound):
+                    continue
+                if sc.nrmse_loto < (1 - TIE) * cur.nrmse_loto or (sc.nrmse_loto <= (1 + TIE) * cur.nrmse_loto and (
+                        len(sc.at_bound), sc.n_params) < (len(cur.at_bound), cur.n_params)):
+                    chain[i], cur, improved = m, sc, True
+                    break
+        if not improved:
+            break
     return chain, cur
 
 
@@ -105,32 +126,33 @@ def split_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any], 
                  ) -> list[str]:
     """The final chain's split (:func:`chainid.gap.core.refine.split_richer`) on one resample, among the effect sets
     fitted: a richer effect n of ``chain`` (scored ``cur``) becomes its simpler member plus a next effect x when that
-    set was fitted and, rescored, is identified and lower by more than ``TIE`` or within it and first in the
-    near-tie order.  (The backward check of the full diagnosis is not repeated here.)"""
+    set was fitted and, rescored, has no more parameters, is identified and is lower by more than ``TIE`` or within
+    it and first in the near-tie order; the best such set over every richer effect wins.  (The backward check of
+    the full diagnosis is not repeated here.)"""
     if len(chain) + 1 > max_effects:
         return chain
+    alts = []
     for n in chain:
         a = SIMPLER.get(n)
         if a is None or a in chain:
             continue
         rest = set(chain) - {n}
-        alts = []
         for key, c in cache.items():
             extra = set(key) - rest - {a}
             if len(key) != len(chain) + 1 or a not in key or n in key or not rest <= set(key) or len(extra) != 1:
                 continue
             sc = score(c)
             x = extra.pop()
-            if any(k.startswith((term_prefix(a), term_prefix(x))) for k in sc.at_bound):
+            if sc.n_params > cur.n_params or any(k.startswith((term_prefix(a), term_prefix(x))) for k in sc.at_bound):
                 continue
             if sc.nrmse_loto < (1 - TIE) * cur.nrmse_loto or (
                     sc.nrmse_loto <= (1 + TIE) * cur.nrmse_loto and tie_key(sc) < tie_key(cur)):
-                alts.append((sc, x))
-        if alts:
-            best = min(c.nrmse_loto for c, _ in alts)
-            _, x = min(alts, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0])))
-            return [a if k == n else k for k in chain] + [x]
-    return chain
+                alts.append((sc, n, a, x))
+    if not alts:
+        return chain
+    best = min(t[0].nrmse_loto for t in alts)
+    _, n, a, x = min(alts, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0])))
+    return [a if k == n else k for k in chain] + [x]
 
 
 def _one(j: dict[str, Any], i: int) -> tuple[list[str], list[dict[str, float]]]:

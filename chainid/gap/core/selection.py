@@ -15,7 +15,7 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 from chainid.gap.core.candidate import Candidate, Problem
-from chainid.gap.core.refine import SIMPLER, backward, exchange, rebuild, split_richer, take_tie_break, two_for_one
+from chainid.gap.core.refine import SIMPLER, second_look
 from chainid.gap.core.steprule import (ALIASES, FAMILIES, MIN_GAIN, NONE_FRACTION, TIE, Z, at_noise_floor,
                                       fit_cached, fit_score, loto_jackknife, passes, pick, pinned_params, step_test,
                                       term_prefix, train_floor)
@@ -92,25 +92,10 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         path.append(chosen)
         cur = chosen
         remaining.remove(chosen.names[-1])
-    swaps: list[str] = []
-    if len(path) > 2:
-        final, swaps = exchange(prob, path[-1], names, base_hold)
-        if swaps:
-            path[:] = rebuild(prob, base, final, base_hold)
-    dropped = backward(prob, path, base_hold)
-    split = split_richer(prob, path, cache, names, base_hold, max_effects)
-    if split is not None:
-        confounded.append(split)
-        swaps.append(f"{split['pair'][1]} -> {split['pair'][0]}")
-        stop += (f"; then {split['pair'][1]} was split into {split['pair'][0]}: as good a fit (LOTO NRMSE "
-                 f"{split['loto'][0]:.4g} against {split['loto'][1]:.4g}) with no more parameters")
-    alts = two_for_one(prob, path[-1], names, base_hold)
-    confounded += [a["report"] for a in alts]
-    take_tie_break(prob, base, path, alts, base_hold)
-    for c in path[1:]:  # the final chain's sets, whatever pass made them, for a resample's replay
-        cache.setdefault(tuple(sorted(c.names)), c)
-    return {"path": path, "singles": singles, "stop": stop, "rejected": rejected, "confounded": confounded,
-            "dropped": dropped, "swapped": swaps, "_cache": cache}
+    out = second_look(prob, path, names, base_hold, cache, max_effects)
+    return {"path": path, "singles": singles, "stop": stop + out["stop"], "rejected": rejected,
+            "confounded": confounded + out["confounded"], "dropped": out["dropped"], "swapped": out["swapped"],
+            "_cache": cache}
 
 
 def rejections(cands: Sequence[Candidate]) -> list[dict[str, Any]]:
@@ -171,7 +156,10 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
     if len(cur.names) + 2 > max_effects or len(remaining) < 2:
         return chosen
     new = chosen.names[-1]
-    nested = {new, SIMPLER.get(new)} | {k for k, v in SIMPLER.items() if v == new}
+    # a nested runner-up is left to the final chain's exchange and split, when the chain leaves them room: one more
+    # step and a split's extra effect (else it is explored here, as any runner-up)
+    nested = ({new, SIMPLER.get(new)} | {k for k, v in SIMPLER.items() if v == new}
+              if len(cur.names) + 2 < max_effects else {new})
     alts = sorted((c for c in cands if c is not chosen and c.names[-1] not in nested
                    and c.nrmse_loto <= (1 + LOOKAHEAD) * chosen.nrmse_loto), key=lambda c: c.nrmse_loto)[:1]
     if not alts:

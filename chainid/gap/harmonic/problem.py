@@ -40,7 +40,21 @@ def linear_start(train: Sequence[TestData], fit_mass: bool, mass_kg: float = 0.0
     on the training tests' bin means: F̄ = k·x + b + m·ẍ·1e-3 + c_i·ẋ with one viscous c_i per test (each test's
     own c_e, as the harmonic route scores it), rows weighted by √count/σ; x_ref = −b/k.  Without ``fit_mass`` the
     mass is ``mass_kg``.  A resonant device's inertia is in the start (a static fit of F on x reads m·ω² as a
-    softer spring, and near resonance as none at all).  Returns {} when k <= 0 or the system is singular."""
+    softer spring, and near resonance as none at all).  Returns {} (the caller keeps its own start) when k <= 0 or
+    the columns, each scaled to unit norm, have a condition number over 1e8 (one frequency cannot separate k from
+    m).
+
+    Parameters
+    ----------
+    train : the training tests (bin means F̄ [N], the grid's x [mm], ẋ [mm/s], ẍ [mm/s²], counts, σ [N])
+    fit_mass : whether m is fitted
+    mass_kg : the mass [kg] when it is not
+
+    Returns
+    -------
+    dict
+        ``spring.k`` [N/mm], ``spring.x_ref`` [mm] and, with ``fit_mass``, ``spring.m`` [kg]; or {}.
+    """
     n = len(train)
     p = 2 + int(fit_mass) + n
     rows, ys = [], []
@@ -56,6 +70,9 @@ def linear_start(train: Sequence[TestData], fit_mass: bool, mass_kg: float = 0.0
         rows.append(w[:, None] * X)
         ys.append(w * (d.Fbar - (0.0 if fit_mass else mass_kg * ab)))
     A, y = np.vstack(rows), np.concatenate(ys)
+    norms = np.linalg.norm(A, axis=0)
+    if not np.all(norms > 0) or np.linalg.cond(A / norms) > 1e8:  # e.g. one frequency: k and m not separable
+        return {}
     coef, _, rank, _ = np.linalg.lstsq(A, y, rcond=None)
     k = float(coef[0])
     if rank < p or not np.all(np.isfinite(coef)) or k <= 0.0:
@@ -250,7 +267,8 @@ class Problem:
         problem between the evaluations of a fit that moves only the other effects' parameters (it depends on the
         stiffness-side parameters, a fitted linear spring and the lag alone)."""
         side = tuple((n, tuple(sorted(pp.items()))) for n, pp in eff if n in STIFFNESS_SIDE)
-        key = (d.test, side, float(p.get("sensor_delay.tau", 0.0)),
+        tau = float(p.get("sensor_delay.tau", 0.0)) if any(n == "sensor_delay" for n, _ in eff) else 0.0
+        key = (d.test, side, tau,
                tuple(sorted((k, v) for k, v in p.items() if k.startswith("spring."))))
         mine = self._own.get(d.test) is d
         if mine and key in self._fk:

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import bisect
 import math
+import warnings
 from typing import Any, Sequence
 
 import numpy as np
@@ -124,6 +125,7 @@ def _local_peak(f: np.ndarray, P: np.ndarray, fmin: float) -> tuple[float, float
     if not ks.size:
         return (float("nan"), 0.0)
     r = P[ks] / np.maximum(sliding_median(P, lo, hi), 1e-300)
+    r = np.where(np.isnan(r), 0.0, r)  # a bin or window with NaN power is no peak (the old loop's comparison)
     j = int(np.argmax(r))
     return (float(f[ks[j]]), float(r[j])) if r[j] > 0.0 else (float("nan"), 0.0)
 
@@ -132,10 +134,25 @@ def sliding_median(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.nda
     """Median of ``values[lo[i]:hi[i]]`` for every i, with ``lo`` and ``hi`` non-decreasing (windows that slide
     one way): each value enters and leaves a sorted window once, O(n·w) moves in C instead of one
     ``np.median`` per window.  Same numbers as ``np.median`` (the mean of the two middle values of an even
-    window)."""
+    window); window edges are clipped to the array, and an empty window's median is NaN, as ``np.median``'s.
+
+    Parameters
+    ----------
+    values : 1-D array (any unit)
+    lo, hi : the windows' first index and one past their last, each non-decreasing
+
+    Returns
+    -------
+    numpy.ndarray
+        One median per window, in ``values``' unit.
+    """
     arr = np.asarray(values, float)
-    if not np.isfinite(arr).all():  # a sorted window cannot hold NaN: one median per window
-        return np.array([np.median(arr[i:j]) for i, j in zip(lo, hi)])
+    lo = np.clip(np.asarray(lo, int), 0, arr.size)
+    hi = np.clip(np.asarray(hi, int), 0, arr.size)
+    if not np.isfinite(arr).all() or np.any(hi <= lo):  # NaN or empty windows: one np.median per window (NaN there)
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return np.array([np.median(arr[i:j]) if j > i else np.nan for i, j in zip(lo, hi)])
     vals = arr.tolist()
     window: list[float] = []
     a = b = 0

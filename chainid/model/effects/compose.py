@@ -48,7 +48,17 @@ def modify_model(name: str, p: dict[str, float], model: Any) -> Any:
 
 def changed_model(effects: Sequence[tuple[str, dict[str, float]]], model: Any) -> Any:
     """The stiffness model as the stiffness-side effects of an ordered effect set change it (a chain model only: on
-    a linear spring, slack and compliance are force terms); the other effects leave it as it is."""
+    a linear spring, slack and compliance are force terms); the other effects leave it as it is.
+
+    Parameters
+    ----------
+    effects : (name, parameters) of each effect, in order (parameters in their library units)
+    model : the base stiffness model (F_k(x) [N] of x [mm])
+
+    Returns
+    -------
+    The changed model (``model`` itself when no stiffness-side effect applies).
+    """
     for n, pp in effects:
         if n in STIFFNESS_SIDE and is_chain(model):
             model = modify_model(n, pp, model)

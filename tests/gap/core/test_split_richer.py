@@ -69,6 +69,10 @@ def test_no_split_with_more_parameters_inside_the_tie_or_a_pinned_new_effect(mon
     pinned = TABLE | {("friction", "slack"): (0.030, _sse(0.030, 0.07), ("slack.p",), 5)}
     out, _ = _select(monkeypatch, pinned)
     assert [c.names for c in out["path"]] == [[], ["stribeck"]]
+    # better by far more than TIE, but with more parameters than Stribeck (9 against 5): not "no more parameters"
+    richer = TABLE | {("friction", "slack"): (0.030, _sse(0.030, 0.07), (), 9)}
+    out, calls = _select(monkeypatch, richer)
+    assert [c.names for c in out["path"]] == [[], ["stribeck"]] and ("friction", "slack") in calls
 
 
 def test_split_prefers_fewer_parameters_among_near_tied_next_effects(monkeypatch):
@@ -120,3 +124,18 @@ def test_look_ahead_explores_the_best_runner_up_that_does_not_nest_the_choice(mo
     assert 0.080 < (1 - selection.TIE) * 0.090 and 0.070 < (1 - selection.TIE) * 0.080
     assert out["swapped"] == ["friction -> bouc_wen"]
     assert [c.names for c in out["path"]] == [[], ["bouc_wen"], ["bouc_wen", "slack"]]
+
+
+def test_look_ahead_explores_a_nested_runner_up_when_no_split_could_follow(monkeypatch):
+    """With at most 2 effects a step-1 choice of hysteresis leaves no room for a later split's extra effect: the
+    nested runner-up Bouc–Wen is explored as any runner-up, and its extension by slack (0.070) is taken."""
+    table = {("hysteresis",): (0.100, _sse(0.100, 0.05), (), 3),
+             ("bouc_wen",): (0.101, _sse(0.101, 0.05), (), 5),
+             ("slack",): (0.300, _sse(0.300, 0.03), (), 2),
+             ("hysteresis", "slack"): (0.090, _sse(0.090, 0.06), (), 4),
+             ("bouc_wen", "hysteresis"): (0.099, _sse(0.099, 0.04), (), 7),
+             ("bouc_wen", "slack"): (0.070, _sse(0.070, 0.05), (), 6)}
+    sel, base, calls = table_world(monkeypatch, table, bic=_bic)
+    out = sel.forward_select(None, ["hysteresis", "bouc_wen", "slack"], base, 1.0, max_effects=2)
+    assert [c.names for c in out["path"]] == [[], ["bouc_wen"], ["bouc_wen", "slack"]]
+    assert out["swapped"] == []

@@ -399,3 +399,20 @@ def test_sliding_median_equals_one_median_per_window():
             best = (float(f[k]), float(P[k] / np.median(P[m])))
     assert _local_peak(f, P, 30.0) == best
     assert best[0] == f[1234]
+
+
+def test_sliding_median_clips_windows_and_gives_nan_for_an_empty_one_as_numpy_does():
+    """Windows past the array's end are clipped (``np.median`` of the slice); an empty window is NaN; a NaN power
+    bin makes no peak of the bins whose octave holds it (their median is NaN, as in the loop of one median per bin),
+    and a line whose octave is clean is still found."""
+    from chainid.gap.timedomain.where import _local_peak, sliding_median
+
+    v = np.arange(10.0)
+    out = sliding_median(v, np.array([0, 5, 8, 10]), np.array([4, 12, 12, 10]))
+    np.testing.assert_array_equal(out[:3], [np.median(v[0:4]), np.median(v[5:]), np.median(v[8:])])
+    assert math.isnan(out[3])
+    f = np.arange(1.0, 201.0)
+    P = np.ones_like(f)
+    P[99] = 30.0  # a line at 100 Hz
+    P[9] = np.nan  # 10 Hz: in the octaves of 5–20 Hz only
+    assert _local_peak(f, P, 5.0) == (100.0, 30.0)
