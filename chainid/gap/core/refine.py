@@ -16,7 +16,8 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 from chainid.gap.core.candidate import Candidate, Problem
-from chainid.gap.core.steprule import FAMILIES, TIE, fit_score, passes, step_test, term_prefix, tie_key
+from chainid.gap.core.steprule import (FAMILIES, TIE, fit_score, near_tie_first, passes, split_acceptable, step_test,
+                                      term_prefix, tie_key)
 
 
 def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float,
@@ -189,15 +190,11 @@ def split_richer(prob: Problem, path: list[Candidate], cache: dict[tuple[str, ..
             names = [a if k == n else k for k in full.names] + [x]
             c = fit_score(prob, names, start, base_hold)
             cache.setdefault(tuple(sorted(names)), c)
-            if c.n_params > full.n_params or any(k.startswith((term_prefix(a), term_prefix(x))) for k in c.at_bound):
-                continue
-            if c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
-                    c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and tie_key(c) < tie_key(full)):
+            if split_acceptable(c, full, (a, x)):
                 tried.append((c, n, a, x))
     if not tried:
         return None
-    best = min(t[0].nrmse_loto for t in tried)  # near-ties to the best go by the near-tie order, as in a step
-    for c, n, a, x in sorted(tried, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0]))):
+    for c, n, a, x in near_tie_first(tried):  # near-ties to the best go by the near-tie order, as in a step
         new = rebuild(prob, path[0], c, base_hold)
         if backward(prob, new, base_hold):
             continue

@@ -30,7 +30,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.refine import SIMPLER
-from chainid.gap.core.steprule import FAMILIES, TIE, passes, pick, step_test, term_prefix, tie_key
+from chainid.gap.core.steprule import (FAMILIES, TIE, near_tie_first, passes, pick, split_acceptable, step_test,
+                                      term_prefix)
 from chainid.infra.forkpool import can_fork, fork_map
 
 __all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "order_replay", "widen",
@@ -143,15 +144,11 @@ def split_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any], 
                 continue
             sc = score(c)
             x = extra.pop()
-            if sc.n_params > cur.n_params or any(k.startswith((term_prefix(a), term_prefix(x))) for k in sc.at_bound):
-                continue
-            if sc.nrmse_loto < (1 - TIE) * cur.nrmse_loto or (
-                    sc.nrmse_loto <= (1 + TIE) * cur.nrmse_loto and tie_key(sc) < tie_key(cur)):
+            if split_acceptable(sc, cur, (a, x)):
                 alts.append((sc, n, a, x))
     if not alts:
         return chain
-    best = min(t[0].nrmse_loto for t in alts)
-    _, n, a, x = min(alts, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0])))
+    _, n, a, x = near_tie_first(alts)[0]
     return [a if k == n else k for k in chain] + [x]
 
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import copy
 import math
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -153,3 +153,21 @@ def tie_key(c: Candidate) -> tuple[int, int, float]:
 def fit_score(prob: Problem, names: list[str], start: dict[str, float], base_hold: float) -> Candidate:
     """Fit ``names`` (warm-started from ``start``) and score it."""
     return prob.score(prob.fit(names, start=start), names, base_hold)
+
+
+def split_acceptable(c: Any, full: Any, new: Sequence[str]) -> bool:
+    """Whether a split ``c`` (a richer effect of ``full`` replaced by its simpler member plus a next effect; ``new``
+    the two effects it brings) may replace ``full``: no more parameters, none of the new effects' parameters at a
+    bound, and a LOTO lower by more than ``TIE`` or within it and first in the near-tie order (:func:`tie_key`).
+    Both need ``nrmse_loto``, ``n_params``, ``at_bound`` and ``bic``."""
+    if c.n_params > full.n_params or any(k.startswith(tuple(term_prefix(n) for n in new)) for k in c.at_bound):
+        return False
+    return c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
+        c.nrmse_loto <= (1 + TIE) * full.nrmse_loto and tie_key(c) < tie_key(full))
+
+
+def near_tie_first(cands: Sequence[Any]) -> list[Any]:
+    """``cands`` (each ``(candidate, …)``) with those within ``TIE`` of the best LOTO first, in the near-tie order,
+    then the others, in the same order."""
+    best = min(t[0].nrmse_loto for t in cands)
+    return sorted(cands, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0])))
