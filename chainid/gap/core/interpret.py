@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from typing import Any, Sequence
 
+from chainid.gap.core.steprule import SIMPLER
+
 #: The physical family of each library effect (JSON field ``mechanism``).
 MECHANISM = {"friction": "friction", "hysteresis": "hysteresis", "backlash": "play",
              "slack": "displacement offset", "machine_compliance": "stiffness", "contact_law": "stiffness",
@@ -44,7 +46,7 @@ def separating_test(a: str, b: str) -> str:
         diff = set(a.split("+")) ^ set(b.split("+"))
         rich = next((n for n in sorted(diff) if n in RICHER_SHAPE), None)
         if rich is not None:
-            rest = sorted(diff - {rich} - {"friction" if rich == "stribeck" else "hysteresis"})
+            rest = sorted(diff - {rich, SIMPLER[rich]})
             return RICHER_SHAPE[rich] + (f"; then {separating_test(rich, rest[0])} for {rest[0]}" if rest else "")
     s = {a, b}
     if s == {"friction", "hysteresis"}:

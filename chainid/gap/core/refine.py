@@ -16,8 +16,8 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 from chainid.gap.core.candidate import Candidate, Problem
-from chainid.gap.core.steprule import (FAMILIES, TIE, fit_score, near_tie_first, passes, split_acceptable, step_test,
-                                      term_prefix, tie_key)
+from chainid.gap.core.steprule import (FAMILIES, SIMPLER, TIE, fit_score, near_tie_first, passes, split_acceptable,
+                                      step_test, swap_acceptable, term_prefix, tie_key)
 
 
 def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float,
@@ -39,14 +39,7 @@ def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: 
                 c = fit_score(prob, names, start, base_hold)
                 if cache is not None:
                     cache.setdefault(tuple(sorted(names)), c)
-                # rule 4 holds for a swap too: a member whose parameters sit at a bound of their physical range
-                # does not fit (Dahl hysteresis with x_h at its floor is Coulomb friction under another name)
-                if any(k.startswith(m + ".") for k in c.at_bound):
-                    continue
-                better = c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
-                    c.nrmse_loto <= (1 + TIE) * full.nrmse_loto
-                    and (len(c.at_bound), c.n_params) < (len(full.at_bound), full.n_params))
-                if better:
+                if swap_acceptable(c, full, m):
                     swaps.append(f"{n} -> {m}")
                     full, improved = c, True
                     break
@@ -139,9 +132,6 @@ def take_tie_break(prob: Problem, base: Candidate, path: list[Candidate], alts: 
         rep["pair"], rep["loto"] = rep["pair"][::-1], rep["loto"][::-1]
 
 
-#: the simpler member a richer effect reduces to (Stribeck friction without its static peak and asymmetry is
-#: Coulomb friction; Bouc–Wen with n = 1 is Dahl hysteresis)
-SIMPLER = {"stribeck": "friction", "bouc_wen": "hysteresis"}
 #: next effects tried with the simpler member: the best of the last round's candidates by LOTO
 N_SPLIT = 3
 
@@ -153,9 +143,9 @@ def split_richer(prob: Problem, path: list[Candidate], cache: dict[tuple[str, ..
 
     A richer effect's extra parameters can stand in for a second cause (a Stribeck peak and asymmetry for a slack
     at the stroke's end), and then the second cause no longer passes the step rule on top of it.  For each richer
-    effect n of the chain (:data:`SIMPLER`) and each of the ``N_SPLIT`` best next effects x of the last round (by
-    LOTO, from ``cache``; x neither in the chain nor n's simpler member), the chain with n → SIMPLER[n] plus x is
-    fitted.  It replaces the chain when it has no more parameters, is identified (no parameter of the new effects at
+    effect n of the chain (:data:`~chainid.gap.core.steprule.SIMPLER`) and each of the ``N_SPLIT`` best next
+    effects x of the last round (by LOTO, from ``cache``; x neither in the chain nor n's simpler member), the chain
+    with n → SIMPLER[n] plus x is fitted.  It replaces the chain when it has no more parameters, is identified (no parameter of the new effects at
     a bound), its LOTO is lower by more than ``TIE`` or within ``TIE`` and first in the near-tie order
     (:func:`~chainid.gap.core.steprule.tie_key`), and every effect of it survives the backward pass.
 

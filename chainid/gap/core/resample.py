@@ -29,9 +29,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.core.refine import SIMPLER
-from chainid.gap.core.steprule import (FAMILIES, TIE, near_tie_first, passes, pick, split_acceptable, step_test,
-                                      term_prefix)
+from chainid.gap.core.steprule import (FAMILIES, SIMPLER, near_tie_first, passes, pick, split_acceptable, step_test,
+                                      swap_acceptable, term_prefix)
 from chainid.infra.forkpool import can_fork, fork_map
 
 __all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "order_replay", "widen",
@@ -112,10 +111,7 @@ def exchange_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any
                 if m == n or m in chain or key not in cache:
                     continue
                 sc = score(cache[key])
-                if any(k.startswith(term_prefix(m)) for k in sc.at_bound):
-                    continue
-                if sc.nrmse_loto < (1 - TIE) * cur.nrmse_loto or (sc.nrmse_loto <= (1 + TIE) * cur.nrmse_loto and (
-                        len(sc.at_bound), sc.n_params) < (len(cur.at_bound), cur.n_params)):
+                if swap_acceptable(sc, cur, m):
                     chain[i], cur, improved = m, sc, True
                     break
         if not improved:

@@ -15,8 +15,8 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 from chainid.gap.core.candidate import Candidate, Problem
-from chainid.gap.core.refine import SIMPLER, second_look
-from chainid.gap.core.steprule import (ALIASES, FAMILIES, MIN_GAIN, NONE_FRACTION, TIE, Z, at_noise_floor,
+from chainid.gap.core.refine import second_look
+from chainid.gap.core.steprule import (ALIASES, FAMILIES, MIN_GAIN, NONE_FRACTION, SIMPLER, TIE, Z, at_noise_floor,
                                       fit_cached, fit_score, loto_jackknife, passes, pick, pinned_params, step_test,
                                       term_prefix, train_floor)
 from chainid.infra.forkpool import fork_map
@@ -147,7 +147,7 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
     hysteresis with a short travel), so the best single step can block the best pair.  When a runner-up is
     within ``LOOKAHEAD`` of the choice, both are extended by every remaining effect; the runner-up is taken
     when its best extension beats the choice's best extension by more than ``TIE``.  A runner-up that nests the
-    choice or is nested in it (:data:`~chainid.gap.core.refine.SIMPLER`: Stribeck and Coulomb friction, Bouc–Wen
+    choice or is nested in it (:data:`~chainid.gap.core.steprule.SIMPLER`: Stribeck and Coulomb friction, Bouc–Wen
     and Dahl hysteresis) is not explored: its extensions are the choice's with a parameter more or less, which the
     final chain's exchange (the richer one, when it fits better) and split (the simpler one plus a second cause)
     decide; the best other runner-up within ``LOOKAHEAD`` is.  ``fetch(jobs)``, when given, fits all those

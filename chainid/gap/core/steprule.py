@@ -143,6 +143,9 @@ def fit_cached(cache: dict[tuple[str, ...], Candidate], fit: Any, names: list[st
 #: effects that can stand in for each other (same physical family): the exchange pass swaps within these
 FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
             ("friction", "hysteresis", "stribeck", "bouc_wen"))
+#: the simpler member a richer effect reduces to (Stribeck friction without its static peak and asymmetry is
+#: Coulomb friction; Bouc–Wen with n = 1 is Dahl hysteresis)
+SIMPLER = {"stribeck": "friction", "bouc_wen": "hysteresis"}
 
 
 def tie_key(c: Candidate) -> tuple[int, int, float]:
@@ -171,3 +174,16 @@ def near_tie_first(cands: Sequence[Any]) -> list[Any]:
     then the others, in the same order."""
     best = min(t[0].nrmse_loto for t in cands)
     return sorted(cands, key=lambda t: (t[0].nrmse_loto > (1 + TIE) * best, tie_key(t[0])))
+
+
+def swap_acceptable(c: Any, full: Any, new: str) -> bool:
+    """Whether ``c`` (``full`` with one effect swapped for ``new``, a member of its family) may replace ``full``:
+    none of ``new``'s parameters at a bound of its physical range (rule 4 holds for a swap too: Dahl hysteresis with
+    x_h at its floor is Coulomb friction under another name), and a LOTO lower by more than ``TIE``, or within it
+    with fewer parameters pinned at a bound or fewer parameters.  Both need ``nrmse_loto``, ``n_params`` and
+    ``at_bound``."""
+    if any(k.startswith(term_prefix(new)) for k in c.at_bound):
+        return False
+    return c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
+        c.nrmse_loto <= (1 + TIE) * full.nrmse_loto
+        and (len(c.at_bound), c.n_params) < (len(full.at_bound), full.n_params))

@@ -235,17 +235,23 @@ class Problem:
         """Bin means of the undamped force [N] and of the velocity the damping acts on [mm/s], remembered per test
         of this problem, effect set and parameters (a resample's refits all start from the same parameters; a score
         evaluates those a fit ended at; at most ``PARTS_MEMO`` entries of 2 × n_bins numbers)."""
-        mine = self._own.get(d.test) is d
         key = (tuple(names), tuple(sorted(p.items())), d.test)
-        if mine and key in self._memo:
-            return self._memo[key]
-        out = self._compute_parts(names, p, d)
-        for a in out:
-            a.setflags(write=False)  # shared by every caller of the same key
+        return self._remembered(self._memo, key, d, lambda: self._compute_parts(names, p, d))
+
+    def _remembered(self, store: dict[tuple, Any], key: tuple, d: TestData, make: Any) -> Any:
+        """``store[key]`` for a test of this problem, made by ``make()`` on a miss (its arrays read-only: shared by
+        every caller of the key); at most ``PARTS_MEMO`` entries, the store emptied when full.  A test from outside
+        the problem (a transfer's) is made every time, never stored."""
+        mine = self._own.get(d.test) is d
+        if mine and key in store:
+            return store[key]
+        out = make()
+        for a in out if isinstance(out, tuple) else (out,):
+            a.setflags(write=False)
         if mine:
-            if len(self._memo) >= PARTS_MEMO:
-                self._memo.clear()
-            self._memo[key] = out
+            if len(store) >= PARTS_MEMO:
+                store.clear()
+            store[key] = out
         return out
 
     def _compute_parts(self, names: Sequence[str], p: dict[str, float], d: TestData
@@ -254,32 +260,23 @@ class Problem:
         eff = [(n, {k.split(".", 1)[1]: val for k, val in p.items() if k.startswith(n + ".")}) for n in names]
         g = d.grid
         t, x, xd, xdd = g["t"], g["x"], g["xd"], g["xdd"]
+        tau = float(p.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
         if "sensor_delay" in names:  # the force channel lags the whole force: evaluate everything at t − τ
-            tau = float(p.get("sensor_delay.tau", 0.0))
             x, xd, xdd = d.xfun(t - tau)
-        Fn = undamped_force(eff, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun, Fk=self._spring(d, eff, p, model, x))
+        Fk = self._spring(d, eff, p, model, x, tau)
+        Fn = undamped_force(eff, model, t, x, xd, xdd, d.omega, d.A, d.x0, d.xfun, Fk=Fk)
         v = xd
         return d.gridmean(Fn), d.gridmean(v)
 
     def _spring(self, d: TestData, eff: list[tuple[str, dict[str, float]]], p: dict[str, float], model: Any,
-                x: np.ndarray) -> np.ndarray:
-        """The spring force [N] at x of the model as the stiffness-side effects change it, kept per test of this
-        problem between the evaluations of a fit that moves only the other effects' parameters (it depends on the
-        stiffness-side parameters, a fitted linear spring and the lag alone)."""
+                x: np.ndarray, tau: float) -> np.ndarray:
+        """The spring force [N] at x (lagged by ``tau`` [s]) of the model as the stiffness-side effects change it,
+        kept per test of this problem between the evaluations of a fit that moves only the other effects'
+        parameters (it depends on the stiffness-side parameters, a fitted linear spring and the lag alone)."""
         side = tuple((n, tuple(sorted(pp.items()))) for n, pp in eff if n in STIFFNESS_SIDE)
-        tau = float(p.get("sensor_delay.tau", 0.0)) if any(n == "sensor_delay" for n, _ in eff) else 0.0
         key = (d.test, side, tau,
                tuple(sorted((k, v) for k, v in p.items() if k.startswith("spring."))))
-        mine = self._own.get(d.test) is d
-        if mine and key in self._fk:
-            return self._fk[key]
-        Fk = np.asarray(changed_model(eff, model).force(x), float)
-        Fk.setflags(write=False)
-        if mine:
-            if len(self._fk) >= PARTS_MEMO:
-                self._fk.clear()
-            self._fk[key] = Fk
-        return Fk
+        return self._remembered(self._fk, key, d, lambda: np.asarray(changed_model(eff, model).force(x), float))
 
     def evaluate(self, names: Sequence[str], p: dict[str, float], law: str | None = None) -> dict[str, Any]:
         """Errors of an effect set with parameters ``p`` and damping law ``law`` (default: the baseline's)."""

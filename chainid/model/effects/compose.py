@@ -10,6 +10,7 @@ Units: t s, x mm, ẋ mm/s, ẍ mm/s², ω rad/s, A mm, x0 mm, F N.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import replace
 from typing import Any, Callable, Sequence
 
@@ -65,15 +66,11 @@ def changed_model(effects: Sequence[tuple[str, dict[str, float]]], model: Any) -
     return model
 
 
-_NAMED: dict[str, Any] = {}
-
-
+@functools.cache
 def _named(name: str) -> Any:
     """The library effect ``name`` at the default scales (its kind and fixed references: what composing needs),
     made once."""
-    if name not in _NAMED:
-        _NAMED[name] = make_effect(name)
-    return _NAMED[name]
+    return make_effect(name)
 
 
 def undamped_force(effects: Sequence[tuple[str, dict[str, float]]], model: Any, t: np.ndarray, x: np.ndarray,

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from chainid.gap.core import refine, selection
+from chainid.gap.core import refine, selection, steprule
 from selection_tables import table_world
 
 
@@ -95,10 +95,10 @@ def test_split_prefers_fewer_parameters_among_near_tied_next_effects(monkeypatch
 
 def test_simpler_members_are_the_nested_special_cases():
     """Stribeck friction reduces to Coulomb friction and Bouc–Wen to Dahl hysteresis; nothing else is split."""
-    assert refine.SIMPLER == {"stribeck": "friction", "bouc_wen": "hysteresis"}
+    assert steprule.SIMPLER == {"stribeck": "friction", "bouc_wen": "hysteresis"}
     assert refine.N_SPLIT == 3
     with pytest.raises(KeyError):
-        refine.SIMPLER["friction"]
+        steprule.SIMPLER["friction"]
 
 
 def test_look_ahead_explores_the_best_runner_up_that_does_not_nest_the_choice(monkeypatch):
