@@ -9,11 +9,12 @@ by the error it predicts, and the error it predicts is reported (it enters the n
 
 1. *Periodic record* (the record is a whole number of periods of its excitation: the circular extension is as
    smooth across the wrap as inside, :func:`is_periodic`): spectral derivatives, ẋ = IFFT(i2πf·X(f)) with the
-   spectrum cut above ``CUT_FACTOR``·f_band.  Exact for a band-limited periodic signal: no bias; the noise of x
-   inside the kept band passes with gain 2πf.
+   spectrum cut above ``CUT_FACTOR``·f_band; ẍ cut lower where its own predicted error is less there
+   (:func:`spectral_best`).  Exact for a band-limited periodic signal below the cut: the bias is the signal above
+   it; the noise of x inside the kept band passes with gain (2πf)^k.
 2. *Any other record*: zero-phase 4th-order Butterworth low-passes (run forward and backward, gain |H(f)|²) at
    f_cut = c·f_band for every c of :data:`CUT_CHOICES` from the one whose predicted error on the record's own
-   spectrum is least (:func:`error_budget`), then five-point differences (gain D(f) = fs·(8·sin θ − sin 2θ)/6,
+   spectrum is least (:func:`error_budget`; per derivative, :func:`adaptive`), then five-point differences (gain D(f) = fs·(8·sin θ − sin 2θ)/6,
    θ = 2πf/fs: a relative error of θ⁴/30 against the central difference's θ²/6).  Each estimate's noise is the
    white noise σ_x of x (:func:`displacement_noise`) through the filter and the difference,
    σ_c² = σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df.  Every sample takes the most smoothed estimate that agrees with
@@ -41,10 +42,10 @@ import numpy as np
 
 from chainid.gap.core.noise import force_noise, sample_rate
 
-__all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
+__all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral", "spectral_best", "signal_power",
            "filtered", "error_budget", "adaptive", "displacement_noise", "derivative"]
 
-#: the spectral derivative keeps this many times the band edge
+#: the spectral x and ẋ keep this many times the band edge
 CUT_FACTOR = 4.0
 #: cut-off factors (× band edge) the filter estimator chooses among
 CUT_CHOICES = (1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0)
@@ -137,6 +138,47 @@ def _periodogram(x: np.ndarray, fs: float, window: bool) -> tuple[np.ndarray, np
     f = np.fft.rfftfreq(n, 1.0 / fs)
     floor = float(np.median(P[P.size // 2:])) if P.size >= 8 else 0.0
     return f, P, floor
+
+
+#: bins of the running mean that finds a continuous spectrum below the single-bin detection level
+SMOOTH_BINS = 32
+
+
+def signal_power(P: np.ndarray, floor: float, windowed: bool = False, continuous: bool = True) -> np.ndarray:
+    """The signal's power per bin [mm²] in a periodogram ``P`` whose white-noise bins have median ``floor``.
+
+    Two detections, the larger taken per bin:
+
+    * *lines*: a bin above the largest a white-noise periodogram reaches (exponential with mean floor/ln 2: P above
+      floor/ln2·ln(20·N) happens by chance with probability 1/20 over the N bins), counted as P − floor/ln 2;
+    * *a continuous spectrum* (filtered noise, a response's roll-off): the running mean over
+      :data:`SMOOTH_BINS` = K bins, under noise alone a Gamma variable of mean floor/ln 2 and shape K (K/2 for a
+      Hann-``windowed`` periodogram, whose neighbouring bins are correlated), above its 1 − 0.05/(N/K) quantile,
+      counted as the mean less floor/ln 2.  Only the first run of such bins counts: a roll-off continues the
+      excitation's own spectrum, a detection apart from it is the noise's.
+
+    The second (``continuous``) finds the roll-off of a band-limited random excitation, which no single bin shows
+    but whose sum above a cut is the bias of a derivative cut there (weighed by (2πf)^2k, it decides ẍ's cut on a
+    periodic record).
+    """
+    from scipy.stats import gamma
+
+    P = np.asarray(P, float)
+    mean_noise = floor / math.log(2.0)
+    lines = np.where(P > mean_noise * math.log(20.0 * max(P.size, 1)), P - mean_noise, 0.0)
+    if not continuous or P.size < 4 * SMOOTH_BINS or mean_noise <= 0.0:
+        return lines
+    shape = SMOOTH_BINS / 2.0 if windowed else float(SMOOTH_BINS)
+    level = float(gamma.ppf(1.0 - 0.05 * SMOOTH_BINS / P.size, shape)) / shape
+    smooth = np.convolve(P, np.ones(SMOOTH_BINS) / SMOOTH_BINS, mode="same")
+    found = np.flatnonzero(smooth > mean_noise * level)
+    cont = np.zeros_like(P)
+    if found.size:
+        gaps = np.flatnonzero(np.diff(found) > 1)
+        end = found[gaps[0]] if gaps.size else found[-1]
+        run = slice(found[0], end + 1)
+        cont[run] = smooth[run] - mean_noise
+    return np.maximum(lines, cont)
 
 
 def spectral(x: np.ndarray, fs: float, f_cut: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -296,43 +338,75 @@ def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
     sigma_x = displacement_noise(x, fs, f_band)
     periodic = is_periodic(x, sigma_x)
     f, P, floor = _periodogram(x, fs, window=not periodic)
-    # the signal: lines above the largest a white-noise periodogram reaches (exponential, median = floor, over its
-    # bins: P > floor/ln2·ln(20·N) happens by chance with probability 1/20)
-    S = np.where(P > floor / math.log(2.0) * math.log(20.0 * P.size), P - floor, 0.0)
     if periodic:
-        fc = min(CUT_FACTOR * f_band, 0.5 * fs)
-        xs, xd, xdd = spectral(x, fs, fc)
-        ev, nv = error_budget(f, S, fs, fc, sigma_x, 1, spectral_cut=True)
-        ea, na = error_budget(f, S, fs, fc, sigma_x, 2, spectral_cut=True)
-        xd = _rest_zero(xd, xdd, nv, na, max(3, int(math.ceil(0.5 * fs / fc))))
-        ex, _ = error_budget(f, S, fs, fc, sigma_x, 0, spectral_cut=True)
-        return Kinematics(xs, xd, xdd, "spectral", fc, sigma_x, ev, ea, nv, ex)
-    return adaptive(t, x, f_band, sigma_x, f, S)
+        return spectral_best(x, fs, f_band, sigma_x, f, signal_power(P, floor, continuous=False),
+                             signal_power(P, floor))
+    return adaptive(t, x, f_band, sigma_x, f, signal_power(P, floor, windowed=True, continuous=False))
+
+
+def _cuts(f_band: float, top: float) -> list[float]:
+    """The cut-offs [Hz] the estimators choose among: :data:`CUT_CHOICES` × the band edge below ``top`` [Hz]."""
+    return [c * f_band for c in CUT_CHOICES if c * f_band < top] or [top]
+
+
+def _best_cut(f: np.ndarray, S: np.ndarray, fs: float, cuts: list[float], sigma_x: float, order: int,
+              spectral_cut: bool) -> int:
+    """Index of the cut whose predicted error of the ``order``-th derivative is least (:func:`error_budget`)."""
+    return int(np.argmin([error_budget(f, S, fs, fc, sigma_x, order, spectral_cut)[0] for fc in cuts]))
+
+
+def spectral_best(x: np.ndarray, fs: float, f_band: float, sigma_x: float, f: np.ndarray, S: np.ndarray,
+                  S_roll: np.ndarray | None = None) -> Kinematics:
+    """Spectral kinematics of a periodic record: x and ẋ cut at ``CUT_FACTOR``·f_band, ẍ where its own predicted
+    error is least.
+
+    ẍ weighs the noise of x by (2πf)⁴, so its best cut lies lower: the c·f_band of :data:`CUT_CHOICES` up to
+    ``CUT_FACTOR`` whose :func:`error_budget` for ẍ (the signal above the cut, as bias, plus the noise of the kept
+    band) is least, on the spectrum's lines and continuous roll-off ``S_roll`` (:func:`signal_power`; default
+    ``S``).  x's and ẋ's predicted errors are taken on the lines ``S``.  On a force-driven resonant device the
+    inertia force m·ẍ of a cut at the band edge carries a noise many times smaller than at 4× the band.
+    """
+    S_roll = S if S_roll is None else S_roll
+    fc = min(CUT_FACTOR * f_band, 0.5 * fs)
+    cuts = [c for c in _cuts(f_band, 0.5 * fs + 1e-9) if c <= fc] or [fc]
+    fa = cuts[_best_cut(f, S_roll, fs, cuts, sigma_x, 2, True)]
+    xs, xd, _ = spectral(x, fs, fc)
+    xdd = spectral(x, fs, fa)[2]
+    ex, _ = error_budget(f, S, fs, fc, sigma_x, 0, spectral_cut=True)
+    ev, nv = error_budget(f, S, fs, fc, sigma_x, 1, spectral_cut=True)
+    ea, na = error_budget(f, S_roll, fs, fa, sigma_x, 2, spectral_cut=True)
+    xd = _rest_zero(xd, xdd, nv, na, max(3, int(math.ceil(0.5 * fs / fc))))
+    return Kinematics(xs, xd, xdd, "spectral", fc, sigma_x, ev, ea, nv, ex)
 
 
 def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.ndarray, S: np.ndarray
              ) -> Kinematics:
     """The filter estimator with a cut-off chosen per sample by the intersection of confidence intervals (ICI).
 
-    The record is filtered at every cut of :data:`CUT_CHOICES` from the one whose predicted error on the record's
-    own spectrum is least (:func:`error_budget`) up to 0.45·fs; each estimate of ẋ has a known noise sd σ_k (the
-    white noise σ_x of x through that filter and the difference).  At every sample, going from the least smoothed
-    estimate to the most smoothed, the intervals ẋ_k ± ``ICI_GAMMA``·σ_k are intersected; the sample takes the most
-    smoothed estimate whose interval still meets all the less smoothed ones' (a smoother estimate that disagrees is
-    biased there: an onset, a reversal, an edge).  x and ẍ are chosen the same way on their own intervals.  The error reported per sample is σ_k·√(1 + Γ²/3) (the noise, and a
-    bias that ICI keeps within ±Γσ_k, taken uniform), its RMS ``err_v``; ``f_cut`` is the cut most samples take.
+    The record is filtered at every cut of :data:`CUT_CHOICES` up to 0.45·fs.  x and ẋ start from the cut whose
+    predicted error of ẋ on the record's own spectrum ``S`` (its lines, :func:`signal_power`) is least
+    (:func:`error_budget`); ẍ, whose noise is the most amplified, from ẍ's own best cut where that is smoother.  Each estimate of ẋ has a known noise sd σ_k (the white noise σ_x of x through that filter and
+    the difference).  At every sample, going from the least smoothed estimate to the most smoothed, the intervals
+    ẋ_k ± ``ICI_GAMMA``·σ_k are intersected; the sample takes the most smoothed estimate whose interval still meets
+    all the less smoothed ones' (a smoother estimate that disagrees is biased there: an onset, a reversal, an
+    edge).  x and ẍ are chosen the same way on their own intervals.  The error reported per sample is
+    σ_k·√(1 + Γ²/3) (the noise, and a bias that ICI keeps within ±Γσ_k, taken uniform), its RMS ``err_v``;
+    ``f_cut`` is the cut most samples take.
     """
     fs = sample_rate(t)
-    cuts = [c * f_band for c in CUT_CHOICES if c * f_band < 0.45 * fs] or [0.45 * fs]
-    budget = [error_budget(f, S, fs, fc, sigma_x, 1)[0] for fc in cuts]
-    cuts = cuts[int(np.argmin(budget)):]  # never smoother than the record's best fixed cut
+    cuts = _cuts(f_band, 0.45 * fs)
+    # x and ẋ never smoother than ẋ's best fixed cut; ẍ, whose noise is the most amplified, from its own best when
+    # that is smoother
+    i_v = _best_cut(f, S, fs, cuts, sigma_x, 1, False)
+    first = [i_v, i_v, min(i_v, _best_cut(f, S, fs, cuts, sigma_x, 2, False))]
+    lo = min(first)
+    cuts = cuts[lo:]
     est = [filtered(t, x, fc, f_band) for fc in cuts]
     nx = np.array([error_budget(f, S, fs, fc, sigma_x, 0)[1] for fc in cuts])
     nv = np.array([error_budget(f, S, fs, fc, sigma_x, 1)[1] for fc in cuts])
     na = np.array([error_budget(f, S, fs, fc, sigma_x, 2)[1] for fc in cuts])
-    kx = _ici(np.array([e[0] for e in est]), nx)
-    kv = _ici(np.array([e[1] for e in est]), nv)
-    ka = _ici(np.array([e[2] for e in est]), na)
+    kx, kv, ka = (_ici(np.array([e[j] for e in est])[first[j] - lo:], sd[first[j] - lo:]) + first[j] - lo
+                  for j, sd in enumerate((nx, nv, na)))
     rows = np.arange(x.size)
     xs = np.array([e[0] for e in est])[kx, rows]
     xd = np.array([e[1] for e in est])[kv, rows]

@@ -58,6 +58,23 @@ def _tests(prob: TimeProblem, base_c: Candidate, left: Candidate) -> list[dict[s
     return out
 
 
+def kinematic_none(final: Candidate | None, r2: float, kin_floor: float, f2: float, prob: Any,
+                   ow: dict[str, Any]) -> bool:
+    """Whether a baseline above its force noise is still a ``none``: what it leaves is the kinematic floor.
+
+    A record's displacement noise reaches the model force through the estimated ẋ and ẍ (c·e_v, m·e_a, k·e_x,
+    :meth:`TimeProblem.kinematic_floor`): even the true model leaves it.  Counted only when nothing else can claim
+    the excess: no effect passed the step rule (``final`` None), the held-out residual r2 [N²] is at the kinematic
+    floor by the rule of :func:`chainid.gap.core.steprule.at_noise_floor`, and the model-free learner finds no
+    state variable that predicts what is left and no change in time (``ow``).  A fitted mass or dashpot standing
+    in for a missing effect would raise the kinematic floor, but the missing effect then passes the step rule or
+    leaves a residual the learner predicts.
+    """
+    if final is not None or ow.get("missing_effect") or not (kin_floor > 0.0 and f2 > 0.0):
+        return False
+    return fw.at_noise_floor(r2, kin_floor**2, math.sqrt(f2), prob.n_cells("hold"), prob.floor_rel_sd("hold"))
+
+
 def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, holdout_blocks: int = 0,
                  effects: Sequence[str] | None = None, max_combo: int = 3, excluded: Sequence[dict[str, str]] = (),
                  quiet: bool = False, mass_kg: float | None = None, warn: list[str] | None = None,
@@ -117,6 +134,14 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
                 "chatter": bool(chatter), "where": left_where}
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     best = final if final is not None else (singles[0] if singles else None)
+    stage("model-free check")
+    ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
+                    chatter=chatter)
+    if not consistent and kinematic_none(final, r2, kin_floor, f2, prob, ow):
+        consistent = True
+        warn.append(f"the baseline's held-out residual ({math.sqrt(r2):.3g} N RMS) is at the kinematic floor "
+                    f"({kin_floor:.3g} N: the force noise and the displacement noise through the estimated ẋ, ẍ), "
+                    "no effect passes the step rule and no state variable predicts what is left: read as noise")
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
         warn.append("stick-slip chatter after reversals (" + f"{chatter['frequency_Hz']:.3g} Hz, RMS "
@@ -131,9 +156,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     summary = {"route": "time"} | contract(prob, base_model, base_c, noise, fwd, verdict, interp, residual, where,
                                            list(excluded), confounded, warn, list(holdout),
                                            _tests(prob, base_c, left))
-    stage("model-free check")
-    summary["open_world"] = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True,
-                                       stat=stat, chatter=chatter)
+    summary["open_world"] = ow
     if resamples:
         stage("resampling", f"{resamples} resamples")
         from chainid.gap.timedomain import resampling
