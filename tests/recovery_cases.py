@@ -176,6 +176,20 @@ def resonant_set() -> tuple[list, list, None]:
     return recs, ["r4"], None
 
 
+def resonant_noisy_x_set(sigma_x: float = 5e-3) -> tuple[list, list, None]:
+    """The resonant device of :func:`resonant_set` in steady state (one period of the force run in first, the
+    transient gone by e^-30) with a noisy displacement channel, σ_x [mm] (5 µm: m·ẍ's noise at a band-edge cut is
+    about the force noise), and no preload: each record one whole period of its multisine."""
+    fs, n = 1000.0, 6000
+    t2 = sd.sample_times(2 * n, fs)
+    recs = []
+    for i in range(5):
+        force = sd.force_sines(n / fs, 2.0, 30.0, 5.0, seed=50 + i)
+        x, _, _ = sd.resonant_response(force, t2, RES_M, RES_C, RES_K)
+        recs.append(sd.noisy(f"r{i}", t2[:n], x[n:], force(t2[n:]), sigma_x, 0.05, seed=i))
+    return recs, ["r4"], None
+
+
 #: coil currents [A] of the covariate set and the friction law F_c = F0 + F1·i [N, N/A]
 COV_I = (0.0, 0.25, 0.5, 0.75, 1.0)
 COV_F0, COV_F1 = 1.0, 2.0

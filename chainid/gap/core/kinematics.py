@@ -153,8 +153,9 @@ def signal_power(P: np.ndarray, floor: float, windowed: bool = False, continuous
       floor/ln2·ln(20·N) happens by chance with probability 1/20 over the N bins), counted as P − floor/ln 2;
     * *a continuous spectrum* (filtered noise, a response's roll-off): the running mean over
       :data:`SMOOTH_BINS` = K bins, under noise alone a Gamma variable of mean floor/ln 2 and shape K (K/2 for a
-      Hann-``windowed`` periodogram, whose neighbouring bins are correlated), above its 1 − 0.05/(N/K) quantile,
-      counted as the mean less floor/ln 2.  Only the first run of such bins counts: a roll-off continues the
+      Hann-``windowed`` periodogram, whose neighbouring bins are correlated), above its 1 − 0.05/N quantile
+      (a Bonferroni bound over every window position: at most 1 white-noise record in 20 shows any), counted as
+      the mean less floor/ln 2.  Only the first run of such bins counts: a roll-off continues the
       excitation's own spectrum, a detection apart from it is the noise's.
 
     The second (``continuous``) finds the roll-off of a band-limited random excitation, which no single bin shows
@@ -169,7 +170,7 @@ def signal_power(P: np.ndarray, floor: float, windowed: bool = False, continuous
     if not continuous or P.size < 4 * SMOOTH_BINS or mean_noise <= 0.0:
         return lines
     shape = SMOOTH_BINS / 2.0 if windowed else float(SMOOTH_BINS)
-    level = float(gamma.ppf(1.0 - 0.05 * SMOOTH_BINS / P.size, shape)) / shape
+    level = float(gamma.ppf(1.0 - 0.05 / P.size, shape)) / shape
     smooth = np.convolve(P, np.ones(SMOOTH_BINS) / SMOOTH_BINS, mode="same")
     found = np.flatnonzero(smooth > mean_noise * level)
     cont = np.zeros_like(P)
