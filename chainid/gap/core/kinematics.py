@@ -386,7 +386,10 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
 
     The record is filtered at every cut of :data:`CUT_CHOICES` up to 0.45·fs.  x and ẋ start from the cut whose
     predicted error of ẋ on the record's own spectrum ``S`` (its lines, :func:`signal_power`) is least
-    (:func:`error_budget`); ẍ, whose noise is the most amplified, from ẍ's own best cut where that is smoother.  Each estimate of ẋ has a known noise sd σ_k (the white noise σ_x of x through that filter and
+    (:func:`error_budget`); ẍ from ẍ's own best cut, and inside the record (beyond three periods of that cut from
+    either end) up to ``ACC_SPAN`` times it (the ICI tolerates a bias up to Γ times the noise of the sharper
+    estimates, large for ẍ, so a smoother start would let a pass-band droop through; a rare empty intersection
+    must not hand a sample to an estimate hundreds of times noisier; the ends need the sharp ones).  Each estimate of ẋ has a known noise sd σ_k (the white noise σ_x of x through that filter and
     the difference).  At every sample, going from the least smoothed estimate to the most smoothed, the intervals
     ẋ_k ± ``ICI_GAMMA``·σ_k are intersected; the sample takes the most smoothed estimate whose interval still meets
     all the less smoothed ones' (a smoother estimate that disagrees is biased there: an onset, a reversal, an
@@ -396,10 +399,10 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     """
     fs = sample_rate(t)
     cuts = _cuts(f_band, 0.45 * fs)
-    # x and ẋ never smoother than ẋ's best fixed cut; ẍ, whose noise is the most amplified, from its own best when
-    # that is smoother
+    # x and ẋ never smoother than ẋ's best fixed cut, ẍ than its own: ICI tolerates a bias up to Γ times the noise
+    # of the sharper estimates, which for ẍ is large, so a start below ẍ's best lets the pass-band droop through
     i_v = _best_cut(f, S, fs, cuts, sigma_x, 1, False)
-    first = [i_v, i_v, min(i_v, _best_cut(f, S, fs, cuts, sigma_x, 2, False))]
+    first = [i_v, i_v, _best_cut(f, S, fs, cuts, sigma_x, 2, False)]
     lo = min(first)
     cuts = cuts[lo:]
     est = [filtered(t, x, fc, f_band) for fc in cuts]
@@ -408,6 +411,14 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     na = np.array([error_budget(f, S, fs, fc, sigma_x, 2)[1] for fc in cuts])
     kx, kv, ka = (_ici(np.array([e[j] for e in est])[first[j] - lo:], sd[first[j] - lo:]) + first[j] - lo
                   for j, sd in enumerate((nx, nv, na)))
+    # inside the record ẍ's candidates end at ACC_SPAN times its start: a rare empty intersection would otherwise
+    # hand a sample to an estimate whose noise is hundreds of times the start's, and those few samples rule ẍ's RMS
+    # error; within the start filter's reach of an end (3 periods of its cut) every candidate stays open
+    a0 = first[2] - lo
+    span = 1 + max(i for i, c in enumerate(cuts) if c <= ACC_SPAN * cuts[a0])
+    inner = _ici(np.array([e[2] for e in est])[a0:span], na[a0:span]) + a0
+    reach = int(min(x.size // 2, math.ceil(3.0 * fs / cuts[a0])))
+    ka[reach:x.size - reach] = inner[reach:x.size - reach]
     rows = np.arange(x.size)
     xs = np.array([e[0] for e in est])[kx, rows]
     xd = np.array([e[1] for e in est])[kv, rows]
@@ -425,6 +436,8 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
 
 #: half-width of the ICI confidence intervals, in noise standard deviations
 ICI_GAMMA = 2.5
+#: ẍ's ICI candidates span its best fixed cut to this many times it
+ACC_SPAN = 2.0
 
 
 def _ici(V: np.ndarray, sd: np.ndarray) -> np.ndarray:
