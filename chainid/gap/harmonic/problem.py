@@ -103,6 +103,8 @@ def damping_separable(data: Sequence[TestData]) -> tuple[bool, str]:
 
 #: most remembered (effect set, parameters, test) evaluations of a problem (:meth:`Problem._parts`)
 PARTS_MEMO = 20_000
+#: relative tolerance (of the cost and of the unit-scaled parameters) of a polish refit
+POLISH_TOL = 1e-5
 
 
 class Problem:
@@ -445,10 +447,13 @@ class Problem:
             u0s = [np.clip(ug, 0, 1)] if polish_only else starts(keys, names, ug, fixed, lo_a, hi_a)
             costs = [float(np.sum(fun(u) ** 2)) for u in u0s]
             order = np.argsort(costs)[: (1 if polish_only or start else 2)]
+            # a polish (a resample's or a jack-knife's refit) stops at 1e-5 of the parameter range or of the cost:
+            # far inside the spread it measures
+            tol = {"ftol": POLISH_TOL, "xtol": POLISH_TOL} if polish_only else {}
             best = None
             for i in order:
                 r = least_squares(fun, u0s[i], bounds=(0.0, 1.0), x_scale=1.0, diff_step=1e-3,
-                                  max_nfev=12 if polish_only else 20 + 20 * len(keys))
+                                  max_nfev=12 if polish_only else 20 + 20 * len(keys), **tol)
                 if best is None or r.cost < best.cost:
                     best = r
             p = unpack(best.x)
