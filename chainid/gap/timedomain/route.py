@@ -121,17 +121,8 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     chatter = next((f for f in left_where if f.get("kind") == "chatter"), None)
     if chatter is not None and not any(f.get("kind") == "chatter" for f in where):
         where.insert(0, chatter | {"finding": "after the chain: " + chatter["finding"]})
-    r2l, f2l, dbl = prob.noise_db(lev, "hold")
-    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
-    kin_floor = math.sqrt(sum(prob.kinematic_floor(d, left.params) * hold_n[d.test] for d in prob.tdata)
-                          / max(sum(hold_n.values()), 1))
-    residual = {"db_over_noise": dbl, "nrmse_holdout": left.nrmse_holdout, "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)),
-                "stationary": stat["stationary"], "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"],
-                "finding": stat["finding"], "noise_floor_N": math.sqrt(f2l), "kinematic_floor_N": kin_floor,
-                "db_over_kinematic_floor": 10.0 * math.log10(r2l / kin_floor**2) if r2l > 0 and kin_floor > 0 else None,
-                "at_noise_floor": fw.at_noise_floor(r2l, f2l, math.sqrt(f2l), prob.n_cells("hold"),
-                                                    prob.floor_rel_sd("hold")),
-                "chatter": bool(chatter), "where": left_where}
+    residual = _left_residual(prob, left, stat, chatter, left_where)
+    kin_floor = residual["kinematic_floor_N"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     best = final if final is not None else (singles[0] if singles else None)
     stage("model-free check")
@@ -171,10 +162,33 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
     summary["base"] = {"model": prob.base.kind, "mass_given_kg": mass_kg, "offsets": "per test" if prob.base.offsets
                        else "none", "covariates": list(prob.covariates)}
-    summary["noise"] = {"method": "per record: force sigma = 1.4826*MAD(second difference of F)/sqrt(6); the floor "
-                                  "adds the kinematics' predicted errors through the fitted base (c*e_v, m*e_a, k*e_x); "
-                                  "sigma_hf from the force spectrum above 4x the excitation band (a check)",
-                        "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band,
-                                           "kinematics": d.kin.info() if d.kin is not None else None}
-                                  for d in prob.tdata}}
+    summary["noise"] = _noise_method(prob)
     return summary
+
+
+def _left_residual(prob: TimeProblem, left: Candidate, stat: dict[str, Any], chatter: dict[str, Any] | None,
+                   left_where: list[dict[str, Any]]) -> dict[str, Any]:
+    """What the kept chain ``left`` leaves on the held-out data: its dB over the force noise, its excess [N], the
+    kinematic floor [N] (:meth:`TimeProblem.kinematic_floor`, weighted by held-out samples), the drift check and
+    where it lies."""
+    lev = left._ev  # type: ignore[attr-defined]
+    r2l, f2l, dbl = prob.noise_db(lev, "hold")
+    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
+    kin_floor = math.sqrt(sum(prob.kinematic_floor(d, left.params) * hold_n[d.test] for d in prob.tdata)
+                          / max(sum(hold_n.values()), 1))
+    return {"db_over_noise": dbl, "nrmse_holdout": left.nrmse_holdout, "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)),
+            "stationary": stat["stationary"], "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"],
+            "finding": stat["finding"], "noise_floor_N": math.sqrt(f2l), "kinematic_floor_N": kin_floor,
+            "db_over_kinematic_floor": 10.0 * math.log10(r2l / kin_floor**2) if r2l > 0 and kin_floor > 0 else None,
+            "at_noise_floor": fw.at_noise_floor(r2l, f2l, math.sqrt(f2l), prob.n_cells("hold"),
+                                                prob.floor_rel_sd("hold")),
+            "chatter": bool(chatter), "where": left_where}
+
+
+def _noise_method(prob: TimeProblem) -> dict[str, Any]:
+    """How the noise floor was made, and each record's force noise, its high-band check and its kinematics."""
+    return {"method": "per record: force sigma = 1.4826*MAD(second difference of F)/sqrt(6); the floor adds the "
+                      "kinematics' predicted errors through the fitted base (c*e_v, m*e_a, k*e_x); sigma_hf from the "
+                      "force spectrum above 4x the excitation band (a check)",
+            "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band,
+                               "kinematics": d.kin.info() if d.kin is not None else None} for d in prob.tdata}}
