@@ -153,10 +153,12 @@ def signal_power(P: np.ndarray, floor: float, windowed: bool = False, continuous
       floor/ln2·ln(20·N) happens by chance with probability 1/20 over the N bins), counted as P − floor/ln 2;
     * *a continuous spectrum* (filtered noise, a response's roll-off): the running mean over
       :data:`SMOOTH_BINS` = K bins, under noise alone a Gamma variable of mean floor/ln 2 and shape K (K/2 for a
-      Hann-``windowed`` periodogram, whose neighbouring bins are correlated), above its 1 − 0.05/N quantile
-      (a Bonferroni bound over every window position: at most 1 white-noise record in 20 shows any), counted as
-      the mean less floor/ln 2.  Only the first run of such bins counts: a roll-off continues the
-      excitation's own spectrum, a detection apart from it is the noise's.
+      Hann-``windowed`` periodogram, whose neighbouring bins are correlated), counted as the mean less
+      floor/ln 2 over the first run of bins above its 95 % quantile that holds a bin above its 1 − 0.05/N
+      quantile (two levels, as an edge detector's hysteresis: the seed is a Bonferroni bound over every window
+      position, so at most 1 white-noise record in 20 shows any; the run then follows the roll-off down to where
+      it is no longer told from noise).  A roll-off continues the excitation's own spectrum; a detection apart
+      from it is the noise's.
 
     The second (``continuous``) finds the roll-off of a band-limited random excitation, which no single bin shows
     but whose sum above a cut is the bias of a derivative cut there (weighed by (2πf)^2k, it decides ẍ's cut on a
@@ -170,15 +172,16 @@ def signal_power(P: np.ndarray, floor: float, windowed: bool = False, continuous
     if not continuous or P.size < 4 * SMOOTH_BINS or mean_noise <= 0.0:
         return lines
     shape = SMOOTH_BINS / 2.0 if windowed else float(SMOOTH_BINS)
-    level = float(gamma.ppf(1.0 - 0.05 / P.size, shape)) / shape
+    seed_level = float(gamma.ppf(1.0 - 0.05 / P.size, shape)) / shape
+    run_level = float(gamma.ppf(0.95, shape)) / shape
     smooth = np.convolve(P, np.ones(SMOOTH_BINS) / SMOOTH_BINS, mode="same")
-    found = np.flatnonzero(smooth > mean_noise * level)
     cont = np.zeros_like(P)
-    if found.size:
-        gaps = np.flatnonzero(np.diff(found) > 1)
-        end = found[gaps[0]] if gaps.size else found[-1]
-        run = slice(found[0], end + 1)
-        cont[run] = smooth[run] - mean_noise
+    above = smooth > mean_noise * run_level
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], above.view(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2]):
+        if np.any(smooth[a:b] > mean_noise * seed_level):
+            cont[a:b] = smooth[a:b] - mean_noise
+            break
     return np.maximum(lines, cont)
 
 
