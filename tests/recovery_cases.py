@@ -163,31 +163,31 @@ def fixture_mass_set() -> tuple[list, list, object]:
 RES_M, RES_K, RES_C = 2.0, 20.0, 0.02
 
 
-def resonant_set() -> tuple[list, list, None]:
-    """The resonant device force-driven from rest by a random multisine 2–30 Hz (RMS 5 N), 1 kHz, 5 records of
-    6 000 samples, σ_x = 0.1 µm, σ_F = 0.05 N, a preload per record."""
+def _resonant_records(sigma_x: float, steady: bool, preload: bool) -> list:
+    """Five records of the resonant device force-driven by a random multisine 2–30 Hz (RMS 5 N, seeds 50–54), 1 kHz,
+    6 000 samples each, σ_x [mm] on x and σ_F = 0.05 N on F: from rest, or (``steady``) after one period of the
+    force run in first, the transient gone by e^-30, each record one whole period; with a preload per record."""
     fs, n = 1000.0, 6000
-    t = sd.sample_times(n, fs)
+    run_in = n if steady else 0
+    t = sd.sample_times(n + run_in, fs)
     recs = []
     for i in range(5):
         force = sd.force_sines(n / fs, 2.0, 30.0, 5.0, seed=50 + i)
         x, _, _ = sd.resonant_response(force, t, RES_M, RES_C, RES_K)
-        recs.append(sd.noisy(f"r{i}", t, x, force(t) + _preload(i), 1e-4, 0.05, seed=i))
-    return recs, ["r4"], None
+        F = force(t[run_in:]) + (_preload(i) if preload else 0.0)
+        recs.append(sd.noisy(f"r{i}", t[:n], x[run_in:], F, sigma_x, 0.05, seed=i))
+    return recs
+
+
+def resonant_set() -> tuple[list, list, None]:
+    """The resonant device force-driven from rest, σ_x = 0.1 µm, a preload per record (:func:`_resonant_records`)."""
+    return _resonant_records(1e-4, steady=False, preload=True), ["r4"], None
 
 
 def resonant_noisy_x_set(sigma_x: float = 5e-3) -> tuple[list, list, None]:
-    """The resonant device of :func:`resonant_set` in steady state (one period of the force run in first, the
-    transient gone by e^-30) with a noisy displacement channel, σ_x [mm] (5 µm: m·ẍ's noise at a band-edge cut is
-    about the force noise), and no preload: each record one whole period of its multisine."""
-    fs, n = 1000.0, 6000
-    t2 = sd.sample_times(2 * n, fs)
-    recs = []
-    for i in range(5):
-        force = sd.force_sines(n / fs, 2.0, 30.0, 5.0, seed=50 + i)
-        x, _, _ = sd.resonant_response(force, t2, RES_M, RES_C, RES_K)
-        recs.append(sd.noisy(f"r{i}", t2[:n], x[n:], force(t2[n:]), sigma_x, 0.05, seed=i))
-    return recs, ["r4"], None
+    """The resonant device in steady state with a noisy displacement channel, σ_x [mm] (5 µm: m·ẍ's noise at a
+    band-edge cut is about the force noise), and no preload (:func:`_resonant_records`)."""
+    return _resonant_records(sigma_x, steady=True, preload=False), ["r4"], None
 
 
 #: coil currents [A] of the covariate set and the friction law F_c = F0 + F1·i [N, N/A]

@@ -14,14 +14,14 @@ by the error it predicts, and the error it predicts is reported (it enters the n
    it; the noise of x inside the kept band passes with gain (2πf)^k.
 2. *Any other record*: zero-phase 4th-order Butterworth low-passes (run forward and backward, gain |H(f)|²) at
    f_cut = c·f_band for every c of :data:`CUT_CHOICES` from the one whose predicted error on the record's own
-   spectrum is least (:func:`error_budget`; per derivative, :func:`adaptive`), then five-point differences (gain D(f) = fs·(8·sin θ − sin 2θ)/6,
-   θ = 2πf/fs: a relative error of θ⁴/30 against the central difference's θ²/6).  Each estimate's noise is the
-   white noise σ_x of x (:func:`displacement_noise`) through the filter and the difference,
-   σ_c² = σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df.  Every sample takes the most smoothed estimate that agrees with
-   all the less smoothed ones within ±``ICI_GAMMA`` of their noise (the intersection of confidence intervals,
-   :func:`adaptive`): a smoother estimate where it is unbiased, a sharper one where the motion changes fast (an
-   onset, a reversal, an edge).  The error reported per sample is σ_c·√(1 + Γ²/3) (the noise and a bias the
-   intersection keeps within ±Γσ_c).
+   spectrum is least (:func:`error_budget`; per derivative, :func:`adaptive`), then five-point differences
+   (gain D(f) = fs·(8·sin θ − sin 2θ)/6, θ = 2πf/fs: a relative error of θ⁴/30 against the central difference's
+   θ²/6).  Each estimate's noise is the white noise σ_x of x (:func:`displacement_noise`) through the filter and
+   the difference, σ_c² = σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df.  Every sample takes the most smoothed estimate
+   that agrees with all the less smoothed ones within ±``ICI_GAMMA`` of their noise (the intersection of
+   confidence intervals, :func:`adaptive`): a smoother estimate where it is unbiased, a sharper one where the
+   motion changes fast (an onset, a reversal, an edge).  The error reported per sample is σ_c·√(1 + Γ²/3) (the
+   noise and a bias the intersection keeps within ±Γσ_c).
 3. *Edges*: the filters run on the record extended at each end by its odd reflection about a denoised end value
    (a quadratic fitted over an eighth of the band edge's period), so a noisy first sample does not launch a
    transient.
@@ -42,8 +42,8 @@ import numpy as np
 
 from chainid.gap.core.noise import force_noise, sample_rate
 
-__all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral", "spectral_best", "signal_power",
-           "filtered", "error_budget", "adaptive", "displacement_noise", "derivative"]
+__all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
+           "spectral_best", "signal_power", "filtered", "error_budget", "adaptive", "displacement_noise", "derivative"]
 
 #: the spectral x and ẋ keep this many times the band edge
 CUT_FACTOR = 4.0
@@ -392,13 +392,13 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     (:func:`error_budget`); ẍ from ẍ's own best cut, and inside the record (beyond three periods of that cut from
     either end) up to ``ACC_SPAN`` times it (the ICI tolerates a bias up to Γ times the noise of the sharper
     estimates, large for ẍ, so a smoother start would let a pass-band droop through; a rare empty intersection
-    must not hand a sample to an estimate hundreds of times noisier; the ends need the sharp ones).  Each estimate of ẋ has a known noise sd σ_k (the white noise σ_x of x through that filter and
-    the difference).  At every sample, going from the least smoothed estimate to the most smoothed, the intervals
-    ẋ_k ± ``ICI_GAMMA``·σ_k are intersected; the sample takes the most smoothed estimate whose interval still meets
-    all the less smoothed ones' (a smoother estimate that disagrees is biased there: an onset, a reversal, an
-    edge).  x and ẍ are chosen the same way on their own intervals.  The error reported per sample is
-    σ_k·√(1 + Γ²/3) (the noise, and a bias that ICI keeps within ±Γσ_k, taken uniform), its RMS ``err_v``;
-    ``f_cut`` is the cut most samples take.
+    must not hand a sample to an estimate hundreds of times noisier; the ends need the sharp ones).  Each estimate
+    of ẋ has a known noise sd σ_k (the white noise σ_x of x through that filter and the difference).  At every
+    sample, going from the least smoothed estimate to the most smoothed, the intervals ẋ_k ± ``ICI_GAMMA``·σ_k are
+    intersected; the sample takes the most smoothed estimate whose interval still meets all the less smoothed
+    ones' (a smoother estimate that disagrees is biased there: an onset, a reversal, an edge).  x and ẍ are chosen
+    the same way on their own intervals.  The error reported per sample is σ_k·√(1 + Γ²/3) (the noise, and a bias
+    that ICI keeps within ±Γσ_k, taken uniform), its RMS ``err_v``; ``f_cut`` is the cut most samples take.
     """
     fs = sample_rate(t)
     cuts = _cuts(f_band, 0.45 * fs)

@@ -58,7 +58,7 @@ def _tests(prob: TimeProblem, base_c: Candidate, left: Candidate) -> list[dict[s
     return out
 
 
-def kinematic_none(final: Candidate | None, r2: float, kin_floor: float, f2: float, prob: Any,
+def kinematic_none(final: Candidate | None, r2: float, kin_floor: float, f2: float, prob: TimeProblem,
                    ow: dict[str, Any]) -> bool:
     """Whether a baseline above its force noise is still a ``none``: what it leaves is the kinematic floor.
 
