@@ -75,6 +75,10 @@ class Kinematics:
     err_x: float = 0.0
     #: the predicted RMS error of ẋ per sample [mm/s] (None: ``err_v`` everywhere)
     err_v_t: np.ndarray | None = None
+    #: ẍ's cut-off [Hz] (the filter estimator's start inside the record); NaN: not set
+    f_cut_a: float = float("nan")
+    #: whether x's spectrum holds signal (lines or a continuous roll-off) above ``f_cut_a``: motion ẍ cannot follow
+    beyond_a: bool = False
     _spread: np.ndarray | None = None
 
     def v_error(self) -> np.ndarray | float:
@@ -342,10 +346,13 @@ def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
     sigma_x = displacement_noise(x, fs, f_band)
     periodic = is_periodic(x, sigma_x)
     f, P, floor = _periodogram(x, fs, window=not periodic)
+    S_all = signal_power(P, floor, windowed=not periodic)
     if periodic:
-        return spectral_best(x, fs, f_band, sigma_x, f, signal_power(P, floor, continuous=False),
-                             signal_power(P, floor))
-    return adaptive(t, x, f_band, sigma_x, f, signal_power(P, floor, windowed=True, continuous=False))
+        kin = spectral_best(x, fs, f_band, sigma_x, f, signal_power(P, floor, continuous=False), S_all)
+    else:
+        kin = adaptive(t, x, f_band, sigma_x, f, signal_power(P, floor, windowed=True, continuous=False))
+    kin.beyond_a = bool(np.any(S_all[f > kin.f_cut_a] > 0.0))
+    return kin
 
 
 def _cuts(f_band: float, top: float) -> list[float]:
@@ -380,7 +387,7 @@ def spectral_best(x: np.ndarray, fs: float, f_band: float, sigma_x: float, f: np
     ev, nv = error_budget(f, S, fs, fc, sigma_x, 1, spectral_cut=True)
     ea, na = error_budget(f, S_roll, fs, fa, sigma_x, 2, spectral_cut=True)
     xd = _rest_zero(xd, xdd, nv, na, max(3, int(math.ceil(0.5 * fs / fc))))
-    return Kinematics(xs, xd, xdd, "spectral", fc, sigma_x, ev, ea, nv, ex)
+    return Kinematics(xs, xd, xdd, "spectral", fc, sigma_x, ev, ea, nv, ex, f_cut_a=fa)
 
 
 def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.ndarray, S: np.ndarray
@@ -434,6 +441,7 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     kin = Kinematics(xs, xd, xdd, "butterworth-ici", fc, sigma_x, float(np.sqrt(np.mean(ev_t**2))),
                      float(np.sqrt(np.mean(ea_t**2))), float(np.sqrt(np.mean(nv[kv] ** 2))), ex)
     kin.err_v_t = ev_t
+    kin.f_cut_a = cuts[a0]
     return kin
 
 

@@ -26,6 +26,7 @@ import numpy as np
 
 from chainid.gap.core import noise as nz
 from chainid.gap.core.kinematics import Kinematics, estimate
+from chainid.gap.timedomain.bandlimit import noise_share, residual_cut
 from chainid.model.timedamping import record_features
 
 __all__ = ["MIN_SAMPLES", "TimeData", "prepare_time", "low_edge", "reversals",
@@ -71,6 +72,10 @@ class TimeData:
     covariates: dict[str, float] = field(default_factory=dict)
     omega_c: float = float("nan")
     f_low: float = float("nan")
+    #: the force is compared with the model below this cut [Hz] (NaN: the whole band; :mod:`.bandlimit`)
+    f_res: float = float("nan")
+    #: the share of the force noise's power the comparison keeps (1: the whole band)
+    rho: float = 1.0
 
     @property
     def omega(self) -> float:
@@ -153,9 +158,11 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     block = np.minimum((np.arange(t.size) * n_blocks) // t.size, n_blocks - 1).astype(np.int64)
     q = max(1, min(int(fs / (FIT_SAMPLES_PER_PERIOD * fb)), int(math.ceil(t.size / FIT_MAX))))
     cov = {str(k): float(v) for k, v in dict(getattr(rec, "covariates", None) or {}).items()}
+    f_res = residual_cut(F, fs, kin.f_cut_a, sigma, kin.beyond_a)
     return TimeData(rec.test, t, xs, xd, xdd, F, np.asarray(rec.x, float), sigma, fb, fs,
                     sigma_hf, block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
-                    covariates=cov, omega_c=record_features(t, xs)[0], f_low=low_edge(t, xs))
+                    covariates=cov, omega_c=record_features(t, xs)[0], f_low=low_edge(t, xs), f_res=f_res,
+                    rho=noise_share(fs, f_res))
 
 
 def fit_subsets(data: Sequence[TimeData], train: dict[str, np.ndarray], total: int = FIT_TOTAL

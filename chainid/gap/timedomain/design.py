@@ -34,6 +34,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from chainid.gap.timedomain.bandlimit import band_limited
 from chainid.model.effects import (SPECS, STIFFNESS_SIDE, columns, identifiable, make_effect, modify_model,
                                    play_operator)
 
@@ -212,7 +213,16 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
     x, xd, xdd, v_err = cache.get(key + ("view",), lambda: _view(d, idx, tau))
     if not v_err.size:
         v_err = 0.0
-    y = np.asarray(d.F, float)[slice(None) if idx is None else idx]
+    f_res = float(getattr(d, "f_res", math.nan))
+
+    def lp(tag: tuple, a: np.ndarray) -> np.ndarray:
+        """A column as the comparison sees it: below the record's cut where its force is band-limited
+        (:mod:`.bandlimit`; every column is filtered once, then kept), else as it is."""
+        if not math.isfinite(f_res):
+            return a
+        return cache.get(key + ("lp",) + tag, lambda: band_limited(a, d.fs, f_res, idx))
+
+    y = lp(("F",), np.asarray(d.F, float)[slice(None) if idx is None else idx])
     amps = amplitude_names(base, names)
     Phi = np.zeros((y.size, len(amps)))
     col = {k: j for j, k in enumerate(amps)}
@@ -229,14 +239,15 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
             return np.asarray(model.force(xp), float)
 
         Fk = cache.get(key + ("spring", play_b, side), spring)
-        f = Fk + float(base.model.mass_kg) * xdd * 1e-3
+        f = lp(("spring", play_b, side), Fk) + float(base.model.mass_kg) * lp(("xdd",), xdd) * 1e-3
     else:
         Fk = None
-        f = np.zeros_like(y) if base.mass_kg is None else float(base.mass_kg) * xdd * 1e-3
-        Phi[:, col["spring.k"]] = xp
+        f = np.zeros_like(y) if base.mass_kg is None else float(base.mass_kg) * lp(("xdd",), xdd) * 1e-3
+        Phi[:, col["spring.k"]] = lp(("play", play_b), xp)
         if "mass.m" in col:
-            Phi[:, col["mass.m"]] = xdd * 1e-3
-    Phi[:, col["damping.c"]] = xd
+            Phi[:, col["mass.m"]] = lp(("xdd",), xdd) * 1e-3
+    xd_c = lp(("xd",), xd)
+    Phi[:, col["damping.c"]] = xd_c
 
     def effect_cols(n: str) -> dict[str, np.ndarray]:
         p = _params_of(shapes, n)
@@ -244,14 +255,15 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
             p["x_ref"] = base.refs.get("x_mid", 0.0)
         shape_key = tuple(sorted((k, v) for k, v in p.items() if k not in {a.name for a in SPECS[n].params
                                                                             if a.amplitude}))
-        return cache.get(key + ("effect", n, play_b if n == "friction" else 0.0, shape_key),
-                         lambda: columns(n, p, x, xd, xdd, Fk, periodic=False, v_err=v_err))
+        ck = ("effect", n, play_b if n == "friction" else 0.0, shape_key)
+        cols = cache.get(key + ck, lambda: columns(n, p, x, xd, xdd, Fk, periodic=False, v_err=v_err))
+        return {a: lp(ck + (a,), c) for a, c in cols.items()}
 
     for n in eff:
         spec = SPECS[n]
         if n == "damping_law":
-            Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd
-            Phi[:, col["damping_law.b_A"]] = (d.A - base.refs.get("A_ref", 0.0)) * xd
+            Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
+            Phi[:, col["damping_law.b_A"]] = (d.A - base.refs.get("A_ref", 0.0)) * xd_c
             continue
         if spec.kind not in ("force", "mass"):
             continue

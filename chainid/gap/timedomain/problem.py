@@ -164,8 +164,10 @@ class TimeProblem:
         return self._mask[test]
 
     def n_cells(self, split: str = "train") -> int:
-        """Independent noise cells of a split: its samples."""
-        return sum(int(np.sum(self._mask[d.test] if split == "train" else ~self._mask[d.test])) for d in self.tdata)
+        """Independent noise cells of a split: its samples, ρ·n of them where a record's force is compared below a
+        cut (:mod:`.bandlimit`: the filtered noise is correlated)."""
+        return sum(max(1, int(d.rho * np.sum(self._mask[d.test] if split == "train" else ~self._mask[d.test])))
+                   for d in self.tdata)
 
     # ------------------------------------------------------------------ linear parts
     def _blocks(self, names: Sequence[str], shapes: dict[str, float], subset: bool
@@ -280,8 +282,9 @@ class TimeProblem:
     def noise_floor(self, d: TimeData, params: dict[str, float]) -> float:
         """The residual variance [N²] a right model leaves on record ``d``: its force noise σ_F².  (The kinematics'
         own errors through the fitted base, :meth:`kinematic_floor`, are reported beside it, not counted: a fitted
-        mass or dashpot that stands in for a missing effect would raise the floor to meet the misfit.)"""
-        return d.sigma**2
+        mass or dashpot that stands in for a missing effect would raise the floor to meet the misfit.)  Where the
+        force is compared below a cut (:mod:`.bandlimit`), the share ρ of σ_F² that passes the filter."""
+        return d.rho * d.sigma**2
 
     def kinematic_floor(self, d: TimeData, params: dict[str, float]) -> float:
         """σ_F² plus the kinematics' predicted errors through the fitted model [N²]: (c·e_v)² + (m·e_a·1e-3)² +
@@ -291,7 +294,7 @@ class TimeProblem:
         F_c + dF_s) — what even the true model would leave on these kinematics."""
         kin = d.kin
         if kin is None:
-            return d.sigma**2
+            return self.noise_floor(d, params)
         F_s = abs(params.get("friction.F_c", 0.0)) + abs(params.get("stribeck.F_c", 0.0) + params.get("stribeck.dF_s", 0.0))
         sign_var = 0.0
         if F_s > 0.0 and d.xd.size:
@@ -303,7 +306,8 @@ class TimeProblem:
         k = params.get("spring.k", 0.0)
         if self.is_chain:
             k = float(np.asarray(self.model.stiffness(np.array([max(d.x0, 1e-6)])), float)[0])
-        return d.sigma**2 + (c * kin.err_v) ** 2 + (m * 1e-3 * kin.err_a) ** 2 + (k * kin.err_x) ** 2 + sign_var
+        return (self.noise_floor(d, params) + (c * kin.err_v) ** 2 + (m * 1e-3 * kin.err_a) ** 2
+                + (k * kin.err_x) ** 2 + sign_var)
 
     def floor_rel_sd(self, split: str = "hold") -> float:
         """Relative standard deviation of a split's noise floor from the estimate of each record's force noise:
@@ -315,7 +319,7 @@ class TimeProblem:
             per[d.test] = per.get(d.test, 0) + int(np.sum(d.block == b))
         for d in self.tdata:
             if d.test in per:
-                w = per[d.test] * d.sigma**2
+                w = per[d.test] * self.noise_floor(d, {})
                 num += w**2 * SIGMA2_REL_SD**2 / d.t.size
                 den += per[d.test] * self.noise_floor(d, {})
         return math.sqrt(num) / den if den > 0 else 0.0

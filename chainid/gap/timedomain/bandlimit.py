@@ -1,0 +1,104 @@
+"""The band in which a record's force is compared with the model: a state-variable filter for a band-limited force.
+
+The model force m·ẍ + c·ẋ + F_k(x) + … is evaluated on kinematics cut at a few times the band edge
+(:mod:`chainid.gap.core.kinematics`).  On a force-driven device (a shaker, an analog mass–spring–damper) the
+measured force is the drive: band-limited, with nothing above the band but noise.  Its nonlinear parts (a stick,
+a friction corner) put content above the cut into the true ẍ that cancels theirs in the force; the estimated ẍ has
+lost it, so the model force keeps a high-frequency residual that no effect can fit, and it ranks a smooth
+hysteresis above the true sharp friction.  Where the force has no content above ẍ's cut the comparison loses
+nothing by being made below it: the force and every model column pass the same zero-phase low-pass (the
+state-variable filter of continuous-time identification), and the residual is what the model misses in the band
+its kinematics resolve.  Where the force has content above the cut (a displacement-driven device whose friction
+switches), that content is information and the record is compared over the whole band, as before.
+
+**The rule** (:func:`residual_cut`): a record is compared below f_a, ẍ's cut, when
+
+* the motion has content above f_a (its spectrum's lines or continuous roll-off, detected as the kinematics detect
+  them): fast motion that ẍ does not follow, made inside the device since the force has none; and
+* the force's power above f_a is that of its white noise σ_F (the robust second-difference estimate of the
+  record's force noise), within five standard deviations; and f_a < 0.45·fs.
+
+A displacement-driven record (a designed, band-limited motion) and a linear device driven by force (whose motion
+above the cut is the force's, divided by m·ω²: below the displacement noise) are compared over the whole band.
+
+The filter is the 4th-order zero-phase Butterworth of the kinematics (:func:`chainid.gap.core.noise.lowpass_sos`);
+white noise through it keeps the share ρ = (2/fs)·∫|H(f)|⁴ df of its power (:func:`noise_share`), and the filtered
+residual's samples are correlated, ρ·n of them independent: the noise floor and the χ² tests of the diagnosis use
+both (:meth:`chainid.gap.timedomain.problem.TimeProblem.noise_floor`, ``n_cells``).
+
+Units: Hz, s; arrays in the caller's units.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+from chainid.gap.core.noise import lowpass_sos
+
+__all__ = ["residual_cut", "noise_share", "band_limited"]
+
+
+def residual_cut(F: np.ndarray, fs: float, f_a: float, sigma: float, beyond_a: bool) -> float:
+    """The cut [Hz] below which a record's force is compared with the model: ``f_a`` when the motion has content
+    above it (``beyond_a``, :attr:`chainid.gap.core.kinematics.Kinematics.beyond_a`) and the force holds nothing but
+    its white noise σ [N] there, else NaN (the whole band).
+
+    Above f_a the Hann-windowed periodogram of F, each bin over its white-noise mean σ²·Σw², has a mean R; under
+    noise alone R is 1 with a standard deviation √(1.5/N) over N bins (neighbouring Hann bins are correlated).
+    The force is band-limited when R < 1 + 5·√(1.5/N), the 5-sd rule of the noise floor's other tests."""
+    F = np.asarray(F, float)
+    n = F.size
+    if not beyond_a or not (math.isfinite(f_a) and 0.0 < f_a < 0.45 * fs) or n < 256 or not sigma > 0.0:
+        return float("nan")
+    w = np.hanning(n)
+    P = np.abs(np.fft.rfft((F - F.mean()) * w)) ** 2 / (sigma**2 * float(np.sum(w**2)))
+    above = np.fft.rfftfreq(n, 1.0 / fs) > f_a
+    N = int(above.sum())
+    if N < 64:
+        return float("nan")
+    return float(f_a) if float(np.mean(P[above])) < 1.0 + 5.0 * math.sqrt(1.5 / N) else float("nan")
+
+
+@functools.lru_cache(maxsize=256)
+def _sos(fs: float, f_cut: float) -> np.ndarray | None:
+    """The filter's second-order sections (designed once per rate and cut)."""
+    return lowpass_sos(fs, f_cut, 1 << 12)
+
+
+def noise_share(fs: float, f_cut: float) -> float:
+    """ρ: the share of a white noise's power that the zero-phase filter at ``f_cut`` [Hz] keeps (1 when none)."""
+    sos = _sos(float(fs), float(f_cut)) if math.isfinite(f_cut) else None
+    if sos is None:
+        return 1.0
+    from scipy.signal import sosfreqz
+
+    _, h = sosfreqz(sos, worN=8192, fs=fs)
+    return float(np.mean(np.abs(h) ** 4))
+
+
+def band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray | None = None) -> np.ndarray:
+    """``a`` (samples along axis 0) through the zero-phase filter at ``f_cut`` [Hz], each run of consecutive
+    sample indices ``idx`` (a view of windows of a record; None: one run) filtered on its own; ``a`` unchanged
+    when ``f_cut`` is NaN."""
+    if not math.isfinite(f_cut):
+        return a
+    from scipy.signal import sosfiltfilt
+
+    a = np.asarray(a, float)
+    if idx is None:
+        runs = [(0, a.shape[0])]
+    else:
+        cut = np.flatnonzero(np.diff(idx) != 1) + 1
+        edges = np.concatenate([[0], cut, [idx.size]])
+        runs = list(zip(edges[:-1], edges[1:]))
+    sos = _sos(float(fs), float(f_cut))
+    if sos is None:
+        return a
+    out = a.copy()
+    for i, j in runs:
+        if j - i > 3 * (2 * sos.shape[0] + 1):  # sosfiltfilt's default padding needs the run longer than it
+            out[i:j] = sosfiltfilt(sos, a[i:j], axis=0)
+    return out
