@@ -9,9 +9,11 @@ Each record is cut into contiguous time blocks (never random samples): the units
 of resampling, and, with ``--holdout-blocks K``, of the held-out set (the last of K blocks of each record).
 
 Record features (the damping law's variables): the band centre ω_c [rad/s] (the variance-weighted mean angular
-frequency of the displacement, :func:`chainid.model.timedamping.record_features`; the frequency of a harmonic test) and the amplitude A [mm]
-(half the range of the smooth x; the amplitude of a harmonic test).  A record's covariates (operating conditions:
-coil current, pressure, ...) come with it.
+frequency of the displacement, :func:`chainid.model.timedamping.record_features`; the frequency of a harmonic
+test) and the amplitude A [mm] (half the range of the smooth x; the amplitude of a harmonic test).  A record's
+covariates (operating conditions: coil current, pressure, ...) come with it.  A record whose motion has content
+above ẍ's cut while its force has none is compared with the model below that cut (``f_res``, ``rho``:
+:mod:`chainid.gap.timedomain.bandlimit`).
 
 Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N, f Hz.
 """

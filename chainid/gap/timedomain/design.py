@@ -22,6 +22,8 @@ samples whose t − τ falls outside the record (the motion there is unknown) ca
 operators run over the samples of the view in order (the whole record, or its fit subset).  The sign of
 sliding friction is its expectation given the estimated velocity and its spread over the sample
 (:meth:`chainid.gap.core.kinematics.Kinematics.v_spread`, :func:`chainid.model.effects.forms.sliding_sign`).
+Where a record's force is compared below a cut (``f_res``, :mod:`chainid.gap.timedomain.bandlimit`), the target
+and every column pass the same zero-phase low-pass (each once, then kept in the cache).
 
 Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N, m kg, ω rad/s.
 """
@@ -38,7 +40,8 @@ from chainid.gap.timedomain.bandlimit import band_limited
 from chainid.model.effects import (SPECS, STIFFNESS_SIDE, columns, identifiable, make_effect, modify_model,
                                    play_operator)
 
-__all__ = ["Base", "ColumnCache", "split_name", "effect_of", "amplitude_names", "amplitude_bounds", "shape_names", "build"]
+__all__ = ["Base", "ColumnCache", "split_name", "effect_of", "amplitude_names", "amplitude_bounds", "shape_names",
+           "build"]
 
 
 @dataclass

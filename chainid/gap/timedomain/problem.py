@@ -295,7 +295,8 @@ class TimeProblem:
         kin = d.kin
         if kin is None:
             return self.noise_floor(d, params)
-        F_s = abs(params.get("friction.F_c", 0.0)) + abs(params.get("stribeck.F_c", 0.0) + params.get("stribeck.dF_s", 0.0))
+        F_s = (abs(params.get("friction.F_c", 0.0))
+               + abs(params.get("stribeck.F_c", 0.0) + params.get("stribeck.dF_s", 0.0)))
         sign_var = 0.0
         if F_s > 0.0 and d.xd.size:
             s = sliding_sign(d.xd, False, kin.v_spread(d.t))
