@@ -82,23 +82,26 @@ def noise_share(fs: float, f_cut: float) -> float:
 def band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray | None = None) -> np.ndarray:
     """``a`` (samples along axis 0) through the zero-phase filter at ``f_cut`` [Hz], each run of consecutive
     sample indices ``idx`` (a view of windows of a record; None: one run) filtered on its own; ``a`` unchanged
-    when ``f_cut`` is NaN."""
+    when ``f_cut`` is NaN.  A run too short for the filter's padding (a view of every q-th sample, q > 1, is all
+    runs of one: a decimated series has no band to cut at the record's rate) passes as it is."""
     if not math.isfinite(f_cut):
         return a
     from scipy.signal import sosfiltfilt
 
-    a = np.asarray(a, float)
-    if idx is None:
-        runs = [(0, a.shape[0])]
-    else:
-        cut = np.flatnonzero(np.diff(idx) != 1) + 1
-        edges = np.concatenate([[0], cut, [idx.size]])
-        runs = list(zip(edges[:-1], edges[1:]))
     sos = _sos(float(fs), float(f_cut))
     if sos is None:
         return a
+    a = np.asarray(a, float)
+    if idx is None:
+        starts, ends = np.array([0]), np.array([a.shape[0]])
+    else:
+        cut = np.flatnonzero(np.diff(idx) != 1) + 1
+        starts, ends = np.concatenate([[0], cut]), np.concatenate([cut, [idx.size]])
+    pad = 3 * (2 * sos.shape[0] + 1)  # sosfiltfilt's default padding needs a run longer than it
+    long = np.flatnonzero(ends - starts > pad)
+    if long.size == 0:
+        return a
     out = a.copy()
-    for i, j in runs:
-        if j - i > 3 * (2 * sos.shape[0] + 1):  # sosfiltfilt's default padding needs the run longer than it
-            out[i:j] = sosfiltfilt(sos, a[i:j], axis=0)
+    for i, j in zip(starts[long], ends[long]):
+        out[i:j] = sosfiltfilt(sos, a[i:j], axis=0)
     return out
