@@ -68,6 +68,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/signal/test_estimate_window_half_open.py",
         "tests/signal/test_first_pass_window_half_open.py",
         "tests/signal/test_sample_on_a_cycle_boundary.py",
+        "tests/signal/test_steady_scatter_with_a_given_tolerance.py",
     ),
     "model": (
         "tests/damping/test_identify.py::test_fewer_than_six_tests_refused",
@@ -159,6 +160,8 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/records/test_memory_check_every_reader.py",
         "tests/records/test_daq_text.py",
         "tests/records/test_segments_split.py",
+        "tests/records/test_excitation_step_times_and_pulse.py",
+        "tests/records/test_reader_decimal_comma_delimiters.py",
     ),
     "damping": (
         "tests/damping/test_audit.py",
@@ -169,6 +172,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/damping/test_identify_results.py",
         "tests/damping/test_window_half_open.py",
         "tests/damping/test_linear_base_window_half_open.py",
+        "tests/damping/test_identify_given_mass.py",
     ),
     "gap": (
         "tests/gap/benchmark/test_benchmark_chain.py",
@@ -224,6 +228,11 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/gap/core/test_rebuild_order.py",
         "tests/gap/core/test_trusted_path.py",
         "tests/gap/harmonic/test_prepare_window_half_open.py",
+        "tests/gap/harmonic/test_resample_refit_converges.py",
+        "tests/gap/timedomain/test_band_limited_comparison.py::test_noise_share_is_the_butterworth_closed_form",
+        "tests/gap/timedomain/test_band_limited_comparison.py::test_filtered_white_noise_keeps_its_noise_share",
+        "tests/gap/timedomain/test_band_limited_comparison.py::test_each_run_of_a_view_is_filtered_on_its_own",
+        "tests/gap/timedomain/test_band_limited_comparison.py::test_the_rule_needs_fast_motion_and_a_force_without_it",
     ),
     "dynamics": (
         "tests/cli/test_cli_dynamics.py",
@@ -271,6 +280,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/cli/test_warnings_through_the_run.py",
         "tests/cli/test_warnings_in_json.py",
         "tests/cli/test_error_lines.py",
+        "tests/infra/test_runlog_nested_runs.py",
     ),
     "cli": (
         "tests/chain/test_grade.py",
@@ -319,6 +329,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/cli/test_identify_load_warnings.py",
         "tests/cli/test_benchmark_generator_options.py",
         "tests/cli/test_convert_chain_checks.py",
+        "tests/dynamics/test_segment_model_effects.py",
     ),
     "report": (
         "tests/cli/test_cli_outputs.py::test_report_force_replaces_only_the_files_it_wrote",

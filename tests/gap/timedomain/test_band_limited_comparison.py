@@ -29,7 +29,7 @@ def test_noise_share_is_the_butterworth_closed_form():
     assert noise_share(fs, float("nan")) == 1.0
 
 
-def test_white_noise_through_the_filter_keeps_its_noise_share():
+def test_filtered_white_noise_keeps_its_noise_share():
     rng = np.random.default_rng(3)
     fs, fc = 1000.0, 40.0
     e = rng.normal(0.0, 2.0, 200_000)
