@@ -18,8 +18,11 @@ switches), that content is information and the record is compared over the whole
 * the force's power above f_a is that of its white noise σ_F (the robust second-difference estimate of the
   record's force noise), within five standard deviations; and f_a < 0.45·fs.
 
-A displacement-driven record (a designed, band-limited motion) and a linear device driven by force (whose motion
-above the cut is the force's, divided by m·ω²: below the displacement noise) are compared over the whole band.
+A displacement-driven record whose motion ends below the cut, one whose force switches (friction: content above the
+cut), and a linear device driven by force (whose motion above the cut is the force's, divided by m·ω²: below the
+displacement noise) are compared over the whole band.  A displacement drive whose roll-off runs past the cut while
+its force there is only noise (a smooth device under broadband motion) is compared below it: where the force has
+nothing above the cut, the comparison loses nothing there but noise.
 
 The filter is the 4th-order zero-phase Butterworth of the kinematics (:func:`chainid.gap.core.noise.lowpass_sos`);
 white noise through it keeps the share ρ = (2/fs)·∫|H(f)|⁴ df of its power (:func:`noise_share`), and the filtered
