@@ -16,7 +16,7 @@ switches), that content is information and the record is compared over the whole
 * the motion has content above f_a (its spectrum's lines or continuous roll-off, detected as the kinematics detect
   them): fast motion that ẍ does not follow, made inside the device since the force has none; and
 * the force's power above f_a is that of its white noise σ_F (the robust second-difference estimate of the
-  record's force noise), within five standard deviations; and f_a < 0.45·fs.
+  record's force noise), within 4.4 standard deviations (:func:`residual_cut`); and f_a < 0.45·fs.
 
 A displacement-driven record whose motion ends below the cut, one whose force switches (friction: content above the
 cut), and a linear device driven by force (whose motion above the cut is the force's, divided by m·ω²: below the
@@ -50,8 +50,9 @@ def residual_cut(F: np.ndarray, fs: float, f_a: float, sigma: float, beyond_a: b
     its white noise σ [N] there, else NaN (the whole band).
 
     Above f_a the Hann-windowed periodogram of F, each bin over its white-noise mean σ²·Σw², has a mean R; under
-    noise alone R is 1 with a standard deviation √(1.5/N) over N bins (neighbouring Hann bins are correlated).
-    The force is band-limited when R < 1 + 5·√(1.5/N), the 5-sd rule of the noise floor's other tests."""
+    noise alone R is 1 with a standard deviation √(35/18/N) over N bins (a Hann bin correlates with its first and
+    second neighbours with |ρ|² = 4/9 and 1/36: 1 + 2·(4/9 + 1/36) = 35/18).  The force is band-limited when
+    R < 1 + 5·√(1.5/N): a one-sided test at 4.4 of those standard deviations."""
     F = np.asarray(F, float)
     n = F.size
     if not beyond_a or not (math.isfinite(f_a) and 0.0 < f_a < 0.45 * fs) or n < 256 or not sigma > 0.0:
