@@ -389,11 +389,11 @@ class Problem:
             # parameters on a bound (friction's x_s, μ at 0): dogbox's active set converges there in 3 or 4
             # evaluations, where the interior trust region ran out of its evaluations up to 2 N (2 sd) short of
             # the resample's own F_c; it stops at 1e-5 of the parameter range or of the cost
-            tol = {"ftol": POLISH_TOL, "xtol": POLISH_TOL, "method": "dogbox"} if polish_only else {}
+            polish = {"ftol": POLISH_TOL, "xtol": POLISH_TOL, "method": "dogbox"} if polish_only else {}
             best = None
             for i in order:
                 r = least_squares(fun, u0s[i], bounds=(0.0, 1.0), x_scale=1.0, diff_step=1e-3,
-                                  max_nfev=POLISH_NFEV if polish_only else 20 + 20 * len(keys), **tol)
+                                  max_nfev=POLISH_NFEV if polish_only else 20 + 20 * len(keys), **polish)
                 if best is None or r.cost < best.cost:
                     best = r
             p = unpack(best.x)

@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from chainid.gap.core.noise import lowpass_sos
+from chainid.gap.core.noise import lowpass_sos, psd
 
 __all__ = ["residual_cut", "noise_share", "band_limited"]
 
@@ -49,17 +49,18 @@ def residual_cut(F: np.ndarray, fs: float, f_a: float, sigma: float, beyond_a: b
     above it (``beyond_a``, :attr:`chainid.gap.core.kinematics.Kinematics.beyond_a`) and the force holds nothing but
     its white noise σ [N] there, else NaN (the whole band).
 
-    Above f_a the Hann-windowed periodogram of F, each bin over its white-noise mean σ²·Σw², has a mean R; under
-    noise alone R is 1 with a standard deviation √(35/18/N) over N bins (a Hann bin correlates with its first and
-    second neighbours with |ρ|² = 4/9 and 1/36: 1 + 2·(4/9 + 1/36) = 35/18).  The force is band-limited when
-    R < 1 + 5·√(1.5/N): a one-sided test at 4.4 of those standard deviations."""
+    Above f_a the Hann-windowed periodogram of F (:func:`chainid.gap.core.noise.psd`, its linear trend removed), each
+    bin over its white-noise mean σ²·Σw², has a mean R; under noise alone R is 1 with a standard deviation
+    √(35/18/N) over N bins (a Hann bin correlates with its first and second neighbours with |ρ|² = 4/9 and 1/36:
+    1 + 2·(4/9 + 1/36) = 35/18).  The force is band-limited when R < 1 + 5·√(1.5/N): a one-sided test at 4.4 of
+    those standard deviations."""
     F = np.asarray(F, float)
     n = F.size
     if not beyond_a or not (math.isfinite(f_a) and 0.0 < f_a < 0.45 * fs) or n < 256 or not sigma > 0.0:
         return float("nan")
-    w = np.hanning(n)
-    P = np.abs(np.fft.rfft((F - F.mean()) * w)) ** 2 / (sigma**2 * float(np.sum(w**2)))
-    above = np.fft.rfftfreq(n, 1.0 / fs) > f_a
+    f, P = psd(F, fs)
+    P = P / (sigma**2 * float(np.sum(np.hanning(n) ** 2)))
+    above = f > f_a
     N = int(above.sum())
     if N < 64:
         return float("nan")

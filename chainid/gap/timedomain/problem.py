@@ -166,7 +166,7 @@ class TimeProblem:
     def n_cells(self, split: str = "train") -> int:
         """Independent noise cells of a split: its samples, ρ·n of them where a record's force is compared below a
         cut (:mod:`.bandlimit`: the filtered noise is correlated)."""
-        return sum(max(1, int(d.rho * np.sum(self._mask[d.test] if split == "train" else ~self._mask[d.test])))
+        return sum(int(d.rho * np.sum(self._mask[d.test] if split == "train" else ~self._mask[d.test]))
                    for d in self.tdata)
 
     # ------------------------------------------------------------------ linear parts
@@ -322,7 +322,7 @@ class TimeProblem:
             if d.test in per:
                 w = per[d.test] * self.noise_floor(d, {})
                 num += w**2 * SIGMA2_REL_SD**2 / d.t.size
-                den += per[d.test] * self.noise_floor(d, {})
+                den += w
         return math.sqrt(num) / den if den > 0 else 0.0
 
     def noise_db(self, ev: dict[str, Any], split: str = "hold") -> tuple[float, float, float]:
