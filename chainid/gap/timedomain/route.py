@@ -189,6 +189,10 @@ def _noise_method(prob: TimeProblem) -> dict[str, Any]:
     """How the noise floor was made, and each record's force noise, its high-band check and its kinematics."""
     return {"method": "per record: force sigma = 1.4826*MAD(second difference of F)/sqrt(6); the floor adds the "
                       "kinematics' predicted errors through the fitted base (c*e_v, m*e_a, k*e_x); sigma_hf from the "
-                      "force spectrum above 4x the excitation band (a check)",
+                      "force spectrum above 4x the excitation band (a check); a record whose motion has content above "
+                      "the acceleration's cut and whose force has none is compared below that cut (compared_below_Hz), "
+                      "its noise floor the filter's noise_share of sigma^2",
             "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band,
+                               "compared_below_Hz": d.f_res if math.isfinite(d.f_res) else None,
+                               "noise_share": d.rho,
                                "kinematics": d.kin.info() if d.kin is not None else None} for d in prob.tdata}}

@@ -89,6 +89,12 @@ def test_force_driven_stick_slip_is_named_friction_with_its_parameters(resonant_
         res = diagnose(recs, hold, None, quiet=True, effects=["friction", "hysteresis", "bouc_wen"], max_combo=1,
                        uncertainty=False)
     assert res["verdict"] == "friction", res["chain_text"]
+    from chainid.gap.timedomain.data import prepare_time
+
+    for r in recs:  # the JSON says in which band each record was compared, and the noise share kept
+        d, row = prepare_time(r), res["noise"]["tests"][r.test]
+        assert row["compared_below_Hz"] == pytest.approx(d.kin.f_cut_a, rel=1e-12), r.test
+        assert row["noise_share"] == pytest.approx(noise_share(d.fs, d.kin.f_cut_a), rel=1e-12), r.test
     p = res["steps"][-1]["params"]
     fr, base = truth["effects"]["friction"], truth["base"]
     assert p["friction.F_c"] == pytest.approx(fr["F_c"], rel=0.02)
