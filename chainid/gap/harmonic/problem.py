@@ -334,9 +334,21 @@ class Problem:
                 x0.append(g)
         return keys, lo, hi, x0
 
+    def param_bounds(self, names: Sequence[str]) -> dict[str, tuple[float, float]]:
+        """The fitted parameters of an effect set (the spring's on a linear baseline first) and their bounds
+        [their units]."""
+        keys, lo, hi, _ = self._keys(names)
+        return {k: (a, b) for k, a, b in zip(keys, lo, hi)}
+
+    def train_chi2(self, names: Sequence[str], p: dict[str, float]) -> tuple[float, int, int]:
+        """χ² of the training tests at ``p`` (bin residuals over σ/√counts, each test's c_e its projection), the
+        number of residuals and of fitted values (the parameters and one c_e per training test)."""
+        r = self._train_resid(names, p)
+        return float(np.sum(r**2)), int(r.size), len(self._keys(names)[0]) + len(self.train)
+
     def fit(self, names: Sequence[str], train_only: Sequence[TestData] | None = None,
             start: dict[str, float] | None = None, polish_only: bool = False,
-            weights: Sequence[float] | None = None) -> Candidate:
+            weights: Sequence[float] | None = None, fix: dict[str, float] | None = None) -> Candidate:
         """Fit all parameters of an effect set jointly on the training tests.
 
         Parameters
@@ -352,10 +364,19 @@ class Problem:
             Only a local least-squares polish from ``start`` (jack-knife refits).
         weights : sequence of float, optional
             A multiplicity (> 0) per test fitted (a resample's draw counts), instead of 1 each.
+        fix : dict, optional
+            Parameters held at these values [their units] (a profile's point); the others are fitted.
         """
         from chainid.gap.core.fitgrid import starts
 
         keys, lo, hi, x0 = self._keys(names)
+        fix = dict(fix or {})
+        unknown = sorted(set(fix) - set(keys))
+        if unknown:
+            raise ValueError(f"fix: {unknown} are not fitted parameters of {'+'.join(names) or 'the baseline'} "
+                             f"(valid: {keys})")
+        keep = [i for i, k in enumerate(keys) if k not in fix]
+        keys, lo, hi, x0 = ([v[i] for i in keep] for v in (keys, lo, hi, x0))
         lo_a, hi_a = np.array(lo), np.array(hi)
         tests = list(train_only) if train_only is not None else self.train
         mult = None if weights is None else np.asarray(weights, float)
@@ -364,10 +385,10 @@ class Problem:
         saved = self.train
         self.train, self._mult = tests, mult
         try:
-            if not keys:
-                return Candidate("+".join(names), {}, 0)
-
             fixed_p = {f"{n}.{k}": v for n in names if n in self.effects for k, v in self.effects[n].fixed.items()}
+            fixed_p |= fix
+            if not keys:
+                return Candidate("+".join(names), fix, 0)
 
             def unpack(u: np.ndarray) -> dict[str, float]:
                 return fixed_p | dict(zip(keys, lo_a + np.clip(u, 0, 1) * (hi_a - lo_a)))

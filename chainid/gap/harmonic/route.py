@@ -20,6 +20,7 @@ from chainid.gap.core import selection as fw
 from chainid.gap.core.candidate import Candidate, jackknife_sd
 from chainid.gap.core.interpret import interpretation, separating_test
 from chainid.gap.core.openworld import open_world
+from chainid.gap.core.profile import attach_profiles, problem_hooks
 from chainid.gap.core.resample import attach, resample
 from chainid.infra.progress import stage
 from chainid.gap.core.stationarity import check as stationarity_check
@@ -103,7 +104,10 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
         stage("resampling", f"{resamples} resamples")
         from chainid.gap.harmonic import resampling
 
-        attach(out, resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo)))
+        stab = resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo))
+        stage("profile likelihood")
+        attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))
+        attach(out, stab)
     return out
 
 

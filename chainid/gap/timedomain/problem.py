@@ -187,32 +187,52 @@ class TimeProblem:
         tr = {(d.test, b) for d, b in self.train_units}
         return np.array([1.0 if (d.test, b) in tr else 0.0 for d in self.tdata for b in range(d.n_blocks)])
 
-    def _solve(self, names: Sequence[str], bl: Blocks, mult: np.ndarray) -> np.ndarray:
+    def _solve(self, names: Sequence[str], bl: Blocks, mult: np.ndarray,
+               fix: dict[str, float] | None = None) -> np.ndarray:
+        """The bounded least-squares amplitudes; those in ``fix`` held at their values (eliminated)."""
         G, h = bl.total(mult)
-        lo, hi = amplitude_bounds(amplitude_names(self.base, names))
-        return solve(G, h, lo, hi)
+        amps = amplitude_names(self.base, names)
+        lo, hi = amplitude_bounds(amps)
+        held = np.array([k in (fix or {}) for k in amps], bool)
+        if not held.any():
+            return solve(G, h, lo, hi)
+        a = np.array([float(fix[k]) if k in fix else 0.0 for k in amps])  # type: ignore[index]
+        free = ~held
+        a[free] = solve(G[np.ix_(free, free)], h[free] - G[np.ix_(free, held)] @ a[held], lo[free], hi[free])
+        return a
 
     # ------------------------------------------------------------------ fit
     def fit(self, names: Sequence[str], start: dict[str, float] | None = None,
-            polish_only: bool = False, weights: np.ndarray | None = None) -> Candidate:
+            polish_only: bool = False, weights: np.ndarray | None = None,
+            fix: dict[str, float] | None = None) -> Candidate:
         """Fit an effect set on the training blocks: shape parameters searched on the fit subset (amplitudes
         profiled out), then every amplitude on all training samples.  ``weights``: a multiplicity per block in
-        stacking order (a resample), instead of 1 per training block."""
+        stacking order (a resample), instead of 1 per training block.  ``fix``: parameters (shapes or
+        amplitudes) held at these values [their units] (a profile's point)."""
         names = list(names)
         keys = shape_names(self.base, names, self.scales)
+        amps = amplitude_names(self.base, names)
+        fix = dict(fix or {})
+        unknown = sorted(set(fix) - {k for k, _, _ in keys} - set(amps))
+        if unknown:
+            raise ValueError(f"fix: {unknown} are not fitted parameters of {'+'.join(names) or 'the baseline'} "
+                             f"(valid: {[k for k, _, _ in keys] + amps})")
+        keys = [k for k in keys if k[0] not in fix]
+        fsh = {k: v for k, v in fix.items() if k not in amps}
+        fam = {k: v for k, v in fix.items() if k in amps}
         mult = self._train_mult() if weights is None else np.asarray(weights, float)
 
         def profile(shapes: dict[str, float]) -> tuple[Blocks, np.ndarray]:
-            bl = Blocks.stack(self._blocks(names, shapes, True)[0])
-            return bl, self._solve(names, bl, mult)
+            bl = Blocks.stack(self._blocks(names, shapes | fsh, True)[0])
+            return bl, self._solve(names, bl, mult, fam)
 
         def cost(shapes: dict[str, float]) -> float:
             bl, a = profile(shapes)
             return float(np.sum(sse_at(bl, a) * mult))
 
         def resid(shapes: dict[str, float]) -> np.ndarray:
-            stats, parts = self._blocks(names, shapes, True)
-            a = self._solve(names, Blocks.stack(stats), mult)
+            stats, parts = self._blocks(names, shapes | fsh, True)
+            a = self._solve(names, Blocks.stack(stats), mult, fam)
             out = []
             off = 0
             for d, (f, Phi, y) in zip(self.tdata, parts):
@@ -222,13 +242,32 @@ class TimeProblem:
             return np.concatenate(out)
 
         shapes, at_bound = search(keys, cost, resid, dict(start or {}), f_band=self.f_band, polish_only=polish_only)
+        shapes = dict(shapes) | fsh
         bl = Blocks.stack(self._blocks(names, shapes, False)[0])
-        a = self._solve(names, bl, mult)
-        amps = amplitude_names(self.base, names)
+        a = self._solve(names, bl, mult, fam)
         params = dict(shapes) | dict(zip(amps, (float(v) for v in a)))
         params |= self._references(names)
         c = Candidate("+".join(names), params, len(keys) + len(amps), at_bound=at_bound)
         return c
+
+    def param_bounds(self, names: Sequence[str]) -> dict[str, tuple[float, float]]:
+        """The fitted parameters of an effect set (shapes, then amplitudes) and their bounds [their units]."""
+        amps = amplitude_names(self.base, list(names))
+        lo, hi = amplitude_bounds(amps)
+        return ({k: (a, b) for k, a, b in shape_names(self.base, list(names), self.scales)}
+                | {k: (float(a), float(b)) for k, a, b in zip(amps, lo, hi)})
+
+    def train_chi2(self, names: Sequence[str], params: dict[str, float]) -> tuple[float, int, int]:
+        """χ² of the training samples at ``params`` (Σ r²/σ_F², each record's own σ_F), the independent noise cells
+        (:meth:`n_cells`) and the fitted values.  Where a record is compared below a cut (:mod:`.bandlimit`) its
+        noise has variance ρ·σ_F² over correlated samples about 1/ρ apart: Σ r²/σ_F² is then Σ r²/(ρ·σ_F²) counted
+        once per independent cell, and its expectation at the noise is the cells, ρ·n."""
+        names = list(names)
+        bl = Blocks.stack(self._blocks(names, params, False)[0])
+        amps = amplitude_names(self.base, names)
+        a = np.array([params[k] for k in amps])
+        chi = float(np.sum(sse_at(bl, a) * self._train_mult()))
+        return chi, self.n_cells("train"), len(shape_names(self.base, names, self.scales)) + len(amps)
 
     def _references(self, names: Sequence[str]) -> dict[str, float]:
         """Fixed references an effect set's parameters are stated against (not fitted)."""

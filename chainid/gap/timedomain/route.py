@@ -25,6 +25,7 @@ from chainid.gap.core import selection as fw
 from chainid.gap.core.candidate import Candidate
 from chainid.gap.core.interpret import interpretation, separating_test
 from chainid.gap.core.openworld import open_world
+from chainid.gap.core.profile import attach_profiles, problem_hooks
 from chainid.gap.core.resample import attach, resample, widen
 from chainid.infra.progress import stage
 from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
@@ -158,6 +159,8 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
         shifts, why = richardson_shifts(records, prob, ok_path,
                                         lambda rs: build_problem(rs, holdout, holdout_blocks, model, mass_kg))
         widen(stab, shifts, why, ORDER)
+        stage("profile likelihood")
+        attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))
         attach(summary, stab)
     summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
     summary["base"] = {"model": prob.base.kind, "mass_given_kg": mass_kg, "offsets": "per test" if prob.base.offsets

@@ -1,0 +1,215 @@
+"""Profile-likelihood 90 % intervals of a fitted candidate's parameters.
+
+A parameter θ_j is held at a value v and every other parameter refitted; the profile χ²_p(v) is the least χ² of
+the training data with θ_j = v.  The 90 % interval is every v with
+
+    χ²_p(v) − χ²_min ≤ q₉₀ · s²,      q₉₀ = 2.7055 (the 90 % point of χ² with one degree of freedom),
+
+(Wilks' theorem for one parameter), where s² = max(1, χ²_min / (n − p)) scales the level by the residual's
+excess over its noise when the model does not reach it (the misfit is read as noise of that size: quasi-likelihood).
+No linearisation: the profile is scanned, so a parameter in a flat or rough valley (a sensor delay against a sharp
+friction, whose χ² steps as a switch crosses a sample) gets the width the data allow.  Resampling the training
+units cannot see that width when every refit, polished from the full fit, stays in the same flat spot; the
+profile cannot see the variation between units that the resampling does.  The reported interval is the union of
+both (:func:`merge`).
+
+The scan walks out from the estimate on each side, doubling its step (the first is the resampling interval's
+half-width, at least 10⁻⁴ of the bounds' span, or of the estimate where a bound is infinite) until χ²_p exceeds
+the level or the bound is reached, then bisects the crossing :data:`BISECT` times.  A lower χ² met on the way (the
+fit had stopped short of the optimum) lowers χ²_min, and the crossing is read from every point scanned.  Each
+refit starts from the last point inside the level.  The intervals of a candidate are finally read from every
+point of all its parameters' profiles (:func:`project`).
+
+What it cannot see: an optimum in another basin that no scan reaches (the fit's search decides that), and a
+residual correlated over more samples than the route counts as independent (the resampling's blocks see that).
+
+Units: each parameter's own; χ² dimensionless.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Callable, Sequence
+
+from chainid.infra.forkpool import fork_map
+
+__all__ = ["Q90", "BISECT", "MAX_DOUBLINGS", "level", "scan_side", "profile_interval", "profile_intervals", "project",
+           "merge", "problem_hooks", "attach_profiles"]
+
+#: the 90 % point of χ² with one degree of freedom (scipy.stats.chi2.ppf(0.9, 1))
+Q90 = 2.705543454095404
+#: bisections of a crossing
+BISECT = 4
+#: most doublings of the step on one side before the scan gives up (the interval then reaches the last point)
+MAX_DOUBLINGS = 14
+
+Chi2 = Callable[[dict[str, float]], float]
+Refit = Callable[[str, float, dict[str, float]], dict[str, float]]
+
+
+def level(chi2_min: float, n: int, p: int) -> float:
+    """The profile's level above χ²_min: q₉₀ · max(1, χ²_min / (n − p)) (dimensionless)."""
+    if n <= p:
+        raise ValueError(f"n = {n} residuals for p = {p} fitted values: a profile needs n > p")
+    return Q90 * max(1.0, chi2_min / (n - p))
+
+
+def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: Chi2, refit: Refit,
+              lev: Callable[[], float], pts: list[tuple[float, float, dict[str, float]]]) -> None:
+    """Walk from ``est[key]`` towards ``bound`` until χ²_p passes ``lev()`` above the least χ² seen, then bisect.
+
+    Every point scanned is appended to ``pts`` as (value, χ²_p, parameters)."""
+    v0 = est[key]
+    inside, p_in = v0, est
+    sign = 1.0 if bound >= v0 else -1.0
+    h = abs(step)
+    out = None
+    for _ in range(MAX_DOUBLINGS):
+        v = v0 + sign * h
+        if sign * (v - bound) >= 0:
+            v = bound
+        p = refit(key, v, p_in)
+        c = chi2(p)
+        pts.append((v, c, p))
+        if c - min(q[1] for q in pts) > lev():
+            out = v
+            break
+        inside, p_in = v, p
+        if v == bound:
+            return
+        h *= 2.0
+    if out is None:
+        return
+    for _ in range(BISECT):
+        v = 0.5 * (inside + out)
+        p = refit(key, v, p_in)
+        c = chi2(p)
+        pts.append((v, c, p))
+        if c - min(q[1] for q in pts) > lev():
+            out = v
+        else:
+            inside, p_in = v, p
+
+
+def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float], step: float, chi2: Chi2,
+                     refit: Refit, n: int, p: int) -> dict[str, Any]:
+    """The 90 % profile interval of one parameter.
+
+    Parameters
+    ----------
+    key : the parameter (``effect.param``)
+    est : the fitted parameters (the scan's start)
+    bounds : the parameter's bounds [its unit]
+    step : the first step [its unit] (> 0)
+    chi2 : χ² of the training data at a parameter set
+    refit : ``refit(key, value, start) -> parameters`` with ``key`` held at ``value``, the others fitted from ``start``
+    n, p : the number of residuals and of fitted values (for s²)
+
+    Returns
+    -------
+    dict
+        ``ci90`` [lo, hi], ``chi2_min`` (the least χ² seen), ``level`` (q₉₀·s² at it), ``refits``, ``to_bound``
+        (the sides whose scan reached the parameter's bound inside the level), ``points`` (χ², parameters) of
+        every point scanned.
+    """
+    pts: list[tuple[float, float, dict[str, float]]] = [(est[key], chi2(est), est)]
+    lev = lambda: level(min(q[1] for q in pts), n, p)  # noqa: E731
+    span = bounds[1] - bounds[0]
+    step = max(abs(step), 1e-4 * (span if math.isfinite(span) else max(abs(est[key]), 1e-12)))
+    for b in bounds:
+        if b != est[key]:
+            scan_side(key, est, b, step, chi2, refit, lev, pts)
+    cmin = min(q[1] for q in pts)
+    ok = [v for v, c, _ in pts if c - cmin <= lev()]
+    lo, hi = min(ok), max(ok)
+    return {"ci90": [float(lo), float(hi)], "chi2_min": float(cmin), "level": float(lev()), "refits": len(pts) - 1,
+            "to_bound": [s for s, b, v in (("low", bounds[0], lo), ("high", bounds[1], hi)) if v == b],
+            "points": [(float(c), q) for _, c, q in pts]}
+
+
+def profile_intervals(keys: Sequence[str], est: dict[str, float], bounds: dict[str, tuple[float, float]],
+                      steps: dict[str, float], chi2: Chi2, refit: Refit, n: int, p: int) -> dict[str, dict[str, Any]]:
+    """:func:`profile_interval` of every parameter in ``keys`` that has bounds and a finite estimate."""
+    out = {}
+    for k in keys:
+        if k in bounds and k in est and math.isfinite(est[k]) and bounds[k][1] > bounds[k][0]:
+            out[k] = profile_interval(k, est, bounds[k], steps.get(k, 0.0), chi2, refit, n, p)
+    return out
+
+
+def merge(resampled: dict[str, list[float]], profiled: dict[str, dict[str, Any]]) -> dict[str, list[float]]:
+    """The reported 90 % intervals: per parameter the union of the resampling's and the profile's (either alone
+    where the other has none)."""
+    out = {k: list(v) for k, v in resampled.items()}
+    for k, pr in profiled.items():
+        lo, hi = pr["ci90"]
+        out[k] = [min(lo, out[k][0]), max(hi, out[k][1])] if k in out else [lo, hi]
+    return out
+
+
+def project(points: Sequence[tuple[float, dict[str, float]]], keys: Sequence[str], n: int, p: int
+            ) -> dict[str, list[float]]:
+    """The 90 % intervals read from every point scanned in a candidate's profiles: per parameter the least and
+    the largest value among the points whose χ² is within the level of the least χ² of all.
+
+    The profile interval is the projection of the region χ² − χ²_min ≤ q₉₀·s² on the parameter's axis, so a point
+    of another parameter's profile inside that region belongs to it too: a parameter whose own profile's refits
+    cannot move a rough partner (a delay against a sharp friction) gets the width the partner's profile found."""
+    cmin = min(c for c, _ in points)
+    lev = level(cmin, n, p)
+    inside = [q for c, q in points if c - cmin <= lev]
+    return {k: [float(min(q[k] for q in inside)), float(max(q[k] for q in inside))] for k in keys
+            if all(k in q and math.isfinite(q[k]) for q in inside)}
+
+
+def problem_hooks(prob: Any, cand: Any) -> dict[str, Any]:
+    """What :func:`attach_profiles` needs for a candidate of a route's problem (harmonic or time): ``chi2(params)``
+    (the problem's ``train_chi2``), ``refit(key, value, start)`` (its ``fit``: a polish with ``key`` held),
+    ``bounds`` (``param_bounds``) and ``n``, ``p`` (residuals or independent cells, fitted values)."""
+    names = list(cand.names)
+    _, n, p = prob.train_chi2(names, cand.params)
+
+    def chi2(q: dict[str, float]) -> float:
+        return float(prob.train_chi2(names, q)[0])
+
+    def refit_held(key: str, value: float, start: dict[str, float]) -> dict[str, float]:
+        return dict(prob.fit(names, start=start, polish_only=True, fix={key: value}).params)
+
+    return {"chi2": chi2, "refit": refit_held, "bounds": prob.param_bounds(names), "n": n, "p": p}
+
+
+def _steps(ci: dict[str, list[float]]) -> dict[str, float]:
+    """First scan steps: the resampling intervals' half-widths [their units]."""
+    return {k: 0.5 * (hi - lo) for k, (lo, hi) in ci.items() if math.isfinite(hi - lo)}
+
+
+def attach_profiles(stab: dict[str, Any], steps: Sequence[Any], hooks_for: Callable[[Any], dict[str, Any]],
+                    workers: int | None = None) -> None:
+    """Profile every fitted parameter of every step of the chain and merge the intervals into a resampling's
+    numbers: per step ``params_ci90_resampled`` (the percentile intervals), ``params_ci90_profile`` (with the scan's
+    χ²_min, level and refits) and ``params_ci90`` (their union, :func:`merge`); ``stab["profile"]`` says how.
+
+    ``hooks_for(candidate)`` gives ``chi2``, ``refit``, ``bounds``, ``n``, ``p`` (:func:`problem_hooks`).  The parameters are profiled in parallel
+    (:func:`chainid.infra.forkpool.fork_map`)."""
+    hooks = [hooks_for(c) for c in steps]
+    jobs = [(i, k) for i, c in enumerate(steps) for k in c.params if k in hooks[i]["bounds"]
+            and math.isfinite(c.params[k])]
+
+    def one(job: tuple[int, str]) -> dict[str, Any]:
+        i, k = job
+        h = hooks[i]
+        st = _steps(stab["steps"][i]["params_ci90"]) if i < len(stab["steps"]) else {}
+        return profile_interval(k, dict(steps[i].params), h["bounds"][k], st.get(k, 0.0), h["chi2"], h["refit"],
+                                h["n"], h["p"])
+
+    res = fork_map(one, jobs, workers, min_items=2)
+    for i, row in enumerate(stab["steps"]):
+        mine = [(k, r) for (j, k), r in zip(jobs, res) if j == i]
+        row["params_ci90_resampled"] = dict(row["params_ci90"])
+        pts = [pt for _, r in mine for pt in r.pop("points")]
+        proj = project(pts, [k for k, _ in mine], hooks[i]["n"], hooks[i]["p"]) if pts else {}
+        row["params_ci90_profile"] = {k: r | {"ci90": proj.get(k, r["ci90"])} for k, r in mine}
+        row["params_ci90"] = merge(row["params_ci90_resampled"], row["params_ci90_profile"])
+    stab["profile"] = {"method": "profile likelihood: χ²_p(v) − χ²_min ≤ 2.7055·max(1, χ²_min/(n − p)), the others "
+                                 "refitted; the reported interval is the union with the resampling's",
+                       "refits": int(sum(r["refits"] for r in res))}
