@@ -211,3 +211,28 @@ def covariate_friction_records(seed: int = 0, ids: Callable[[int, float], str] |
 def covariate_set() -> tuple[list, list, None]:
     """:func:`covariate_friction_records` with r2 (i = 0.5 A) held out."""
     return covariate_friction_records(), ["r2"], None
+
+
+def chain_friction_delay_problem():
+    """The harmonic problem of the paper's chain with friction F_c = 150 N and a sensor delay τ = 37.5 ms: nine
+    tests at ω = 1, 2, 4 rad/s × A = 0.1, 0.2, 0.3 mm about 2 mm, 8 cycles of 256 samples, force noise 20 N, the
+    damping law 40·(…)⁴ of the resampling tests; tests 3 and 7 held out.  Returns ``(problem, friction fitted
+    alone)``."""
+    from chainid.gap.harmonic.prepare import prepare_test
+    from chainid.gap.harmonic.problem import Problem
+    from chainid.model.base import ChainModel
+    from chainid.model.effects import parse_effect
+    from chainid.model.laws import PolynomialLaw
+    from chainid.records.simulate import grid_plan, simulate
+
+    model = ChainModel()
+    plan = grid_plan((1.0, 2.0, 4.0), (0.1, 0.2, 0.3), 2.0)
+    fric, delay = parse_effect("friction:F_c=150", model), parse_effect("sensor_delay:tau=0.0375", model)
+
+    def hook(t, x, xd, xdd, F):  # noqa: ANN001
+        return delay(t, x, xd, xdd, fric(t, x, xd, xdd, F))
+
+    recs = simulate(plan, model, PolynomialLaw([0.0, 0.0, 0.0, 0.0, 40.0]), n_cycles=8, samples_per_cycle=256,
+                    noise_F=20.0, seed=6, force_fn=hook)
+    prob = Problem([prepare_test(r) for r in recs], model, [recs[2].test, recs[6].test], "auto")
+    return prob, prob.fit(["friction"])

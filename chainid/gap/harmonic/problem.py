@@ -351,6 +351,9 @@ class Problem:
             weights: Sequence[float] | None = None, fix: dict[str, float] | None = None) -> Candidate:
         """Fit all parameters of an effect set jointly on the training tests.
 
+        A full fit (not a polish, on the training tests as they are) that adds a delay then scans the delay's
+        profile around the fit (:func:`chainid.gap.harmonic.delayscan.refine_delay`).
+
         Parameters
         ----------
         names : sequence of str
@@ -367,6 +370,16 @@ class Problem:
         fix : dict, optional
             Parameters held at these values [their units] (a profile's point); the others are fitted.
         """
+        c = self._fit(names, train_only, start, polish_only, weights, fix)
+        if polish_only or train_only is not None or weights is not None:
+            return c
+        from chainid.gap.harmonic.delayscan import refine_delay
+
+        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}))
+
+    def _fit(self, names: Sequence[str], train_only: Sequence[TestData] | None, start: dict[str, float] | None,
+             polish_only: bool, weights: Sequence[float] | None, fix: dict[str, float] | None) -> Candidate:
+        """One fit of :meth:`fit` (its multi-start search, or its polish)."""
         from chainid.gap.core.fitgrid import starts
 
         keys, lo, hi, x0 = self._keys(names)

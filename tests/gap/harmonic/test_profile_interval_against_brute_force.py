@@ -1,5 +1,5 @@
 """The harmonic route's profile-likelihood interval of a sensor delay against a sharp friction, checked against a
-brute-force profile: the delay on a dense grid (a quarter of the fastest test's sample interval), every other
+brute-force profile: the delay on a 0.25 ms grid (1/25 of the fastest test's sample interval), every other
 parameter polished at each point from two starts (the friction fitted alone, and the grid neighbour's optimum), the
 lower kept.  With friction's switch between samples the χ² steps in the delay, so a polish from the full fit cannot
 move it, and the resampling's percentile interval alone is far too narrow."""
@@ -8,13 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import recovery_cases as rc
 from chainid.gap.core.profile import level, problem_hooks, profile_interval
-from chainid.gap.harmonic.prepare import prepare_test
-from chainid.gap.harmonic.problem import Problem
-from chainid.model.base import ChainModel
-from chainid.model.effects import parse_effect
-from chainid.model.laws import PolynomialLaw
-from chainid.records.simulate import grid_plan, simulate
 
 NAMES = ["friction", "sensor_delay"]
 TAU = "sensor_delay.tau"
@@ -22,17 +17,7 @@ TAU = "sensor_delay.tau"
 
 @pytest.fixture(scope="module")
 def fitted():
-    model = ChainModel()
-    plan = grid_plan((1.0, 2.0, 4.0), (0.1, 0.2, 0.3), 2.0)
-    fric, delay = parse_effect("friction:F_c=150", model), parse_effect("sensor_delay:tau=0.0375", model)
-
-    def hook(t, x, xd, xdd, F):  # noqa: ANN001
-        return delay(t, x, xd, xdd, fric(t, x, xd, xdd, F))
-
-    recs = simulate(plan, model, PolynomialLaw([0.0, 0.0, 0.0, 0.0, 40.0]), n_cycles=8, samples_per_cycle=256,
-                    noise_F=20.0, seed=6, force_fn=hook)
-    prob = Problem([prepare_test(r) for r in recs], model, [recs[2].test, recs[6].test], "auto")
-    return prob, prob.fit(["friction"])
+    return rc.chain_friction_delay_problem()
 
 
 def brute_force(prob, c1, grid):
@@ -66,7 +51,7 @@ def test_fix_of_a_parameter_that_is_not_fitted_is_refused(fitted):
 
 def test_delay_interval_matches_the_brute_force_profile(fitted):
     prob, c1 = fitted
-    grid = np.linspace(0.0375 - 0.006, 0.0375 + 0.006, 49)  # 0.25 ms: the 4 Hz tests are sampled every 0.98 ms
+    grid = np.linspace(0.0375 - 0.006, 0.0375 + 0.006, 49)  # 0.25 ms: the ω = 4 rad/s tests are sampled every 6.1 ms
     chi, best = brute_force(prob, c1, grid)
     cand = prob.fit(NAMES, start=best, polish_only=True)
     h = problem_hooks(prob, cand)
