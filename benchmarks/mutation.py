@@ -162,6 +162,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/records/test_segments_split.py",
         "tests/records/test_excitation_step_times_and_pulse.py",
         "tests/records/test_reader_decimal_comma_delimiters.py",
+        "tests/records/test_short_row_in_a_multiblock_file.py",
     ),
     "damping": (
         "tests/damping/test_audit.py",
