@@ -190,13 +190,19 @@ def row_param_scores(r: dict[str, Any]) -> list[dict[str, Any]]:
 
 def param_coverage(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
     """The calibration of the 90 % intervals over every row with a right verdict (:func:`row_param_scores`):
-    ``by_effect`` (intervals, covered, coverage, median relative error per effect) and ``params`` (the same per
-    parameter); None when no row was diagnosed with resamples."""
+    ``by_effect`` (intervals, covered, coverage, median relative error per effect), ``params`` (the same per
+    parameter) and ``by_route`` (``by_effect`` of the harmonic plans and of the other excitations, the time route);
+    None when no row was diagnosed with resamples."""
     n = max((int(r.get("resamples") or 0) for r in rows), default=0)
     if n <= 0:
         return None
     ps = pool_scores(row_param_scores(r) for r in rows)
-    return {"resamples": n, "by_effect": coverage_by_effect(ps), "params": param_table(ps)}
+    routes: dict[str, list[dict[str, Any]]] = {}
+    for r in rows:  # a harmonic plan runs the harmonic route, every other excitation the time route
+        routes.setdefault("harmonic" if r.get("excitation", "harmonic") == "harmonic" else "time", []).append(r)
+    by_route = {k: coverage_by_effect(pool_scores(row_param_scores(r) for r in v)) for k, v in sorted(routes.items())}
+    return {"resamples": n, "by_effect": coverage_by_effect(ps), "params": param_table(ps),
+            "by_route": {k: v for k, v in by_route.items() if v}}
 
 
 def coverage_text(s: dict[str, Any]) -> list[str]:
@@ -206,7 +212,12 @@ def coverage_text(s: dict[str, Any]) -> list[str]:
         return []
     title = (f"\n90 % intervals ({cov['resamples']} resamples) covering the true parameter, per effect (right "
              f"verdicts only; calibrated: 85-95 %):")
-    return coverage_lines(cov["by_effect"], title) if cov["by_effect"] else [title, "  no parameter scored"]
+    if not cov["by_effect"]:
+        return [title, "  no parameter scored"]
+    out = coverage_lines(cov["by_effect"], title)
+    for route, by in (cov.get("by_route") or {}).items():
+        out += coverage_lines(by, f"  of which on the {route} route:")
+    return out
 
 
 TARGETS = {"single_right_rate": 0.92, "compound_both_named_rate": 0.85, "control_none_rate": 0.95}

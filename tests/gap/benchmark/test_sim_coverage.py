@@ -205,3 +205,16 @@ def test_one_real_friction_case_with_20_resamples_brackets_the_truth():
     assert 0.1 * S == pytest.approx(est, rel=0.10)
     (sc,) = row_param_scores(row)
     assert sc["param"] == "friction.F_c" and sc["covered"] is (lo <= row["true_params"]["friction.F_c"] <= hi)
+
+
+def test_coverage_split_by_route_follows_the_excitation():
+    # rows 0 and 1 on a random excitation (the time route: friction covered 1 of 2), row 3 harmonic (the
+    # harmonic route: the scale covered, F_c not)
+    rows = [ROWS[0] | {"excitation": "random"}, ROWS[1] | {"excitation": "random"}, ROWS[3]]
+    cov = param_coverage(rows)
+    assert set(cov["by_route"]) == {"harmonic", "time"}
+    t = cov["by_route"]["time"]["friction"]
+    assert (t["n_interval"], t["covered"]) == (2, 1)
+    h = cov["by_route"]["harmonic"]
+    assert (h["friction"]["covered"], h["stiffness_level"]["covered"]) == (0, 1)
+    assert "of which on the time route:" in format_summary(summarise(rows))
