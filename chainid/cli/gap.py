@@ -120,6 +120,15 @@ def _check_generator(args: argparse.Namespace) -> None:
 def cmd_benchmark(args: argparse.Namespace) -> int:
     from chainid.gap.benchmark.grid import run_benchmark
 
+    if args.summary:
+        from chainid.gap.benchmark.resummary import summary_text
+
+        try:
+            print(summary_text(args.summary))
+        except ValueError as exc:
+            print(f"chainid benchmark-gap: error: {exc}", file=sys.stderr)
+            return 2
+        return 0
     try:
         check_workers(args.workers)
         _check_generator(args)
@@ -239,5 +248,7 @@ def add_subparsers(subparsers: Any) -> None:
                         "percentile intervals, whose coverage of the true parameters both generators report per effect")
     b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
     b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
+    b.add_argument("--summary", metavar="FILE.json", default=None,
+                   help="print the summary of an earlier --json run again from its rows (no case is run)")
     b.set_defaults(func=cmd_benchmark)
 

@@ -1,0 +1,64 @@
+"""The summary of an earlier ``chainid benchmark-gap --json`` run, computed again from its rows (no case is run).
+
+A run of the full grid with resamples takes half an hour; its rates and tables (the confusion, the calibration
+of the intervals by effect and by route) are functions of its rows, so a later version of the scoring can print
+them again from the file: ``chainid benchmark-gap --summary FILE``.  The file is the JSON a run wrote: the sim
+generator's (``rows`` of benchmark cases), the ODE world's (rows with ``world: "ode"``), or ``--generator
+both``'s (``sim`` and ``ode`` apart).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+__all__ = ["load_runs", "summary_text"]
+
+
+def _rows(part: Any, where: str) -> list[dict[str, Any]]:
+    if not isinstance(part, dict) or not isinstance(part.get("rows"), list) or not part["rows"]:
+        raise ValueError(f"{where}: no 'rows' (a non-empty list of cases) in it: not the JSON of a "
+                         "chainid benchmark-gap run")
+    if not all(isinstance(r, dict) for r in part["rows"]):
+        raise ValueError(f"{where}: 'rows' holds an entry that is not a case (an object)")
+    return part["rows"]
+
+
+def load_runs(path: str | Path) -> dict[str, list[dict[str, Any]]]:
+    """The rows of each generator in a ``benchmark-gap --json`` file: ``{"sim": rows}``, ``{"ode": rows}`` or both.
+
+    Raises
+    ------
+    ValueError
+        The file is missing, is not JSON, or holds no rows of a benchmark run (the message names the file).
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise ValueError(f"--summary {str(p)!r}: no such file")
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"--summary {str(p)!r}: not JSON ({exc})") from None
+    if isinstance(data, dict) and data.get("generator") == "both":
+        return {g: _rows(data.get(g), f"--summary {str(p)!r}, part {g!r}") for g in ("sim", "ode")}
+    rows = _rows(data, f"--summary {str(p)!r}")
+    return {"ode" if rows[0].get("world") == "ode" else "sim": rows}
+
+
+def summary_text(path: str | Path) -> str:
+    """The terminal summary of every generator in the file, as a run prints it (without its wall time)."""
+    parts = []
+    for gen, rows in load_runs(path).items():
+        if gen == "ode":
+            from chainid.gap.benchmark.odescore import format_table, score_row, summarise as ode_summary
+
+            for r in rows:  # scored again by this version
+                r["score"] = score_row(r)
+            text = format_table(ode_summary(rows))
+        else:
+            from chainid.gap.benchmark.report import format_summary, summarise
+
+            text = format_summary(summarise(rows))
+        parts.append(f"== generator {gen} ({len(rows)} cases, from {Path(path).name}) ==\n{text}")
+    return "\n\n".join(parts)
