@@ -234,6 +234,12 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/gap/timedomain/test_band_limited_comparison.py::test_filtered_white_noise_keeps_its_noise_share",
         "tests/gap/timedomain/test_band_limited_comparison.py::test_each_run_of_a_view_is_filtered_on_its_own",
         "tests/gap/timedomain/test_band_limited_comparison.py::test_the_rule_needs_fast_motion_and_a_force_without_it",
+        "tests/gap/core/test_profile_likelihood_intervals.py",
+        "tests/gap/harmonic/test_profile_interval_against_brute_force.py",
+        "tests/gap/harmonic/test_delay_basin_scan.py",
+        "tests/gap/timedomain/test_profile_chi2_and_held_fits.py",
+        "tests/gap/benchmark/test_sim_coverage.py",
+        "tests/gap/benchmark/test_benchmark_summary_from_json.py",
     ),
     "dynamics": (
         "tests/cli/test_cli_dynamics.py",
