@@ -196,11 +196,12 @@ def param_coverage(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
     n = max((int(r.get("resamples") or 0) for r in rows), default=0)
     if n <= 0:
         return None
-    ps = pool_scores(row_param_scores(r) for r in rows)
-    routes: dict[str, list[dict[str, Any]]] = {}
-    for r in rows:  # a harmonic plan runs the harmonic route, every other excitation the time route
-        routes.setdefault("harmonic" if r.get("excitation", "harmonic") == "harmonic" else "time", []).append(r)
-    by_route = {k: coverage_by_effect(pool_scores(row_param_scores(r) for r in v)) for k, v in sorted(routes.items())}
+    scores = [row_param_scores(r) for r in rows]
+    ps = pool_scores(scores)
+    routes: dict[str, list[list[dict[str, Any]]]] = {}
+    for r, sc in zip(rows, scores):  # a harmonic plan runs the harmonic route, every other excitation the time route
+        routes.setdefault("harmonic" if r.get("excitation", "harmonic") == "harmonic" else "time", []).append(sc)
+    by_route = {k: coverage_by_effect(pool_scores(v)) for k, v in sorted(routes.items())}
     return {"resamples": n, "by_effect": coverage_by_effect(ps), "params": param_table(ps),
             "by_route": {k: v for k, v in by_route.items() if v}}
 

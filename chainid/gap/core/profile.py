@@ -33,8 +33,8 @@ from typing import Any, Callable, Sequence
 
 from chainid.infra.forkpool import fork_map
 
-__all__ = ["Q90", "BISECT", "MAX_DOUBLINGS", "level", "scan_side", "profile_interval", "profile_intervals", "project",
-           "merge", "problem_hooks", "attach_profiles"]
+__all__ = ["Q90", "BISECT", "MAX_DOUBLINGS", "level", "scan_side", "profile_interval", "project", "merge",
+           "problem_hooks", "attach_profiles"]
 
 #: the 90 % point of χ² with one degree of freedom (scipy.stats.chi2.ppf(0.9, 1))
 Q90 = 2.705543454095404
@@ -127,16 +127,6 @@ def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float
             "points": [(float(c), q) for _, c, q in pts]}
 
 
-def profile_intervals(keys: Sequence[str], est: dict[str, float], bounds: dict[str, tuple[float, float]],
-                      steps: dict[str, float], chi2: Chi2, refit: Refit, n: int, p: int) -> dict[str, dict[str, Any]]:
-    """:func:`profile_interval` of every parameter in ``keys`` that has bounds and a finite estimate."""
-    out = {}
-    for k in keys:
-        if k in bounds and k in est and math.isfinite(est[k]) and bounds[k][1] > bounds[k][0]:
-            out[k] = profile_interval(k, est, bounds[k], steps.get(k, 0.0), chi2, refit, n, p)
-    return out
-
-
 def merge(resampled: dict[str, list[float]], profiled: dict[str, dict[str, Any]]) -> dict[str, list[float]]:
     """The reported 90 % intervals: per parameter the union of the resampling's and the profile's (either alone
     where the other has none)."""
@@ -189,8 +179,8 @@ def attach_profiles(stab: dict[str, Any], steps: Sequence[Any], hooks_for: Calla
     numbers: per step ``params_ci90_resampled`` (the percentile intervals), ``params_ci90_profile`` (with the scan's
     χ²_min, level and refits) and ``params_ci90`` (their union, :func:`merge`); ``stab["profile"]`` says how.
 
-    ``hooks_for(candidate)`` gives ``chi2``, ``refit``, ``bounds``, ``n``, ``p`` (:func:`problem_hooks`).  The parameters are profiled in parallel
-    (:func:`chainid.infra.forkpool.fork_map`)."""
+    ``hooks_for(candidate)`` gives ``chi2``, ``refit``, ``bounds``, ``n``, ``p`` (:func:`problem_hooks`).  The
+    parameters are profiled in parallel (:func:`chainid.infra.forkpool.fork_map`)."""
     hooks = [hooks_for(c) for c in steps]
     jobs = [(i, k) for i, c in enumerate(steps) for k in c.params if k in hooks[i]["bounds"]
             and math.isfinite(c.params[k])]

@@ -53,24 +53,22 @@ def refine_delay(prob: Any, names: list[str], cand: Any, start: dict[str, float]
     cand : its full fit
     start, fix : the start values and the held parameters the fit was given
     """
-    keys = [k for k in prob.param_bounds(names) if k.endswith(".tau") and k not in start and k not in fix]
+    bounds = prob.param_bounds(names)
+    keys = [k for k in bounds if k.endswith(".tau") and k not in start and k not in fix]
     if len(keys) != 1 or keys[0] not in cand.params:
         return cand
     key = keys[0]
     chi, n, p = prob.train_chi2(names, cand.params)
     if not needs_scan(chi, n, p):
         return cand
-    lo, hi = prob.param_bounds(names)[key]
+    lo, hi = bounds[key]
     step = (hi - lo) / DELAY_GRID / 4
     base = dict(start) or {k: v for k, v in cand.params.items() if k != key}
     best = (chi, dict(cand.params))
     for centre, h, m in ((cand.params[key], step, COARSE), (None, step / 4, FINE)):
         c0 = best[1][key] if centre is None else centre
-        for k in range(-m, m + 1):
-            v = min(max(c0 + k * h, lo), hi)
-            if k == 0:
-                continue
-            got = _held(prob, names, key, v, base, fix)
+        for k in (*range(-m, 0), *range(1, m + 1)):
+            got = _held(prob, names, key, min(max(c0 + k * h, lo), hi), base, fix)
             if got[0] < best[0]:
                 best = got
     if best[0] >= chi:
