@@ -221,16 +221,13 @@ def chain_friction_delay_problem():
     from chainid.gap.harmonic.prepare import prepare_test
     from chainid.gap.harmonic.problem import Problem
     from chainid.model.base import ChainModel
-    from chainid.model.effects import parse_effect
+    from chainid.model.effects import compose_hooks, parse_effect
     from chainid.model.laws import PolynomialLaw
     from chainid.records.simulate import grid_plan, simulate
 
     model = ChainModel()
     plan = grid_plan((1.0, 2.0, 4.0), (0.1, 0.2, 0.3), 2.0)
-    fric, delay = parse_effect("friction:F_c=150", model), parse_effect("sensor_delay:tau=0.0375", model)
-
-    def hook(t, x, xd, xdd, F):  # noqa: ANN001
-        return delay(t, x, xd, xdd, fric(t, x, xd, xdd, F))
+    hook = compose_hooks([parse_effect("friction:F_c=150", model), parse_effect("sensor_delay:tau=0.0375", model)])
 
     recs = simulate(plan, model, PolynomialLaw([0.0, 0.0, 0.0, 0.0, 40.0]), n_cycles=8, samples_per_cycle=256,
                     noise_F=20.0, seed=6, force_fn=hook)

@@ -40,6 +40,7 @@ from chainid.gap.core import noise as nz
 from chainid.gap.core.verdict import trusted_path
 from chainid.gap.core.kinematics import Kinematics, estimate
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
+from chainid.gap.timedomain.data import interior
 
 
 def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> AugmentedModel:
@@ -218,7 +219,7 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
                 series[r.test] = (d.t + d.t_origin, d.x_meas, d.F, Fm[d.bins], Fb[d.bins])
         else:  # on the diagnosis' smooth kinematics (the estimator chosen by the record's spectrum)
             Fm, Fb = time_force(model, r, kin=kin[r.test]), time_force(base, r, kin=kin[r.test])
-            w = np.ones_like(r.F)
+            w = compared(model, r, kin[r.test]).astype(float)  # the samples the route compares
             (sm, var), (sb, _) = _sse_var(r.F, Fm, w), _sse_var(r.F, Fb, w)
             mode = "time-domain"
             if keep:
@@ -243,22 +244,37 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     return out
 
 
+def compared(model: AugmentedModel, rec: Any, kin: Kinematics) -> np.ndarray:
+    """The samples of a record the time-domain route compares with a model (bool per sample): the record's interior
+    (the ends, where the kinematics rest on the filters' padding, left out:
+    :func:`chainid.gap.timedomain.data.interior`) where the model's lagged motion is inside the record."""
+    t = np.asarray(rec.t, float)
+    a, b = interior(kin, nz.sample_rate(t), t.size)
+    keep = np.zeros(t.size, bool)
+    keep[a:b] = True
+    if model.delay_s:  # the lagged motion before the record's start (after its end) is unknown
+        ts = t - model.delay_s
+        keep &= (ts >= t[0]) & (ts <= t[-1])
+    return keep
+
+
 def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False, kin: Kinematics | None = None) -> Any:
     """The model force [N] on a record evaluated as the time-domain route evaluates it: on the record's smooth
     kinematics (:func:`chainid.gap.core.kinematics.estimate`), at the record's operating conditions, and with the
-    record's own force offset when the model's offsets are per test (nuisance parameters).  With
-    ``with_kinematics`` also the kinematics used (``kin``: the record's kinematics when already estimated)."""
+    record's own force offset when the model's offsets are per test (nuisance parameters, averaged over the
+    samples :func:`compared`).  Where a delayed model's lagged motion falls outside the record the force is unknown
+    and the measured force is returned (no residual there).  With ``with_kinematics`` also the kinematics used
+    (``kin``: the record's kinematics when already estimated)."""
     kin = kin if kin is not None else estimate(rec.t, rec.x, nz.excitation_band(rec.t, rec.x))
     m = model.at_conditions(getattr(rec, "covariates", None))
     F = np.asarray(m.force(rec.t, kin.x, xd=kin.xd, xdd=kin.xdd, v_err=kin.v_spread(rec.t)), float)
     Fm = np.asarray(rec.F, float)
-    out = np.zeros(F.size, bool)
-    if model.delay_s:  # the lagged motion before the record's start (after its end) is unknown: no residual there
+    keep = compared(model, rec, kin)
+    if model.offsets and keep.any():
+        F = F + float(np.mean((Fm - F)[keep]))
+    if model.delay_s:
         ts = np.asarray(rec.t, float) - model.delay_s
-        out = (ts < rec.t[0]) | (ts > rec.t[-1])
-    if model.offsets:
-        F = F + float(np.mean((Fm - F)[~out])) if (~out).any() else F
-    F = np.where(out, Fm, F)
+        F = np.where((ts < rec.t[0]) | (ts > rec.t[-1]), Fm, F)
     return (F, kin) if with_kinematics else F
 
 

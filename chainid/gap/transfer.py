@@ -35,7 +35,7 @@ from chainid.gap.core.noise import force_noise
 from chainid.gap.core.selection import at_noise_floor
 from chainid.gap.core.verdict import MIN_SHRINK, trusted_path
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
-from chainid.gap.modelio import time_force
+from chainid.gap.modelio import compared, time_force
 from chainid.gap.timedomain.data import MIN_SAMPLES
 from chainid.model.augmented import AugmentedModel
 
@@ -71,10 +71,12 @@ def _score(model: AugmentedModel, rec: Any, n_bins: int, steady_tol: float | Non
     if rec.t.size < MIN_SAMPLES:
         raise ValueError(f"--validate: test {rec.test!r} has {rec.t.size} samples; need >= {MIN_SAMPLES}")
     Fm, kin = time_force(model, rec, with_kinematics=True)
+    keep = compared(model, rec, kin)  # the samples the time route compares
     F = np.asarray(rec.F, float)
     sigma = max(force_noise(F), 1e-6 * float(np.std(F)) + 1e-9)
+    F, Fm = F[keep], Fm[keep]
     var = float(np.sum((F - F.mean()) ** 2))
-    r, rr = F - Fm, _refit(F, Fm, kin.x, kin.xd)
+    r, rr = F - Fm, _refit(F, Fm, kin.x[keep], kin.xd[keep])
     return {"route": "time", "sse": float(np.sum(r**2)), "sse_refit": float(np.sum(rr**2)), "var": var,
             "r2": float(np.sum(r**2)), "f2": float(sigma**2 * r.size), "n": int(r.size), "sigma": float(sigma)}
 

@@ -281,25 +281,28 @@ def play(x: Any, b: float, y0: float | None = None, periodic: bool = False) -> n
     return _play_run(xs, b, float(xs[0] if y0 is None else y0))[k:]
 
 
-def coulomb_sign(xd: Any, periodic: bool = True) -> np.ndarray:
-    """sgn(ẋ) of Coulomb sliding (the x_s → 0 limit of :func:`jenkins`), 0 for a sample at a reversal.
+#: |ẋ| at or below this fraction of the largest |ẋ| is an instant on a turning point (round-off)
+ROUND_OFF = 1e-12
 
-    A sample whose neighbours move in opposite directions and whose speed is below half of theirs is closer
-    to the turning point than half a sample step: the set-valued friction force there is taken at its
-    midpoint, 0 (stick), so the sign does not depend on round-off in t or x.  ``periodic``: the series is
-    one cycle (neighbours wrap around).
+
+def coulomb_sign(xd: Any, periodic: bool = True) -> np.ndarray:
+    """sgn(ẋ) of Coulomb sliding (the x_s → 0 limit of :func:`jenkins`), 0 for an instant on a turning point.
+
+    The force of sliding friction at an instant is F_c·sgn(ẋ), however near a reversal the instant falls: a record
+    samples the force at instants, and the harmonic route evaluates its model at the samples' phases (exact for
+    commensurate sampling).  Only an instant on the turning point (|ẋ| at round-off, ``ROUND_OFF`` of the largest
+    |ẋ|, as a sine sampled on its grid puts one at each turning point) takes the set-valued force at its midpoint,
+    0 (stick).  ``periodic`` (the series is one cycle) is accepted for symmetry with the operators; the rule does
+    not depend on it.
+
+    An earlier rule zeroed every sample within a third of a step of a reversal (speed under half its neighbours'):
+    a full F_c wrong on two reversals in three of sampled data, and a 0.1 % bias of F_c that only a Richardson
+    extrapolation in Δt could remove.
     """
     xd = np.asarray(xd, dtype=float)
     s = np.sign(xd)
-    if xd.size < 3:
-        return s
     a = np.abs(xd)
-    near = np.zeros(xd.size, bool)  # interior samples: neighbours i − 1 and i + 1
-    near[1:-1] = (s[:-2] * s[2:] < 0) & (a[1:-1] < 0.5 * np.minimum(a[:-2], a[2:]))
-    if periodic:  # the ends' neighbours wrap around
-        near[0] = s[-1] * s[1] < 0 and a[0] < 0.5 * min(a[-1], a[1])
-        near[-1] = s[-2] * s[0] < 0 and a[-1] < 0.5 * min(a[-2], a[0])
-    s[near] = 0.0
+    s[a <= ROUND_OFF * float(np.max(a, initial=0.0))] = 0.0
     return s
 
 

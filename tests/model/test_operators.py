@@ -131,17 +131,23 @@ def test_bad_inputs_name_the_field():
 
 
 # ---------------------------------------------------------------- Coulomb sign at a turning point
-def test_coulomb_sign_turning_point_rule():
-    """A sample between neighbours of opposite sign and slower than half of the slower neighbour is the turning
-    point: sign 0.  Hand: [2, 1, 0.4, −1, −2] → [1, 1, 0, −1, −1]; 0.5 is not < 0.5·1 → stays 1.
-    Bugs caught: < made <=, 0.5 changed, min made max, neighbours' sign test dropped, periodic wrap ignored."""
-    assert coulomb_sign([2, 1, 0.4, -1, -2], periodic=False).tolist() == [1, 1, 0, -1, -1]
-    assert coulomb_sign([2, 1, 0.5, -1, -2], periodic=False).tolist() == [1, 1, 1, -1, -1]
-    assert coulomb_sign([2, 3, 0.45, -0.95, -2], periodic=False).tolist() == [1, 1, 0, -1, -1]  # min(3, .95)
-    assert coulomb_sign([2, 3, 0.7, -1.3, -2], periodic=False).tolist() == [1, 1, 1, -1, -1]  # 0.7 > 0.5·1.3
-    assert coulomb_sign([2, 1, 0.1, 1, 2], periodic=False).tolist() == [1, 1, 1, 1, 1]  # same signs: no reversal
-    assert coulomb_sign([0.1, 1, 2, -1], periodic=True).tolist() == [0, 1, 1, -1]
-    assert coulomb_sign([0.1, 1, 2, -1], periodic=False).tolist() == [1, 1, 1, -1]
+@pytest.mark.parametrize("periodic", [False, True])
+def test_coulomb_sign_is_the_instant_sign_but_on_a_turning_point(periodic):
+    """sgn(ẋ) however near a reversal the instant falls; 0 only where |ẋ| is at round-off (1e-12) of the largest
+    |ẋ| (an instant on the turning point).  Hand: [2, 1, 0.4, −1, −2] → [1, 1, 1, −1, −1] (0.4: a third of a step
+    from the turning point, still moving); 2e-13 → 0 (1e-13 of 2), 2e-11 → 1.  Bugs caught: the old third-of-a-step
+    midpoint rule, <= made <, the largest |ẋ| made the smallest, a rule that depends on the wrap."""
+    def cs(v):
+        return coulomb_sign(v, periodic=periodic).tolist()
+
+    assert cs([2, 1, 0.4, -1, -2]) == [1, 1, 1, -1, -1]
+    assert cs([0.1, 1, 2, -1]) == [1, 1, 1, -1]
+    assert cs([2, 1, 2e-13, -1, -2]) == [1, 1, 0, -1, -1]
+    assert cs([2, 1, 2e-12, -1, -2]) == [1, 1, 0, -1, -1]  # exactly 1e-12 of the largest: on it (<=)
+    assert cs([2, 1, 2e-11, -1, -2]) == [1, 1, 1, -1, -1]
+    assert cs([2, 1, -0.0, -1, -2]) == [1, 1, 0, -1, -1]
+    assert cs([1e-13, 1e-13]) == [1, 1]  # a slow record: round-off is relative to its own largest speed
+    assert cs([0.0, 0.0]) == [0, 0]  # at rest
 
 
 # ---------------------------------------------------------------- own-seed 804 survivors

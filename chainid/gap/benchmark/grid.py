@@ -33,7 +33,7 @@ from chainid.gap.benchmark.report import CANONICAL, canon, case_row, open_world_
 from chainid.gap.benchmark.chain import case_chain, on_chain, x_scale
 from chainid.gap.benchmark.nonharmonic import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.gap.benchmark.simtruth import case_truth
-from chainid.model.effects import EFFECT_NAMES, parse_effect
+from chainid.model.effects import EFFECT_NAMES, compose_hooks, parse_effect
 
 #: the effects of the harmonic single-effect family, in the order their cases (and seeds) are drawn
 GRID_EFFECTS = ("stiffness_level", "friction", "hysteresis", "contact_law", "slack", "backlash",
@@ -111,15 +111,9 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
         else:
             hooks.append(_outside_hook(eff, lv, S))
     truth = case_truth(case, specs)
-
-    def hook(t, x, xd, xdd, F):  # noqa: ANN001
-        for h in hooks:
-            F = h(t, x, xd, xdd, F)
-        return F
-
     sigma = case["noise"] * S
     recs = simulate(plan, true, law, n_cycles=8, samples_per_cycle=256, noise_F=sigma, seed=case["seed"],
-                    force_fn=hook if hooks else None)
+                    force_fn=compose_hooks(hooks))
     ids = [p.test for p in plan]
     hold = [ids[2], ids[len(ids) // 2], ids[-1]]
     t0 = time.perf_counter()

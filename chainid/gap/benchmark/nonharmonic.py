@@ -257,14 +257,9 @@ def record_damping(case: dict[str, Any], motions: list[Any], c: float) -> list[f
 
 
 def _compose(hooks: list[Any]) -> Any:
-    if not hooks:
-        return None
+    from chainid.model.effects import compose_hooks
 
-    def hook(t, x, xd, xdd, F):  # noqa: ANN001
-        for h in hooks:
-            F = h(t, x, xd, xdd, F)
-        return F
-    return hook
+    return compose_hooks(hooks)
 
 
 def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: Any, sigmas: list[float]) -> list[float]:

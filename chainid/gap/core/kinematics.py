@@ -24,7 +24,8 @@ by the error it predicts, and the error it predicts is reported (it enters the n
    noise and a bias the intersection keeps within ±Γσ_c).
 3. *Edges*: the filters run on the record extended at each end by its odd reflection about a denoised end value
    (a quadratic fitted over an eighth of the band edge's period), so a noisy first sample does not launch a
-   transient.
+   transient.  The estimate there still rests on that extrapolation, within half a period of the cut of each end
+   (:meth:`Kinematics.edge_samples`); a user that compares forces sample by sample leaves those samples out.
 4. *Rest*: where the smooth speed and acceleration both stay within ``REST_SIGMAS`` noise standard deviations of
    zero for at least half a period of f_cut, the record shows no motion and ẋ is 0 (a contact at rest is stuck);
    a reversal passes through zero speed with an acceleration and keeps its estimate.  ẍ is the derivative of the
@@ -36,7 +37,7 @@ Units: t s, x mm, ẋ mm/s, ẍ mm/s², f Hz.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -93,6 +94,19 @@ class Kinematics:
         if self._spread is None or self._spread.size != np.size(t):
             self._spread = np.broadcast_to(np.asarray(self.v_error(), float), np.shape(t)).copy()
         return self._spread
+
+    def edge_samples(self, fs: float) -> int:
+        """Samples at each end of a record whose estimate rests on the padding (rule 3 of the module docstring):
+        half a period of ẋ's cut, the rest rule's run, ⌈fs/(2·f_cut)⌉; none for the spectral estimator (a periodic
+        record has no ends)."""
+        if self.method == "spectral" or not (self.f_cut > 0):
+            return 0
+        return int(math.ceil(0.5 * fs / self.f_cut))
+
+    def trimmed(self, a: int, b: int) -> "Kinematics":
+        """The same estimate on samples a … b − 1 (every per-sample array sliced)."""
+        return replace(self, x=self.x[a:b], xd=self.xd[a:b], xdd=self.xdd[a:b],
+                       err_v_t=None if self.err_v_t is None else self.err_v_t[a:b], _spread=None)
 
     def info(self) -> dict[str, float | str]:
         """The estimator and its predicted errors, for a report."""

@@ -24,6 +24,8 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from chainid.gap.core.candidate import MIN_TRAIN, Candidate, jackknife_sd  # noqa: F401  (re-exported)
+from chainid.gap.core.delayscan import refine_delay
+from chainid.gap.core.fitgrid import DELAY_GRID, starts
 from chainid.gap.harmonic import law_choice as L
 from chainid.gap.harmonic.bin_fits import damping_separable, linear_start  # noqa: F401  (re-exported)
 from chainid.gap.harmonic.prepare import TestData
@@ -352,7 +354,7 @@ class Problem:
         """Fit all parameters of an effect set jointly on the training tests.
 
         A full fit (not a polish, on the training tests as they are) that adds a delay then scans the delay's
-        profile around the fit (:func:`chainid.gap.harmonic.delayscan.refine_delay`).
+        profile around the fit (:func:`chainid.gap.core.delayscan.refine_delay`; Δ: the start grid's spacing).
 
         Parameters
         ----------
@@ -373,14 +375,13 @@ class Problem:
         c = self._fit(names, train_only, start, polish_only, weights, fix)
         if polish_only or train_only is not None or weights is not None:
             return c
-        from chainid.gap.harmonic.delayscan import refine_delay
-
-        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}))
+        bounds = self.param_bounds(names)
+        spacing = max((b - a for k, (a, b) in bounds.items() if k.endswith(".tau")), default=0.0) / DELAY_GRID
+        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}), spacing)
 
     def _fit(self, names: Sequence[str], train_only: Sequence[TestData] | None, start: dict[str, float] | None,
              polish_only: bool, weights: Sequence[float] | None, fix: dict[str, float] | None) -> Candidate:
         """One fit of :meth:`fit` (its multi-start search, or its polish)."""
-        from chainid.gap.core.fitgrid import starts
 
         keys, lo, hi, x0 = self._keys(names)
         fix = dict(fix or {})

@@ -50,7 +50,8 @@ FIT_MIN_WINDOWS = 4
 
 @dataclass
 class TimeData:
-    """One record prepared for the time-domain diagnosis (units mm, N, s, Hz)."""
+    """One record prepared for the time-domain diagnosis (units mm, N, s, Hz): every per-sample array holds the
+    record's interior (:func:`interior`: the ends, where the kinematics rest on the filters' padding, left out)."""
 
     __test__ = False
     test: str
@@ -118,6 +119,16 @@ def low_edge(t: np.ndarray, x: np.ndarray, fraction: float = 0.01) -> float:
     return float(max(f[min(k, f.size - 1)], f[1]))
 
 
+def interior(kin: Any, fs: float, n: int) -> tuple[int, int]:
+    """The samples a … b − 1 of a record that are compared: all but :meth:`~chainid.gap.core.kinematics.Kinematics.
+    edge_samples` at each end, where ẋ̂ rests on the filters' padding.  A sign taken there can be wrong for a
+    sample or three where the motion leaves rest, each an error of up to 2·F_c in a friction force: on a noise-free
+    start-up record those few samples had pulled F_c 1.15 % low.  At most the samples beyond :data:`MIN_SAMPLES`
+    are left out."""
+    e = min(kin.edge_samples(fs), max((n - MIN_SAMPLES) // 2, 0))
+    return e, n - e
+
+
 def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     """Prepare one record for the time domain: band, smooth kinematics, force noise, features, blocks, fit subset.
 
@@ -147,7 +158,6 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     fs = nz.sample_rate(t)
     fb = nz.excitation_band(t, rec.x)
     kin = estimate(t, rec.x, fb)
-    xs, xd, xdd = kin.x, kin.xd, kin.xdd
     F = np.asarray(rec.F, float)
     sigma_hf = nz.hf_floor(t, F, fb)
     # two estimates of the force noise, each an upper bound where the other fails: the robust second difference
@@ -157,13 +167,20 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     if math.isfinite(sigma_hf) and sigma_hf > 0:
         sigma = min(sigma, sigma_hf)
     sigma = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
+    # the ends, where the kinematics rest on the padding, are estimated but not compared (:func:`interior`); the
+    # record's features are the whole record's
+    omega_c = record_features(t, kin.x)[0]
+    a, b = interior(kin, fs, t.size)
+    kin = kin.trimmed(a, b)
+    t, F, x_meas = t[a:b], F[a:b], np.asarray(rec.x, float)[a:b]
+    xs, xd, xdd = kin.x, kin.xd, kin.xdd
     block = np.minimum((np.arange(t.size) * n_blocks) // t.size, n_blocks - 1).astype(np.int64)
     q = max(1, min(int(fs / (FIT_SAMPLES_PER_PERIOD * fb)), int(math.ceil(t.size / FIT_MAX))))
     cov = {str(k): float(v) for k, v in dict(getattr(rec, "covariates", None) or {}).items()}
     f_res = residual_cut(F, fs, kin.f_cut_a, sigma, kin.beyond_a)
-    return TimeData(rec.test, t, xs, xd, xdd, F, np.asarray(rec.x, float), sigma, fb, fs,
+    return TimeData(rec.test, t, xs, xd, xdd, F, x_meas, sigma, fb, fs,
                     sigma_hf, block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
-                    covariates=cov, omega_c=record_features(t, xs)[0], f_low=low_edge(t, xs), f_res=f_res,
+                    covariates=cov, omega_c=omega_c, f_low=low_edge(t, xs), f_res=f_res,
                     rho=noise_share(fs, f_res))
 
 

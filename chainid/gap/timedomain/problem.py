@@ -26,11 +26,12 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.core.candidate import Candidate, jackknife_sd
+from chainid.gap.core.delayscan import refine_delay
 from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
 from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, shape_names,
                                            split_name)
 from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
-from chainid.gap.timedomain.search import search
+from chainid.gap.timedomain.search import lag_points, search
 from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
 
 __all__ = ["TimeProblem"]
@@ -208,7 +209,19 @@ class TimeProblem:
         """Fit an effect set on the training blocks: shape parameters searched on the fit subset (amplitudes
         profiled out), then every amplitude on all training samples.  ``weights``: a multiplicity per block in
         stacking order (a resample), instead of 1 per training block.  ``fix``: parameters (shapes or
-        amplitudes) held at these values [their units] (a profile's point)."""
+        amplitudes) held at these values [their units] (a profile's point).  A full fit (not a polish, not a
+        resample) that adds a delay then scans the delay's profile around the fit
+        (:func:`chainid.gap.core.delayscan.refine_delay`; Δ: the lag grid's spacing)."""
+        c = self._fit_once(names, start, polish_only, weights, fix)
+        if polish_only or weights is not None:
+            return c
+        taus = [(a, b) for k, a, b in shape_names(self.base, list(names), self.scales) if k.endswith(".tau")]
+        spacing = max(((b - a) / max(lag_points(a, b, self.f_band) - 1, 1) for a, b in taus), default=0.0)
+        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}), spacing, regrid=True)
+
+    def _fit_once(self, names: Sequence[str], start: dict[str, float] | None, polish_only: bool,
+             weights: np.ndarray | None, fix: dict[str, float] | None) -> Candidate:
+        """One fit of :meth:`fit` (its grid search and polish, or its polish)."""
         names = list(names)
         keys = shape_names(self.base, names, self.scales)
         amps = amplitude_names(self.base, names)

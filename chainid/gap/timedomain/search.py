@@ -27,7 +27,7 @@ from scipy.optimize import least_squares
 
 from chainid.model.effects import pinned
 
-__all__ = ["grid_values", "search", "MAX_GRID", "N_POLISH", "LAG_POINTS_PER_PERIOD"]
+__all__ = ["grid_values", "lag_points", "search", "MAX_GRID", "N_POLISH", "LAG_POINTS_PER_PERIOD"]
 
 #: most grid combinations evaluated for a new effect
 MAX_GRID = 72
@@ -43,14 +43,19 @@ _LOG = ("x_s", "x_h", "x_y", "v_s", "b", "g", "c")
 _FEW = {"n": (1.0, 2.0, 4.0), "r": (0.25, 0.75, 1.0), "p": (1.0, 1.5, 2.5), "beta": (0.45, 2.0 / 3.0, 0.9)}
 
 
+def lag_points(lo: float, hi: float, f_band: float) -> int:
+    """Points of a lag's start grid over [lo, hi] (in s): ``LAG_POINTS_PER_PERIOD`` per period of the band edge
+    ``f_band`` [Hz], between 16 and ``MAX_LAG_POINTS``."""
+    return int(min(MAX_LAG_POINTS, max(16, math.ceil((hi - lo) * f_band * LAG_POINTS_PER_PERIOD))))
+
+
 def grid_values(key: str, lo: float, hi: float, f_band: float = 1.0) -> list[float]:
     """Grid values of one shape parameter ``effect.param`` over [lo, hi] (see the module docstring)."""
     par = key.split(".", 1)[1]
     if hi <= lo:
         return [lo]
     if par == "tau":
-        n = int(min(MAX_LAG_POINTS, max(16, math.ceil((hi - lo) * f_band * LAG_POINTS_PER_PERIOD))))
-        return list(np.linspace(lo, hi, n))
+        return list(np.linspace(lo, hi, lag_points(lo, hi, f_band)))
     if par in _FEW:
         return [v for v in _FEW[par] if lo <= v <= hi] or [0.5 * (lo + hi)]
     if par == "scale":

@@ -72,10 +72,9 @@ def sliding_sign(xd: np.ndarray, periodic: bool = True, v_err: float | np.ndarra
     E[sgn(ẋ) | ẋ̂] = erf(ẋ̂/(√2·v_err)) — the least-squares force where the direction is uncertain (near a
     reversal, at rest), instead of a full 2·F_c jump at a noise-decided sample.  ``v_err`` may vary per sample.
 
-    The sample at a reversal (the one :func:`coulomb_sign` sets to 0: the set-valued force at its midpoint) is 0
-    with an estimated velocity too, so the expectation tends to :func:`coulomb_sign` as ``v_err`` → 0 (an erf
-    alone gives ±1 there: one full F_c off at every reversal of a well-measured record, which a least-squares fit
-    takes up as a larger viscous c and a smaller F_c)."""
+    An instant on a turning point (the one :func:`coulomb_sign` sets to 0: |ẋ| at round-off, the set-valued force at
+    its midpoint) is 0 with an estimated velocity too, so the expectation tends to :func:`coulomb_sign` as
+    ``v_err`` → 0; an instant near one is still moving and keeps its expectation."""
     ve = np.asarray(v_err, float)
     hard = coulomb_sign(xd, periodic)
     if np.any(ve > 0.0):

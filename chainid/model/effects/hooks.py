@@ -16,7 +16,7 @@ import numpy as np
 from chainid.model.effects.compose import effect_force
 from chainid.model.effects.library import DEFAULTS, EFFECT_NAMES, SPECS, make_effect
 
-__all__ = ["parse_spec", "parse_effect", "check_params"]
+__all__ = ["parse_spec", "parse_effect", "check_params", "compose_hooks"]
 
 
 def parse_spec(spec: str) -> tuple[str, dict[str, float]]:
@@ -102,7 +102,7 @@ def parse_effect(spec: str, model: Any) -> Callable[..., np.ndarray]:
         m = float(getattr(model, "mass_kg", 0.0))
         base = m * xdd * 1e-3 + np.asarray(model.force(x), dtype=float)
         damp = F_model - base
-        if name == "sensor_delay":
+        if name == "sensor_delay":  # alone: the model force is smooth, its samples interpolate it
             return np.interp(t - p["tau"], t, F_model)
         A = 0.5 * (float(np.max(x)) - float(np.min(x)))
         omega = float(np.max(np.abs(xd))) / A if A > 0 else 1.0
@@ -113,4 +113,38 @@ def parse_effect(spec: str, model: Any) -> Callable[..., np.ndarray]:
 
     hook.effect_name = name  # type: ignore[attr-defined]
     hook.effect_params = p  # type: ignore[attr-defined]
+    if name == "sensor_delay":
+        hook.delay_s = float(p["tau"])  # type: ignore[attr-defined]
+    return hook
+
+
+def compose_hooks(hooks: list[Callable[..., np.ndarray]]) -> Callable[..., np.ndarray] | None:
+    """One hook applying ``hooks`` in order (None for none), a delay at the instants it lags to.
+
+    A sensor delay τ (a hook with ``delay_s``) measures the force at t − τ.  Interpolating the force already built
+    from the samples would put a switch (a friction's sign, a contact) between two samples on a ramp: the force of
+    no instant.  So everything before the delay (the model force and the earlier hooks) is evaluated again at the
+    lagged instants t − τ, on the kinematics interpolated there (smooth: linear interpolation errs by O(Δt²)),
+    and a friction there takes the sign of the velocity at that instant
+    (:func:`chainid.model.operators.coulomb_sign`).  Before the record's start the first sample's state is held.
+    """
+    if not hooks:
+        return None
+
+    def run(hs: list[Callable[..., np.ndarray]], t: np.ndarray, x: np.ndarray, xd: np.ndarray, xdd: np.ndarray,
+            F: np.ndarray) -> np.ndarray:
+        for i in range(len(hs) - 1, -1, -1):  # the last delay wraps everything before it
+            tau = getattr(hs[i], "delay_s", None)
+            if tau is not None:
+                ts = np.asarray(t, float) - tau
+                lag = [np.interp(ts, t, np.asarray(v, float)) for v in (x, xd, xdd, F)]
+                F = run(hs[:i], ts, *lag)
+                return run(hs[i + 1:], t, x, xd, xdd, F)
+        for h in hs:
+            F = h(t, x, xd, xdd, F)
+        return F
+
+    def hook(t: np.ndarray, x: np.ndarray, xd: np.ndarray, xdd: np.ndarray, F: np.ndarray) -> np.ndarray:
+        return run(list(hooks), np.asarray(t, float), x, xd, xdd, F)
+
     return hook

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import recovery_cases as rc
@@ -111,8 +112,14 @@ def _check_stop(res: dict, last_loto: float) -> None:
         assert f"{100 * top['relative_gain_loto']:.1f} %" in top["reason"]
 
 
+def _drift():
+    """The linear device with a slow force drift, 0.3·sin(2πt/7 s) N: no state variable and no library effect
+    follows it (the baseline is 7.6 dB over the noise and no effect passes)."""
+    return rc.linear_random(lambda mo, t: 0.3 * np.sin(2 * np.pi * t / 7.0)), ["r4"], None
+
+
 def test_stop_message_names_the_best_rejected_candidate_with_no_step():
-    res = rc.diagnosed("resonant", rc.resonant_set)[0]
+    res = rc.diagnosed("drift", _drift)[0]
     assert len(res["steps"]) == 1, res["chain_text"]
     _check_stop(res, res["baseline"]["nrmse_loto"])
     # with no step, the candidates of the last step are the ranking's single effects: the top is the same
