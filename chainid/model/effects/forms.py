@@ -16,7 +16,7 @@ Units: x mm, ẋ mm/s, ẍ mm/s², F N, t s, ω rad/s, A mm, m kg (m·ẍ·1e-3 
 from __future__ import annotations
 
 import math
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 

@@ -8,7 +8,6 @@ Units: x mm, ẋ mm/s, ẍ mm/s², F N, t s.
 
 from __future__ import annotations
 
-import math
 from typing import Any, Callable
 
 import numpy as np
