@@ -244,6 +244,13 @@ def predict(model: AugmentedModel, records: Sequence[Any], tests: Sequence[str] 
     return out
 
 
+def _lag_outside(model: AugmentedModel, t: np.ndarray) -> np.ndarray:
+    """Samples whose lagged instant t − τ falls before the record's start or after its end: the motion there is
+    unknown (all False without a delay)."""
+    ts = t - model.delay_s
+    return (ts < t[0]) | (ts > t[-1])
+
+
 def compared(model: AugmentedModel, rec: Any, kin: Kinematics) -> np.ndarray:
     """The samples of a record the time-domain route compares with a model (bool per sample): the record's interior
     (the ends, where the kinematics rest on the filters' padding, left out:
@@ -252,10 +259,7 @@ def compared(model: AugmentedModel, rec: Any, kin: Kinematics) -> np.ndarray:
     a, b = interior(kin, nz.sample_rate(t), t.size)
     keep = np.zeros(t.size, bool)
     keep[a:b] = True
-    if model.delay_s:  # the lagged motion before the record's start (after its end) is unknown
-        ts = t - model.delay_s
-        keep &= (ts >= t[0]) & (ts <= t[-1])
-    return keep
+    return keep & ~_lag_outside(model, t)
 
 
 def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False, kin: Kinematics | None = None) -> Any:
@@ -273,8 +277,7 @@ def time_force(model: AugmentedModel, rec: Any, with_kinematics: bool = False, k
     if model.offsets and keep.any():
         F = F + float(np.mean((Fm - F)[keep]))
     if model.delay_s:
-        ts = np.asarray(rec.t, float) - model.delay_s
-        F = np.where((ts < rec.t[0]) | (ts > rec.t[-1]), Fm, F)
+        F = np.where(_lag_outside(model, np.asarray(rec.t, float)), Fm, F)
     return (F, kin) if with_kinematics else F
 
 

@@ -39,7 +39,7 @@ import numpy as np
 from chainid.gap.benchmark.chain import case_chain, scale_motion, x_scale
 from chainid.gap.benchmark.report import case_row
 from chainid.gap.benchmark.simtruth import case_truth
-from chainid.model.effects import EFFECT_NAMES, parse_effect
+from chainid.model.effects import EFFECT_NAMES, compose_hooks, parse_effect
 
 #: the non-harmonic excitation families
 EXCITATIONS = ("random", "sweep", "startup", "quake")
@@ -256,12 +256,6 @@ def record_damping(case: dict[str, Any], motions: list[Any], c: float) -> list[f
     return [c * (1.0 + DAMPING_SPREAD * float(v)) for v in z]
 
 
-def _compose(hooks: list[Any]) -> Any:
-    from chainid.model.effects import compose_hooks
-
-    return compose_hooks(hooks)
-
-
 def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: Any, sigmas: list[float]) -> list[float]:
     """Each effect's own detectability: the RMS over the records of the force it adds on top of the others
     (noise-free; its part along ẋ removed, which the fitted viscous c absorbs), over the noise σ."""
@@ -273,8 +267,8 @@ def effect_snr(motions: list[Any], model: Any, hooks: list[Any], c: Any, sigmas:
         num = den = 0.0
         for m, sg, cr in zip(motions, sigmas, cs):
             F0 = model_force(m.x, m.xd, m.xdd, model, cr)
-            d = _compose(hooks)(m.t, m.x, m.xd, m.xdd, F0) - (
-                _compose(hooks[:j] + hooks[j + 1:]) or (lambda t, x, xd, xdd, F: F))(m.t, m.x, m.xd, m.xdd, F0)
+            d = compose_hooks(hooks)(m.t, m.x, m.xd, m.xdd, F0) - (
+                compose_hooks(hooks[:j] + hooks[j + 1:]) or (lambda t, x, xd, xdd, F: F))(m.t, m.x, m.xd, m.xdd, F0)
             d = d - float(np.dot(d, m.xd) / max(np.dot(m.xd, m.xd), 1e-300)) * m.xd
             num += float(np.sum(d * d))
             den += sg * sg * d.size
@@ -291,7 +285,7 @@ def records(case: dict[str, Any]) -> tuple[list[Any], dict[str, Any]]:
     rng = np.random.default_rng(case["seed"])
     motions = [scale_motion(motion(case["excitation"], rng), x_scale(case)) for _ in range(N_RECORDS)]
     nominal, true, hooks, S, c, truth = _device(case, motions)
-    hook = _compose(hooks)
+    hook = compose_hooks(hooks)
     cs = record_damping(case, motions, c)
     recs, sigmas = [], []
     for i, m in enumerate(motions):

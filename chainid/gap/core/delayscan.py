@@ -27,7 +27,7 @@ Units: s for τ; χ² dimensionless.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Callable
 
 __all__ = ["COARSE", "FINE", "needs_scan", "refine_delay"]
 
@@ -54,7 +54,7 @@ def _held(prob: Any, names: list[str], key: str, v: float, start: dict[str, floa
 
 
 def refine_delay(prob: Any, names: list[str], cand: Any, start: dict[str, float], fix: dict[str, float],
-                 spacing: float, regrid: bool = False) -> Any:
+                 grid_step: Callable[[float, float], float], regrid: bool = False) -> Any:
     """``cand`` or a better fit of ``names`` found by scanning a newly added delay's profile (module docstring).
 
     Parameters
@@ -63,33 +63,37 @@ def refine_delay(prob: Any, names: list[str], cand: Any, start: dict[str, float]
     names : the effect set
     cand : its full fit
     start, fix : the start values and the held parameters the fit was given
-    spacing : the route's start-grid spacing Δ of the delay [s]
-    regrid : each held point also searches the other shape parameters afresh (their start values adapted to the
+    grid_step : the route's start-grid spacing Δ [s] of a delay fitted over (lo, hi) [s]
+    regrid : each coarse point also searches the other shape parameters afresh (their start values adapted to the
         missing delay may sit across a discontinuity of the form from their basin: a friction's stick travel just
-        above the resolved floor, where the Jenkins element switches on every wiggle of x̂)
+        above the resolved floor, where the Jenkins element switches on every wiggle of x̂); the fine pass then
+        polishes from the best coarse point's fit
     """
     bounds = prob.param_bounds(names)
     keys = [k for k in bounds if k.endswith(".tau") and k not in start and k not in fix]
     if len(keys) != 1 or keys[0] not in cand.params:
         return cand
     key = keys[0]
-    if not spacing > 0:
+    lo, hi = bounds[key]
+    step = grid_step(lo, hi) / 4
+    if not step > 0:
         return cand
     chi, n, p = prob.train_chi2(names, cand.params)
     if not needs_scan(chi, n, p):
         return cand
-    lo, hi = bounds[key]
-    step = spacing / 4
-    base = dict(start) or {k: v for k, v in cand.params.items() if k != key}
     best = (chi, dict(cand.params))
-    for centre, h, m in ((cand.params[key], step, COARSE), (None, step / 4, FINE)):
-        c0 = best[1][key] if centre is None else centre
-        fresh = regrid and centre is not None  # the fine pass polishes from the best coarse point's fit
-        frm = base if centre is not None or not regrid else {k: v for k, v in best[1].items() if k != key}
+
+    def scan(centre: float, h: float, m: int, frm: dict[str, float], fresh: bool) -> None:
+        nonlocal best
         for k in (*range(-m, 0), *range(1, m + 1)):
-            got = _held(prob, names, key, min(max(c0 + k * h, lo), hi), frm, fix, fresh)
+            got = _held(prob, names, key, min(max(centre + k * h, lo), hi), frm, fix, fresh)
             if got[0] < best[0]:
                 best = got
+
+    base = dict(start) or {k: v for k, v in cand.params.items() if k != key}
+    scan(cand.params[key], step, COARSE, base, regrid)
+    fine_from = {k: v for k, v in best[1].items() if k != key} if regrid else base
+    scan(best[1][key], step / 4, FINE, fine_from, False)
     if best[0] >= chi:
         return cand
     out = prob.fit(names, start=best[1], polish_only=True, fix=fix or None)

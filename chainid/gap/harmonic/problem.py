@@ -375,14 +375,12 @@ class Problem:
         c = self._fit(names, train_only, start, polish_only, weights, fix)
         if polish_only or train_only is not None or weights is not None:
             return c
-        bounds = self.param_bounds(names)
-        spacing = max((b - a for k, (a, b) in bounds.items() if k.endswith(".tau")), default=0.0) / DELAY_GRID
-        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}), spacing)
+        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}),
+                            lambda lo, hi: (hi - lo) / DELAY_GRID)
 
     def _fit(self, names: Sequence[str], train_only: Sequence[TestData] | None, start: dict[str, float] | None,
              polish_only: bool, weights: Sequence[float] | None, fix: dict[str, float] | None) -> Candidate:
         """One fit of :meth:`fit` (its multi-start search, or its polish)."""
-
         keys, lo, hi, x0 = self._keys(names)
         fix = dict(fix or {})
         unknown = sorted(set(fix) - set(keys))

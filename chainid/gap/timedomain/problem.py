@@ -215,12 +215,11 @@ class TimeProblem:
         c = self._fit_once(names, start, polish_only, weights, fix)
         if polish_only or weights is not None:
             return c
-        taus = [(a, b) for k, a, b in shape_names(self.base, list(names), self.scales) if k.endswith(".tau")]
-        spacing = max(((b - a) / max(lag_points(a, b, self.f_band) - 1, 1) for a, b in taus), default=0.0)
-        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}), spacing, regrid=True)
+        return refine_delay(self, list(names), c, dict(start or {}), dict(fix or {}),
+                            lambda lo, hi: (hi - lo) / max(lag_points(lo, hi, self.f_band) - 1, 1), regrid=True)
 
     def _fit_once(self, names: Sequence[str], start: dict[str, float] | None, polish_only: bool,
-             weights: np.ndarray | None, fix: dict[str, float] | None) -> Candidate:
+                  weights: np.ndarray | None, fix: dict[str, float] | None) -> Candidate:
         """One fit of :meth:`fit` (its grid search and polish, or its polish)."""
         names = list(names)
         keys = shape_names(self.base, names, self.scales)
