@@ -102,8 +102,30 @@ def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callab
     pts = np.bincount(grp, weights=pg * w) / np.bincount(grp, weights=w.astype(float))
     tg = (pts - theta) / omega
     xg, xdg, xddg = xfun(tg)
-    return {"t": tg, "x": xg, "xd": xdg, "xdd": xddg, "map": grp, "bin": (ukey // (B * Q)).astype(np.int64),
-            "w": w.astype(float)}
+    return {"t": tg, "x": xg, "xd": on_reversal(xdg), "xdd": xddg, "map": grp,
+            "bin": (ukey // (B * Q)).astype(np.int64), "w": w.astype(float)}
+
+
+#: a grid point is on a reversal when its |ẋ| is below this share of both neighbours' (of opposite signs)
+REVERSAL_SHARE = 0.01
+
+
+def on_reversal(xd: np.ndarray) -> np.ndarray:
+    """ẋ on one cycle of phase points with 0 at a point that sits on a reversal.
+
+    A record sampled commensurately with its cycle (64 samples a cycle, say) can put a sample exactly on the turning
+    point, where a sliding contact's force is set-valued (its midpoint, 0 for a symmetric friction).  The grid's ẋ
+    there comes from the estimated phase (an error of about 1e-4 rad), so its sign is that of the estimate's error,
+    and a friction force evaluated on it is a full ±F wrong.  A point whose |ẋ| is below ``REVERSAL_SHARE`` of both
+    neighbours', which have opposite signs, lies within about 1 % of a phase step of the reversal: its ẋ is set to
+    0 (:func:`chainid.model.operators.coulomb_sign` then gives the midpoint).  A point merely near a reversal keeps
+    its ẋ.  [mm/s]"""
+    xd = np.asarray(xd, float)
+    if xd.size < 3:
+        return xd
+    prev, nxt = np.roll(xd, 1), np.roll(xd, -1)
+    on = (prev * nxt < 0.0) & (np.abs(xd) <= REVERSAL_SHARE * np.minimum(np.abs(prev), np.abs(nxt)))
+    return np.where(on, 0.0, xd)
 
 
 def fourier_x(t: np.ndarray, x: np.ndarray, omega: float, theta: float, H: int = 5) -> Callable:
