@@ -139,6 +139,9 @@ def _cycle_stats(
     k0 = math.ceil(psi0 / (2 * math.pi) - eps_k)
     # last boundary: a cycle is whole if its last sample (one step before the boundary) is present
     k1 = math.floor((psi1 + 1.5 * omega * dt_med) / (2 * math.pi) + eps_k)
+    if k1 - k0 > t.size:  # more cycles than samples: omega is above the sampling's Nyquist frequency
+        raise ValueError(f"omega = {omega:.6g} rad/s gives {k1 - k0} cycles over {t.size} samples; valid: below "
+                         f"the Nyquist frequency pi/dt = {math.pi / dt_med:.6g} rad/s")
     ks = np.arange(k0, k1 + 1, dtype=float)
     b_arr = (2 * math.pi * ks - theta) / omega
     bounds = [float(v) for v in b_arr]

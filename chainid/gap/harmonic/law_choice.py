@@ -46,6 +46,10 @@ def allowed(n_train: int, candidates: Sequence[str] = tuple(LAWS)) -> list[str]:
     return [k for k in candidates if LAWS[k] <= n_train - 1]
 
 
+#: a leave-one-out error below this share of the RMS c_e is round-off: an exact fit
+ROUND_OFF = 1e-12
+
+
 def choose(w: np.ndarray, A: np.ndarray, ke: np.ndarray, c: np.ndarray,
            candidates: Sequence[str]) -> tuple[str, dict[str, float]]:
     """The law with the smallest leave-one-out RMS error of c_e among ``candidates`` (fewer coefficients on ties).
@@ -58,5 +62,8 @@ def choose(w: np.ndarray, A: np.ndarray, ke: np.ndarray, c: np.ndarray,
         errs[k] = float(np.sqrt(np.mean((c - cl) ** 2)))
     if not errs:
         raise ValueError("no damping law has fewer coefficients than the training tests")
-    best = min(errs, key=lambda k: (errs[k] * (1 + 1e-9 * LAWS[k]), LAWS[k]))
+    # errors at round-off of the c_e themselves are all zero (an exact fit): equal, as are errors within 1e-9 of
+    # each other; the law with fewer coefficients ranks first
+    floor = ROUND_OFF * float(np.sqrt(np.mean(np.square(c))))
+    best = min(errs, key=lambda k: (max(errs[k], floor) * (1 + 1e-9 * LAWS[k]), LAWS[k]))
     return best, errs

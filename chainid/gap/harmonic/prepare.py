@@ -72,7 +72,7 @@ Q = 16
 
 
 def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callable,
-               bins: np.ndarray | None = None) -> dict[str, np.ndarray]:
+               bins: np.ndarray | None = None, v_sd: float = 0.0) -> dict[str, np.ndarray]:
     """One cycle of the (periodic) model inputs at the distinct sample phases.
 
     In the steady window x(t) is periodic in ψ = ωt + θ, so every model force
@@ -80,7 +80,8 @@ def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callab
     function of ψ alone: it is evaluated once per distinct phase, rounded to
     1/Q of a bin (each cell at the mean phase of its samples), weighted by how
     many samples fall there.  Exact for commensurate sampling, and the cost no
-    longer grows with the record length.
+    longer grows with the record length.  A point on a reversal within the
+    smooth ẋ's standard error ``v_sd`` [mm/s] has ẋ = 0 (:func:`on_reversal`).
     """
     q = np.minimum((psi / (2 * math.pi) * B * Q).astype(np.int64), B * Q - 1)
     if bins is None:
@@ -102,33 +103,50 @@ def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callab
     pts = np.bincount(grp, weights=pg * w) / np.bincount(grp, weights=w.astype(float))
     tg = (pts - theta) / omega
     xg, xdg, xddg = xfun(tg)
-    return {"t": tg, "x": xg, "xd": on_reversal(xdg), "xdd": xddg, "map": grp,
+    return {"t": tg, "x": xg, "xd": on_reversal(xdg, v_sd), "xdd": xddg, "map": grp,
             "bin": (ukey // (B * Q)).astype(np.int64), "w": w.astype(float)}
 
 
-#: a grid point is on a reversal when its |ẋ| is below this share of both neighbours' (of opposite signs)
-REVERSAL_SHARE = 0.01
+#: a grid point is on a reversal when its |ẋ| is within this many standard errors of the smooth ẋ of zero
+REVERSAL_SIGMAS = 3.0
+#: harmonics of the smooth periodic displacement (:func:`fourier_x`)
+FOURIER_H = 5
 
 
-def on_reversal(xd: np.ndarray) -> np.ndarray:
+def velocity_sd(resid: np.ndarray, omega: float, H: int = FOURIER_H) -> float:
+    """Standard error [mm/s] of the smooth ẋ of :func:`fourier_x` at a phase: least squares over N samples with
+    white residual σ (``resid``, the record's x less the fit [mm]; σ² = Σr²/(N − 2H − 1)) gives each harmonic's
+    cosine and sine coefficients a variance 2σ²/N, and the k-th harmonic's derivative scales them by kω, so
+    var ẋ = (2σ²ω²/N)·Σ_{k=1..H} k²."""
+    n = int(np.size(resid))
+    dof = n - (2 * H + 1)
+    if dof <= 0:
+        return 0.0
+    sigma2 = float(np.sum(np.square(resid))) / dof
+    return omega * math.sqrt(2.0 * sigma2 / n * sum(k * k for k in range(1, H + 1)))
+
+
+def on_reversal(xd: np.ndarray, v_sd: float) -> np.ndarray:
     """ẋ on one cycle of phase points with 0 at a point that sits on a reversal.
 
     A record sampled commensurately with its cycle (64 samples a cycle, say) can put a sample exactly on the turning
     point, where a sliding contact's force is set-valued (its midpoint, 0 for a symmetric friction).  The grid's ẋ
-    there comes from the estimated phase (an error of about 1e-4 rad), so its sign is that of the estimate's error,
-    and a friction force evaluated on it is a full ±F wrong.  A point whose |ẋ| is below ``REVERSAL_SHARE`` of both
-    neighbours', which have opposite signs, lies within about 1 % of a phase step of the reversal: its ẋ is set to
-    0 (:func:`chainid.model.operators.coulomb_sign` then gives the midpoint).  A point merely near a reversal keeps
-    its ẋ.  [mm/s]"""
+    there is the estimate's error, so its sign is that error's, and a friction force evaluated on it is a full ±F
+    wrong.  The point where ẋ changes sign (its neighbours of opposite signs, its |ẋ| the least of the three) is
+    on the reversal when its |ẋ| is within ``REVERSAL_SIGMAS`` standard errors ``v_sd`` [mm/s] of zero
+    (:func:`velocity_sd`): the record cannot tell it from one, and its ẋ is set to 0
+    (:func:`chainid.model.operators.coulomb_sign` then gives the midpoint).  A point the record resolves as near
+    a reversal, not on it, keeps its ẋ.  [mm/s]"""
     xd = np.asarray(xd, float)
-    if xd.size < 3:
+    if xd.size < 3 or not v_sd > 0.0:
         return xd
     prev, nxt = np.roll(xd, 1), np.roll(xd, -1)
-    on = (prev * nxt < 0.0) & (np.abs(xd) <= REVERSAL_SHARE * np.minimum(np.abs(prev), np.abs(nxt)))
+    a = np.abs(xd)
+    on = (prev * nxt < 0.0) & (a <= np.minimum(np.abs(prev), np.abs(nxt))) & (a <= REVERSAL_SIGMAS * v_sd)
     return np.where(on, 0.0, xd)
 
 
-def fourier_x(t: np.ndarray, x: np.ndarray, omega: float, theta: float, H: int = 5) -> Callable:
+def fourier_x(t: np.ndarray, x: np.ndarray, omega: float, theta: float, H: int = FOURIER_H) -> Callable:
     """A smooth periodic displacement model x(t), ẋ(t), ẍ(t) (H harmonics of ω, least squares) [mm, mm/s, mm/s²]."""
     psi = omega * t + theta
     cols = [np.ones_like(t)]
@@ -239,7 +257,7 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
         raise Unusable(bad)
     spc = t.size / max(win.n_cycles, 1)
     B = int(max(8, min(n_bins, 4 * (int(spc) // 8))))
-    xfun = fourier_x(t, x, est.omega, est.theta, H=5)
+    xfun = fourier_x(t, x, est.omega, est.theta)
     xs, xd, xdd = xfun(t)
     psi = np.mod(est.omega * t + est.theta, 2 * math.pi)
     bins = np.minimum((psi / (2 * math.pi) * B).astype(np.int64), B - 1)
@@ -250,7 +268,8 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     describe = getattr(win, "describe", None)
     return TestData(rec.test, est.omega, est.A, est.x0, est.theta, t, F, xs, xd, xdd, xfun, bins, counts, Fbar,
                     sigma, x, describe() if callable(describe) else "", cycle_stats(t, F, est.omega, est.theta, x),
-                    phase_grid(psi, B, est.theta, est.omega, xfun, bins), float(getattr(est, "t_origin", 0.0)))
+                    phase_grid(psi, B, est.theta, est.omega, xfun, bins, velocity_sd(x - xs, est.omega)),
+                    float(getattr(est, "t_origin", 0.0)))
 
 
 #: a steady harmonic test's displacement departs from its fitted sine by at most this fraction of the amplitude
