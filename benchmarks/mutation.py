@@ -45,6 +45,7 @@ import time
 from importlib import metadata
 from pathlib import Path
 
+from chainid.infra.fileio import atomic_write_text
 from mutation_targets import TARGETS  # benchmarks/ is the script's folder, first on sys.path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -52,13 +53,13 @@ REPO = Path(__file__).resolve().parents[1]
 PACKAGES = tuple(TARGETS)
 
 
-def _copy_repo(dst: Path) -> None:
+def copy_repo(dst: Path) -> None:
     ignore = shutil.ignore_patterns(".git", "__pycache__", ".pytest_cache", "*.egg-info", ".hypothesis", "build",
                                     "mutants", "*.sqlite")
     shutil.copytree(REPO, dst, ignore=ignore, symlinks=True)
 
 
-def _targets(pkg: str, root: Path) -> list[str]:
+def package_targets(pkg: str, root: Path) -> list[str]:
     """The package's targeted tests that exist in ``root`` (a listed file may not exist yet)."""
     return [t for t in TARGETS[pkg] if t.startswith("-") or (root / t.split("::")[0]).is_file()]
 
@@ -83,18 +84,18 @@ def _config(pkg: str, command: str, timeout: float) -> str:
             f"test-command = {json.dumps(command)}\n\n[cosmic-ray.distributor]\nname = \"local\"\n")
 
 
-def _env(copy: Path) -> dict[str, str]:
+def run_env(copy: Path) -> dict[str, str]:
     return {**os.environ, "PYTHONPATH": str(copy), "NUMBA_CACHE_DIR": str(copy / ".numba_cache"),
             "MPLBACKEND": "Agg", "PYTHONDONTWRITEBYTECODE": "1"}
 
 
-def _init(pkg: str, copy: Path, timeout: float) -> tuple[Path, Path, int]:
+def init_session(pkg: str, copy: Path, timeout: float) -> tuple[Path, Path, int]:
     cfg, session = copy / f"cr_{pkg}.toml", copy / f"cr_{pkg}.sqlite"
-    cfg.write_text(_config(pkg, _test_command(_targets(pkg, copy), pkg in FRESH_NUMBA_CACHE), timeout),
+    cfg.write_text(_config(pkg, _test_command(package_targets(pkg, copy), pkg in FRESH_NUMBA_CACHE), timeout),
                    encoding="utf-8")
     if session.exists():
         session.unlink()
-    subprocess.run(["cosmic-ray", "init", str(cfg), str(session)], cwd=copy, env=_env(copy), check=True,
+    subprocess.run(["cosmic-ray", "init", str(cfg), str(session)], cwd=copy, env=run_env(copy), check=True,
                    capture_output=True)
     from cosmic_ray.work_db import WorkDB, use_db
 
@@ -133,7 +134,7 @@ def _in_annotation(m, spans_of: dict, root: Path) -> bool:
     return any(a <= s < b for a, b in spans_of[f])
 
 
-def _sample(session: Path, k: int, seed: int, root: Path) -> tuple[int, int]:
+def sample_session(session: Path, k: int, seed: int, root: Path) -> tuple[int, int]:
     """Keep a seeded random sample of k mutants (after dropping those inside unevaluated annotations).
     Returns (kept, dropped as annotation mutants)."""
     from cosmic_ray.work_db import WorkDB, use_db
@@ -167,20 +168,21 @@ def _results(session: Path) -> list[dict]:
 
 def run_package(pkg: str, copy: Path, sample: int, seed: int, budget_s: float) -> dict:
     """Baseline, init, sample and exec for one package; its counts and survivors."""
-    tests = _targets(pkg, copy)
+    tests = package_targets(pkg, copy)
     t0 = time.perf_counter()
-    base = subprocess.run(shlex.split(_test_command(tests, pkg in FRESH_NUMBA_CACHE)), cwd=copy, env=_env(copy), capture_output=True, text=True)
+    base = subprocess.run(shlex.split(_test_command(tests, pkg in FRESH_NUMBA_CACHE)), cwd=copy, env=run_env(copy),
+                          capture_output=True, text=True)
     t_base = time.perf_counter() - t0
     row: dict = {"package": pkg, "tests": tests, "baseline_s": round(t_base, 1)}
     if base.returncode != 0:
         row["error"] = "targeted tests fail on the unmutated copy: " + (base.stdout.strip().splitlines() or ["?"])[-1]
         return row
     timeout = 3.0 * t_base + 10.0
-    cfg, session, n_all = _init(pkg, copy, timeout)
-    kept, n_ann = _sample(session, sample, seed, copy)
+    cfg, session, n_all = init_session(pkg, copy, timeout)
+    kept, n_ann = sample_session(session, sample, seed, copy)
     row.update(mutants_total=n_all, annotation_mutants=n_ann, sampled=kept, timeout_s=round(timeout, 1))
     t1 = time.perf_counter()
-    proc = subprocess.Popen(["cosmic-ray", "exec", str(cfg), str(session)], cwd=copy, env=_env(copy),
+    proc = subprocess.Popen(["cosmic-ray", "exec", str(cfg), str(session)], cwd=copy, env=run_env(copy),
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:
         proc.wait(timeout=budget_s)
@@ -210,7 +212,7 @@ def retest(survivors_json: Path, out_md: Path | None, packages: tuple[str, ...] 
         if shared.is_dir():
             (Path(tmp) / "shared").symlink_to(shared)
         pristine = Path(tmp) / "pristine"
-        _copy_repo(pristine)
+        copy_repo(pristine)
         for r in rows:
             if r["package"] not in packages:
                 continue
@@ -220,10 +222,10 @@ def retest(survivors_json: Path, out_md: Path | None, packages: tuple[str, ...] 
                     shutil.rmtree(copy)
                 shutil.copytree(pristine, copy, symlinks=True)
                 subprocess.run(["cosmic-ray", "apply", sv["file"], sv["operator"], str(sv["occurrence"])], cwd=copy,
-                               env=_env(copy), check=True, capture_output=True)
-                cmd = shlex.split(_test_command(_targets(r["package"], copy), r["package"] in FRESH_NUMBA_CACHE))
+                               env=run_env(copy), check=True, capture_output=True)
+                cmd = shlex.split(_test_command(package_targets(r["package"], copy), r["package"] in FRESH_NUMBA_CACHE))
                 try:
-                    rc = subprocess.run(cmd, cwd=copy, env=_env(copy), capture_output=True, timeout=600).returncode
+                    rc = subprocess.run(cmd, cwd=copy, env=run_env(copy), capture_output=True, timeout=600).returncode
                 except subprocess.TimeoutExpired:
                     rc = -1
                 row = {"package": r["package"], "file": sv["file"], "line": sv["line"], "operator": sv["operator"],
@@ -290,7 +292,7 @@ def write_markdown(rows: list[dict], args: argparse.Namespace, path: Path, start
             if "rules" in r) + "."]
     if tot_k + tot_s:
         lines += ["", f"All packages: {tot_k} of {tot_k + tot_s} killed ({100 * tot_k / (tot_k + tot_s):.0f} %)."]
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    atomic_write_text(path, "\n".join(lines) + "\n", force=True)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -322,13 +324,13 @@ def main(argv: list[str] | None = None) -> int:
         if shared.is_dir():
             (Path(tmp) / "shared").symlink_to(shared)
         pristine = Path(tmp) / "pristine"  # one snapshot at the start: edits made during the run do not leak in
-        _copy_repo(pristine)
+        copy_repo(pristine)
         for i, pkg in enumerate(args.packages):
             copy = Path(tmp) / f"repo_{pkg}"  # a fresh copy per package: a run cut by the budget leaves a mutant
             shutil.copytree(pristine, copy, symlinks=True)
             if args.list:
-                _, _, n = _init(pkg, copy, 60.0)
-                print(f"{pkg:10s} {n:6d} mutants; tests: {' '.join(_targets(pkg, copy))}")
+                _, _, n = init_session(pkg, copy, 60.0)
+                print(f"{pkg:10s} {n:6d} mutants; tests: {' '.join(package_targets(pkg, copy))}")
                 continue
             left = args.budget * 60.0 - (time.perf_counter() - t0)
             budget_s = max(60.0, left / (len(args.packages) - i))
@@ -351,7 +353,7 @@ def main(argv: list[str] | None = None) -> int:
         rows = [new.pop(r["package"], r) for r in old_rows] + list(new.values())
         minutes = float("nan")
     write_markdown(rows, args, Path(args.out), started, minutes)
-    Path(args.survivors).write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    atomic_write_text(args.survivors, json.dumps(rows, indent=1) + "\n", force=True)
     return 0
 
 

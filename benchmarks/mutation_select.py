@@ -38,7 +38,6 @@ import argparse
 import ast
 import datetime as _dt
 import json
-import os
 import queue
 import shutil
 import subprocess
@@ -50,6 +49,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import mutation
+from chainid.infra.fileio import atomic_write_text
 from mutation_targets import TARGETS
 
 REPO = mutation.REPO
@@ -65,7 +65,7 @@ def coverage_map(copy: Path, out: Path) -> Path:
     rc = out / "coveragerc"
     rc.write_text(f"[run]\nsource = chainid\ndynamic_context = test_function\nparallel = true\npatch = subprocess\n"
                   f"data_file = {out / '.coverage'}\n", encoding="utf-8")
-    env = mutation._env(copy)
+    env = mutation.run_env(copy)
     cmd = [sys.executable, "-m", "coverage", "run", f"--rcfile={rc}", "-m", "pytest", "-q", "-p", "no:cacheprovider",
            f"--junitxml={out / 'junit.xml'}"]
     proc = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True)
@@ -137,7 +137,7 @@ class Selector:
         tests = self._union(rel, 1, 10 ** 9)
         if tests:
             return "module", sorted(tests)
-        return "targets", mutation._targets(pkg, self.root)
+        return "targets", mutation.package_targets(pkg, self.root)
 
     def seconds(self, tests: list[str]) -> float:
         """Their time in the coverage run (unknown ids count 5 s)."""
@@ -170,8 +170,8 @@ def sampled_mutants(pkg: str, copy: Path, sample: int, seed: int) -> tuple[list[
     """The seeded sample of *pkg*'s mutants, as ``mutation.py`` draws it: (mutants, all, in annotations)."""
     from cosmic_ray.work_db import WorkDB, use_db
 
-    _, session, n_all = mutation._init(pkg, copy, 60.0)
-    kept, n_ann = mutation._sample(session, sample, seed, copy)
+    _, session, n_all = mutation.init_session(pkg, copy, 60.0)
+    kept, n_ann = mutation.sample_session(session, sample, seed, copy)
     with use_db(str(session), WorkDB.Mode.open) as db:
         items = [w.mutations[0] for w in db.work_items]
     rows = [{"file": str(m.module_path), "line": m.start_pos[0], "operator": m.operator_name,
@@ -185,7 +185,7 @@ def run_mutant(mut: dict, pkg: str, copy: Path, pristine: Path, sel: Selector, c
     rule, tests = sel.select(mut["file"], mut["line"], pkg)
     fresh = holds_numba(pristine / mut["file"])
     timeout = 60.0 + 5.0 * sel.seconds(tests)
-    env = mutation._env(copy)
+    env = mutation.run_env(copy)
     row = {**mut, "package": pkg, "rule": rule, "n_tests": len([t for t in tests if not t.startswith("-")])}
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="nc-") as nc:
@@ -292,7 +292,7 @@ def main(argv: list[str] | None = None) -> int:
         if shared.is_dir():
             (Path(tmp) / "shared").symlink_to(shared)
         pristine = Path(tmp) / "pristine"
-        mutation._copy_repo(pristine)
+        mutation.copy_repo(pristine)
         cov = Path(args.coverage) if args.coverage else coverage_map(pristine, Path(tmp) / "coverage")
         sel = Selector(cov, pristine)
         info, jobs = {}, []
@@ -315,14 +315,8 @@ def main(argv: list[str] | None = None) -> int:
     for r in rows:
         r["run_started_utc"], r["command"] = started, cmd
     mutation.write_markdown(rows, args, Path(args.out), started, (time.perf_counter() - t_start) / 60.0, how=HOW)
-    _atomic_write(Path(args.survivors), json.dumps(rows, indent=1) + "\n")
+    atomic_write_text(args.survivors, json.dumps(rows, indent=1) + "\n", force=True)
     return 0
-
-
-def _atomic_write(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
 
 
 if __name__ == "__main__":
