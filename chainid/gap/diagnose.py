@@ -185,7 +185,7 @@ def _diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None,
         res = diagnose_any(usable, hold_ok, model if is_chain else None, holdout_blocks=holdout_blocks,
                            effects=effects, max_combo=max_combo, excluded=excluded, quiet=quiet, mass_kg=mass_kg,
                            warn=[f"test {e['test']} excluded: {e['reason']}" for e in excluded],
-                           resamples=resamples, seed=seed)
+                           resamples=resamples, seed=seed, damping_law=damping_law)
     else:
         if not hold_ok:
             raise ValueError(f"--holdout: every held-out test was excluded ({', '.join(holdout)}); "

@@ -57,7 +57,7 @@ def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> A
     delay = float(p.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
     info = dict(info or {})
     if getattr(prob, "hprob", True) is None:  # the time-domain route: viscous c, or c following record features
-        if "damping_law" in names:
+        if "damping_law" in names or "damping_law.b_w" in p:  # the effect, or the base's law
             damping = Damping("feature", {"c": float(p["damping.c"])} | {
                 k: float(p[f"damping_law.{k}"]) for k in ("b_w", "b_A", "w_ref", "A_ref")})
         else:

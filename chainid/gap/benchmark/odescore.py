@@ -6,6 +6,9 @@ Right verdict per family:
 * ``single`` and ``covariate`` — the truth's effect is named alone or first;
 * ``pair`` — both effects are named (in any order, others may be named too);
 * ``control`` — the verdict is ``none``;
+* a truth with ``damping_law`` on a base that carries the dashpot's law over record features (the time route,
+  ``base_law == "feature"``): the law is the base's, so ``damping_law`` alone is right as ``none`` and a pair by
+  its other effect;
 * ``outside`` — nothing is named with confidence: ``none`` or ``unexplained``, or a named effect whose held-out
   shrinkage is below :data:`OUTSIDE_SHRINK` (a weak verdict).
 
@@ -55,10 +58,21 @@ def score_row(row: dict[str, Any]) -> dict[str, Any]:
     named = verdict_names(verdict)
     truth = [CANONICAL.get(n, n) for n in row.get("effects", {})]
     error = verdict.startswith("error")
+    if row.get("base_law") == "feature" and "damping_law" in truth:
+        # the time route's base carries the dashpot's law over record features (the paper's c_e(ω, A) on any
+        # excitation): that law is the base's, and what is left must be named (nothing, for damping_law alone)
+        truth = [n for n in truth if n != "damping_law"]
+        named = ["damping_law"] + [n for n in named if n != "damping_law"]
+        if not truth:
+            right = verdict == "none"
+            return {"right": bool(right), "named": named, "error": error, "params": param_scores(row, named)}
+        named_rest = named[1:]
+    else:
+        named_rest = named
     if fam in ("single", "covariate"):
-        right = bool(named) and named[0] == truth[0]
+        right = bool(named_rest) and named_rest[0] == truth[0]
     elif fam == "pair":
-        right = set(truth) <= set(named)
+        right = set(truth) <= set(named_rest)
     elif fam == "control":
         right = verdict == "none"
     elif fam == "outside":

@@ -13,7 +13,8 @@ m·ẍ) and φ_j the columns of the free amplitudes a_j (:mod:`chainid.gap.timed
   record projected out (per-test preloads are nuisance parameters: every column and the target lose their mean
   over the record's samples);
 * every force- and mass-kind effect's amplitudes (:func:`chainid.model.effects.columns`);
-* ``damping_law``: the damping's slopes over record features, (ω_r − w_ref)·ẋ and (A_r − A_ref)·ẋ;
+* the damping's slopes over record features, (ω_r − w_ref)·ẋ and (A_r − A_ref)·ẋ: part of the base when its
+  ``law`` is on (:class:`Base`), else the effect ``damping_law``;
 * a covariate term ``effect.param@cov``: the column of that amplitude times (cov_r − cov_ref); ``effect@cov``: the
   effect with every amplitude following the covariate (its columns, and each times (cov_r − cov_ref)).
 
@@ -50,13 +51,16 @@ class Base:
 
     ``model``: the chain model (``kind == "chain"``) or None (a linear device fitted here); ``mass_kg``: a given
     moving mass [kg] of a linear base (None: fitted, >= 0); ``refs``: the reference values of the data the
-    fixed parameters take (``x_mid`` [mm], ``w_ref`` [rad/s], ``A_ref`` [mm], ``cov:NAME``).
+    fixed parameters take (``x_mid`` [mm], ``w_ref`` [rad/s], ``A_ref`` [mm], ``cov:NAME``); ``law``: the
+    dashpot follows the records' features, c_r = c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref) (the paper's
+    c_e(ω, A) carried to any excitation, part of the base), instead of one c for every record.
     """
 
     kind: str
     model: Any = None
     mass_kg: float | None = None
     refs: dict[str, float] = field(default_factory=dict)
+    law: bool = False
 
     @property
     def offsets(self) -> bool:
@@ -94,9 +98,10 @@ def amplitude_names(base: Base, names: Sequence[str]) -> list[str]:
     """The free amplitudes of an effect set, in column order (base first, then effects, then covariate terms)."""
     out = (["spring.k"] + (["mass.m"] if base.mass_kg is None else []) if base.kind == "linear" else [])
     out.append("damping.c")
+    if base.law or "damping_law" in _effects(names):
+        out += ["damping_law.b_w", "damping_law.b_A"]
     for n in _effects(names):
         if n == "damping_law":
-            out += ["damping_law.b_w", "damping_law.b_A"]
             continue
         spec = SPECS[n]
         if spec.kind not in ("force", "mass"):
@@ -251,6 +256,9 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
             Phi[:, col["mass.m"]] = lp(("xdd",), xdd) * 1e-3
     xd_c = lp(("xd",), xd)
     Phi[:, col["damping.c"]] = xd_c
+    if "damping_law.b_w" in col:  # the dashpot following the record's features (the base's law, or the effect)
+        Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
+        Phi[:, col["damping_law.b_A"]] = (d.A - base.refs.get("A_ref", 0.0)) * xd_c
 
     def effect_cols(n: str) -> dict[str, np.ndarray]:
         p = _params_of(shapes, n)
@@ -264,10 +272,6 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
 
     for n in eff:
         spec = SPECS[n]
-        if n == "damping_law":
-            Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
-            Phi[:, col["damping_law.b_A"]] = (d.A - base.refs.get("A_ref", 0.0)) * xd_c
-            continue
         if spec.kind not in ("force", "mass"):
             continue
         for a, c in effect_cols(n).items():

@@ -31,6 +31,7 @@ from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
 from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, shape_names,
                                            split_name)
 from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
+from chainid.gap.timedomain.passivity import LAW_AMPS, corner_minimum, law_map
 from chainid.gap.timedomain.search import lag_points, search
 from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
 
@@ -65,6 +66,20 @@ def distinct_covariates(records: Sequence[TimeData], names: Sequence[str]) -> li
     return kept
 
 
+def law_choice(feature: bool, asked: str, n_train: int) -> tuple[str, str]:
+    """The base's damping on the time route and why: ``"feature"`` (the dashpot follows the records' band centre and
+    amplitude, :class:`chainid.gap.timedomain.design.Base`) or ``"viscous"`` (one c), for the law ``asked``
+    (``--damping-law``: ``viscous`` keeps one c; any other, the feature law where the records separate it)."""
+    if feature:
+        return "feature", (f"time domain: the dashpot follows the records' features, c_r = c + b_w·(ω_r − w_ref) + "
+                           f"b_A·(A_r − A_ref) (the paper's c_e(ω, A) over records of any excitation; {n_train} "
+                           "training records separate it)")
+    if asked == "viscous":
+        return "viscous", "given"
+    return "viscous", (f"time domain: viscous c·ẋ (fewer than {MIN_LAW_RECORDS} training records with distinct band "
+                       "centre and amplitude: no law over record features)")
+
+
 class TimeProblem:
     """Time-domain records with a base model; fits and scores effect sets (see the module docstring).
 
@@ -79,13 +94,16 @@ class TimeProblem:
         > 0: the last block of every record is held out as well.
     mass_kg : float, optional
         The given moving mass of a linear base [kg] (None: fitted, >= 0).
+    damping_law : str
+        ``viscous``: one dashpot c for every record; otherwise (default ``auto``) the dashpot follows the records'
+        features where >= ``MIN_LAW_RECORDS`` training records separate them (:func:`law_choice`).
     """
 
     hprob = None  # no phase-bin part: every record is evaluated sample by sample
     fits_base = True  # the base's amplitudes (dashpot; spring and mass of a linear device) are fitted
 
     def __init__(self, tdata: Sequence[TimeData], model: Any, holdout: Sequence[str], holdout_blocks: int = 0,
-                 mass_kg: float | None = None):
+                 mass_kg: float | None = None, damping_law: str = "auto"):
         self.tdata = list(tdata)
         self.model = model
         self.is_chain = model is not None and hasattr(model, "hertz_scale")
@@ -114,7 +132,11 @@ class TimeProblem:
                 "A_ref": float(np.mean([d.A for d in train_recs]))}
         refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
         self.covariates = distinct_covariates(train_recs, covs)
-        self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs)
+        self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs,
+                         law=damping_law != "viscous" and self._law_separable())
+        # the records' feature box, held-out records included: the dashpot law is passive over it (:mod:`.passivity`)
+        self.law_box = {"w_lo": min(d.omega_c for d in self.tdata), "w_hi": max(d.omega_c for d in self.tdata),
+                        "A_lo": min(d.A for d in self.tdata), "A_hi": max(d.A for d in self.tdata)}
         allF = np.concatenate([d.F - d.F.mean() for d in self.tdata])
         self.F_scale = float(np.std(allF)) or 1.0
         self.x_scale = float(max(d.A for d in self.tdata)) or 1.0
@@ -123,8 +145,7 @@ class TimeProblem:
                        "v": float(max(np.quantile(np.abs(d.xd), 0.99) for d in self.tdata)) or 1.0,
                        "x_mid": refs["x_mid"], "tau": self._lag_range()}
         self.f_band = float(max(d.f_band for d in self.tdata))
-        self.law = "viscous"
-        self.law_reason = "time domain: viscous c·ẋ (a damping law over record features is the effect damping_law)"
+        self.law, self.law_reason = law_choice(self.base.law, damping_law, len(self.train))
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.tdata])))
         self.F_mean = {d.test: float(np.mean(d.F)) for d in self.tdata}
         self._cache = ColumnCache()
@@ -138,14 +159,19 @@ class TimeProblem:
         dur = min(float(d.t[-1] - d.t[0]) for d in self.tdata)
         return float(min(0.5 * longest, 0.25 * dur))
 
+    def _law_separable(self) -> bool:
+        """Whether the training records separate a damping law over their features: >= ``MIN_LAW_RECORDS`` of them
+        with distinct (band centre, amplitude)."""
+        return len({(round(d.omega_c, 6), round(d.A, 6)) for d in self.train}) >= MIN_LAW_RECORDS
+
     def applicable(self) -> list[str]:
         """Library effects for this base: chain-only effects need the chain, linear-only ones a linear device;
-        ``damping_law`` needs >= ``MIN_LAW_RECORDS`` training records with distinct features; with covariates, every
-        force effect as ``effect@cov`` (its amplitudes following the operating condition)."""
+        ``damping_law`` (the dashpot following record features) is an effect only when the base does not carry
+        it already and >= ``MIN_LAW_RECORDS`` training records with distinct features separate it; with covariates,
+        every force effect as ``effect@cov`` (its amplitudes following the operating condition)."""
         kind = self.base.kind
         out = [n for n in EFFECT_NAMES if kind in SPECS[n].bases]
-        feats = {(round(d.omega_c, 6), round(d.A, 6)) for d in self.train}
-        if len(feats) < MIN_LAW_RECORDS:
+        if self.base.law or not self._law_separable():
             out = [n for n in out if n != "damping_law"]
         # with operating conditions, a force effect comes with its amplitudes following each of them (it nests the
         # effect at one condition: slopes of 0)
@@ -190,16 +216,23 @@ class TimeProblem:
 
     def _solve(self, names: Sequence[str], bl: Blocks, mult: np.ndarray,
                fix: dict[str, float] | None = None) -> np.ndarray:
-        """The bounded least-squares amplitudes; those in ``fix`` held at their values (eliminated)."""
+        """The bounded least-squares amplitudes; those in ``fix`` held at their values (eliminated).  A dashpot
+        law over record features whose three amplitudes are free is kept passive on every record of the set
+        (:func:`chainid.gap.timedomain.passivity.law_map`)."""
         G, h = bl.total(mult)
         amps = amplitude_names(self.base, names)
         lo, hi = amplitude_bounds(amps)
-        held = np.array([k in (fix or {}) for k in amps], bool)
-        if not held.any():
-            return solve(G, h, lo, hi)
-        a = np.array([float(fix[k]) if k in fix else 0.0 for k in amps])  # type: ignore[index]
-        free = ~held
-        a[free] = solve(G[np.ix_(free, free)], h[free] - G[np.ix_(free, held)] @ a[held], lo[free], hi[free])
+        free = np.array([k not in (fix or {}) for k in amps], bool)
+        a = np.array([0.0 if f else float(fix[k]) for k, f in zip(amps, free)])  # type: ignore[index]
+        Gf, hf = G[np.ix_(free, free)], h[free] - G[np.ix_(free, ~free)] @ a[~free]
+        a[free] = solve(Gf, hf, lo[free], hi[free])
+        names_f = [k for k, f in zip(amps, free) if f]
+        if all(k in names_f for k in LAW_AMPS) and corner_minimum(
+                *(a[amps.index(k)] for k in LAW_AMPS), self.base.refs, self.law_box) < 0.0:
+            # the box-bounded optimum is not passive somewhere on the records: the best passive law instead (the
+            # passive laws lie inside the box bounds, so a passive box optimum is already the answer)
+            L, zlo, zhi = law_map(names_f, lo[free], hi[free], self.base.refs, self.law_box)
+            a[free] = L @ solve(L.T @ Gf @ L, L.T @ hf, zlo, zhi)
         return a
 
     # ------------------------------------------------------------------ fit
@@ -286,7 +319,7 @@ class TimeProblem:
         out = {}
         if "hardening" in names:
             out["hardening.x_ref"] = self.base.refs["x_mid"]
-        if "damping_law" in names:
+        if self.base.law or "damping_law" in names:
             out["damping_law.w_ref"] = self.base.refs["w_ref"]
             out["damping_law.A_ref"] = self.base.refs["A_ref"]
         for t in names:
@@ -416,8 +449,10 @@ class TimeProblem:
         for d in self.tdata:
             den = float(np.sum((d.F - self.F_mean[d.test]) ** 2))
             cand.per_test[d.test] = math.sqrt(float(np.sum(ev["res"][d.test] ** 2)) / den) if den > 0 else math.nan
-        cand.law = "feature law" if "damping_law" in names else "viscous"
-        cand.law_params = [cand.params.get("damping.c", 0.0)]
+        law = self.base.law or "damping_law" in names
+        cand.law = "feature law" if law else "viscous"
+        cand.law_params = [cand.params.get(k, 0.0) for k in (("damping.c", "damping_law.b_w", "damping_law.b_A")
+                                                             if law else ("damping.c",))]
         cand.param_sd = {k: v for k, v in ev["sd"].items()}
         cand._ev = ev  # type: ignore[attr-defined]
         return cand

@@ -40,11 +40,11 @@ LOO_BLOCKS = 4
 
 
 def build_problem(records: Sequence[Any], holdout: Sequence[str], holdout_blocks: int, model: Any,
-                  mass_kg: float | None = None) -> TimeProblem:
+                  mass_kg: float | None = None, damping_law: str = "auto") -> TimeProblem:
     """The time-domain problem of ``records`` (every one sample by sample), cut in blocks."""
     nb = holdout_blocks if holdout_blocks > 0 else LOO_BLOCKS
     tdata = [prepare_time(r, nb) for r in records]
-    return TimeProblem(tdata, model, holdout, holdout_blocks, mass_kg=mass_kg)
+    return TimeProblem(tdata, model, holdout, holdout_blocks, mass_kg=mass_kg, damping_law=damping_law)
 
 
 def _tests(prob: TimeProblem, base_c: Candidate, left: Candidate) -> list[dict[str, Any]]:
@@ -79,7 +79,7 @@ def kinematic_none(final: Candidate | None, r2: float, kin_floor: float, f2: flo
 def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, holdout_blocks: int = 0,
                  effects: Sequence[str] | None = None, max_combo: int = 3, excluded: Sequence[dict[str, str]] = (),
                  quiet: bool = False, mass_kg: float | None = None, warn: list[str] | None = None,
-                 resamples: int = 0, seed: int = 0) -> dict[str, Any]:
+                 resamples: int = 0, seed: int = 0, damping_law: str = "auto") -> dict[str, Any]:
     """Diagnose records in the time domain (see the module docstring); returns the JSON contract dict.
 
     Parameters
@@ -92,13 +92,15 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     mass_kg : the given mass of a linear base [kg] (None: fitted)
     resamples, seed : resamples of the training blocks for the chain's stability and the parameters' intervals
         (:mod:`chainid.gap.core.resample`; 0: none)
+    damping_law : ``viscous``: one dashpot for every record; otherwise the dashpot follows the records' features
+        where they separate it (:func:`chainid.gap.timedomain.problem.law_choice`)
     """
     warn = list(warn or [])
     if not quiet:
         for r in records:
             print(f"chainid diagnose: test {r.test}: time-domain route", file=sys.stderr)
     stage("preparing", f"{len(records)} records")
-    prob = build_problem(records, holdout, holdout_blocks, model, mass_kg)
+    prob = build_problem(records, holdout, holdout_blocks, model, mass_kg, damping_law)
     stage("baseline")
     base_c = fw.baseline_candidate(prob)
     bev = base_c._ev  # type: ignore[attr-defined]
@@ -157,7 +159,8 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
         stab = resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo))
         stage("discretisation bias", "records decimated by 2")
         shifts, why = richardson_shifts(records, prob, ok_path,
-                                        lambda rs: build_problem(rs, holdout, holdout_blocks, model, mass_kg))
+                                        lambda rs: build_problem(rs, holdout, holdout_blocks, model, mass_kg,
+                                                                           damping_law))
         widen(stab, shifts, why, ORDER)
         stage("profile likelihood")
         attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))

@@ -19,6 +19,7 @@ from chainid.gap.benchmark.grid import grid
 from chainid.gap.benchmark.nonharmonic import records
 from chainid.gap.diagnose import diagnose
 from chainid.gap.modelio import predict
+from chainid.model.timedamping import record_features
 from chainid.model.modelfile import load_model
 from chainid.records.writer import write_canonical
 
@@ -44,11 +45,16 @@ def test_a_time_domain_diagnosis_carries_its_models(sweep_set) -> None:
     assert len(models) == len(res["steps"])
     last = res["steps"][-1]
     m = models[-1]
-    # a time-domain fit has one viscous c for the whole set, not a c_e(ω, A) law
-    assert m.damping.form == "viscous"
-    assert m.damping.params["c"] == pytest.approx(last["law_params"][0], rel=1e-12)
+    # four records of distinct band and amplitude: the dashpot follows them, c_r = c + b_w·Δω + b_A·ΔA (the
+    # paper's c_e(ω, A) on any excitation), passive at every record of the set
+    assert m.damping.form == "feature"
+    assert [m.damping.params[k] for k in ("c", "b_w", "b_A")] == pytest.approx(last["law_params"], rel=1e-12)
     assert [n for n, _ in m.effects] == [s["effect"] for s in res["steps"][1:]]
-    assert res["model"]["damping"]["form"] == "viscous"
+    assert res["model"]["damping"]["form"] == "feature"
+    p = m.damping.params
+    for r in recs:
+        w, A = record_features(r.t, r.x)
+        assert p["c"] + p["b_w"] * (w - p["w_ref"]) + p["b_A"] * (A - p["A_ref"]) >= 0.0
 
 
 @pytest.mark.slow
@@ -60,7 +66,7 @@ def test_predict_reproduces_the_time_diagnosis_numbers(sweep_set) -> None:
         out = predict(res["_models"][-1], recs)
     pred = {r["test"]: r for r in out["tests"]}
     assert {r["mode"] for r in out["tests"]} == {"time-domain"}
-    assert out["damping_used"] == "viscous"
+    assert out["damping_used"] == "feature"
     for t in res["tests"]:
         assert pred[t["test"]]["nrmse_baseline"] == pytest.approx(t["nrmse_before"], rel=1e-9)
         assert pred[t["test"]]["nrmse_model"] == pytest.approx(t["nrmse_after"], rel=1e-9)
@@ -78,7 +84,7 @@ def test_cli_saves_a_time_domain_model_that_predict_simulate_and_dynamics_run(sw
                      "--save-steps", "--json", str(d)]) == 0
     assert m.is_file() and (tmp_path / "m.step0.toml").is_file()
     doc = tomllib.loads(m.read_text())
-    assert doc["damping"]["form"] == "viscous" and doc["damping"]["params"]["c"] > 0
+    assert doc["damping"]["form"] == "feature" and doc["damping"]["params"]["c"] > 0
     diag = json.loads(d.read_text())
     assert load_model(m).damping.params["c"] == pytest.approx(diag["steps"][-1]["law_params"][0], rel=1e-12)
     p = tmp_path / "p.json"
@@ -86,7 +92,9 @@ def test_cli_saves_a_time_domain_model_that_predict_simulate_and_dynamics_run(sw
     pooled = json.loads(p.read_text())["pooled"]
     assert pooled["shrinkage"] > 0.5  # the friction the diagnosis found closes most of the gap on its own records
     assert main(["simulate", str(tmp_path / "s.csv"), "--model", str(m), "--noise-F", "1", "--seed", "1"]) == 0
-    # a viscous segment damping needs no operating point (a c_e(ω, A) law would)
+    # a segment's damping law over record features runs at a stated operating point (here its reference point)
+    law = doc["damping"]["params"]
     assert main(["dynamics", "--links", "40", "--masses", "4", "--pretension", "2000", "--t-end", "0.05",
-                 "--segment-model", str(m), "--quiet"]) == 0
+                 "--segment-model", str(m), "--segment-omega", f"{law['w_ref']:.9g}",
+                 "--segment-amplitude", f"{law['A_ref']:.9g}", "--quiet"]) == 0
     capsys.readouterr()

@@ -70,7 +70,7 @@ def test_build_problem_routes_harmonic_tests_by_the_documented_rule(monkeypatch)
 
     made = []
     monkeypatch.setattr(dt, "prepare_time", lambda r, nb: SimpleNamespace(test=r.test, nb=nb))
-    monkeypatch.setattr(dt, "TimeProblem", lambda tdata, model, hold, blocks, mass_kg=None: made.append(
+    monkeypatch.setattr(dt, "TimeProblem", lambda tdata, model, hold, blocks, mass_kg=None, damping_law="auto": made.append(
         ([(d.test, d.nb) for d in tdata], model, hold, blocks, mass_kg)) or made[-1])
     assert dt.LOO_BLOCKS == 4
     assert dt.build_problem(harm + [_rec("r1")], ["h4"], 0, "M", 2.0) == (

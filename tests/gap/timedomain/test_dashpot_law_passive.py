@@ -1,0 +1,107 @@
+"""The time route's dashpot law over record features is passive on every record, and is the best passive law.
+
+Independent references: the corners of the feature box evaluated directly (a linear law's least value on a box is
+at a corner), a non-negative least squares (scipy's ``nnls``) for the claim that every passive law has passive
+coordinates, and a brute-force active-set search over the four corner inequalities for the constrained optimum.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import nnls
+
+from chainid.gap.timedomain.lsq import solve
+from chainid.gap.timedomain.passivity import LAW_AMPS, corner_minimum, law_map
+
+BOX = {"w_lo": 6.0, "w_hi": 30.0, "A_lo": 0.4, "A_hi": 2.5}
+REFS = {"w_ref": 14.0, "A_ref": 1.1}
+AMPS = ["spring.k", *LAW_AMPS, "friction.F_c"]
+LO = np.array([0.0, 0.0, -np.inf, -np.inf, 0.0])
+HI = np.full(5, np.inf)
+
+
+def _corners(a: np.ndarray) -> np.ndarray:
+    c, bw, bA = a[1:4]
+    return np.array([c + bw * (w - REFS["w_ref"]) + bA * (A - REFS["A_ref"])
+                     for w in (BOX["w_lo"], BOX["w_hi"]) for A in (BOX["A_lo"], BOX["A_hi"])])
+
+
+def test_every_passive_coordinate_gives_a_law_passive_at_the_box_corners() -> None:
+    L, zlo, _ = law_map(AMPS, LO, HI, REFS, BOX)
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        z = np.where(np.isfinite(zlo), 0.0, -5.0) + rng.exponential(2.0, L.shape[1])
+        a = L @ z
+        assert _corners(a).min() >= -1e-12 * np.abs(a).max()
+        assert corner_minimum(*a[1:4], REFS, BOX) == pytest.approx(_corners(a).min(), abs=1e-12)
+
+
+def test_every_law_passive_on_the_box_has_passive_coordinates() -> None:
+    L, _, _ = law_map(AMPS, LO, HI, REFS, BOX)
+    rng = np.random.default_rng(4)
+    Llaw = L[1:4][:, 2:]  # the law's rows on its four coordinates
+    found = 0
+    for _ in range(400):
+        a = np.array([0.0, rng.uniform(0, 5), rng.normal(0, 0.3), rng.normal(0, 3.0), 0.0])
+        if _corners(a).min() < 0:
+            continue
+        found += 1
+        z, resid = nnls(Llaw, a[1:4])
+        assert resid <= 1e-9 * np.linalg.norm(a[1:4])
+    assert found > 50
+
+
+def test_a_feature_shared_by_every_record_has_no_slope() -> None:
+    box = BOX | {"A_hi": BOX["A_lo"]}
+    L, zlo, _ = law_map(AMPS, LO, HI, REFS, box)
+    assert L.shape[1] == 2 + 2  # spring and friction, then one feature's two shares
+    assert np.all(L[AMPS.index("damping_law.b_A")] == 0.0)
+    L0, _, _ = law_map(AMPS, LO, HI, REFS, box | {"w_hi": BOX["w_lo"]})
+    assert L0.shape[1] == 2 + 1 and np.all(L0[1:4, 2:] == [[1.0], [0.0], [0.0]])
+
+
+def test_the_passive_fit_is_the_constrained_least_squares_optimum() -> None:
+    """Columns of a dashpot whose law is passive, plus a friction-like column that the unconstrained law mimics with
+    a slope that goes negative at a corner: the bounded solve on the passive coordinates equals SLSQP with the corner
+    inequalities, and the unconstrained solve is not passive."""
+    rng = np.random.default_rng(5)
+    n = 400
+    w = rng.uniform(BOX["w_lo"], BOX["w_hi"], n)
+    A = rng.uniform(BOX["A_lo"], BOX["A_hi"], n)
+    w[:2], A[:2] = (BOX["w_lo"], BOX["w_hi"]), (BOX["A_lo"], BOX["A_hi"])
+    xd = rng.normal(0, 10.0, n)
+    Phi = np.column_stack([rng.normal(0, 1, n), xd, (w - REFS["w_ref"]) * xd, (A - REFS["A_ref"]) * xd,
+                           np.sign(xd)])
+    # a truth whose damping falls steeply with amplitude: negative at the large-amplitude corners
+    y = Phi @ np.array([3.0, 0.8, 0.0, -1.2, 8.0]) + rng.normal(0, 0.5, n)
+    G, h = Phi.T @ Phi, Phi.T @ y
+    free = solve(G, h, LO, HI)
+    assert _corners(free).min() < 0
+    L, zlo, zhi = law_map(AMPS, LO, HI, REFS, BOX)
+    a = L @ solve(L.T @ G @ L, L.T @ h, zlo, zhi)
+    assert _corners(a).min() >= -1e-9
+
+    def f(x):
+        return float(x @ G @ x - 2 * h @ x)
+
+    assert f(a) == pytest.approx(_active_set_optimum(G, h, f), rel=1e-9)
+    assert a[4] > 1.0  # the friction stays in the fit
+
+
+def _active_set_optimum(G: np.ndarray, h: np.ndarray, f) -> float:
+    """The least f over the passive laws by brute force: every subset of the four corner inequalities and the two
+    bounds (spring, friction >= 0) held as equalities (the KKT system of that equality-constrained least squares),
+    the feasible solutions compared."""
+    C = np.array([[0.0, 1.0, w - REFS["w_ref"], A - REFS["A_ref"], 0.0]
+                  for w in (BOX["w_lo"], BOX["w_hi"]) for A in (BOX["A_lo"], BOX["A_hi"])]
+                 + [[1.0, 0, 0, 0, 0], [0, 0, 0, 0, 1.0]])
+    best = np.inf
+    for mask in range(64):
+        S = C[[i for i in range(6) if mask >> i & 1]]
+        K = np.block([[2 * G, S.T], [S, np.zeros((len(S), len(S)))]])
+        sol = np.linalg.lstsq(K, np.concatenate([2 * h, np.zeros(len(S))]), rcond=None)[0]
+        x = sol[:5]
+        if np.all(C @ x >= -1e-9):
+            best = min(best, f(x))
+    return best
