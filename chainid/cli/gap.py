@@ -196,7 +196,8 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("--damping-law", dest="damping_law", default="auto",
                    choices=("auto", "polynomial", "viscous", "coulomb", "viscous+coulomb", "hysteretic"),
                    help="baseline damping law (default auto: Eq. 21 when the plan separates it, else the "
-                        "leave-one-out best simple law)")
+                        "leave-one-out best simple law; time route: the dashpot follows the records' band centre "
+                        "and amplitude, viscous: one c)")
     p.add_argument("--mass", type=float, default=None, metavar="KG",
                    help="the moving mass of a linear base [kg], given instead of fitted (--model linear)")
     p.add_argument("--resamples", type=int, default=200, metavar="N",

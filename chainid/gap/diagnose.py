@@ -104,7 +104,9 @@ def diagnose(
     damping_law : str
         Baseline damping law of the harmonic route: ``auto`` (default; the paper's Eq. 21 when the plan separates
         it, else the leave-one-out best simple law), ``polynomial``, ``viscous``, ``coulomb``,
-        ``viscous+coulomb``, ``hysteretic``.
+        ``viscous+coulomb``, ``hysteretic``.  Time route: ``viscous`` gives the base one dashpot c for every
+        record; any other keeps the default, a dashpot following the records' band centre and amplitude
+        (passive on every record) where >= 3 training records separate it.
     allow_compression : bool
         Accept compressive (negative) forces with a chain model, which carries none.
     steady_tol : float, optional

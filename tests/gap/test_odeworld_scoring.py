@@ -42,6 +42,22 @@ def test_right_verdict_per_family(family, effects, verdict, shrinkage, right):
     assert sc.score_row(_row(family, effects, verdict, shrinkage))["right"] is right
 
 
+@pytest.mark.parametrize("effects, verdict, base_law, right", [
+    ({"damping_law": 1.0}, "none", "feature", True),                    # the base's law is the truth's
+    ({"damping_law": 1.0}, "hysteresis", "feature", False),             # something beyond it named
+    ({"damping_law": 1.0}, "none", "viscous", False),                   # one c: the law must be named
+    ({"damping_law": 1.0}, "damping_law", "viscous", True),
+    ({"backlash": 1.0, "damping_law": 1.0}, "backlash", "feature", True),
+    ({"backlash": 1.0, "damping_law": 1.0}, "none", "feature", False),
+    ({"backlash": 1.0, "damping_law": 1.0}, "backlash", "viscous", False),
+])
+def test_a_base_carrying_the_damping_law_reports_it(effects, verdict, base_law, right):
+    """A time-route base whose dashpot follows the records' features carries a ``damping_law`` truth itself: alone
+    it is right as ``none``, in a pair by the other effect; a base with one c must name it."""
+    fam = "single" if len(effects) == 1 else "pair"
+    assert sc.score_row(_row(fam, effects, verdict, 0.8, base_law=base_law))["right"] is right
+
+
 def test_parameter_error_and_interval_coverage_by_sd_and_by_ci90():
     truth = {"effects": {"friction": {"F_c": 40.0, "dF": 0.0, "x_s": 0.002}, "sensor_delay": {"tau": -0.004}}}
     row = _row("pair", {"friction": 1.0, "sensor_delay": 1.0}, "friction+sensor_delay", 0.9, truth=truth,
@@ -102,7 +118,8 @@ def test_run_case_reads_the_diagnosis_result_and_scores_it(monkeypatch):
 
     def fake(records, holdout, model, **kw):
         seen.update(n=len(records), holdout=list(holdout), model=model, kw=kw)
-        return {"verdict": "friction", "baseline": {"excess_rms_N": 30.0, "noise_sigma_N": 3.0},
+        return {"verdict": "friction", "baseline": {"excess_rms_N": 30.0, "noise_sigma_N": 3.0,
+                                                    "damping_law": "feature"},
                 "steps": [{"effect": "baseline", "params": {}, "shrinkage": 0.0},
                           {"effect": "friction", "params": {"friction.F_c": 1.0}, "params_sd": {"friction.F_c": 0.1},
                            "shrinkage": 0.75}], "route": "time", "excluded": []}
@@ -111,6 +128,7 @@ def test_run_case_reads_the_diagnosis_result_and_scores_it(monkeypatch):
             "outside": {}, "covariate": None, "sign": 1.0, "seed": 3, "label": "t"}
     row = ow.run_case(case)
     assert row["verdict"] == "friction" and row["snr"] == pytest.approx(10.0) and row["shrinkage"] == 0.75
+    assert row["base_law"] == "feature"
     assert seen["model"] is None and seen["kw"]["uncertainty"] is False and seen["holdout"] == row["holdout"]
     assert seen["n"] == len(row["truth"]["records"]) and 4 <= seen["n"] <= 8
     assert row["score"]["right"] is True

@@ -165,7 +165,8 @@ def _result_row(res: dict[str, Any]) -> dict[str, Any]:
             "shrinkage": last.get("shrinkage") if len(steps) > 1 else (res.get("best") or {}).get("shrinkage"),
             "steps": [s["effect"] for s in steps[1:]], "params": last.get("params") or {},
             "params_sd": last.get("params_sd") or {}, "params_ci90": last.get("params_ci90") or {},
-            "route": res.get("route", "harmonic"), "base_law": b.get("damping_law"), "excluded": [e["test"] for e in res.get("excluded", [])],
+            "route": res.get("route", "harmonic"), "base_law": b.get("damping_law"),
+            "excluded": [e["test"] for e in res.get("excluded", [])],
             "open_world": open_world_row(res)}
 
 

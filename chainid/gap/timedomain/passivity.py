@@ -14,8 +14,8 @@ non-negative combinations
     c_r = z₁·u_r + z₂·(1 − u_r) + z₃·v_r + z₄·(1 − v_r),   z >= 0,
     u_r = (ω_r − ω_lo)/(ω_hi − ω_lo),  v_r = (A_r − A_lo)/(A_hi − A_lo)
 
-(given c >= 0 at every corner, take z₁ − z₂ = b_w·(ω_hi − ω_lo), z₃ − z₄ = b_A·(A_hi − A_lo) with the smaller of
-each pair 0 plus shares of the least corner value).  :func:`law_map` writes (c, b_w, b_A) = L·z, so the bounded
+(given c >= 0 at every corner, take z₁ − z₂ = b_w·(ω_hi − ω_lo), z₃ − z₄ = b_A·(A_hi − A_lo), the smaller
+of each pair 0 plus a share of the least corner value).  :func:`law_map` writes (c, b_w, b_A) = L·z, so the bounded
 least squares on z (:func:`chainid.gap.timedomain.lsq.solve`, z >= 0) is the best passive law; the map has a
 one-dimensional null space (z₁ + z₂ = z₃ + z₄ trade), which the solver's minimum-norm rule handles.  A feature
 whose records all share one value drops out (its slope is 0).  The box is that of every record of the set, held-out

@@ -29,7 +29,8 @@ def test_chi2_of_the_exact_model_is_its_noise_cells():
     prob = _problem()
     c = prob.fit([])
     chi, n, p = prob.train_chi2([], c.params)
-    assert n == prob.n_cells("train") and p == 3  # k, c, m of the linear device (offsets are nuisance)
+    # k, m of the linear device and its dashpot's law over the records' features, c, b_w, b_A (offsets are nuisance)
+    assert n == prob.n_cells("train") and p == 5
     assert abs(chi / (n - p) - 1.0) < 4 * math.sqrt(2.0 / (n - p))
 
 

@@ -70,8 +70,8 @@ def test_build_problem_routes_harmonic_tests_by_the_documented_rule(monkeypatch)
 
     made = []
     monkeypatch.setattr(dt, "prepare_time", lambda r, nb: SimpleNamespace(test=r.test, nb=nb))
-    monkeypatch.setattr(dt, "TimeProblem", lambda tdata, model, hold, blocks, mass_kg=None, damping_law="auto": made.append(
-        ([(d.test, d.nb) for d in tdata], model, hold, blocks, mass_kg)) or made[-1])
+    monkeypatch.setattr(dt, "TimeProblem", lambda tdata, model, hold, blocks, mass_kg=None, damping_law="auto":
+                        made.append(([(d.test, d.nb) for d in tdata], model, hold, blocks, mass_kg)) or made[-1])
     assert dt.LOO_BLOCKS == 4
     assert dt.build_problem(harm + [_rec("r1")], ["h4"], 0, "M", 2.0) == (
         [("h1", 4), ("h2", 4), ("h3", 4), ("h4", 4), ("r1", 4)], "M", ["h4"], 0, 2.0)
