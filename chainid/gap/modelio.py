@@ -310,8 +310,10 @@ def _prepared(r: Any, ev: dict[str, Any]) -> Any:
 def _point(model: AugmentedModel, d: Any) -> OperatingPoint:
     """The operating point of a prepared test (TestData: ω, A, x0) or of a time record (TimeData: its band centre
     and half range for a ``feature`` damping, else its dominant ω and A)."""
-    w = getattr(d, "omega_c", d.omega) if model.damping.form == "feature" else d.omega
-    return OperatingPoint(d.test, w, d.A, d.x0, d.test)
+    if model.damping.form == "feature":  # the features the fit read (the whole record's, as predict reads them)
+        w, A = getattr(d, "omega_c", d.omega), getattr(d, "A_c", d.A)
+        return OperatingPoint(d.test, w, A if math.isfinite(A) else d.A, d.x0, d.test)
+    return OperatingPoint(d.test, d.omega, d.A, d.x0, d.test)
 
 
 def _record_point(model: AugmentedModel, rec: Any, kin: Kinematics) -> OperatingPoint:

@@ -74,6 +74,8 @@ class TimeData:
     kin: Kinematics | None = None
     covariates: dict[str, float] = field(default_factory=dict)
     omega_c: float = float("nan")
+    #: the whole record's half range [mm] (a dashpot law's amplitude feature, read as ``predict`` reads it)
+    A_c: float = float("nan")
     f_low: float = float("nan")
     #: the force is compared with the model below this cut [Hz] (NaN: the whole band; :mod:`.bandlimit`)
     f_res: float = float("nan")
@@ -169,7 +171,7 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     sigma = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
     # the ends, where the kinematics rest on the padding, are estimated but not compared (:func:`interior`); the
     # record's features are the whole record's
-    omega_c = record_features(t, kin.x)[0]
+    omega_c, A_c = record_features(t, kin.x)
     a, b = interior(kin, fs, t.size)
     kin = kin.trimmed(a, b)
     t, F, x_meas = t[a:b], F[a:b], np.asarray(rec.x, float)[a:b]
@@ -180,7 +182,7 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     f_res = residual_cut(F, fs, kin.f_cut_a, sigma, kin.beyond_a)
     return TimeData(rec.test, t, xs, xd, xdd, F, x_meas, sigma, fb, fs,
                     sigma_hf, block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
-                    covariates=cov, omega_c=omega_c, f_low=low_edge(t, xs), f_res=f_res,
+                    covariates=cov, omega_c=omega_c, A_c=A_c, f_low=low_edge(t, xs), f_res=f_res,
                     rho=noise_share(fs, f_res))
 
 

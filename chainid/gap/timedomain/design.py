@@ -41,8 +41,8 @@ from chainid.gap.timedomain.bandlimit import band_limited
 from chainid.model.effects import (SPECS, STIFFNESS_SIDE, columns, identifiable, make_effect, modify_model,
                                    play_operator)
 
-__all__ = ["Base", "ColumnCache", "split_name", "effect_of", "amplitude_names", "amplitude_bounds", "shape_names",
-           "build"]
+__all__ = ["Base", "ColumnCache", "MIN_FEATURE_SPAN", "split_name", "effect_of", "law_features", "amplitude_names",
+           "amplitude_bounds", "shape_names", "build"]
 
 
 @dataclass
@@ -53,7 +53,9 @@ class Base:
     moving mass [kg] of a linear base (None: fitted, >= 0); ``refs``: the reference values of the data the
     fixed parameters take (``x_mid`` [mm], ``w_ref`` [rad/s], ``A_ref`` [mm], ``cov:NAME``); ``law``: the
     dashpot follows the records' features, c_r = c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref) (the paper's
-    c_e(ω, A) carried to any excitation, part of the base), instead of one c for every record.
+    c_e(ω, A) carried to any excitation, part of the base), instead of one c for every record;
+    ``law_features``: the features that law (or the effect ``damping_law``) follows, ``"w"`` and/or ``"A"``
+    (:func:`law_features`: a feature the records do not spread has no slope).
     """
 
     kind: str
@@ -61,6 +63,7 @@ class Base:
     mass_kg: float | None = None
     refs: dict[str, float] = field(default_factory=dict)
     law: bool = False
+    law_features: tuple[str, ...] = ("w", "A")
 
     @property
     def offsets(self) -> bool:
@@ -92,6 +95,22 @@ def _effects(names: Sequence[str]) -> list[str]:
         if e is not None and e not in out:
             out.append(e)
     return out
+
+
+#: a record feature carries a slope of the dashpot law only when it spans at least this share of its largest value
+#: over the training records: across repeats of one test (a spread of 1e-4) a "law" would be one c per record
+MIN_FEATURE_SPAN = 0.05
+
+
+def law_features(omegas: Sequence[float], amplitudes: Sequence[float]) -> tuple[str, ...]:
+    """The record features a dashpot law over the training records can follow: ``"w"`` (band centre [rad/s]) and
+    ``"A"`` (half range [mm]), each when its span is at least ``MIN_FEATURE_SPAN`` of its largest value."""
+    out = []
+    for k, v in (("w", omegas), ("A", amplitudes)):
+        v = np.abs(np.asarray(v, float))
+        if v.size and float(np.max(v)) > 0 and float(np.ptp(v)) >= MIN_FEATURE_SPAN * float(np.max(v)):
+            out.append(k)
+    return tuple(out)
 
 
 def amplitude_names(base: Base, names: Sequence[str]) -> list[str]:
@@ -257,8 +276,10 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
     xd_c = lp(("xd",), xd)
     Phi[:, col["damping.c"]] = xd_c
     if "damping_law.b_w" in col:  # the dashpot following the record's features (the base's law, or the effect)
-        Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
-        Phi[:, col["damping_law.b_A"]] = (d.A - base.refs.get("A_ref", 0.0)) * xd_c
+        if "w" in base.law_features:
+            Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
+        if "A" in base.law_features:
+            Phi[:, col["damping_law.b_A"]] = (d.A_c - base.refs.get("A_ref", 0.0)) * xd_c
 
     def effect_cols(n: str) -> dict[str, np.ndarray]:
         p = _params_of(shapes, n)

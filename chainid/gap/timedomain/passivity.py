@@ -24,11 +24,13 @@ ones included: their features are the measured displacement's, known before any 
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
-__all__ = ["LAW_AMPS", "law_map", "corner_minimum"]
+from chainid.gap.timedomain.lsq import solve
+
+__all__ = ["LAW_AMPS", "HELD_WEIGHT", "law_box", "law_map", "corner_minimum", "passive_solve"]
 
 #: the amplitudes of the dashpot law, in the order of the map's rows
 LAW_AMPS = ("damping.c", "damping_law.b_w", "damping_law.b_A")
@@ -86,3 +88,59 @@ def corner_minimum(c: float, b_w: float, b_A: float, refs: dict[str, float], box
     vals = [c + b_w * (w - refs["w_ref"]) + b_A * (A - refs["A_ref"])
             for w in (box["w_lo"], box["w_hi"]) for A in (box["A_lo"], box["A_hi"])]
     return float(min(vals))
+
+
+def law_box(records: Sequence[Any], feats: Sequence[str], refs: dict[str, float]) -> dict[str, float]:
+    """The box of every record's features (``omega_c`` [rad/s], ``A_c`` [mm]; held-out records included), over
+    which the law is kept passive; a feature the law does not follow (not in ``feats``) has no span (its
+    reference, ``refs["w_ref"]`` or ``refs["A_ref"]``)."""
+    out = {}
+    for k, attr in (("w", "omega_c"), ("A", "A_c")):
+        vals = [float(getattr(d, attr)) for d in records]
+        lo, hi = (min(vals), max(vals)) if k in feats else (refs[f"{k}_ref"], refs[f"{k}_ref"])
+        out[f"{k}_lo"], out[f"{k}_hi"] = lo, hi
+    return out
+
+
+#: a held amplitude of the law is an equality on the passive coordinates, weighed this much over the data's Gram
+#: matrix (the weighting method of equality-constrained least squares, Lawson & Hanson ch. 22); the held value is
+#: then set exactly
+HELD_WEIGHT = 1e6
+
+
+def passive_solve(G: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray, amps: Sequence[str],
+                  refs: dict[str, float], box: dict[str, float], fix: dict[str, float] | None = None) -> np.ndarray:
+    """The bounded least-squares amplitudes ``amps`` (minimising aᵀGa − 2hᵀa, lo <= a <= hi) whose dashpot law
+    (:data:`LAW_AMPS`, all in ``amps``) is >= 0 on the records' feature box; amplitudes in ``fix`` are held at
+    their values [their units].
+
+    The box-bounded optimum is taken when its law is passive (every passive law is inside the box bounds: c >= 0
+    at the reference point, inside the box); else the optimum over the passive coordinates of :func:`law_map`, a
+    held law amplitude an equality of weight :data:`HELD_WEIGHT`.  A least corner value below 0 by round-off is
+    lifted to 0 through c (when c is not held)."""
+    amps = list(amps)
+    fix = dict(fix or {})
+    held = np.array([k in fix for k in amps], bool)
+    a = np.array([float(fix[k]) if k in fix else 0.0 for k in amps])
+    a[~held] = solve(G[np.ix_(~held, ~held)], h[~held] - G[np.ix_(~held, held)] @ a[held], lo[~held], hi[~held])
+    law = [amps.index(k) for k in LAW_AMPS]
+    if corner_minimum(*a[law], refs, box) >= 0.0:
+        return a
+    other = held.copy()
+    other[law] = False                              # held amplitudes outside the law: eliminated
+    keep = ~other
+    names = [k for k, m in zip(amps, keep) if m]
+    L, zlo, zhi = law_map(names, lo[keep], hi[keep], refs, box)
+    Gz = L.T @ G[np.ix_(keep, keep)] @ L
+    hz = L.T @ (h[keep] - G[np.ix_(keep, other)] @ a[other])
+    rows = [names.index(k) for k in LAW_AMPS if k in fix]
+    if rows:
+        E, e = L[rows], np.array([float(fix[names[r]]) for r in rows])
+        w = HELD_WEIGHT * max(float(np.max(np.diag(Gz))), 1e-300) / max(float(np.max(np.diag(E.T @ E))), 1e-300)
+        Gz, hz = Gz + w * (E.T @ E), hz + w * (E.T @ e)
+    a[keep] = L @ solve(Gz, hz, zlo, zhi)
+    a[held] = [float(fix[k]) for k, m in zip(amps, held) if m]
+    gap = corner_minimum(*a[law], refs, box)
+    if gap < 0.0 and "damping.c" not in fix:
+        a[law[0]] -= gap
+    return a

@@ -28,10 +28,10 @@ import numpy as np
 from chainid.gap.core.candidate import Candidate, jackknife_sd
 from chainid.gap.core.delayscan import refine_delay
 from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
-from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, shape_names,
-                                           split_name)
+from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, law_features,
+                                           shape_names, split_name)
 from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
-from chainid.gap.timedomain.passivity import LAW_AMPS, corner_minimum, law_map
+from chainid.gap.timedomain.passivity import LAW_AMPS, law_box, passive_solve
 from chainid.gap.timedomain.search import lag_points, search
 from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
 
@@ -129,14 +129,13 @@ class TimeProblem:
         covs = sorted(set.intersection(*[set(d.covariates) for d in self.tdata])) if self.tdata else []
         refs = {"x_mid": float(np.mean([d.x0 for d in train_recs])),
                 "w_ref": float(np.mean([d.omega_c for d in train_recs])),
-                "A_ref": float(np.mean([d.A for d in train_recs]))}
+                "A_ref": float(np.mean([d.A_c for d in train_recs]))}
         refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
         self.covariates = distinct_covariates(train_recs, covs)
+        feats = law_features([d.omega_c for d in self.train], [d.A_c for d in self.train])
         self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs,
-                         law=damping_law != "viscous" and self._law_separable())
-        # the records' feature box, held-out records included: the dashpot law is passive over it (:mod:`.passivity`)
-        self.law_box = {"w_lo": min(d.omega_c for d in self.tdata), "w_hi": max(d.omega_c for d in self.tdata),
-                        "A_lo": min(d.A for d in self.tdata), "A_hi": max(d.A for d in self.tdata)}
+                         law=damping_law != "viscous" and self._law_separable(feats), law_features=feats)
+        self.law_box = law_box(self.tdata, feats, refs)
         allF = np.concatenate([d.F - d.F.mean() for d in self.tdata])
         self.F_scale = float(np.std(allF)) or 1.0
         self.x_scale = float(max(d.A for d in self.tdata)) or 1.0
@@ -159,10 +158,10 @@ class TimeProblem:
         dur = min(float(d.t[-1] - d.t[0]) for d in self.tdata)
         return float(min(0.5 * longest, 0.25 * dur))
 
-    def _law_separable(self) -> bool:
+    def _law_separable(self, feats: Sequence[str]) -> bool:
         """Whether the training records separate a damping law over their features: >= ``MIN_LAW_RECORDS`` of them
-        with distinct (band centre, amplitude)."""
-        return len({(round(d.omega_c, 6), round(d.A, 6)) for d in self.train}) >= MIN_LAW_RECORDS
+        with distinct (band centre, amplitude), and a feature that spreads (``feats``, :func:`.design.law_features`)."""
+        return bool(feats) and len({(round(d.omega_c, 6), round(d.A_c, 6)) for d in self.train}) >= MIN_LAW_RECORDS
 
     def applicable(self) -> list[str]:
         """Library effects for this base: chain-only effects need the chain, linear-only ones a linear device;
@@ -171,7 +170,7 @@ class TimeProblem:
         every force effect as ``effect@cov`` (its amplitudes following the operating condition)."""
         kind = self.base.kind
         out = [n for n in EFFECT_NAMES if kind in SPECS[n].bases]
-        if self.base.law or not self._law_separable():
+        if self.base.law or not self._law_separable(self.base.law_features):
             out = [n for n in out if n != "damping_law"]
         # with operating conditions, a force effect comes with its amplitudes following each of them (it nests the
         # effect at one condition: slopes of 0)
@@ -217,22 +216,19 @@ class TimeProblem:
     def _solve(self, names: Sequence[str], bl: Blocks, mult: np.ndarray,
                fix: dict[str, float] | None = None) -> np.ndarray:
         """The bounded least-squares amplitudes; those in ``fix`` held at their values (eliminated).  A dashpot
-        law over record features whose three amplitudes are free is kept passive on every record of the set
-        (:func:`chainid.gap.timedomain.passivity.law_map`)."""
+        law over record features is kept passive on every record of the set
+        (:func:`chainid.gap.timedomain.passivity.passive_solve`)."""
         G, h = bl.total(mult)
         amps = amplitude_names(self.base, names)
         lo, hi = amplitude_bounds(amps)
-        free = np.array([k not in (fix or {}) for k in amps], bool)
-        a = np.array([0.0 if f else float(fix[k]) for k, f in zip(amps, free)])  # type: ignore[index]
-        Gf, hf = G[np.ix_(free, free)], h[free] - G[np.ix_(free, ~free)] @ a[~free]
-        a[free] = solve(Gf, hf, lo[free], hi[free])
-        names_f = [k for k, f in zip(amps, free) if f]
-        if all(k in names_f for k in LAW_AMPS) and corner_minimum(
-                *(a[amps.index(k)] for k in LAW_AMPS), self.base.refs, self.law_box) < 0.0:
-            # the box-bounded optimum is not passive somewhere on the records: the best passive law instead (the
-            # passive laws lie inside the box bounds, so a passive box optimum is already the answer)
-            L, zlo, zhi = law_map(names_f, lo[free], hi[free], self.base.refs, self.law_box)
-            a[free] = L @ solve(L.T @ Gf @ L, L.T @ hf, zlo, zhi)
+        if all(k in amps for k in LAW_AMPS):
+            return passive_solve(G, h, lo, hi, amps, self.base.refs, self.law_box, fix)
+        held = np.array([k in (fix or {}) for k in amps], bool)
+        if not held.any():
+            return solve(G, h, lo, hi)
+        a = np.array([float(fix[k]) if k in fix else 0.0 for k in amps])  # type: ignore[index]
+        free = ~held
+        a[free] = solve(G[np.ix_(free, free)], h[free] - G[np.ix_(free, held)] @ a[held], lo[free], hi[free])
         return a
 
     # ------------------------------------------------------------------ fit

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from scipy.optimize import nnls
 
+from chainid.gap.timedomain.design import MIN_FEATURE_SPAN, law_features
 from chainid.gap.timedomain.lsq import solve
-from chainid.gap.timedomain.passivity import LAW_AMPS, corner_minimum, law_map
+from chainid.gap.timedomain.passivity import LAW_AMPS, corner_minimum, law_map, passive_solve
 
 BOX = {"w_lo": 6.0, "w_hi": 30.0, "A_lo": 0.4, "A_hi": 2.5}
 REFS = {"w_ref": 14.0, "A_ref": 1.1}
@@ -89,19 +90,93 @@ def test_the_passive_fit_is_the_constrained_least_squares_optimum() -> None:
     assert a[4] > 1.0  # the friction stays in the fit
 
 
-def _active_set_optimum(G: np.ndarray, h: np.ndarray, f) -> float:
+def _active_set_optimum(G: np.ndarray, h: np.ndarray, f, held: dict[int, float] | None = None) -> float:
     """The least f over the passive laws by brute force: every subset of the four corner inequalities and the two
     bounds (spring, friction >= 0) held as equalities (the KKT system of that equality-constrained least squares),
-    the feasible solutions compared."""
+    the feasible solutions compared; ``held``: amplitudes (by index) held at a value, always equalities."""
     C = np.array([[0.0, 1.0, w - REFS["w_ref"], A - REFS["A_ref"], 0.0]
                   for w in (BOX["w_lo"], BOX["w_hi"]) for A in (BOX["A_lo"], BOX["A_hi"])]
                  + [[1.0, 0, 0, 0, 0], [0, 0, 0, 0, 1.0]])
+    Eq = np.array([np.eye(5)[i] for i in (held or {})]).reshape(-1, 5)
+    eq = np.array(list((held or {}).values()), float)
     best = np.inf
     for mask in range(64):
-        S = C[[i for i in range(6) if mask >> i & 1]]
+        S = np.vstack([C[[i for i in range(6) if mask >> i & 1]], Eq])
+        rhs = np.concatenate([np.zeros(len(S) - len(eq)), eq])
         K = np.block([[2 * G, S.T], [S, np.zeros((len(S), len(S)))]])
-        sol = np.linalg.lstsq(K, np.concatenate([2 * h, np.zeros(len(S))]), rcond=None)[0]
+        sol = np.linalg.lstsq(K, np.concatenate([2 * h, rhs]), rcond=None)[0]
         x = sol[:5]
-        if np.all(C @ x >= -1e-9):
+        if np.all(C @ x >= -1e-9) and np.allclose(Eq @ x, eq, rtol=1e-9, atol=1e-12):
             best = min(best, f(x))
     return best
+
+
+def _friction_problem(seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """The Gram matrix and projection of the problem above for another noise seed."""
+    rng = np.random.default_rng(seed)
+    n = 400
+    w = rng.uniform(BOX["w_lo"], BOX["w_hi"], n)
+    A = rng.uniform(BOX["A_lo"], BOX["A_hi"], n)
+    w[:2], A[:2] = (BOX["w_lo"], BOX["w_hi"]), (BOX["A_lo"], BOX["A_hi"])
+    xd = rng.normal(0, 10.0, n)
+    Phi = np.column_stack([rng.normal(0, 1, n), xd, (w - REFS["w_ref"]) * xd, (A - REFS["A_ref"]) * xd,
+                           np.sign(xd)])
+    y = Phi @ np.array([3.0, 0.8, 0.0, -1.2, 8.0]) + rng.normal(0, 0.5, n)
+    return Phi.T @ Phi, Phi.T @ y
+
+
+def test_a_held_law_amplitude_keeps_its_value_and_the_rest_is_the_passive_optimum() -> None:
+    """A profile's point holds b_A steeper than the fit's: the refit keeps it exactly, stays passive, and reaches the
+    brute-force optimum with b_A held (to the weighting method's 1e-6)."""
+    G, h = _friction_problem(6)
+    for b_A in (-0.9, -1.5):
+        a = passive_solve(G, h, LO, HI, AMPS, REFS, BOX, {"damping_law.b_A": b_A})
+        assert a[3] == b_A
+        assert corner_minimum(*a[1:4], REFS, BOX) >= 0.0
+
+        def f(x):
+            return float(x @ G @ x - 2 * h @ x)
+
+        assert f(a) == pytest.approx(_active_set_optimum(G, h, f, {3: b_A}), rel=1e-6)
+
+
+def test_a_law_on_the_passive_boundary_is_not_negative_by_round_off() -> None:
+    """Twenty problems whose best passive law touches zero at a corner: its least corner value is >= 0 exactly (a
+    negative dashpot by 1e-15 is refused downstream)."""
+    touched = 0
+    for seed in range(20):
+        G, h = _friction_problem(100 + seed)
+        a = passive_solve(G, h, LO, HI, AMPS, REFS, BOX)
+        m = corner_minimum(*a[1:4], REFS, BOX)
+        assert m >= 0.0
+        touched += m <= 1e-9 * a[1]
+    assert touched == 20
+
+
+@pytest.mark.parametrize("omegas, amps, feats", [
+    ([10.0, 10.001, 9.999, 10.0005], [2.0005, 2.0004, 2.0, 2.0002], ()),   # repeats of one test: no law
+    ([5.0, 10.0, 20.0], [1.0, 1.0001, 1.0002], ("w",)),                    # one amplitude, three bands
+    ([10.0, 10.0, 10.0], [0.5, 1.0, 2.0], ("A",)),
+    ([5.0, 10.0, 20.0], [0.5, 1.0, 2.0], ("w", "A")),
+    ([10.0, 10.0 * (1 - MIN_FEATURE_SPAN) - 1e-9], [1.0, 1.0 * (1 - MIN_FEATURE_SPAN) + 1e-9], ("w",)),
+])
+def test_a_feature_carries_a_slope_only_where_the_records_spread_it(omegas, amps, feats) -> None:
+    assert law_features(omegas, amps) == feats
+
+
+def test_repeats_of_one_motion_give_the_base_one_dashpot() -> None:
+    """Five records of one random motion (the noise alone differs): no feature spreads, so the base keeps one c (a
+    law over a 1e-6 spread would be one c per record, extrapolated without bound)."""
+    import warnings
+
+    import sim_devices as sd
+    from chainid.gap.timedomain.route import build_problem
+
+    t = sd.sample_times(2000, 200.0)
+    x, xd, _ = sd.random_motions(1, 2000, 200.0, 0.5, 4.0, 1.0, 0.0, 7)[0](t)
+    recs = [sd.noisy(f"r{i}", t, x, 10.0 * x + 2.0 * xd, 1e-6, 0.1, i) for i in range(5)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        prob = build_problem(recs, ["r4"], 0, None, None)
+    assert prob.base.law_features == () and not prob.base.law and prob.law == "viscous"
+    assert "damping_law" not in prob.applicable()

@@ -19,7 +19,6 @@ from chainid.gap.benchmark.grid import grid
 from chainid.gap.benchmark.nonharmonic import records
 from chainid.gap.diagnose import diagnose
 from chainid.gap.modelio import predict
-from chainid.model.timedamping import record_features
 from chainid.model.modelfile import load_model
 from chainid.records.writer import write_canonical
 
@@ -46,15 +45,12 @@ def test_a_time_domain_diagnosis_carries_its_models(sweep_set) -> None:
     last = res["steps"][-1]
     m = models[-1]
     # four records of distinct band and amplitude: the dashpot follows them, c_r = c + b_w·Δω + b_A·ΔA (the
-    # paper's c_e(ω, A) on any excitation), passive at every record of the set
+    # paper's c_e(ω, A) on any excitation)
     assert m.damping.form == "feature"
     assert [m.damping.params[k] for k in ("c", "b_w", "b_A")] == pytest.approx(last["law_params"], rel=1e-12)
     assert [n for n, _ in m.effects] == [s["effect"] for s in res["steps"][1:]]
     assert res["model"]["damping"]["form"] == "feature"
-    p = m.damping.params
-    for r in recs:
-        w, A = record_features(r.t, r.x)
-        assert p["c"] + p["b_w"] * (w - p["w_ref"]) + p["b_A"] * (A - p["A_ref"]) >= 0.0
+    # passive at every record (predict refuses a negative dashpot: the next test runs it on all four)
 
 
 @pytest.mark.slow
