@@ -225,9 +225,21 @@ def estimate_harmonic(
     # every phase from the record's first sample: omega * 1.7e9 s would round the cycle boundaries
     t_origin = float(t[0])
     t = t - t_origin
-    # 1. FFT peak of the velocity: a ramp becomes a (near) constant, the oscillation
-    #    dominates -- over the whole record and over its last half and third (where a
-    #    slow ramp that outweighs a small oscillation has ended)
+    w0s = _start_omegas(t, x, test)
+    # long records: the candidate search (step 2) runs on every k-th sample, keeping
+    # >= _SEARCH_SPC samples per period and >= _SEARCH_N samples, so its cost does not grow
+    # with N; the final window, refinement and fit (step 3) use every sample
+    stride = _search_stride(t, min(w0s))
+    fit = _best_candidate(t[::stride], x[::stride], w0s, float(t[-1] - t[0]), rel_tol, drop_first, test)
+    w, x0, A, theta, rms, win = _final_fit(t, x, fit, stride, rel_tol, drop_first)
+    return HarmonicEstimate(omega=w, x0=x0, A=A, theta=theta, noise=rms, window=shift_window(win, t_origin),
+                            t_origin=t_origin)
+
+
+def _start_omegas(t: np.ndarray, x: np.ndarray, test: str) -> list[float]:
+    """Step 1 of :func:`estimate_harmonic`: the FFT peaks [rad/s] of the velocity (a ramp becomes a near constant,
+    the oscillation dominates) over the whole record and its last half and third (where a slow ramp that outweighs
+    a small oscillation has ended), distinct by more than 1 %."""
     span = t[-1] - t[0]
     v = np.gradient(x, t)
     w0s: list[float] = []
@@ -240,16 +252,14 @@ def estimate_harmonic(
             w0s.append(w0)
     if not w0s:
         raise ValueError(f"test {test!r}: no harmonic oscillation found in x(t)")
-    # long records: the candidate search (step 2) runs on every k-th sample, keeping
-    # >= _SEARCH_SPC samples per period and >= _SEARCH_N samples, so its cost does not grow
-    # with N; the final window, refinement and fit (step 3) use every sample
-    t_full, x_full = t, x
-    stride = _search_stride(t, min(w0s))
-    if stride > 1:
-        t, x = t[::stride], x[::stride]
-    # 2. NLS refinement on candidate segments (provisional steady cycles at w0, the
-    #    second half, the last third and fifth, the whole record); keep the candidate
-    #    whose steady window has the most cycles (ties: smallest residual)
+    return w0s
+
+
+def _best_candidate(t: np.ndarray, x: np.ndarray, w0s: list[float], span: float, rel_tol: float | None,
+                    drop_first: bool, test: str) -> tuple[float, float, float, float, float]:
+    """Step 2 of :func:`estimate_harmonic`: the NLS refinement (ω, x0, A, θ, rms) on candidate segments
+    (provisional steady cycles at each start ω, the second half, the last third and fifth, the whole record) whose
+    steady window has the most cycles (ties: smallest residual); ``span`` [s] the whole record's."""
     best = None
     for w0 in w0s:
         # (lenient provisional selection: w0 may be off by a fraction of a per cent,
@@ -276,15 +286,21 @@ def estimate_harmonic(
                 best = (score, (w, x0, A, theta, rms))
     if best is None:
         raise ValueError(f"test {test!r}: no harmonic oscillation found in x(t)")
-    w, x0, A, theta, rms = best[1]
-    t, x = t_full, x_full
+    return best[1]
+
+
+def _final_fit(t: np.ndarray, x: np.ndarray, fit: tuple[float, float, float, float, float], stride: int,
+               rel_tol: float | None, drop_first: bool) -> tuple[float, float, float, float, float, SteadyWindow]:
+    """Step 3 of :func:`estimate_harmonic` on every sample: one more NLS refinement on the steady cycles of the
+    candidate ``fit`` (every ``stride``-th sample), then the steady window aligned with the phase and the linear
+    fit of x0, A, θ at the refined ω.  Returns (ω, x0, A, θ, rms, window)."""
+    w, x0, A, theta, rms = fit
     win = select_steady(t, x, w, theta, rel_tol=rel_tol, drop_first=drop_first)
     if win.n_cycles >= 1:  # one more refinement on the steady cycles themselves
         i0, i1 = np.searchsorted(t, [win.t_start, win.t_end], side="left")
         again = _nls_harmonic(t[i0:i1:stride], x[i0:i1:stride], w)
         if refines(again[0], w, t):
             w, x0, A, theta, rms = again
-    # 3. final steady window aligned with the phase, linear fit at the refined omega
     win = select_steady(t, x, w, theta, rel_tol=rel_tol, drop_first=drop_first)
     if win.n_cycles >= 1:
         m = (t >= win.t_start) & (t < win.t_end)
@@ -292,8 +308,7 @@ def estimate_harmonic(
         A = math.hypot(a, b)
         theta = math.atan2(b, a)
         rms = float(np.sqrt(np.mean((x[m] - x0 - a * np.sin(w * t[m]) - b * np.cos(w * t[m])) ** 2)))
-    return HarmonicEstimate(omega=w, x0=x0, A=A, theta=theta, noise=rms, window=shift_window(win, t_origin),
-                            t_origin=t_origin)
+    return w, x0, A, theta, rms, win
 
 
 def refines(w: float, w0: float, t: np.ndarray) -> bool:
