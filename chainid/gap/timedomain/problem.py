@@ -448,7 +448,7 @@ class TimeProblem:
             den = float(np.sum((d.F - self.F_mean[d.test]) ** 2))
             cand.per_test[d.test] = math.sqrt(float(np.sum(ev["res"][d.test] ** 2)) / den) if den > 0 else math.nan
         law = self.base.law or "damping_law" in names
-        cand.law = "feature law" if law else "viscous"
+        cand.law = "feature" if law else "viscous"
         cand.law_params = [cand.params.get(k, 0.0) for k in (("damping.c", "damping_law.b_w", "damping_law.b_A")
                                                              if law else ("damping.c",))]
         cand.param_sd = {k: v for k, v in ev["sd"].items()}
