@@ -251,13 +251,18 @@ def test_records_noise_and_quantisation_by_hand(monkeypatch):
 def test_transfer_case_harmonic_set_is_the_documented_one(monkeypatch):
     """``run_case_transfer``'s docstring: 11 harmonic tests h1 … h11 over the random records' band and amplitudes
     (ω ∈ (¼, ½, 1)·ω_lo × A ∈ (½, 1, 1.5)·Ā at x̄0, then two off-grid tests), 8 cycles of 256 samples, noise σ =
-    noise·S, seed + 1; the same device (true model, viscous c, effect hook) as the random records."""
+    noise·S, seed + 1; the same device (true model, viscous c, effect hook) as the random records, whose c is the
+    same on every record (one device: no c_e(ω, A) spread over the random records that the harmonic set lacks)."""
     from chainid.gap.benchmark import nonharmonic as bt
     from chainid.records import simulate as sim
 
     case = next(c for c in bt.time_grid(small=True) if c["excitation"] == "transfer")
-    _, dev = bt.records(case | {"excitation": "random"})
+    _, dev = bt.records(case | {"excitation": "random", "damping_varies": False})
+    assert dev["c_records"] == [dev["c"]] * len(dev["motions"])
     seen = {}
+    made = []
+    real_records = bt.records
+    monkeypatch.setattr(bt, "records", lambda c: made.append(c) or real_records(c))
 
     class Stop(Exception):
         pass
@@ -268,6 +273,7 @@ def test_transfer_case_harmonic_set_is_the_documented_one(monkeypatch):
 
     monkeypatch.setattr(sim, "simulate", recorder)
     assert bt.run_case_transfer(case)["verdict"].startswith("error: ")
+    assert made and made[0]["damping_varies"] is False
     wl = 2 * np.pi * min(m.f_max for m in dev["motions"])
     A = float(np.median([m.A for m in dev["motions"]]))
     x0 = float(np.median([np.median(m.x) for m in dev["motions"]]))
