@@ -35,6 +35,7 @@ import numpy as np
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
 from chainid.model.passivity import OperatingPoint, describe, negative_dashpots, refusal
+from chainid.model.timedamping import BOX_KEYS
 from chainid.model.timedamping import Damping, dominant, record_features
 from chainid.gap.core import noise as nz
 from chainid.gap.core.verdict import trusted_path
@@ -59,7 +60,8 @@ def model_of_step(prob: Any, cand: Any, info: dict[str, Any] | None = None) -> A
     if getattr(prob, "hprob", True) is None:  # the time-domain route: viscous c, or c following record features
         if "damping_law" in names or "damping_law.b_w" in p:  # the effect, or the base's law
             damping = Damping("feature", {"c": float(p["damping.c"])} | {
-                k: float(p[f"damping_law.{k}"]) for k in ("b_w", "b_A", "w_ref", "A_ref")})
+                k: float(p[f"damping_law.{k}"]) for k in ("b_w", "b_A", "w_ref", "A_ref", *BOX_KEYS)
+                if f"damping_law.{k}" in p})
         else:
             damping = Damping("viscous", {"c": float(p.get("damping.c", 0.0))})
         terms = {k: float(v) for k, v in p.items() if "@" in k}  # every amplitude's slope over a covariate

@@ -106,7 +106,10 @@ EFFECT_RANGES: dict[str, dict[str, Range]] = {
                     # the time-domain form: slopes of the viscous c over the record's band centre and amplitude
                     "b_w": Range("N·s²/mm", -1e9, 1e9, warn_lo=-1e6, warn_hi=1e6),
                     "b_A": Range("N·s/mm²", -1e9, 1e9, warn_lo=-1e6, warn_hi=1e6),
-                    "w_ref": Range("rad/s", 0.0, 1e7, warn_hi=1e5), "A_ref": _length()},
+                    "w_ref": Range("rad/s", 0.0, 1e7, warn_hi=1e5), "A_ref": _length(),
+                    # the box of record features the law was identified on
+                    "w_lo": Range("rad/s", 0.0, 1e7, warn_hi=1e5), "w_hi": Range("rad/s", 0.0, 1e7, warn_hi=1e5),
+                    "A_lo": _length(), "A_hi": _length()},
     "stribeck": {"F_c": _force(), "dF_s": _force(), "v_s": Range("mm/s", 0.0, 1e7, lo_open=True, warn_hi=1e5),
                  "dF": Range("N", -1e9, 1e9, warn_lo=-1e7, warn_hi=1e7)},
     "bouc_wen": {"F_y": _force(), "x_y": _length(lo_open=True), "n": Range("-", 0.1, 20.0, warn_lo=0.3, warn_hi=8.0),
@@ -154,7 +157,9 @@ DAMPING_RANGES: dict[str, dict[str, Range]] = {
     "feature": {"c": Range("N·s/mm", -1e9, 1e9, warn_lo=-1e6, warn_hi=1e6),
                 "b_w": Range("N·s²/mm", -1e9, 1e9, warn_lo=-1e6, warn_hi=1e6),
                 "b_A": Range("N·s/mm²", -1e9, 1e9, warn_lo=-1e6, warn_hi=1e6),
-                "w_ref": Range("rad/s", 0.0, 1e7, warn_hi=1e5), "A_ref": _length()},
+                "w_ref": Range("rad/s", 0.0, 1e7, warn_hi=1e5), "A_ref": _length(),
+                "w_lo": Range("rad/s", 0.0, 1e7, warn_hi=1e5), "w_hi": Range("rad/s", 0.0, 1e7, warn_hi=1e5),
+                "A_lo": _length(), "A_hi": _length()},
     "law": {"coefficient": Range("(law units)", -1e15, 1e15), "k_e": Range("N/mm", 0.0, 1e12, lo_open=True,
                                                                          warn_hi=1e9),
             "per_test": Range("N·s/mm", -1e9, 1e9, warn_lo=-1e6, warn_hi=1e6)},

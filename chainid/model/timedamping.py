@@ -15,7 +15,9 @@ no meaning in a transient.  A model carries one of these time-domain forms (unit
 * ``feature`` — a viscous c that follows the record's features (the time-domain form of the paper's c_e(ω, A)):
   c_r = c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref), ω_r the band centre [rad/s] and A_r the half range of x [mm]
   of the record (:func:`record_features`; a harmonic test's frequency and amplitude), params ``c`` [N·s/mm],
-  ``b_w`` [N·s²/mm], ``b_A`` [N·s/mm²], ``w_ref`` [rad/s], ``A_ref`` [mm].
+  ``b_w`` [N·s²/mm], ``b_A`` [N·s/mm²], ``w_ref`` [rad/s], ``A_ref`` [mm]; optionally the box of features the
+  law was identified on, ``w_lo``, ``w_hi`` [rad/s], ``A_lo``, ``A_hi`` [mm]: a record outside it takes the law
+  at the nearest point of the box (the law is not extrapolated, and a law >= 0 on its box is >= 0 everywhere).
 
 **Conversion rule** (:meth:`Damping.resolve`).  For a record, its dominant angular frequency ω and
 amplitude A (:func:`dominant`: the largest spectral line of x and its least-squares amplitude) give
@@ -55,8 +57,10 @@ FORMS: dict[str, tuple[str, ...]] = {
     "dahl": ("F_h", "x_h"),
     "coulomb": ("F_c", "x_s"),
     "law": (),
-    "feature": ("c", "b_w", "b_A", "w_ref", "A_ref"),
+    "feature": ("c", "b_w", "b_A", "w_ref", "A_ref", "w_lo", "w_hi", "A_lo", "A_hi"),
 }
+#: the optional box of a ``feature`` law's features (its identification range; see the module docstring)
+BOX_KEYS = ("w_lo", "w_hi", "A_lo", "A_hi")
 #: parameters that may be negative (a fitted slope; an identified c read as a lag)
 SIGNED = ("c", "b_w", "b_A")
 RULES = ("viscous", "hysteretic")
@@ -200,6 +204,10 @@ class Damping:
             # an identified viscous c may be negative (a law extrapolated, a delay read as damping): finite only
             if not (isinstance(v, (int, float)) and math.isfinite(v) and (v >= 0 or k in SIGNED)):
                 raise ValueError(f"damping {self.form}: {k} = {v!r} is out of range; valid range >= 0 (finite)")
+        for lo, hi in (("w_lo", "w_hi"), ("A_lo", "A_hi")):
+            if (lo in self.params) != (hi in self.params) or lo in self.params and self.params[lo] > self.params[hi]:
+                raise ValueError(f"damping {self.form}: the law's box needs both {lo} <= {hi}; got "
+                                 f"{lo} = {self.params.get(lo)!r}, {hi} = {self.params.get(hi)!r}")
         if self.form == "law":
             if self.law not in LAWS:
                 raise ValueError(f"damping law = {self.law!r} is unknown; valid: {', '.join(LAWS)}")
@@ -216,7 +224,8 @@ class Damping:
     def resolve(self, omega: float, A: float, ke: float, test: str | None = None,
                 fitted: bool = False, x0: float = 0.0) -> "Damping":
         """The time-domain form for a record of dominant ω [rad/s], amplitude A [mm] (k_e [N/mm] at its x0); for the
-        ``feature`` form ω and A are the record's features (:func:`record_features`).
+        ``feature`` form ω and A are the record's features (:func:`record_features`), held within the law's box
+        when it has one.
 
         A ``law`` becomes ``viscous`` c = c_e(ω, A, k_e) (rule ``viscous``) or the Iwan distribution of equal
         energy per cycle (rule ``hysteretic``: η·k = c·ω, x_max = A); with ``fitted`` and a ``test`` the law
@@ -224,6 +233,10 @@ class Damping:
         """
         if self.form == "feature":
             p = self.params
+            if "w_lo" in p and "w_hi" in p:  # within the box the law was identified on (no extrapolation)
+                omega = min(max(omega, p["w_lo"]), p["w_hi"])
+            if "A_lo" in p and "A_hi" in p:
+                A = min(max(A, p["A_lo"]), p["A_hi"])
             return Damping("viscous", {"c": p.get("c", 0.0) + p.get("b_w", 0.0) * (omega - p.get("w_ref", 0.0))
                                        + p.get("b_A", 0.0) * (A - p.get("A_ref", 0.0))})
         if self.form != "law":

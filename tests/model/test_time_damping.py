@@ -123,3 +123,29 @@ def test_dominant_frequency_of_a_few_cycles_between_bins(cycles):
     om, A, _ = dominant(t, 0.7 + 2.0 * np.sin(w * t + 0.3))
     assert om == pytest.approx(w, rel=1e-4)
     assert A == pytest.approx(2.0, rel=1e-2)
+
+
+FEATURE = {"c": 2.0, "b_w": 0.1, "b_A": -1.0, "w_ref": 10.0, "A_ref": 1.0}
+
+
+@pytest.mark.parametrize("w, A, c", [
+    (10.0, 1.0, 2.0),            # the reference point
+    (15.0, 1.2, 2.3),            # inside the box: 2 + 0.1·5 − 1·0.2
+    (2.0, 1.0, 1.5),             # below the box in ω: the law at ω = 5
+    (30.0, 3.0, 2.5),            # beyond both: at (20, 1.5), 2 + 1 − 0.5
+    (10.0, 0.1, 2.5),            # below the box in A: at A = 0.5
+])
+def test_a_feature_law_is_held_at_its_box(w, A, c):
+    """A law over record features is not extrapolated: a record outside the box [w_lo, w_hi] × [A_lo, A_hi] it was
+    identified on takes the law at the nearest point of the box (by hand); without a box the law is linear
+    everywhere."""
+    d = Damping("feature", FEATURE | {"w_lo": 5.0, "w_hi": 20.0, "A_lo": 0.5, "A_hi": 1.5})
+    assert d.resolve(w, A, 0.0).params["c"] == pytest.approx(c, rel=1e-12)
+    free = 2.0 + 0.1 * (w - 10.0) - 1.0 * (A - 1.0)
+    assert Damping("feature", FEATURE).resolve(w, A, 0.0).params["c"] == pytest.approx(free, rel=1e-12)
+
+
+@pytest.mark.parametrize("box, key", [({"w_lo": 5.0}, "w_lo"), ({"A_lo": 2.0, "A_hi": 1.0}, "A_lo")])
+def test_a_feature_laws_box_needs_both_ends_in_order(box, key):
+    with pytest.raises(ValueError, match=f"{key} <= "):
+        Damping("feature", FEATURE | box)

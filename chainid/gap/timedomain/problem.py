@@ -318,6 +318,7 @@ class TimeProblem:
         if self.base.law or "damping_law" in names:
             out["damping_law.w_ref"] = self.base.refs["w_ref"]
             out["damping_law.A_ref"] = self.base.refs["A_ref"]
+            out |= {f"damping_law.{k}": v for k, v in self.law_box.items()}  # the box the law was identified on
         for t in names:
             if "@" in t:
                 cov = split_name(t)[2]

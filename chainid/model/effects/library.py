@@ -163,9 +163,12 @@ TIME_DAMPING_LAW = EffectSpec("damping_law", "damping", (
     _P("b_w", "N·s²/mm", lambda s: (-INF, INF), lambda s: 0.0, 0.0, amplitude=True),
     _P("b_A", "N·s/mm²", lambda s: (-INF, INF), lambda s: 0.0, 0.0, amplitude=True),
     _P("w_ref", "rad/s", lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False),
-    _P("A_ref", "mm", lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False)),
+    _P("A_ref", "mm", lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False),
+    *(_P(k, u, lambda s: (0.0, 0.0), lambda s: 0.0, 0.0, fitted=False)
+      for k, u in (("w_lo", "rad/s"), ("w_hi", "rad/s"), ("A_lo", "mm"), ("A_hi", "mm")))),
     "the record's viscous damping follows a law over record features: c_r = c0 + b_w·(ω_r − w_ref) + "
-    "b_A·(A_r − A_ref), ω_r the band centre [rad/s], A_r the half range of x [mm]")
+    "b_A·(A_r − A_ref), ω_r the band centre [rad/s], A_r the half range of x [mm], within the box of features "
+    "[w_lo, w_hi] × [A_lo, A_hi] it was identified on")
 
 #: library order: the effects of the first release first (the order candidates are tried and listed in)
 EFFECT_NAMES: tuple[str, ...] = ("stiffness_level", "friction", "hysteresis", "contact_law", "slack", "backlash",

@@ -50,6 +50,9 @@ def test_a_time_domain_diagnosis_carries_its_models(sweep_set) -> None:
     assert [m.damping.params[k] for k in ("c", "b_w", "b_A")] == pytest.approx(last["law_params"], rel=1e-12)
     assert [n for n, _ in m.effects] == [s["effect"] for s in res["steps"][1:]]
     assert res["model"]["damping"]["form"] == "feature"
+    p = m.damping.params  # with the box of features it was identified on (the law is held there, not extrapolated)
+    assert p["w_lo"] <= p["w_ref"] <= p["w_hi"] and p["A_lo"] <= p["A_ref"] <= p["A_hi"]
+    assert p["w_lo"] < p["w_hi"] and p["A_lo"] < p["A_hi"]
     # passive at every record (predict refuses a negative dashpot: the next test runs it on all four)
 
 
