@@ -63,20 +63,11 @@ def test_a_feature_shared_by_every_record_has_no_slope() -> None:
 
 
 def test_the_passive_fit_is_the_constrained_least_squares_optimum() -> None:
-    """Columns of a dashpot whose law is passive, plus a friction-like column that the unconstrained law mimics with
-    a slope that goes negative at a corner: the bounded solve on the passive coordinates equals SLSQP with the corner
-    inequalities, and the unconstrained solve is not passive."""
-    rng = np.random.default_rng(5)
-    n = 400
-    w = rng.uniform(BOX["w_lo"], BOX["w_hi"], n)
-    A = rng.uniform(BOX["A_lo"], BOX["A_hi"], n)
-    w[:2], A[:2] = (BOX["w_lo"], BOX["w_hi"]), (BOX["A_lo"], BOX["A_hi"])
-    xd = rng.normal(0, 10.0, n)
-    Phi = np.column_stack([rng.normal(0, 1, n), xd, (w - REFS["w_ref"]) * xd, (A - REFS["A_ref"]) * xd,
-                           np.sign(xd)])
-    # a truth whose damping falls steeply with amplitude: negative at the large-amplitude corners
-    y = Phi @ np.array([3.0, 0.8, 0.0, -1.2, 8.0]) + rng.normal(0, 0.5, n)
-    G, h = Phi.T @ Phi, Phi.T @ y
+    """Columns of a spring, a dashpot with its law and a friction, fitted to a truth whose damping falls steeply with
+    amplitude (negative at the large-amplitude corners, :func:`_friction_problem`): the unconstrained solve is not
+    passive, the bounded solve on the passive coordinates is, and it reaches the brute-force optimum over the
+    corner inequalities."""
+    G, h = _friction_problem(5)
     free = solve(G, h, LO, HI)
     assert _corners(free).min() < 0
     L, zlo, zhi = law_map(AMPS, LO, HI, REFS, BOX)
@@ -112,7 +103,9 @@ def _active_set_optimum(G: np.ndarray, h: np.ndarray, f, held: dict[int, float] 
 
 
 def _friction_problem(seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """The Gram matrix and projection of the problem above for another noise seed."""
+    """The Gram matrix and projection of a least-squares problem on the box: 400 samples of a spring, a dashpot
+    with its slopes over ω and A, and a friction; the truth's damping 0.8 − 1.2·(A − A_ref) is negative at the
+    large-amplitude corners, its friction 8."""
     rng = np.random.default_rng(seed)
     n = 400
     w = rng.uniform(BOX["w_lo"], BOX["w_hi"], n)
