@@ -35,8 +35,7 @@ import numpy as np
 from chainid.model.augmented import NOT_FORCE, AugmentedModel
 from chainid.model.modelfile import model_to_dict
 from chainid.model.passivity import OperatingPoint, describe, negative_dashpots, refusal
-from chainid.model.timedamping import BOX_KEYS
-from chainid.model.timedamping import Damping, dominant, record_features
+from chainid.model.timedamping import BOX_KEYS, Damping, dominant, record_features
 from chainid.gap.core import noise as nz
 from chainid.gap.core.verdict import trusted_path
 from chainid.gap.core.kinematics import Kinematics, estimate

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Blocks", "solve", "sse_at"]
+__all__ = ["Blocks", "solve", "solve_held", "sse_at"]
 
 #: eigenvalues of the scaled Gram matrix below this fraction of the largest are not fitted (rank deficiency)
 RCOND = 1e-10
@@ -107,6 +107,20 @@ def solve(G: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.nd
     hi_s = np.where(np.isfinite(hi), hi * d, np.inf)
     res = lsq_linear(M, z, bounds=(lo_s, hi_s), method="bvls", tol=1e-12, max_iter=500)
     return np.clip(res.x / d, lo, hi)
+
+
+def solve_held(G: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray, names: list[str],
+               fix: dict[str, float] | None = None) -> np.ndarray:
+    """:func:`solve` for the amplitudes ``names`` with those in ``fix`` held at their values (eliminated: the rest
+    minimise aᵀGa − 2hᵀa with the held part moved to the projection)."""
+    fix = fix or {}
+    held = np.array([k in fix for k in names], bool)
+    if not held.any():
+        return solve(G, h, lo, hi)
+    a = np.array([float(fix[k]) if k in fix else 0.0 for k in names])
+    free = ~held
+    a[free] = solve(G[np.ix_(free, free)], h[free] - G[np.ix_(free, held)] @ a[held], lo[free], hi[free])
+    return a
 
 
 def sse_at(bl: Blocks, a: np.ndarray) -> np.ndarray:

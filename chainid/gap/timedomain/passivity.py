@@ -109,23 +109,23 @@ HELD_WEIGHT = 1e6
 
 
 def passive_solve(G: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray, amps: Sequence[str],
-                  refs: dict[str, float], box: dict[str, float], fix: dict[str, float] | None = None) -> np.ndarray:
+                  refs: dict[str, float], box: dict[str, float], a: np.ndarray,
+                  fix: dict[str, float] | None = None) -> np.ndarray:
     """The bounded least-squares amplitudes ``amps`` (minimising aᵀGa − 2hᵀa, lo <= a <= hi) whose dashpot law
-    (:data:`LAW_AMPS`, all in ``amps``) is >= 0 on the records' feature box; amplitudes in ``fix`` are held at
-    their values [their units].
+    (:data:`LAW_AMPS`, all in ``amps``) is >= 0 on the records' feature box, from the box-bounded optimum ``a``
+    (:func:`chainid.gap.timedomain.lsq.solve_held`); amplitudes in ``fix`` are held at their values [their units].
 
-    The box-bounded optimum is taken when its law is passive (every passive law is inside the box bounds: c >= 0
-    at the reference point, inside the box); else the optimum over the passive coordinates of :func:`law_map`, a
-    held law amplitude an equality of weight :data:`HELD_WEIGHT`.  A least corner value below 0 by round-off is
-    lifted to 0 through c (when c is not held)."""
+    ``a`` is the answer when its law is passive (every passive law is inside the box bounds: c >= 0 at the
+    reference point, inside the box); else the optimum over the passive coordinates of :func:`law_map`, a held law
+    amplitude an equality of weight :data:`HELD_WEIGHT`.  A least corner value below 0 by round-off is lifted to 0
+    through c (when c is not held)."""
     amps = list(amps)
     fix = dict(fix or {})
-    held = np.array([k in fix for k in amps], bool)
-    a = np.array([float(fix[k]) if k in fix else 0.0 for k in amps])
-    a[~held] = solve(G[np.ix_(~held, ~held)], h[~held] - G[np.ix_(~held, held)] @ a[held], lo[~held], hi[~held])
     law = [amps.index(k) for k in LAW_AMPS]
     if corner_minimum(*a[law], refs, box) >= 0.0:
         return a
+    a = a.copy()
+    held = np.array([k in fix for k in amps], bool)
     other = held.copy()
     other[law] = False                              # held amplitudes outside the law: eliminated
     keep = ~other

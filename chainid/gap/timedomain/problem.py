@@ -30,7 +30,7 @@ from chainid.gap.core.delayscan import refine_delay
 from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
 from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, law_features,
                                            shape_names, split_name)
-from chainid.gap.timedomain.lsq import Blocks, solve, sse_at
+from chainid.gap.timedomain.lsq import Blocks, solve_held, sse_at
 from chainid.gap.timedomain.passivity import LAW_AMPS, law_box, passive_solve
 from chainid.gap.timedomain.search import lag_points, search
 from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
@@ -221,14 +221,9 @@ class TimeProblem:
         G, h = bl.total(mult)
         amps = amplitude_names(self.base, names)
         lo, hi = amplitude_bounds(amps)
+        a = solve_held(G, h, lo, hi, amps, fix)
         if all(k in amps for k in LAW_AMPS):
-            return passive_solve(G, h, lo, hi, amps, self.base.refs, self.law_box, fix)
-        held = np.array([k in (fix or {}) for k in amps], bool)
-        if not held.any():
-            return solve(G, h, lo, hi)
-        a = np.array([float(fix[k]) if k in fix else 0.0 for k in amps])  # type: ignore[index]
-        free = ~held
-        a[free] = solve(G[np.ix_(free, free)], h[free] - G[np.ix_(free, held)] @ a[held], lo[free], hi[free])
+            return passive_solve(G, h, lo, hi, amps, self.base.refs, self.law_box, a, fix)
         return a
 
     # ------------------------------------------------------------------ fit

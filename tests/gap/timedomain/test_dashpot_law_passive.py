@@ -12,7 +12,7 @@ import pytest
 from scipy.optimize import nnls
 
 from chainid.gap.timedomain.design import MIN_FEATURE_SPAN, law_features
-from chainid.gap.timedomain.lsq import solve
+from chainid.gap.timedomain.lsq import solve, solve_held
 from chainid.gap.timedomain.passivity import LAW_AMPS, corner_minimum, law_map, passive_solve
 
 BOX = {"w_lo": 6.0, "w_hi": 30.0, "A_lo": 0.4, "A_hi": 2.5}
@@ -123,7 +123,8 @@ def test_a_held_law_amplitude_keeps_its_value_and_the_rest_is_the_passive_optimu
     brute-force optimum with b_A held (to the weighting method's 1e-6)."""
     G, h = _friction_problem(6)
     for b_A in (-0.9, -1.5):
-        a = passive_solve(G, h, LO, HI, AMPS, REFS, BOX, {"damping_law.b_A": b_A})
+        fix = {"damping_law.b_A": b_A}
+        a = passive_solve(G, h, LO, HI, AMPS, REFS, BOX, solve_held(G, h, LO, HI, AMPS, fix), fix)
         assert a[3] == b_A
         assert corner_minimum(*a[1:4], REFS, BOX) >= 0.0
 
@@ -139,7 +140,7 @@ def test_a_law_on_the_passive_boundary_is_not_negative_by_round_off() -> None:
     touched = 0
     for seed in range(20):
         G, h = _friction_problem(100 + seed)
-        a = passive_solve(G, h, LO, HI, AMPS, REFS, BOX)
+        a = passive_solve(G, h, LO, HI, AMPS, REFS, BOX, solve_held(G, h, LO, HI, AMPS))
         m = corner_minimum(*a[1:4], REFS, BOX)
         assert m >= 0.0
         touched += m <= 1e-9 * a[1]
