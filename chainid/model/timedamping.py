@@ -101,6 +101,13 @@ def design(kind: str, w: np.ndarray, A: np.ndarray, ke: np.ndarray) -> np.ndarra
     return np.column_stack([cols[p] for p in kind.split("+")])
 
 
+def feature_c(c: float, b_w: float, b_A: float, omega: float, A: float, w_ref: float, A_ref: float) -> float:
+    """The dashpot of a record with features ω [rad/s], A [mm] on the feature law
+    c_r = c + b_w·(ω − w_ref) + b_A·(A − A_ref) [N·s/mm] (the paper's c_e(ω, A), Eq. 21–28, linear in its
+    features; ``b_w`` [N·s²/mm], ``b_A`` [N·s/mm²])."""
+    return c + b_w * (omega - w_ref) + b_A * (A - A_ref)
+
+
 def record_features(t: np.ndarray, x: np.ndarray) -> tuple[float, float]:
     """The features a ``feature`` damping law reads of a record: the band centre ω_c [rad/s] — Σ ω·P(ω)/Σ P(ω) over
     the displacement's periodogram (mean removed, no window: a window's taper and a detrending both shift the
@@ -237,8 +244,8 @@ class Damping:
                 omega = min(max(omega, p["w_lo"]), p["w_hi"])
             if "A_lo" in p and "A_hi" in p:
                 A = min(max(A, p["A_lo"]), p["A_hi"])
-            return Damping("viscous", {"c": p.get("c", 0.0) + p.get("b_w", 0.0) * (omega - p.get("w_ref", 0.0))
-                                       + p.get("b_A", 0.0) * (A - p.get("A_ref", 0.0))})
+            return Damping("viscous", {"c": feature_c(p.get("c", 0.0), p.get("b_w", 0.0), p.get("b_A", 0.0), omega, A,
+                                                      p.get("w_ref", 0.0), p.get("A_ref", 0.0))})
         if self.form != "law":
             return self
         c = self.per_test[test] if fitted and test in self.per_test else self.ce(omega, A, ke)

@@ -58,17 +58,15 @@ def score_row(row: dict[str, Any]) -> dict[str, Any]:
     named = verdict_names(verdict)
     truth = [CANONICAL.get(n, n) for n in row.get("effects", {})]
     error = verdict.startswith("error")
+    named_rest = named
     if row.get("base_law") == "feature" and "damping_law" in truth:
         # the time route's base carries the dashpot's law over record features (the paper's c_e(ω, A) on any
         # excitation): that law is the base's, and what is left must be named (nothing, for damping_law alone)
         truth = [n for n in truth if n != "damping_law"]
-        named = ["damping_law"] + [n for n in named if n != "damping_law"]
+        named_rest = [n for n in named if n != "damping_law"]
+        named = ["damping_law"] + named_rest
         if not truth:
-            right = verdict == "none"
-            return {"right": bool(right), "named": named, "error": error, "params": param_scores(row, named)}
-        named_rest = named[1:]
-    else:
-        named_rest = named
+            fam = "control"
     if fam in ("single", "covariate"):
         right = bool(named_rest) and named_rest[0] == truth[0]
     elif fam == "pair":

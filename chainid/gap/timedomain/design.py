@@ -223,6 +223,112 @@ def _view(d: Any, idx: np.ndarray | None, tau: float) -> tuple[np.ndarray, ...]:
     return at(d.x), at(d.xd), at(d.xdd), v_err
 
 
+@dataclass
+class _RecordView:
+    """One record's samples as the model sees them: the view ``idx`` (None: all) at lag τ, its kinematics, the
+    play output ``xp`` of a backlash of half-width ``play_b`` [mm], and the cache that keeps filtered columns."""
+
+    d: Any
+    idx: np.ndarray | None
+    cache: ColumnCache
+    tau: float
+    play_b: float = 0.0
+
+    def __post_init__(self) -> None:
+        self.key = (self.d.test, "all" if self.idx is None else "sub", self.tau)
+        self.x, self.xd, self.xdd, v_err = self.cache.get(self.key + ("view",), lambda: _view(self.d, self.idx,
+                                                                                             self.tau))
+        self.v_err = v_err if v_err.size else 0.0
+        self.f_res = float(getattr(self.d, "f_res", math.nan))
+        self.xp = self.x
+        if self.play_b > 0:
+            self.xp = self.cache.get(self.key + ("play", self.play_b),
+                                     lambda: play_operator(self.x, self.play_b, periodic=False))
+        self.Fk: np.ndarray | None = None
+
+    def lp(self, tag: tuple, a: np.ndarray) -> np.ndarray:
+        """A column as the comparison sees it: below the record's cut where its force is band-limited
+        (:mod:`.bandlimit`; every column is filtered once, then kept), else as it is."""
+        if not math.isfinite(self.f_res):
+            return a
+        return self.cache.get(self.key + ("lp",) + tag, lambda: band_limited(a, self.d.fs, self.f_res, self.idx))
+
+    def effect_cols(self, base: Base, shapes: dict[str, float], n: str) -> dict[str, np.ndarray]:
+        """The columns of effect ``n``'s amplitudes at its shape parameters (:func:`chainid.model.effects.columns`)."""
+        p = _params_of(shapes, n)
+        if n == "hardening":
+            p["x_ref"] = base.refs.get("x_mid", 0.0)
+        amp_names = {a.name for a in SPECS[n].params if a.amplitude}
+        shape_key = tuple(sorted((k, v) for k, v in p.items() if k not in amp_names))
+        ck = ("effect", n, self.play_b if n == "friction" else 0.0, shape_key)
+        cols = self.cache.get(self.key + ck, lambda: columns(n, p, self.x, self.xd, self.xdd, self.Fk,
+                                                             periodic=False, v_err=self.v_err))
+        return {a: self.lp(ck + (a,), c) for a, c in cols.items()}
+
+
+def _base_columns(base: Base, eff: Sequence[str], shapes: dict[str, float], v: _RecordView, Phi: np.ndarray,
+                  col: dict[str, int], y: np.ndarray) -> np.ndarray:
+    """The base's fixed force f [N] (a chain: F_k at the play output with the stiffness-side effects, plus m·ẍ;
+    a linear device with a given mass: m·ẍ) and its columns in Φ: spring, mass, dashpot and the dashpot's
+    slopes over record features; sets ``v.Fk`` (the chain's spring force) for the effects that read it."""
+    if base.kind == "chain":
+        side = tuple((n, tuple(sorted(_params_of(shapes, n).items()))) for n in eff if n in STIFFNESS_SIDE)
+
+        def spring() -> np.ndarray:
+            model = base.model
+            for n, pp in side:
+                model = modify_model(n, dict(pp), model)
+            return np.asarray(model.force(v.xp), float)
+
+        v.Fk = v.cache.get(v.key + ("spring", v.play_b, side), spring)
+        f = v.lp(("spring", v.play_b, side), v.Fk) + float(base.model.mass_kg) * v.lp(("xdd",), v.xdd) * 1e-3
+    else:
+        f = np.zeros_like(y) if base.mass_kg is None else float(base.mass_kg) * v.lp(("xdd",), v.xdd) * 1e-3
+        Phi[:, col["spring.k"]] = v.lp(("play", v.play_b), v.xp)
+        if "mass.m" in col:
+            Phi[:, col["mass.m"]] = v.lp(("xdd",), v.xdd) * 1e-3
+    xd_c = v.lp(("xd",), v.xd)
+    Phi[:, col["damping.c"]] = xd_c
+    if "damping_law.b_w" in col:  # the dashpot following the record's features (the base's law, or the effect)
+        if "w" in base.law_features:
+            Phi[:, col["damping_law.b_w"]] = (v.d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
+        if "A" in base.law_features:
+            Phi[:, col["damping_law.b_A"]] = (v.d.A_c - base.refs.get("A_ref", 0.0)) * xd_c
+    return f
+
+
+def _covariate_columns(base: Base, shapes: dict[str, float], amps: Sequence[str], v: _RecordView, Phi: np.ndarray,
+                       col: dict[str, int]) -> None:
+    """The columns of the covariate terms ``effect.param@cov``: the amplitude's column times (cov_r − cov_ref)."""
+    for t in amps:
+        if "@" not in t:
+            continue
+        e, par, cov = split_name(t)
+        src = Phi[:, col[f"{e}.{par}"]] if f"{e}.{par}" in col else v.effect_cols(base, shapes, e)[par]
+        Phi[:, col[t]] = (v.d.covariates.get(cov, math.nan) - base.refs.get(f"cov:{cov}", 0.0)) * src
+
+
+def _unfitted_rows(base: Base, v: _RecordView, lead: np.ndarray | None, f: np.ndarray, Phi: np.ndarray,
+                   y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per-record offsets projected out (a linear base), and the rows that carry no residual: the lead-in and
+    the samples whose lagged motion t − τ falls outside the record (Φ = 0 and y = f there)."""
+    if base.offsets:
+        fit = slice(None) if lead is None else ~lead
+        f = f - f[fit].mean()
+        y = y - y[fit].mean()
+        Phi = Phi - Phi[fit].mean(axis=0)
+    if lead is not None:
+        Phi[lead] = 0.0
+        y = np.where(lead, f, y)
+    if v.tau:
+        ts = np.asarray(v.d.t, float)[slice(None) if v.idx is None else v.idx] - v.tau
+        out = (ts < v.d.t[0]) | (ts > v.d.t[-1])
+        if out.any():
+            Phi[out] = 0.0
+            y = np.where(out, f, y)
+    return f, Phi, y
+
+
 def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, idx: np.ndarray | None = None,
           cache: ColumnCache | None = None, lead: np.ndarray | None = None
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -234,88 +340,20 @@ def build(base: Base, names: Sequence[str], shapes: dict[str, float], d: Any, id
     are 0 and y = f there).  With per-record offsets (a linear base) f, Φ and y lose their mean over the view's
     fitted samples.  ``cache`` keeps pieces between calls.
     """
-    cache = cache if cache is not None else ColumnCache(0)
+    eff = _effects(names)
     tau = float(shapes.get("sensor_delay.tau", 0.0)) if "sensor_delay" in names else 0.0
-    key = (d.test, "all" if idx is None else "sub", tau)
-    x, xd, xdd, v_err = cache.get(key + ("view",), lambda: _view(d, idx, tau))
-    if not v_err.size:
-        v_err = 0.0
-    f_res = float(getattr(d, "f_res", math.nan))
-
-    def lp(tag: tuple, a: np.ndarray) -> np.ndarray:
-        """A column as the comparison sees it: below the record's cut where its force is band-limited
-        (:mod:`.bandlimit`; every column is filtered once, then kept), else as it is."""
-        if not math.isfinite(f_res):
-            return a
-        return cache.get(key + ("lp",) + tag, lambda: band_limited(a, d.fs, f_res, idx))
-
-    y = lp(("F",), np.asarray(d.F, float)[slice(None) if idx is None else idx])
+    play_b = 0.5 * shapes.get("backlash.b", 0.0) if "backlash" in eff else 0.0
+    v = _RecordView(d, idx, cache if cache is not None else ColumnCache(0), tau, play_b)
+    y = v.lp(("F",), np.asarray(d.F, float)[slice(None) if idx is None else idx])
     amps = amplitude_names(base, names)
     Phi = np.zeros((y.size, len(amps)))
     col = {k: j for j, k in enumerate(amps)}
-    eff = _effects(names)
-    play_b = 0.5 * shapes.get("backlash.b", 0.0) if "backlash" in eff else 0.0
-    xp = cache.get(key + ("play", play_b), lambda: play_operator(x, play_b, periodic=False)) if play_b > 0 else x
-    if base.kind == "chain":
-        side = tuple((n, tuple(sorted(_params_of(shapes, n).items()))) for n in eff if n in STIFFNESS_SIDE)
-
-        def spring() -> np.ndarray:
-            model = base.model
-            for n, pp in side:
-                model = modify_model(n, dict(pp), model)
-            return np.asarray(model.force(xp), float)
-
-        Fk = cache.get(key + ("spring", play_b, side), spring)
-        f = lp(("spring", play_b, side), Fk) + float(base.model.mass_kg) * lp(("xdd",), xdd) * 1e-3
-    else:
-        Fk = None
-        f = np.zeros_like(y) if base.mass_kg is None else float(base.mass_kg) * lp(("xdd",), xdd) * 1e-3
-        Phi[:, col["spring.k"]] = lp(("play", play_b), xp)
-        if "mass.m" in col:
-            Phi[:, col["mass.m"]] = lp(("xdd",), xdd) * 1e-3
-    xd_c = lp(("xd",), xd)
-    Phi[:, col["damping.c"]] = xd_c
-    if "damping_law.b_w" in col:  # the dashpot following the record's features (the base's law, or the effect)
-        if "w" in base.law_features:
-            Phi[:, col["damping_law.b_w"]] = (d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
-        if "A" in base.law_features:
-            Phi[:, col["damping_law.b_A"]] = (d.A_c - base.refs.get("A_ref", 0.0)) * xd_c
-
-    def effect_cols(n: str) -> dict[str, np.ndarray]:
-        p = _params_of(shapes, n)
-        if n == "hardening":
-            p["x_ref"] = base.refs.get("x_mid", 0.0)
-        shape_key = tuple(sorted((k, v) for k, v in p.items() if k not in {a.name for a in SPECS[n].params
-                                                                            if a.amplitude}))
-        ck = ("effect", n, play_b if n == "friction" else 0.0, shape_key)
-        cols = cache.get(key + ck, lambda: columns(n, p, x, xd, xdd, Fk, periodic=False, v_err=v_err))
-        return {a: lp(ck + (a,), c) for a, c in cols.items()}
-
+    f = _base_columns(base, eff, shapes, v, Phi, col, y)
     for n in eff:
-        spec = SPECS[n]
-        if spec.kind not in ("force", "mass"):
+        if SPECS[n].kind not in ("force", "mass"):
             continue
-        for a, c in effect_cols(n).items():
+        for a, c in v.effect_cols(base, shapes, n).items():
             if f"{n}.{a}" in col:
                 Phi[:, col[f"{n}.{a}"]] = c
-    for t in amps:
-        if "@" not in t:
-            continue
-        e, par, cov = split_name(t)
-        src = Phi[:, col[f"{e}.{par}"]] if f"{e}.{par}" in col else effect_cols(e)[par]
-        Phi[:, col[t]] = (d.covariates.get(cov, math.nan) - base.refs.get(f"cov:{cov}", 0.0)) * src
-    if base.offsets:
-        fit = slice(None) if lead is None else ~lead
-        f = f - f[fit].mean()
-        y = y - y[fit].mean()
-        Phi = Phi - Phi[fit].mean(axis=0)
-    if lead is not None:
-        Phi[lead] = 0.0
-        y = np.where(lead, f, y)
-    if tau:  # samples whose lagged motion falls before the record's start (or after its end) are not modelled
-        ts = np.asarray(d.t, float)[slice(None) if idx is None else idx] - tau
-        out = (ts < d.t[0]) | (ts > d.t[-1])
-        if out.any():
-            Phi[out] = 0.0
-            y = np.where(out, f, y)
-    return f, Phi, y
+    _covariate_columns(base, shapes, amps, v, Phi, col)
+    return _unfitted_rows(base, v, lead, f, Phi, y)

@@ -29,6 +29,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from chainid.gap.timedomain.lsq import solve
+from chainid.model.timedamping import feature_c
 
 __all__ = ["LAW_AMPS", "HELD_WEIGHT", "law_box", "law_map", "corner_minimum", "passive_solve"]
 
@@ -85,7 +86,7 @@ def law_map(amps: Sequence[str], lo: np.ndarray, hi: np.ndarray, refs: dict[str,
 def corner_minimum(c: float, b_w: float, b_A: float, refs: dict[str, float], box: dict[str, float]) -> float:
     """The law's least value over the corners of the records' feature box [N·s/mm] (>= 0: passive on every
     record of the set)."""
-    vals = [c + b_w * (w - refs["w_ref"]) + b_A * (A - refs["A_ref"])
+    vals = [feature_c(c, b_w, b_A, w, A, refs["w_ref"], refs["A_ref"])
             for w in (box["w_lo"], box["w_hi"]) for A in (box["A_lo"], box["A_hi"])]
     return float(min(vals))
 

@@ -34,6 +34,7 @@ from chainid.gap.timedomain.lsq import Blocks, solve_held, sse_at
 from chainid.gap.timedomain.passivity import LAW_AMPS, law_box, passive_solve
 from chainid.gap.timedomain.search import lag_points, search
 from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
+from chainid.model.timedamping import feature_c
 
 __all__ = ["TimeProblem"]
 
@@ -377,9 +378,9 @@ class TimeProblem:
         if F_s > 0.0 and d.xd.size:
             s = sliding_sign(d.xd, False, kin.v_spread(d.t))
             sign_var = F_s**2 * float(np.mean(1.0 - s**2))
-        c = (params.get("damping.c", 0.0)  # the record's own dashpot, where the damping follows its features
-             + params.get("damping_law.b_w", 0.0) * (d.omega_c - self.base.refs["w_ref"])
-             + params.get("damping_law.b_A", 0.0) * (d.A_c - self.base.refs["A_ref"]))
+        refs = self.base.refs  # the record's own dashpot, where the damping follows its features
+        c = feature_c(params.get("damping.c", 0.0), params.get("damping_law.b_w", 0.0),
+                      params.get("damping_law.b_A", 0.0), d.omega_c, d.A_c, refs["w_ref"], refs["A_ref"])
         m = params.get("mass.m", self.base.mass_kg or 0.0) + (self.model.mass_kg if self.is_chain else 0.0)
         m += params.get("fixture_mass.m_f", 0.0)
         k = params.get("spring.k", 0.0)
