@@ -85,3 +85,24 @@ def test_a_constant_negative_viscous_c_is_refused_anywhere():
     with pytest.raises(ValueError, match=r"lowest c = -0.5 N·s/mm"):
         check_passive(m, [OperatingPoint("a", 1.0, 1.0, 2.0)])
     check_passive(AugmentedModel(BASE, [], Damping("viscous", {"c": 0.0})), [OperatingPoint("a", 1.0, 1.0, 2.0)])
+
+
+def _feature(c: float, b_w: float) -> AugmentedModel:
+    """A feature law c + b_w·(ω − 10) on the box ω ∈ [5, 15] rad/s (A not followed)."""
+    return AugmentedModel(BASE, [], Damping("feature", {"c": c, "b_w": b_w, "b_A": 0.0, "w_ref": 10.0, "A_ref": 1.0,
+                                                        "w_lo": 5.0, "w_hi": 15.0, "A_lo": 1.0, "A_hi": 1.0}))
+
+
+@pytest.mark.parametrize("dc, refused", [(-2e-16, False), (-1e-9, True)])
+def test_a_feature_law_on_its_passive_boundary_runs_and_one_below_it_is_refused(dc, refused):
+    """c = 0.3·(10 − 5) + dc at ω = 5 rad/s (by hand: dc).  The terms are 1.5 and 1.5 N·s/mm, so the sum's round-off
+    bound is 4·ε·3 = 2.7e-15: dc = −2e-16 (one unit in the last place of 1.5) is zero as far as the arithmetic can
+    tell, −1e-9 is a negative dashpot."""
+    model = _feature(1.5 + dc, 0.3)
+    assert model.damping.resolve(5.0, 1.0, 0.0).params["c"] < 0.0  # as computed, both are below 0
+    point = OperatingPoint("edge", 5.0, 1.0, 2.0, "edge")
+    if refused:
+        with pytest.raises(ValueError, match=r"lowest c = -1e-09 N·s/mm.*valid range >= 0"):
+            check_passive(model, [point])
+    else:
+        check_passive(model, [point])

@@ -31,7 +31,7 @@ import numpy as np
 from chainid.gap.timedomain.lsq import solve
 from chainid.model.timedamping import feature_c
 
-__all__ = ["LAW_AMPS", "HELD_WEIGHT", "law_box", "law_map", "corner_minimum", "passive_solve"]
+__all__ = ["LAW_AMPS", "HELD_WEIGHT", "law_box", "law_map", "corner_minimum", "lifted", "passive_solve"]
 
 #: the amplitudes of the dashpot law, in the order of the map's rows
 LAW_AMPS = ("damping.c", "damping_law.b_w", "damping_law.b_A")
@@ -141,7 +141,17 @@ def passive_solve(G: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray, 
         Gz, hz = Gz + w * (E.T @ E), hz + w * (E.T @ e)
     a[keep] = L @ solve(Gz, hz, zlo, zhi)
     a[held] = [float(fix[k]) for k, m in zip(amps, held) if m]
-    gap = corner_minimum(*a[law], refs, box)
-    if gap < 0.0 and "damping.c" not in fix:
-        a[law[0]] -= gap
+    if "damping.c" not in fix:
+        a[law[0]] = lifted(*a[law], refs, box)
     return a
+
+
+def lifted(c: float, b_w: float, b_A: float, refs: dict[str, float], box: dict[str, float]) -> float:
+    """c [N·s/mm] raised until the law's least corner value is >= 0 as computed (a boundary optimum's round-off):
+    by the shortfall, or by one unit in the last place where adding the shortfall rounds back to c."""
+    for _ in range(64):
+        gap = corner_minimum(c, b_w, b_A, refs, box)
+        if gap >= 0.0:
+            break
+        c = max(c - gap, float(np.nextafter(c, np.inf)))
+    return c
