@@ -2,10 +2,8 @@
 
 * :mod:`.data` — one record prepared for the time domain (band, smooth kinematics, noise, blocks);
 * :mod:`.problem` — the problem on time records (and harmonic tests in a mixed set): fit, leave-one-block-out score;
-* :mod:`.lawchoice` — the base's dashpot: one c, or a law over record features chosen by leave-one-record-out;
-* :mod:`.passivity` — that law kept >= 0 on every record of the set;
 * :mod:`.where` — where the model misses against the state, in the spectrum, ringing and drift;
 * :mod:`.plots` — the route's figures; :mod:`.route` — the route from records to the verdict.
 """
 
-__all__ = ["data", "problem", "lawchoice", "passivity", "where", "plots", "route"]
+__all__ = ["data", "problem", "where", "plots", "route"]

@@ -31,7 +31,6 @@ from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
 from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, law_features,
                                            shape_names, split_name)
 from chainid.gap.timedomain.lsq import Blocks, solve_held, sse_at
-from chainid.gap.timedomain.lawchoice import MIN_LAW_RECORDS, law_by_records, law_choice
 from chainid.gap.timedomain.passivity import LAW_AMPS, law_box, passive_solve
 from chainid.gap.timedomain.search import lag_points, search
 from chainid.model.effects import EFFECT_NAMES, SPECS, sliding_sign
@@ -39,6 +38,8 @@ from chainid.model.timedamping import feature_c
 
 __all__ = ["TimeProblem"]
 
+#: fewest training records with distinct features for a damping law over them
+MIN_LAW_RECORDS = 3
 #: records of at least this many samples together fit a selection round's effect sets on forked workers
 #: (:func:`chainid.gap.core.selection.prefetch`); below it a round takes a few seconds, and the workers' start and
 #: the column-cache entries they make and lose with them cost about what they save
@@ -64,6 +65,20 @@ def distinct_covariates(records: Sequence[TimeData], names: Sequence[str]) -> li
         if not dup:
             kept.append(c)
     return kept
+
+
+def law_choice(feature: bool, asked: str, n_train: int) -> tuple[str, str]:
+    """The base's damping on the time route and why: ``"feature"`` (the dashpot follows the records' band centre and
+    amplitude, :class:`chainid.gap.timedomain.design.Base`) or ``"viscous"`` (one c), for the law ``asked``
+    (``--damping-law``: ``viscous`` keeps one c; any other, the feature law where the records separate it)."""
+    if feature:
+        return "feature", (f"time domain: the dashpot follows the records' features, c_r = c + b_w·(ω_r − w_ref) + "
+                           f"b_A·(A_r − A_ref) (the paper's c_e(ω, A) over records of any excitation; {n_train} "
+                           "training records separate it)")
+    if asked == "viscous":
+        return "viscous", "given"
+    return "viscous", (f"time domain: viscous c·ẋ (fewer than {MIN_LAW_RECORDS} training records with distinct band "
+                       "centre and amplitude: no law over record features)")
 
 
 class TimeProblem:
@@ -119,19 +134,9 @@ class TimeProblem:
         refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
         self.covariates = distinct_covariates(train_recs, covs)
         feats = law_features([d.omega_c for d in self.train], [d.A_c for d in self.train])
-        kind = "chain" if self.is_chain else "linear"
-        self._cache = ColumnCache()
-        chosen, scores = (), None
-        if damping_law != "viscous" and self._law_separable(feats):  # which features, by leave-one-record-out
-            train_blocks = {d.test: np.zeros(d.n_blocks, bool) for d in self.tdata}
-            for d, b in self.train_units:
-                train_blocks[d.test][b] = True
-            full = Base(kind, model if self.is_chain else None, mass_kg, refs, law=True, law_features=feats)
-            chosen, scores = law_by_records(full, self.tdata, train_blocks, self._fit, self._cache)
-        # one c: the features that spread stay the effect damping_law's (a step the held-out data judge)
-        self.base = Base(kind, model if self.is_chain else None, mass_kg, refs, law=bool(chosen),
-                         law_features=chosen or feats)
-        self.law_box = law_box(self.tdata, self.base.law_features, refs)
+        self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs,
+                         law=damping_law != "viscous" and self._law_separable(feats), law_features=feats)
+        self.law_box = law_box(self.tdata, feats, refs)
         allF = np.concatenate([d.F - d.F.mean() for d in self.tdata])
         self.F_scale = float(np.std(allF)) or 1.0
         self.x_scale = float(max(d.A for d in self.tdata)) or 1.0
@@ -140,9 +145,10 @@ class TimeProblem:
                        "v": float(max(np.quantile(np.abs(d.xd), 0.99) for d in self.tdata)) or 1.0,
                        "x_mid": refs["x_mid"], "tau": self._lag_range()}
         self.f_band = float(max(d.f_band for d in self.tdata))
-        self.law, self.law_reason = law_choice(self.base.law, damping_law, len(self.train), scores)
+        self.law, self.law_reason = law_choice(self.base.law, damping_law, len(self.train))
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.tdata])))
         self.F_mean = {d.test: float(np.mean(d.F)) for d in self.tdata}
+        self._cache = ColumnCache()
         self.parallel_fits = sum(d.t.size for d in self.tdata) >= PARALLEL_SAMPLES
 
     # ------------------------------------------------------------------ set-up
@@ -217,9 +223,6 @@ class TimeProblem:
         amps = amplitude_names(self.base, names)
         lo, hi = amplitude_bounds(amps)
         a = solve_held(G, h, lo, hi, amps, fix)
-        for k, slope in (("w", "damping_law.b_w"), ("A", "damping_law.b_A")):
-            if slope in amps and k not in self.base.law_features:  # a feature the law does not follow: column 0
-                a[amps.index(slope)] = 0.0
         if all(k in amps for k in LAW_AMPS):
             return passive_solve(G, h, lo, hi, amps, self.base.refs, self.law_box, a, fix)
         return a
@@ -280,7 +283,7 @@ class TimeProblem:
         bl = Blocks.stack(self._blocks(names, shapes, False)[0])
         a = self._solve(names, bl, mult, fam)
         params = dict(shapes) | dict(zip(amps, (float(v) for v in a)))
-        params |= self.references(names)
+        params |= self._references(names)
         c = Candidate("+".join(names), params, len(keys) + len(amps), at_bound=at_bound)
         return c
 
@@ -303,7 +306,7 @@ class TimeProblem:
         chi = float(np.sum(sse_at(bl, a) * self._train_mult()))
         return chi, self.n_cells("train"), len(shape_names(self.base, names, self.scales)) + len(amps)
 
-    def references(self, names: Sequence[str]) -> dict[str, float]:
+    def _references(self, names: Sequence[str]) -> dict[str, float]:
         """Fixed references an effect set's parameters are stated against (not fitted)."""
         out = {}
         if "hardening" in names:

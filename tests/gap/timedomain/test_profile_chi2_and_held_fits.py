@@ -29,9 +29,8 @@ def test_chi2_of_the_exact_model_is_its_noise_cells():
     prob = _problem()
     c = prob.fit([])
     chi, n, p = prob.train_chi2([], c.params)
-    # k, m and c of the linear device (offsets are nuisance): its records share one c, and no law over their features
-    # predicts a left-out record better (the base's leave-one-record-out choice)
-    assert n == prob.n_cells("train") and p == 3 and not prob.base.law
+    # k, m of the linear device and its dashpot's law over the records' features, c, b_w, b_A (offsets are nuisance)
+    assert n == prob.n_cells("train") and p == 5
     assert abs(chi / (n - p) - 1.0) < 4 * math.sqrt(2.0 / (n - p))
 
 

@@ -156,12 +156,6 @@ def test_coulomb_friction_behind_a_rest_lead_in_is_named_on_a_held_out_record() 
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="held-out shrinkage 0.7985: the records share one c, which the base's "
-                   "leave-one-record-out choice keeps; with the true F_c and c the estimated kinematics leave r4 at "
-                   "NRMSE 0.0200 against its 0.0096 noise floor (shrinkage <= 0.795; true kinematics: 0.90); 66 % of "
-                   "the residual is the friction sign in the last ~54 samples of the rest lead-in, where the "
-                   "zero-phase filters ring ahead of the onset (0.802 passed only while a law over features, one "
-                   "coefficient per record, took up part of it)")
 def test_coulomb_friction_behind_a_rest_lead_in_closes_most_of_the_held_out_gap() -> None:
     """The same case: the friction step shrinks the held-out error by more than 80 % (the noise floor allows 90 %).
     It did with the old kinematics; with one c for every record it reached 0.795 (the estimated kinematics leave r4

@@ -44,16 +44,15 @@ def test_a_time_domain_diagnosis_carries_its_models(sweep_set) -> None:
     assert len(models) == len(res["steps"])
     last = res["steps"][-1]
     m = models[-1]
-    # four records of distinct band and amplitude whose dampings follow the simulator's c_e(ω, A): the dashpot
-    # follows them, c_r = c + b_w·Δω (the paper's c_e(ω, A) on any excitation; with three training records a law
-    # over one feature is the most a left-out record can check, and ω predicts it)
+    # four records of distinct band and amplitude: the dashpot follows them, c_r = c + b_w·Δω + b_A·ΔA (the
+    # paper's c_e(ω, A) on any excitation)
     assert m.damping.form == "feature"
     assert [m.damping.params[k] for k in ("c", "b_w", "b_A")] == pytest.approx(last["law_params"], rel=1e-12)
     assert [n for n, _ in m.effects] == [s["effect"] for s in res["steps"][1:]]
     assert res["model"]["damping"]["form"] == "feature"
     p = m.damping.params  # with the box of features it was identified on (the law is held there, not extrapolated)
     assert p["w_lo"] <= p["w_ref"] <= p["w_hi"] and p["A_lo"] <= p["A_ref"] <= p["A_hi"]
-    assert p["w_lo"] < p["w_hi"] and p["A_lo"] == p["A_hi"] == p["A_ref"] and p["b_A"] == 0.0
+    assert p["w_lo"] < p["w_hi"] and p["A_lo"] < p["A_hi"]
     # passive at every record (predict refuses a negative dashpot: the next test runs it on all four)
 
 
