@@ -15,9 +15,9 @@ with or without ``--strict`` (nothing to relax: the result would be unphysical).
 other tests.  The diagnosis, which *finds* such a model, reports it as a warning
 (:func:`chainid.gap.modelio.negative_damping`, the same test, :func:`negative_dashpots`).
 
-A ``feature`` law fitted onto its passive boundary (c = 0 at a corner of its records' feature box) is judged
-within its floating-point round-off: a c above −4·ε·(|c| + |b_w·Δω| + |b_A·ΔA|) is 0
-(:meth:`chainid.model.timedamping.Damping.feature_value`).
+A ``feature`` law fitted onto its passive boundary (c = 0 at a corner of its records' feature box) is 0 there,
+not −1e-16: the law itself returns a c within its floating-point round-off of 0 as 0
+(:meth:`chainid.model.timedamping.Damping.feature_value`), for this rule and every run alike.
 
 The damping forms ``hysteretic``, ``dahl`` and ``coulomb`` are passive by construction (their parameters are >= 0:
 :mod:`chainid.model.ranges`); a viscous ``c`` and a law are judged here.  Units: N, mm, s.
@@ -48,10 +48,7 @@ def _c_at(model: Any, p: OperatingPoint, fitted: bool) -> float | None:
     if d.form == "viscous":
         return float(d.params.get("c", 0.0))
     if d.form == "feature":  # a viscous c over record features: ω, A are the record's band centre and half range
-        if p.omega is None or p.A is None:
-            return None
-        c, roundoff = d.feature_value(p.omega, p.A)
-        return max(c, 0.0) if c >= -roundoff else c  # 0 within the law's round-off (a law on its passive boundary)
+        return d.feature_value(p.omega, p.A) if p.omega is not None and p.A is not None else None
     if d.form != "law":
         return None
     if fitted and p.test is not None and p.test in d.per_test:

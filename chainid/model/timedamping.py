@@ -228,11 +228,11 @@ class Damping:
         """c_e [N·s/mm] of the law at ω [rad/s], A [mm], k_e [N/mm]."""
         return float(design(self.law or "viscous", [omega], [A], [ke])[0] @ np.asarray(self.coefficients, float))
 
-    def feature_value(self, omega: float, A: float) -> tuple[float, float]:
+    def feature_value(self, omega: float, A: float) -> float:
         """The ``feature`` form's dashpot c [N·s/mm] at record features ω [rad/s], A [mm], held within the law's
-        box when it has one (no extrapolation), and the bound of its floating-point round-off [N·s/mm]: a sum of
-        three terms is exact to 4·ε times the sum of their magnitudes, so a c within the bound of 0 is 0 as far as
-        its arithmetic can tell (a law fitted onto the passive boundary)."""
+        box when it has one (no extrapolation).  A law fitted onto its passive boundary is 0 there: a sum of three
+        terms is exact to 4·ε times the sum of their magnitudes, so a c below 0 by no more than that is returned as
+        0 (every user of the law, the passivity rule and a chain line alike, then sees c >= 0)."""
         p = self.params
         if "w_lo" in p and "w_hi" in p:
             omega = min(max(omega, p["w_lo"]), p["w_hi"])
@@ -240,8 +240,9 @@ class Damping:
             A = min(max(A, p["A_lo"]), p["A_hi"])
         c, b_w, b_A = p.get("c", 0.0), p.get("b_w", 0.0), p.get("b_A", 0.0)
         w_ref, A_ref = p.get("w_ref", 0.0), p.get("A_ref", 0.0)
-        scale = abs(c) + abs(b_w * (omega - w_ref)) + abs(b_A * (A - A_ref))
-        return feature_c(c, b_w, b_A, omega, A, w_ref, A_ref), 4.0 * float(np.finfo(float).eps) * scale
+        value = feature_c(c, b_w, b_A, omega, A, w_ref, A_ref)
+        roundoff = 4.0 * float(np.finfo(float).eps) * (abs(c) + abs(b_w * (omega - w_ref)) + abs(b_A * (A - A_ref)))
+        return 0.0 if -roundoff <= value < 0.0 else value
 
     def resolve(self, omega: float, A: float, ke: float, test: str | None = None,
                 fitted: bool = False, x0: float = 0.0) -> "Damping":
@@ -254,7 +255,7 @@ class Damping:
         was fitted on, its own identified c_e is used instead of the law.  Other forms are returned as they are.
         """
         if self.form == "feature":
-            return Damping("viscous", {"c": self.feature_value(omega, A)[0]})
+            return Damping("viscous", {"c": self.feature_value(omega, A)})
         if self.form != "law":
             return self
         c = self.per_test[test] if fitted and test in self.per_test else self.ce(omega, A, ke)

@@ -12,13 +12,14 @@ import math
 import pytest
 
 from chainid.chain.spec import PAPER_CHAIN
+from chainid.dynamics.model import ChainLine
 from chainid.dynamics.segment_model import segment_kwargs
 from chainid.gap.modelio import predict
 from chainid.model.augmented import AugmentedModel
 from chainid.model.base import ChainModel
 from chainid.model.modelfile import save_model
 from chainid.model.passivity import OperatingPoint, check_passive
-from chainid.model.timedamping import Damping
+from chainid.model.timedamping import Damping, feature_c
 from chainid.records.simulate import TestSpec, simulate_model
 
 ALPHA, F_F = -2.0, 50.0
@@ -99,10 +100,20 @@ def test_a_feature_law_on_its_passive_boundary_runs_and_one_below_it_is_refused(
     bound is 4·ε·3 = 2.7e-15: dc = −2e-16 (one unit in the last place of 1.5) is zero as far as the arithmetic can
     tell, −1e-9 is a negative dashpot."""
     model = _feature(1.5 + dc, 0.3)
-    assert model.damping.resolve(5.0, 1.0, 0.0).params["c"] < 0.0  # as computed, both are below 0
+    assert feature_c(1.5 + dc, 0.3, 0.0, 5.0, 1.0, 10.0, 1.0) < 0.0  # as the sum computes, both are below 0
     point = OperatingPoint("edge", 5.0, 1.0, 2.0, "edge")
     if refused:
         with pytest.raises(ValueError, match=r"lowest c = -1e-09 N·s/mm.*valid range >= 0"):
             check_passive(model, [point])
     else:
         check_passive(model, [point])
+        assert model.damping.resolve(5.0, 1.0, 0.0).params["c"] == 0.0
+
+
+def test_a_chain_line_runs_a_feature_law_at_its_passive_boundary(tmp_path):
+    """dynamics takes the law one ulp below 0 at its corner as a dashpot of exactly 0 (a chain line refuses a
+    negative one: the rule and the line see the same c)."""
+    p = save_model(_feature(1.5 - 2e-16, 0.3), tmp_path / "m.toml")
+    kw, _ = segment_kwargs(p, pretension_N=11117.0, omega=5.0, amplitude=1.0)
+    assert kw["damping"] == 0.0
+    ChainLine(n_links=10, n_masses=2, **kw)
