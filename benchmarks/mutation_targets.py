@@ -263,9 +263,6 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/cli/test_cli_identify.py",
         "tests/cli/test_cli_input_checks.py",
         "tests/cli/test_cli_outputs.py",
-        # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
-        # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
-        "--deselect=tests/cli/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output",
         "tests/cli/test_cli_parser.py",
         "tests/cli/test_cli_predict.py",
         "tests/cli/test_cli_simulate.py",
@@ -280,9 +277,6 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/damping/test_identify_excluded.py",
         "tests/infra/test_files_sacred.py",
         "tests/model/test_kernels.py::test_cli_stiffness_json",
-        # timing-dependent under load (a SIGINT sent after a delay to a subprocess that imports without
-        # bytecode and with an empty numba cache): failed the unmutated copy's baseline twice
-        "--deselect=tests/cli/test_cli_outputs.py::test_sigint_mid_write_exits_130_and_leaves_no_partial_output",
         "tests/cli/test_error_lines.py",
         "tests/cli/test_stiffness_load_warnings.py",
         "tests/cli/test_warnings_in_json.py",
