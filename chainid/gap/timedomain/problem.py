@@ -283,7 +283,7 @@ class TimeProblem:
         bl = Blocks.stack(self._blocks(names, shapes, False)[0])
         a = self._solve(names, bl, mult, fam)
         params = dict(shapes) | dict(zip(amps, (float(v) for v in a)))
-        params |= self._references(names)
+        params |= self.references(names)
         c = Candidate("+".join(names), params, len(keys) + len(amps), at_bound=at_bound)
         return c
 
@@ -306,8 +306,9 @@ class TimeProblem:
         chi = float(np.sum(sse_at(bl, a) * self._train_mult()))
         return chi, self.n_cells("train"), len(shape_names(self.base, names, self.scales)) + len(amps)
 
-    def _references(self, names: Sequence[str]) -> dict[str, float]:
-        """Fixed references an effect set's parameters are stated against (not fitted)."""
+    def references(self, names: Sequence[str]) -> dict[str, float]:
+        """Fixed references an effect set's parameters are stated against (not fitted: no interval is stated for
+        them); keys as in a fit's ``params``."""
         out = {}
         if "hardening" in names:
             out["hardening.x_ref"] = self.base.refs["x_mid"]

@@ -70,6 +70,9 @@ def rescore(prob: Any, cand: Any, mult: np.ndarray) -> tuple[dict[str, float], f
 
 
 def refit(prob: Any, cand: Any, mult: np.ndarray) -> dict[str, float]:
-    """A candidate's parameters refitted on a resample (shapes polished from the full fit, amplitudes exact)."""
+    """A candidate's fitted parameters refitted on a resample (shapes polished from the full fit, amplitudes
+    exact); the fixed references they are stated against (a law's w_ref, A_ref and box, hardening's x_ref: not
+    estimates, so no interval) are left out."""
     c = prob.fit(cand.names, start=cand.params, polish_only=True, weights=mult)
-    return dict(c.params)
+    refs = prob.references(cand.names)
+    return {k: v for k, v in c.params.items() if k not in refs}

@@ -61,3 +61,25 @@ def test_resample_refit_agrees_with_a_refit_from_scratch():
         full = prob.fit(cand.names, weights=mult).params
         for k in ("friction.F_c", "damping.c", "spring.k"):
             assert quick[k] == pytest.approx(full[k], rel=0.02), (k, quick[k], full[k])
+
+
+def test_a_resample_refits_the_law_but_states_no_interval_for_its_references():
+    """The law's w_ref, A_ref and box are fixed references of the fit (the model file carries them), not estimates:
+    a resample's refit returns the law's coefficients without them, so no 90 % interval is stated for them.  On the
+    identity resample the refit is the full fit."""
+    from chainid.gap.timedomain import resampling
+    from chainid.gap.timedomain.route import build_problem
+    from chainid.model.timedamping import BOX_KEYS
+
+    recs = rc.linear_random(None, n=2000, band=(0.5, 4.0), seed=0, sigma_x=1e-7, sigma_F=0.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        prob = build_problem(recs, ["r4"], 0, None, None)
+    cand = prob.fit([])
+    refs = {"damping_law.w_ref", "damping_law.A_ref", *(f"damping_law.{k}" for k in BOX_KEYS)}
+    assert refs <= set(cand.params)
+    got = resampling.refit(prob, cand, resampling.identity(prob))
+    assert not refs & set(got)
+    assert {"damping.c", "damping_law.b_w", "damping_law.b_A", "spring.k"} <= set(got)
+    for k in ("damping.c", "damping_law.b_w", "spring.k"):
+        assert got[k] == pytest.approx(cand.params[k], rel=1e-6, abs=1e-12), k
