@@ -73,7 +73,15 @@ def _load(text: str):
 
 def add_subparsers(subparsers: Any) -> None:
     """Add ``dynamics`` to the chainid CLI."""
-    p = subparsers.add_parser("dynamics", help="multi-mass chain dynamics: start-up, polygon effect, load steps, sweeps")
+    p = subparsers.add_parser("dynamics",
+                              help="multi-mass chain dynamics: start-up, polygon effect, load steps, sweeps")
+    _add_chain_options(p)
+    _add_run_options(p)
+    p.set_defaults(func=cmd_dynamics)
+
+
+def _add_chain_options(p: argparse.ArgumentParser) -> None:
+    """The "chain" option group of ``dynamics``: the line, its segments and their elements (mm, N, s, kg)."""
     g = p.add_argument_group("chain")
     g.add_argument("--chain", metavar="FILE.toml", help="chain TOML file (default: the built-in 14x50 chain)")
     g.add_argument("--variant", default="paper", help="kernel variant (default paper)")
@@ -114,6 +122,10 @@ def add_subparsers(subparsers: Any) -> None:
     g.add_argument("--resistance", type=float, default=0.0, help="total moving resistance [N] (default 0)")
     g.add_argument("--load", action="append", type=_load, default=[], metavar="NODE:F:T",
                    help="load step of F [N] on a node from time T [s] (repeatable)")
+
+
+def _add_run_options(p: argparse.ArgumentParser) -> None:
+    """The "drive", "integration", "sweep" and "output" option groups of ``dynamics`` (mm/s, s, N, GiB)."""
     d = p.add_argument_group("drive")
     d.add_argument("--drive", default="ramp", help="none | ramp (default) | sine | polygon")
     d.add_argument("--speed", type=float, default=1000.0, help="(mean) chain speed [mm/s] (default 1000)")
@@ -149,7 +161,6 @@ def add_subparsers(subparsers: Any) -> None:
     o.add_argument("--plots", metavar="DIR", help="write figures to DIR")
     o.add_argument("--force", action="store_true", help="overwrite existing output files")
     o.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=cmd_dynamics)
 
 
 def _check_args(args: argparse.Namespace, sweeping: bool) -> None:
@@ -205,14 +216,33 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
 
     from chainid.cli.chains import warn_loads
     from chainid.cli.common import write_json
-    from chainid.infra.runlog import warn
-    from chainid.chain.spec import load_chain
-    from chainid.dynamics import ChainLine, Drive, simulate
-    from chainid.dynamics.modes import modes
-    from chainid.model.practice import load_warnings
+    from chainid.dynamics import Drive
 
     sweeping = any(v is not None for v in (args.sw_p, args.sw_v, args.sw_n))
     _check_args(args, sweeping)
+    line, chain, seg_notes = _chain_line(args)
+    drive = Drive(args.drive, v=args.speed, t_ramp=args.t_ramp, A=args.amplitude, omega=args.omega, z=args.teeth)
+    sim_kw = dict(dt=args.dt, scheme=args.scheme, peak_force=args.peak_force, refine=args.refine,
+                  strict=args.strict, max_memory=args.max_memory * 1024**3, max_work=args.max_work)
+    doc: dict[str, Any] = {"segment_model": args.segment_model, "segment_model_notes": seg_notes,
+                           "line": {k: v for k, v in dataclasses.asdict(line).items() if k not in ("chain", "loads")},
+                           "chain": chain.to_dict(), "drive": dataclasses.asdict(drive),
+                           "loads": [dataclasses.asdict(ld) for ld in line.loads]}
+    loads_before = warn_loads(max(args.pretension, max((ld.force_N for ld in line.loads), default=0.0)), chain, doc)
+    if sweeping:
+        _run_sweep(args, line, drive, sim_kw, doc)
+    else:
+        _run_single(args, line, drive, sim_kw, doc, chain, loads_before)
+    if args.json:
+        write_json(doc, args.json, args.force)
+    return 0
+
+
+def _chain_line(args: argparse.Namespace) -> tuple[Any, Any, list[str]]:
+    """The chain line of the options (lengths mm, forces N): (ChainLine, its ChainSpec, the segment model's notes)."""
+    from chainid.chain.spec import load_chain
+    from chainid.dynamics import ChainLine
+
     seg_notes: list[str] = []
     kw = dict(pretension_N=args.pretension, far_end=args.far_end, tensioner_stiffness=args.kt,
               resistance_N=args.resistance, loads=tuple(args.load))
@@ -235,59 +265,62 @@ def cmd_dynamics(args: argparse.Namespace) -> int:
         line = ChainLine.from_length(args.length, args.masses, **kw)
     else:
         line = ChainLine(n_links=args.links, n_masses=args.masses, **kw)
-    drive = Drive(args.drive, v=args.speed, t_ramp=args.t_ramp, A=args.amplitude, omega=args.omega, z=args.teeth)
-    sim_kw = dict(dt=args.dt, scheme=args.scheme, peak_force=args.peak_force, refine=args.refine,
-                  strict=args.strict, max_memory=args.max_memory * 1024**3, max_work=args.max_work)
-    doc: dict[str, Any] = {"segment_model": args.segment_model, "segment_model_notes": seg_notes,
-                           "line": {k: v for k, v in dataclasses.asdict(line).items() if k not in ("chain", "loads")},
-                           "chain": chain.to_dict(), "drive": dataclasses.asdict(drive),
-                           "loads": [dataclasses.asdict(ld) for ld in line.loads]}
-    loads_before = warn_loads(max(args.pretension, max((ld.force_N for ld in line.loads), default=0.0)), chain, doc)
-    if sweeping:
-        from chainid.dynamics.sweeps import sweep
+    return line, chain, seg_notes
 
-        rows = sweep(line, drive, args.t_end, pretensions=args.sw_p, speeds=args.sw_v, n_masses=args.sw_n,
-                     scheduler=args.scheduler, n_workers=args.workers, progress=not args.quiet, **sim_kw)
-        doc["cases"] = rows
-        _say(args, f"{'pretension N':>13} {'v mm/s':>8} {'N':>5} {'peak N':>10} {'dyn.factor':>10} {'ripple N':>9}")
-        for r in rows:
-            _say(args, f"{r['pretension_N']:13.6g} {r['v']:8.4g} {r['n_masses']:5d} {r['peak_tension_N']:10.5g} "
-                 f"{r['dynamic_factor']:10.4g} {r['drive_tension_ripple_N']:9.4g}")
-            for m in r.get("warnings", []):
-                warn(f"case P = {r['pretension_N']:g} N, v = {r['v']:g} mm/s, N = {r['n_masses']}: {m}")
-    else:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # reported below from res.warnings
-            res = simulate(line, drive, args.t_end, **sim_kw)
-        md = modes(line, n_modes=args.modes)
-        doc["summary"] = res.summary()
-        doc["modes"] = {"frequency_hz": md.frequency_hz.tolist()}
-        doc["tension_final_N"] = res.tension[-1].tolist()
-        s = doc["summary"]
-        eb = s["energy_N_mm"]
-        _say(args, f"chain {line.n_links} links ({line.length_mm / 1000:.4g} m) in {line.n_masses} masses, "
-             f"{args.scheme}, dt = {res.dt:.3g} s ({res.n_steps} steps, {res.refinements} refinement(s))")
-        _say(args, f"peak tension {res.peak_tension:.6g} N, static {res.static_tension:.6g} N, "
-             f"dynamic factor {res.dynamic_factor:.4g}")
-        _say(args, "natural frequencies [Hz]: " + ", ".join(f"{f:.4g}" for f in md.frequency_hz))
-        _say(args, f"energy [N·mm]: work in {eb['work_in']:.6g} = kinetic {eb['kinetic']:.6g} + stored "
-             f"{eb['elastic']:.6g} + dissipated {eb['dissipated']:.6g} (balance error {eb['relative_error']:.2g} "
-             f"at its worst, t = {eb['worst_t_s']:.4g} s)")
-        for m in res.warnings:
-            warn(m)
-        doc.setdefault("warnings", []).extend(res.warnings)
-        seen = {_limit_kind(m) for m in loads_before}
-        for m in load_warnings(res.peak_tension, chain):  # limits the peak exceeds beyond those already named
-            if _limit_kind(m) not in seen:
-                warn(f"peak tension: {m}")
-                doc["warnings"].append(f"peak tension: {m}")
-        if args.plots:
-            from chainid.dynamics import plots
 
-            figs = (plots.plot_heatmap(res), plots.plot_drive_tension(res), plots.plot_modes(md))
-            for fig, name in zip(figs, _FIGS):
-                plots.save(fig, Path(args.plots) / name, force=args.force)
-            print(f"figures written to {args.plots}", file=sys.stderr)
-    if args.json:
-        write_json(doc, args.json, args.force)
-    return 0
+def _run_sweep(args: argparse.Namespace, line: Any, drive: Any, sim_kw: dict[str, Any], doc: dict[str, Any]) -> None:
+    """Run the sweep, print its table (N, mm/s, N) and warn per case; the rows go to doc["cases"]."""
+    from chainid.dynamics.sweeps import sweep
+    from chainid.infra.runlog import warn
+
+    rows = sweep(line, drive, args.t_end, pretensions=args.sw_p, speeds=args.sw_v, n_masses=args.sw_n,
+                 scheduler=args.scheduler, n_workers=args.workers, progress=not args.quiet, **sim_kw)
+    doc["cases"] = rows
+    _say(args, f"{'pretension N':>13} {'v mm/s':>8} {'N':>5} {'peak N':>10} {'dyn.factor':>10} {'ripple N':>9}")
+    for r in rows:
+        _say(args, f"{r['pretension_N']:13.6g} {r['v']:8.4g} {r['n_masses']:5d} {r['peak_tension_N']:10.5g} "
+             f"{r['dynamic_factor']:10.4g} {r['drive_tension_ripple_N']:9.4g}")
+        for m in r.get("warnings", []):
+            warn(f"case P = {r['pretension_N']:g} N, v = {r['v']:g} mm/s, N = {r['n_masses']}: {m}")
+
+
+def _run_single(args: argparse.Namespace, line: Any, drive: Any, sim_kw: dict[str, Any], doc: dict[str, Any],
+                chain: Any, loads_before: list[str]) -> None:
+    """Run one simulation, print its report (N, Hz, N·mm), warn (its checks, peak loads) and draw the figures."""
+    from chainid.dynamics import simulate
+    from chainid.dynamics.modes import modes
+    from chainid.infra.runlog import warn
+    from chainid.model.practice import load_warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # reported below from res.warnings
+        res = simulate(line, drive, args.t_end, **sim_kw)
+    md = modes(line, n_modes=args.modes)
+    doc["summary"] = res.summary()
+    doc["modes"] = {"frequency_hz": md.frequency_hz.tolist()}
+    doc["tension_final_N"] = res.tension[-1].tolist()
+    s = doc["summary"]
+    eb = s["energy_N_mm"]
+    _say(args, f"chain {line.n_links} links ({line.length_mm / 1000:.4g} m) in {line.n_masses} masses, "
+         f"{args.scheme}, dt = {res.dt:.3g} s ({res.n_steps} steps, {res.refinements} refinement(s))")
+    _say(args, f"peak tension {res.peak_tension:.6g} N, static {res.static_tension:.6g} N, "
+         f"dynamic factor {res.dynamic_factor:.4g}")
+    _say(args, "natural frequencies [Hz]: " + ", ".join(f"{f:.4g}" for f in md.frequency_hz))
+    _say(args, f"energy [N·mm]: work in {eb['work_in']:.6g} = kinetic {eb['kinetic']:.6g} + stored "
+         f"{eb['elastic']:.6g} + dissipated {eb['dissipated']:.6g} (balance error {eb['relative_error']:.2g} "
+         f"at its worst, t = {eb['worst_t_s']:.4g} s)")
+    for m in res.warnings:
+        warn(m)
+    doc.setdefault("warnings", []).extend(res.warnings)
+    seen = {_limit_kind(m) for m in loads_before}
+    for m in load_warnings(res.peak_tension, chain):  # limits the peak exceeds beyond those already named
+        if _limit_kind(m) not in seen:
+            warn(f"peak tension: {m}")
+            doc["warnings"].append(f"peak tension: {m}")
+    if args.plots:
+        from chainid.dynamics import plots
+
+        figs = (plots.plot_heatmap(res), plots.plot_drive_tension(res), plots.plot_modes(md))
+        for fig, name in zip(figs, _FIGS):
+            plots.save(fig, Path(args.plots) / name, force=args.force)
+        print(f"figures written to {args.plots}", file=sys.stderr)

@@ -8,89 +8,110 @@ from typing import Any
 
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
-    from chainid.gap.diagnose import diagnose
-    from chainid.gap.core.summary import summary, write_json
-
     try:
-        if args.steady_tol is not None and not (0.0 < args.steady_tol < 1.0):
-            raise ValueError(f"--steady-tol = {args.steady_tol!r} is out of range; valid range 0 < tol < 1 "
-                             "(a fraction of the plateau, e.g. 0.05)")
-        from chainid.infra.fileio import check_output_dir, check_output_file
-
-        if args.json:  # output targets first: the diagnosis takes a while
-            check_output_file(args.json, force=args.force, what="--json")
-        if args.plots:
-            from chainid.gap.plots import PLOT_NAMES
-
-            check_output_dir(args.plots, "--plots", PLOT_NAMES, force=args.force)
-        from chainid.cli.model import check_model_targets, save_models
-
-        check_model_targets(args.save_model, args.save_steps, args.force, max_steps=int(args.max_combo) + 1)
-        # per-test problems are reported (and the test left out) by the diagnosis; data errors stop it
-        from chainid.cli.readopts import chain_for_checks, load_records
-
-        from chainid.gap.diagnose import check_magnitudes
-
-        chain = chain_for_checks(args)
-        read_doc: dict[str, Any] = {}
-        recs = load_records(args, args.data, chain, doc=read_doc, check=check_magnitudes)
-        if args.model == "linear":
-            model = None
-        else:
-            from chainid.model import base as models
-            from chainid.chain.spec import load_chain
-
-            model = models.model_for(load_chain(args.chain), args.variant)
-        holdout = [h for h in (args.holdout or "").split(",") if h.strip()]
-        if args.holdout is None and not args.holdout_blocks:
-            raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
-        other = load_records(args, args.validate, chain, doc=read_doc, check=check_magnitudes, select=False) \
-            if args.validate else None
-        if args.resamples < 0:
-            raise ValueError(f"--resamples = {args.resamples} is invalid; valid range >= 0 (0: no resampling)")
-        import warnings
-
-        from chainid.infra.progress import tracking
-
-        from chainid.records.validate import RecordWarning
-
-        with tracking("chainid diagnose", quiet=getattr(args, "quiet", False)) as stages, \
-                warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("ignore")  # the diagnosis' warnings are in its result (printed, and in the JSON)
-            warnings.simplefilter("always", RecordWarning)  # ... the records' own are not: kept for the run's channel
-            res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
-                           allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
-                           holdout_blocks=args.holdout_blocks, validate=other, mass_kg=args.mass,
-                           resamples=args.resamples, seed=args.seed)
-        from chainid.infra.runlog import warn
-
-        for w in caught:  # a record valid but implausible for the model (a chain force that dips below zero, ...):
-            warn(str(w.message))  # on stderr and in the JSON warnings, as identify reports it
-        res["timing_s"] = stages.times
+        _check_diagnose_options(args)
+        recs, read_doc, model, holdout, other = _diagnose_inputs(args)
+        res = _run_diagnosis(args, recs, holdout, model, other)
         if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
             res.setdefault("warnings", []).extend(read_doc["warnings"])
         if model is not None and not getattr(args, "not_a_chain", None):  # loads beyond the elastic contact or
             from chainid.cli.chains import warn_loads  # the working load (as stiffness, identify)
 
             warn_loads(max(float(r.F.max()) for r in recs), model.chain, res)
-        print(summary(res))
-        if "transfer" in res:
-            print(f"\nTRANSFER to {args.validate}: {res['transfer']['verdict_text']}")
-        if args.json:
-            write_json(res, args.json, overwrite=args.force)
-        if args.save_model:
-            for p in save_models(res, args.save_model, args.save_steps, args.data, getattr(args, "argv", None),
-                                 args.force):
-                print(f"wrote {p}")
-        if args.plots:
-            from chainid.gap.plots import make_plots
-
-            for p in make_plots(res, args.plots, force=args.force):
-                print(f"wrote {p}")
+        _write_diagnosis(args, res)
     except ValueError as exc:
         print(f"chainid diagnose: error: {exc}", file=sys.stderr)
         return 2
     return 0
+
+
+def _check_diagnose_options(args: argparse.Namespace) -> None:
+    """Check ``diagnose``'s --steady-tol (a fraction) and its output targets before the diagnosis starts."""
+    if args.steady_tol is not None and not (0.0 < args.steady_tol < 1.0):
+        raise ValueError(f"--steady-tol = {args.steady_tol!r} is out of range; valid range 0 < tol < 1 "
+                         "(a fraction of the plateau, e.g. 0.05)")
+    from chainid.infra.fileio import check_output_dir, check_output_file
+
+    if args.json:  # output targets first: the diagnosis takes a while
+        check_output_file(args.json, force=args.force, what="--json")
+    if args.plots:
+        from chainid.gap.plots import PLOT_NAMES
+
+        check_output_dir(args.plots, "--plots", PLOT_NAMES, force=args.force)
+    from chainid.cli.model import check_model_targets
+
+    check_model_targets(args.save_model, args.save_steps, args.force, max_steps=int(args.max_combo) + 1)
+
+
+def _diagnose_inputs(args: argparse.Namespace) -> tuple[list[Any], dict[str, Any], Any, list[str], list[Any] | None]:
+    """Read ``diagnose``'s records (s, mm, N) and options: (records, read doc, model or None, holdout, other set)."""
+    # per-test problems are reported (and the test left out) by the diagnosis; data errors stop it
+    from chainid.cli.readopts import chain_for_checks, load_records
+    from chainid.gap.diagnose import check_magnitudes
+
+    chain = chain_for_checks(args)
+    read_doc: dict[str, Any] = {}
+    recs = load_records(args, args.data, chain, doc=read_doc, check=check_magnitudes)
+    if args.model == "linear":
+        model = None
+    else:
+        from chainid.model import base as models
+        from chainid.chain.spec import load_chain
+
+        model = models.model_for(load_chain(args.chain), args.variant)
+    holdout = [h for h in (args.holdout or "").split(",") if h.strip()]
+    if args.holdout is None and not args.holdout_blocks:
+        raise ValueError("give --holdout IDS (whole tests) and/or --holdout-blocks K (time blocks)")
+    other = load_records(args, args.validate, chain, doc=read_doc, check=check_magnitudes, select=False) \
+        if args.validate else None
+    if args.resamples < 0:
+        raise ValueError(f"--resamples = {args.resamples} is invalid; valid range >= 0 (0: no resampling)")
+    return recs, read_doc, model, holdout, other
+
+
+def _run_diagnosis(args: argparse.Namespace, recs: list[Any], holdout: list[str], model: Any,
+                   other: list[Any] | None) -> dict[str, Any]:
+    """Run the diagnosis with progress; the records' warnings are reported, the stage times [s] kept in timing_s."""
+    import warnings
+
+    from chainid.gap.diagnose import diagnose
+    from chainid.infra.progress import tracking
+    from chainid.infra.runlog import warn
+    from chainid.records.validate import RecordWarning
+
+    with tracking("chainid diagnose", quiet=getattr(args, "quiet", False)) as stages, \
+            warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("ignore")  # the diagnosis' warnings are in its result (printed, and in the JSON)
+        warnings.simplefilter("always", RecordWarning)  # ... the records' own are not: kept for the run's channel
+        res = diagnose(recs, holdout, model, max_combo=args.max_combo, damping_law=args.damping_law,
+                       allow_compression=args.allow_compression, steady_tol=args.steady_tol, strict=args.strict,
+                       holdout_blocks=args.holdout_blocks, validate=other, mass_kg=args.mass,
+                       resamples=args.resamples, seed=args.seed)
+    for w in caught:  # a record valid but implausible for the model (a chain force that dips below zero, ...):
+        warn(str(w.message))  # on stderr and in the JSON warnings, as identify reports it
+    res["timing_s"] = stages.times
+    return res
+
+
+def _write_diagnosis(args: argparse.Namespace, res: dict[str, Any]) -> None:
+    """Print the diagnosis' summary and write its JSON, model files and figures."""
+    from chainid.cli.model import save_models
+    from chainid.gap.core.summary import summary, write_json
+
+    print(summary(res))
+    if "transfer" in res:
+        print(f"\nTRANSFER to {args.validate}: {res['transfer']['verdict_text']}")
+    if args.json:
+        write_json(res, args.json, overwrite=args.force)
+    if args.save_model:
+        for p in save_models(res, args.save_model, args.save_steps, args.data, getattr(args, "argv", None),
+                             args.force):
+            print(f"wrote {p}")
+    if args.plots:
+        from chainid.gap.plots import make_plots
+
+        for p in make_plots(res, args.plots, force=args.force):
+            print(f"wrote {p}")
 
 
 def check_workers(n: int | None) -> None:
@@ -177,6 +198,12 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
 
 def add_subparsers(subparsers: Any) -> None:
     """Add ``diagnose`` and ``benchmark-gap`` to the chainid CLI."""
+    _add_diagnose_parser(subparsers)
+    _add_benchmark_parser(subparsers)
+
+
+def _add_diagnose_parser(subparsers: Any) -> None:
+    """The ``diagnose`` subcommand and its options (records in s, mm, N; mass kg)."""
     p = subparsers.add_parser("diagnose", help="sim-to-real gap: where the model misses, which effect, how much")
     p.add_argument("data", help="records: CSV test,t,x,F (s, mm, N), or a file/directory/glob in the rig's layout "
                                 "(see the reading options)")
@@ -187,7 +214,8 @@ def add_subparsers(subparsers: Any) -> None:
     p.add_argument("--validate", metavar="OTHER.csv",
                    help="score the fitted chain on another set (another excitation): does the chain transfer? "
                         "(read with the same reading options as DATA)")
-    p.add_argument("--chain", metavar="FILE.toml|PRESET", help="chain TOML file or preset, e.g. din22252:26x92 (default: the paper's chain)")
+    p.add_argument("--chain", metavar="FILE.toml|PRESET",
+                   help="chain TOML file or preset, e.g. din22252:26x92 (default: the paper's chain)")
     p.add_argument("--variant", default="paper", help="chain kernel variant (default paper)")
     p.add_argument("--model", choices=("chain", "linear"), default="chain",
                    help="baseline stiffness: chain (default) or a linear spring fitted on the training tests")
@@ -222,6 +250,10 @@ def add_subparsers(subparsers: Any) -> None:
 
     add_reader_options(p, quiet=True)
     p.set_defaults(func=cmd_diagnose)
+
+
+def _add_benchmark_parser(subparsers: Any) -> None:
+    """The ``benchmark-gap`` subcommand and its options."""
     b = subparsers.add_parser("benchmark-gap", help="blind benchmark of the diagnosis on simulated effects")
     b.add_argument("--small", action="store_true", help="a small, fast grid")
     b.add_argument("--json", metavar="FILE", help="write the JSON summary")

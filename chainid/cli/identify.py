@@ -23,9 +23,7 @@ __all__ = ["add_subparsers", "cmd_identify", "cmd_simulate", "cmd_audit", "main"
 LAW_NAMES = ("polynomial", "viscous", "coulomb", "hysteretic", "viscous+coulomb", "viscous+hysteretic")
 
 
-# ----------------------------------------------------------------------------
-# helpers
-# ----------------------------------------------------------------------------
+# --- helpers ----------------------------------------------------------------
 def _jsonable(o: Any) -> Any:
     if isinstance(o, dict):
         return {str(k): _jsonable(v) for k, v in o.items() if k != "fitted"}
@@ -102,9 +100,7 @@ def _law(name: str, params: Sequence[float] | None, model: Any) -> Any:
     return law_from_dict({"name": name, "params": params}, model=model)
 
 
-# ----------------------------------------------------------------------------
-# identify
-# ----------------------------------------------------------------------------
+# --- identify ---------------------------------------------------------------
 def cmd_identify(args: argparse.Namespace) -> int:
     """``chainid identify``: per-test c_e (Eq. 17–20, 26–27), damping law (Eq. 21–24), LOO ranking.
 
@@ -115,38 +111,11 @@ def cmd_identify(args: argparse.Namespace) -> int:
     increasing, compressive force without ``--allow-compression``) always stop
     the run.  ``--steady-tol`` sets the steady-cycle tolerance (default adaptive).
     """
-    from chainid.model.laws import MIN_TESTS, rank_laws
     from chainid.damping.identify import identify_records
-    from chainid.records.files import analyse_record, read_side_file, write_side_file
+    from chainid.records.files import analyse_record, write_side_file
 
-    _check_model_numbers(args)
-    _check_out(args.json, args.force)
-    if args.write_side:
-        _check_out(args.write_side, args.force, "--write-side")
-    allow_comp = bool(args.allow_compression or args.model == "linear")
-    steady_tol = _steady_tol(getattr(args, "steady_tol", None))
-    strict = bool(getattr(args, "strict", False))
-    if args.plots:
-        from chainid.infra.fileio import check_output_dir
-
-        check_output_dir(args.plots, "--plots")
-    # per-test analysis problems are reported (and the test left out) by identify_records
-    from chainid.cli.readopts import chain_for_checks, load_records
-
-    from chainid.records.validate import check_channels
-
-    read_doc: dict[str, Any] = {}
-    records = load_records(args, args.data, chain_for_checks(args), doc=read_doc, check=check_channels)
-    if args.plots:
-        from chainid.damping.plots import plot_names
-
-        check_output_dir(args.plots, "--plots", plot_names([r.test for r in records], len(records) >= MIN_TESTS),
-                         force=args.force)
-    side = read_side_file(args.side) if args.side else None
-    if side:
-        unknown = sorted(set(side) - {r.test for r in records})
-        if unknown:
-            raise ValueError(f"side file {args.side!r}: test(s) {unknown} are not in {args.data!r}")
+    allow_comp, steady_tol, strict = _identify_options(args)
+    records, read_doc, side = _identify_read(args)
 
     model = _model(args)
     if model is None:  # --model linear without --k: fit F - m xddot = k (x - x_ref) on the steady cycles
@@ -170,6 +139,80 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if not results:
         raise ValueError(f"no test of {args.data!r} could be identified ({len(excluded)} excluded; see above)")
 
+    _print_identified(model, results, excluded)
+    out: dict[str, Any] = {
+        "tests": [r.to_dict() for r in results],
+        "model": {"name": getattr(model, "name", None), "mass_kg": results[0].mass_kg},
+        "law": None,
+        "excluded": [{"test": e["test"], "reason": e["reason"]} for e in excluded],
+    }
+    if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
+        out["warnings"] = list(read_doc["warnings"])
+    if getattr(model, "chain", None) is not None and not getattr(args, "not_a_chain", None):
+        from chainid.cli.chains import warn_loads  # record force beyond the chain's elastic/working range
+
+        warn_loads(max(float(r.F.max()) for r in records), model.chain, out)
+    if args.write_side:
+        kept = {r.test for r in results}
+        ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True,
+                                       steady_tol=steady_tol) for r in records if r.test in kept}
+        write_side_file(args.write_side, ests, overwrite=args.force)
+
+    rc, law = _identify_law(args, model, results, excluded, out)
+    if args.plots:
+        from chainid.damping.plots import plot_all
+
+        paths = plot_all(records, results, model, args.plots, law=law, force=args.force)
+        print(f"\nwrote {len(paths)} plot(s) to {args.plots}")
+    if args.json:
+        _write_json(args.json, out, args.force)
+        if args.json != "-":
+            print(f"wrote {args.json}")
+    return rc
+
+
+def _identify_options(args: argparse.Namespace) -> tuple[bool, float | None, bool]:
+    """Check ``identify``'s numbers and output targets: (allow compression, steady tolerance [fraction], strict)."""
+    _check_model_numbers(args)
+    _check_out(args.json, args.force)
+    if args.write_side:
+        _check_out(args.write_side, args.force, "--write-side")
+    allow_comp = bool(args.allow_compression or args.model == "linear")
+    steady_tol = _steady_tol(getattr(args, "steady_tol", None))
+    strict = bool(getattr(args, "strict", False))
+    if args.plots:
+        from chainid.infra.fileio import check_output_dir
+
+        check_output_dir(args.plots, "--plots")
+    return allow_comp, steady_tol, strict
+
+
+def _identify_read(args: argparse.Namespace) -> tuple[list[Any], dict[str, Any], dict[str, Any] | None]:
+    """Read ``identify``'s records, check the plot names and read the side file: (records, read doc, side)."""
+    from chainid.model.laws import MIN_TESTS
+    from chainid.records.files import read_side_file
+    # per-test analysis problems are reported (and the test left out) by identify_records
+    from chainid.cli.readopts import chain_for_checks, load_records
+    from chainid.records.validate import check_channels
+
+    read_doc: dict[str, Any] = {}
+    records = load_records(args, args.data, chain_for_checks(args), doc=read_doc, check=check_channels)
+    if args.plots:
+        from chainid.damping.plots import plot_names
+        from chainid.infra.fileio import check_output_dir
+
+        check_output_dir(args.plots, "--plots", plot_names([r.test for r in records], len(records) >= MIN_TESTS),
+                         force=args.force)
+    side = read_side_file(args.side) if args.side else None
+    if side:
+        unknown = sorted(set(side) - {r.test for r in records})
+        if unknown:
+            raise ValueError(f"side file {args.side!r}: test(s) {unknown} are not in {args.data!r}")
+    return records, read_doc, side
+
+
+def _print_identified(model: Any, results: Any, excluded: list[dict[str, Any]]) -> None:
+    """Print the per-test table (rad/s, mm, N, N.s/mm), the steady cycles kept, the exclusions and loop notes."""
     print(f"model: {getattr(model, 'name', type(model).__name__)}, mass m = {results[0].mass_kg:.4g} kg")
     print(_table(
         ["test", "omega rad/s", "x0 mm", "A mm", "F0 N", "F_A N", "phi rad", "R2", "F_ac N", "c_e N.s/mm",
@@ -189,74 +232,49 @@ def cmd_identify(args: argparse.Namespace) -> int:
         print(f"note: F_c of test(s) {', '.join(odd)} is far from one harmonic (R2(F_c) < 0.97): the loop is not "
               f"elliptic, so the damping is not viscous (friction, backlash, ...); c_e is then the equivalent "
               f"viscous damping of the fundamental.")
-    out: dict[str, Any] = {
-        "tests": [r.to_dict() for r in results],
-        "model": {"name": getattr(model, "name", None), "mass_kg": results[0].mass_kg},
-        "law": None,
-        "excluded": [{"test": e["test"], "reason": e["reason"]} for e in excluded],
-    }
-    if read_doc.get("warnings"):  # what reading noticed goes into the JSON too
-        out["warnings"] = list(read_doc["warnings"])
-    if getattr(model, "chain", None) is not None and not getattr(args, "not_a_chain", None):
-        from chainid.cli.chains import warn_loads  # record force beyond the chain's elastic/working range
 
-        warn_loads(max(float(r.F.max()) for r in records), model.chain, out)
-    if args.write_side:
-        kept = {r.test for r in results}
-        ests = {r.test: analyse_record(r, side.get(r.test) if side else None, allow_compression=True,
-                                       steady_tol=steady_tol) for r in records if r.test in kept}
-        write_side_file(args.write_side, ests, overwrite=args.force)
+
+def _identify_law(args: argparse.Namespace, model: Any, results: Any, excluded: list[dict[str, Any]],
+                  out: dict[str, Any]) -> tuple[int, Any]:
+    """Fit and print the damping law c_e(omega, A) [N.s/mm] and the LOO ranking into out: (exit code, law or None)."""
+    from chainid.model.laws import MIN_TESTS, rank_laws
 
     omega = [r.omega for r in results]
     A = [r.A for r in results]
     ce = [r.c_e for r in results]
     x0 = [r.x0 for r in results]
-    rc = 0
     if len(results) < MIN_TESTS:
         left = f" ({len(excluded)} excluded)" if excluded else ""
         msg = (f"only {len(results)} test(s) identified{left}: fitting a damping law needs at least {MIN_TESTS} "
                f"(paper Eq. 22: M > 5); per-test results only")
         print(f"chainid identify: error: {msg}", file=sys.stderr)
         out["law_error"] = msg
-        rc = 2
-        law = None
-    else:
-        law = _law(args.law, None, model)
-        law.fit(omega, A, ce, x0)
-        f = law.fit_
-        print(f"\ndamping law {law.name}: {law.formula()}")
-        print(_table(
-            ["param", "lstsq", "std err", "normal eq. (Eq. 23)"],
-            [[n, p, s, pn] for n, p, s, pn in zip(law.param_names, f.params, f.stderr, f.params_normal)],
-            ["", ".6g", ".4g", ".6g"],
-        ))
-        print(f"cond(X) = {f.cond_X:.4g}, cond(G = X'X) = {f.cond_G:.4g}, RMSE = {f.rmse:.4g} N.s/mm, "
-              f"LOO RMSE = {f.loo_rmse:.4g} N.s/mm, dof = {f.dof}")
-        print("residuals [N.s/mm]: " + ", ".join(f"{r.test}: {v:.4g}" for r, v in zip(results, f.residuals)))
-        out["law"] = law.to_dict()
-        ranking = rank_laws(omega, A, ce, x0, model=model)
-        print("\nlaws ranked by leave-one-out RMSE:")
-        print(_table(
-            ["law", "params", "RMSE N.s/mm", "LOO RMSE N.s/mm"],
-            [[r["law"], r.get("n_params"), r.get("rmse", float("nan")), r["loo_rmse"]] for r in ranking],
-            ["", "", ".4g", ".4g"],
-        ))
-        out["ranking"] = [{k: v for k, v in r.items() if k != "fitted"} for r in ranking]
-    if args.plots:
-        from chainid.damping.plots import plot_all
-
-        paths = plot_all(records, results, model, args.plots, law=law, force=args.force)
-        print(f"\nwrote {len(paths)} plot(s) to {args.plots}")
-    if args.json:
-        _write_json(args.json, out, args.force)
-        if args.json != "-":
-            print(f"wrote {args.json}")
-    return rc
+        return 2, None
+    law = _law(args.law, None, model)
+    law.fit(omega, A, ce, x0)
+    f = law.fit_
+    print(f"\ndamping law {law.name}: {law.formula()}")
+    print(_table(
+        ["param", "lstsq", "std err", "normal eq. (Eq. 23)"],
+        [[n, p, s, pn] for n, p, s, pn in zip(law.param_names, f.params, f.stderr, f.params_normal)],
+        ["", ".6g", ".4g", ".6g"],
+    ))
+    print(f"cond(X) = {f.cond_X:.4g}, cond(G = X'X) = {f.cond_G:.4g}, RMSE = {f.rmse:.4g} N.s/mm, "
+          f"LOO RMSE = {f.loo_rmse:.4g} N.s/mm, dof = {f.dof}")
+    print("residuals [N.s/mm]: " + ", ".join(f"{r.test}: {v:.4g}" for r, v in zip(results, f.residuals)))
+    out["law"] = law.to_dict()
+    ranking = rank_laws(omega, A, ce, x0, model=model)
+    print("\nlaws ranked by leave-one-out RMSE:")
+    print(_table(
+        ["law", "params", "RMSE N.s/mm", "LOO RMSE N.s/mm"],
+        [[r["law"], r.get("n_params"), r.get("rmse", float("nan")), r["loo_rmse"]] for r in ranking],
+        ["", "", ".4g", ".4g"],
+    ))
+    out["ranking"] = [{k: v for k, v in r.items() if k != "fitted"} for r in ranking]
+    return 0, law
 
 
-# ----------------------------------------------------------------------------
-# simulate
-# ----------------------------------------------------------------------------
+# --- simulate ---------------------------------------------------------------
 def _parse_floats(s: str | None) -> list[float] | None:
     if s is None:
         return None
@@ -340,9 +358,7 @@ def _check_simulate_options(args: argparse.Namespace) -> None:
         raise ValueError(f"--samples-per-cycle = {args.samples_per_cycle!r} is invalid: valid range >= 16")
 
 
-# ----------------------------------------------------------------------------
-# audit
-# ----------------------------------------------------------------------------
+# --- audit ------------------------------------------------------------------
 def cmd_audit(args: argparse.Namespace) -> int:
     """``chainid audit``: Eq. 28 from Table 1 and findings (a)–(e); with ``--data RECORDS``: c_e(ω, A) identified
     per test from the records (as ``identify``) and the same Eq. 28 audit on them instead of Table 1."""
@@ -372,9 +388,7 @@ def cmd_audit(args: argparse.Namespace) -> int:
     return 0
 
 
-# ----------------------------------------------------------------------------
-# registration
-# ----------------------------------------------------------------------------
+# --- registration -----------------------------------------------------------
 def _wrap(fn: Any) -> Any:
     def run(args: argparse.Namespace) -> int:
         try:

@@ -124,13 +124,33 @@ def audit(model: Any = None) -> dict[str, Any]:
     matches = all(sig_round(a, 4) == sig_round(p, 4) for a, p in zip(alpha, EQ28_PAPER))
 
     findings: list[dict[str, Any]] = []
+    findings.append(_finding_omega_unit(w_col, A, F_ac, c_e))
+    findings.append(_finding_test1(w_col, A, F_ac, c_e))
+    if model is None:
+        model = _default_model()
+    findings.append(_finding_eq26_stiffness(model))
+    findings.append(_finding_validation(alpha, fit_rad["alpha"], w_col, model))
+    findings.append(_finding_eq26_phase())
 
-    # (a) omega unit ------------------------------------------------------------
+    return {
+        "eq28_alpha": alpha,
+        "eq28_alpha_paper": list(EQ28_PAPER),
+        "eq28_alpha_4sf": [sig_round(a, 4) for a in alpha],
+        "eq28_matches_4sf": matches,
+        "eq28": fit_col,
+        "eq28_rad_s": fit_rad,
+        "findings": findings,
+        "practice": _practice(model),
+    }
+
+
+def _finding_omega_unit(w_col: Any, A: Any, F_ac: Any, c_e: Any) -> dict[str, Any]:
+    """Finding (a): the omega unit implied by c_e = F_ac/(omega A) [rad/s per column unit], from Table 1's columns."""
     implied_omega = F_ac / (c_e * A)  # rad/s such that c_e = F_ac/(omega A)
     factor = implied_omega / w_col
     f29 = factor[1:]
     ratio_col = F_ac / (w_col * A) / c_e  # c_e(as computed with column) / c_e(table)
-    findings.append({
+    return {
         "id": "a",
         "title": "c_e = F_ac/(omega A) holds for tests 2-9 only if omega [rad/s] = (pi/10) x the table's column",
         "numbers": {
@@ -146,19 +166,22 @@ def audit(model: Any = None) -> dict[str, Any]:
             "column_equals_f_Hz_times": 2 * math.pi / OMEGA_COLUMN_TO_RAD_S,
         },
         "summary": (
-            f"For tests 2-9, F_ac/(c_e A) = {np.mean(f29):.5f} x column (spread {100 * (f29.max() - f29.min()) / np.mean(f29):.3f} %), "
+            f"For tests 2-9, F_ac/(c_e A) = {np.mean(f29):.5f} x column "
+            f"(spread {100 * (f29.max() - f29.min()) / np.mean(f29):.3f} %), "
             f"i.e. pi/10 = {OMEGA_COLUMN_TO_RAD_S:.5f} to {100 * abs(np.mean(f29) / OMEGA_COLUMN_TO_RAD_S - 1):.3f} % "
             f"(the paper rounds it to {EQ27['omega'] / 6:.4f}, Eq. 25: 1.884 rad/s for column 6). "
             f"With the column used as rad/s, F_ac/(omega A) is {np.mean(ratio_col[1:]):.3f} x the tabulated c_e. "
             f"The column is 20 x f [Hz]; yet Eq. 28 is fitted with the column as omega."
         ),
-    })
+    }
 
-    # (b) test 1 ----------------------------------------------------------------
+
+def _finding_test1(w_col: Any, A: Any, F_ac: Any, c_e: Any) -> dict[str, Any]:
+    """Finding (b): test 1's F_ac [N] against its c_e [N·s/mm] at omega [rad/s] = (pi/10) x column."""
     w1 = w_col[0] * OMEGA_COLUMN_TO_RAD_S
     ce1_from_Fac = F_ac[0] / (w1 * A[0])
     Fac1_from_ce = c_e[0] * w1 * A[0]
-    findings.append({
+    return {
         "id": "b",
         "title": "Test 1: F_ac = 8000 N is inconsistent with c_e = 5095.5 N s/mm by a factor of about 20",
         "numbers": {
@@ -173,11 +196,11 @@ def audit(model: Any = None) -> dict[str, Any]:
             f"At omega = {w1:.4f} rad/s, F_ac = 8000 N gives c_e = {ce1_from_Fac:.1f} N s/mm, "
             f"{ce1_from_Fac / c_e[0]:.2f} x the tabulated 5095.5; c_e = 5095.5 needs F_ac = {Fac1_from_ce:.1f} N."
         ),
-    })
+    }
 
-    # (c) Eq. 26 stiffness and compression -----------------------------------------
-    if model is None:
-        model = _default_model()
+
+def _finding_eq26_stiffness(model: Any) -> dict[str, Any]:
+    """Finding (c): Eq. 26's dynamic stiffness F_A/A [N/mm] against the model's k_e [N/mm], and F0 - F_A [N]."""
     kdyn = EQ26["FA"] / EQ27["A"]
     numbers_c: dict[str, Any] = {
         "F0": EQ26["F0"],
@@ -203,7 +226,7 @@ def audit(model: Any = None) -> dict[str, Any]:
     else:
         numbers_c["model"] = None
         extra = " (stiffness model not available: k_e not evaluated)"
-    findings.append({
+    return {
         "id": "c",
         "title": "Eq. 26 implies a dynamic stiffness far above the model's k_e, and a compressive minimum force",
         "numbers": numbers_c,
@@ -211,9 +234,29 @@ def audit(model: Any = None) -> dict[str, Any]:
             f"F_A/A = {EQ26['FA']:.1f}/{EQ27['A']} = {kdyn:.0f} N/mm.{extra} "
             f"F0 - F_A = {EQ26['F0'] - EQ26['FA']:.1f} N < 0: the fitted force would compress the chain."
         ),
-    })
+    }
 
-    # (d) validation case ----------------------------------------------------------
+
+def _validation_forces(model: Any, f: float, w_true: float, Av: float, c_paper: float,
+                       c_14pi: float) -> dict[str, Any]:
+    """Eq. 1 forward prediction of one validation cycle (f [Hz], w_true [rad/s], Av [mm]): F extremes [N]."""
+    from chainid.model.predict import predict_force
+
+    numbers_pred: dict[str, Any] = {}
+    tt = np.linspace(0.0, 1.0 / f, 721)
+    ps = w_true * tt
+    xv = VALIDATION["x0"] + Av * np.sin(ps)
+    for key, cv in (("omega_7", c_paper), ("omega_14pi", c_14pi)):
+        Fv = predict_force(tt, xv, model, cv, xdot=w_true * Av * np.cos(ps), xddot=-w_true**2 * Av * np.sin(ps))
+        numbers_pred[f"F_max_N_{key}"] = float(Fv.max())
+        numbers_pred[f"F_min_N_{key}"] = float(Fv.min())
+    Fk = np.asarray(model.force(xv), dtype=float)
+    numbers_pred["F_k_range_N"] = [float(Fk.min()), float(Fk.max())]
+    return numbers_pred
+
+
+def _finding_validation(alpha: Any, alpha_rad: Any, w_col: Any, model: Any) -> dict[str, Any]:
+    """Finding (d): Eq. 21's c_e [N·s/mm] at the 7 Hz validation case under each reading of omega."""
     f = VALIDATION["f_Hz"]
     w_true = 2 * math.pi * f
     w_colunit = w_true / OMEGA_COLUMN_TO_RAD_S
@@ -221,24 +264,15 @@ def audit(model: Any = None) -> dict[str, Any]:
     c_paper = _poly(alpha, f, Av)
     c_14pi = _poly(alpha, w_true, Av)
     c_consistent = _poly(alpha, w_colunit, Av)
-    c_rad_fit = _poly(fit_rad["alpha"], w_true, Av)
+    c_rad_fit = _poly(alpha_rad, w_true, Av)
     w_min = -alpha[1] / (2 * alpha[0])
     numbers_pred: dict[str, Any] = {}
     if model is not None:  # Eq. 1 forward prediction of one cycle under each reading
-        from chainid.model.predict import predict_force
-
-        tt = np.linspace(0.0, 1.0 / f, 721)
-        ps = w_true * tt
-        xv = VALIDATION["x0"] + Av * np.sin(ps)
-        for key, cv in (("omega_7", c_paper), ("omega_14pi", c_14pi)):
-            Fv = predict_force(tt, xv, model, cv, xdot=w_true * Av * np.cos(ps), xddot=-w_true**2 * Av * np.sin(ps))
-            numbers_pred[f"F_max_N_{key}"] = float(Fv.max())
-            numbers_pred[f"F_min_N_{key}"] = float(Fv.min())
-        Fk = np.asarray(model.force(xv), dtype=float)
-        numbers_pred["F_k_range_N"] = [float(Fk.min()), float(Fk.max())]
-    findings.append({
+        numbers_pred = _validation_forces(model, f, w_true, Av, c_paper, c_14pi)
+    return {
         "id": "d",
-        "title": "Validation case: Eq. 21 fed omega = 7 (as the paper does) or 14 pi rad/s gives very different damping",
+        "title": ("Validation case: Eq. 21 fed omega = 7 (as the paper does) or 14 pi rad/s "
+                  "gives very different damping"),
         "numbers": {
             "x0": VALIDATION["x0"],
             "A": Av,
@@ -252,30 +286,41 @@ def audit(model: Any = None) -> dict[str, Any]:
             "c_e_rad_s_refit_at_14pi": c_rad_fit,
             "F_ac_omega_7_times_true_velocity_N": c_paper * w_true * Av,
             "table_column_range": [float(w_col.min()), float(w_col.max())],
-            "table_omega_range_rad_s": [float(w_col.min() * OMEGA_COLUMN_TO_RAD_S), float(w_col.max() * OMEGA_COLUMN_TO_RAD_S)],
+            "table_omega_range_rad_s": [float(w_col.min() * OMEGA_COLUMN_TO_RAD_S),
+                                        float(w_col.max() * OMEGA_COLUMN_TO_RAD_S)],
             "omega_of_minimum_c_e_column_unit": w_min,
             **numbers_pred,
         },
         "summary": (
-            f"Eq. 21 with omega = 7 gives c_e = {c_paper:.0f} N s/mm; with omega = 14 pi = {w_true:.2f} rad/s it gives "
-            f"{c_14pi:.0f} N s/mm ({c_14pi / c_paper:.1f} x); in the table's own unit (20 f = {w_colunit:.0f}) it gives "
+            f"Eq. 21 with omega = 7 gives c_e = {c_paper:.0f} N s/mm; "
+            f"with omega = 14 pi = {w_true:.2f} rad/s it gives "
+            f"{c_14pi:.0f} N s/mm ({c_14pi / c_paper:.1f} x); "
+            f"in the table's own unit (20 f = {w_colunit:.0f}) it gives "
             f"{c_consistent:.4g} N s/mm. The tests cover only {w_col.min() * OMEGA_COLUMN_TO_RAD_S:.3f}-"
             f"{w_col.max() * OMEGA_COLUMN_TO_RAD_S:.3f} rad/s (0.05-0.5 Hz), so 7 Hz is a far extrapolation; the "
             f"minimum of Eq. 21 in omega is at {w_min:.2f} column units, outside the tested 1-10."
-            + (
-                f" Eq. 1 at 7 Hz: F in [{numbers_pred['F_min_N_omega_7']:.0f}, {numbers_pred['F_max_N_omega_7']:.0f}] N "
-                f"with c_e(omega = 7), [{numbers_pred['F_min_N_omega_14pi']:.0f}, {numbers_pred['F_max_N_omega_14pi']:.0f}] N "
-                f"with c_e(14 pi); the elastic part alone spans [{numbers_pred['F_k_range_N'][0]:.0f}, "
-                f"{numbers_pred['F_k_range_N'][1]:.0f}] N."
-                if numbers_pred else ""
-            )
+            + _validation_forces_text(numbers_pred)
         ),
-    })
+    }
 
-    # (e) phase of Eq. 26 ----------------------------------------------------------
+
+def _validation_forces_text(numbers_pred: dict[str, Any]) -> str:
+    """The sentence on the predicted force range [N] of finding (d); empty without a prediction."""
+    return (
+        f" Eq. 1 at 7 Hz: F in [{numbers_pred['F_min_N_omega_7']:.0f}, {numbers_pred['F_max_N_omega_7']:.0f}] N "
+        f"with c_e(omega = 7), [{numbers_pred['F_min_N_omega_14pi']:.0f}, "
+        f"{numbers_pred['F_max_N_omega_14pi']:.0f}] N "
+        f"with c_e(14 pi); the elastic part alone spans [{numbers_pred['F_k_range_N'][0]:.0f}, "
+        f"{numbers_pred['F_k_range_N'][1]:.0f}] N."
+        if numbers_pred else ""
+    )
+
+
+def _finding_eq26_phase() -> dict[str, Any]:
+    """Finding (e): Eq. 26's velocity component F_A sin(phi) [N] and work per cycle [N·mm]."""
     v_comp = EQ26["FA"] * math.sin(EQ26["phi"])
     W26 = math.pi * EQ27["A"] * v_comp
-    findings.append({
+    return {
         "id": "e",
         "title": "Eq. 26's phase gives a negative velocity component, contradicting Eq. 27's F_ac = +1335 N",
         "numbers": {
@@ -285,20 +330,9 @@ def audit(model: Any = None) -> dict[str, Any]:
         },
         "summary": (
             f"With x = x0 + A sin(omega t), the part of F in phase with the velocity is F_A sin(phi) = {v_comp:.0f} N "
-            f"(an elastic F_k(x) and the inertia term add nothing at cos(omega t)), so F_ac should be {v_comp:.0f} N and "
-            f"W = pi A F_A sin(phi) = {W26:.0f} N mm < 0, against Eq. 27's F_ac = +1335 N."
+            f"(an elastic F_k(x) and the inertia term add nothing at cos(omega t)), so F_ac should be {v_comp:.0f} N "
+            f"and W = pi A F_A sin(phi) = {W26:.0f} N mm < 0, against Eq. 27's F_ac = +1335 N."
         ),
-    })
-
-    return {
-        "eq28_alpha": alpha,
-        "eq28_alpha_paper": list(EQ28_PAPER),
-        "eq28_alpha_4sf": [sig_round(a, 4) for a in alpha],
-        "eq28_matches_4sf": matches,
-        "eq28": fit_col,
-        "eq28_rad_s": fit_rad,
-        "findings": findings,
-        "practice": _practice(model),
     }
 
 

@@ -250,24 +250,11 @@ class SimResult:
                 "energy_N_mm": self.energy_balance(), "warnings": list(self.warnings)}
 
 
-def simulate(
-    line: ChainLine,
-    drive: Drive,
-    t_end: float,
-    *,
-    dt: float | None = None,
-    scheme: str = "explicit",
-    peak_force: float | None = None,
-    safety: float = 0.9,
-    n_out: int = 500,
-    initial_u: np.ndarray | None = None,
-    initial_v: np.ndarray | None = None,
-    substep_levels: int = 6,
-    strict: bool = False,
-    max_work: float | None = DEFAULT_MAX_WORK,
-    max_memory: float | None = DEFAULT_MAX_MEMORY,
-    refine: int = 0,
-) -> SimResult:
+def simulate(line: ChainLine, drive: Drive, t_end: float, *, dt: float | None = None, scheme: str = "explicit",
+             peak_force: float | None = None, safety: float = 0.9, n_out: int = 500,
+             initial_u: np.ndarray | None = None, initial_v: np.ndarray | None = None, substep_levels: int = 6,
+             strict: bool = False, max_work: float | None = DEFAULT_MAX_WORK,
+             max_memory: float | None = DEFAULT_MAX_MEMORY, refine: int = 0) -> SimResult:
     """Integrate the chain line under a drive law from the pre-tensioned static state.
 
     Parameters
@@ -326,26 +313,8 @@ def simulate(
         (a ValueError and FloatingPointError) non-finite values, a Newton failure at the shortest sub-step,
         or with ``strict`` an energy-balance error above :data:`BALANCE_TOL`.
     """
-    if not isinstance(line, ChainLine):
-        raise _bad("line", type(line).__name__, "a ChainLine")
-    if not isinstance(drive, Drive):
-        raise _bad("drive", type(drive).__name__, "a Drive")
-    if scheme not in SCHEMES:
-        raise _bad("scheme", scheme, f"one of {list(SCHEMES)}")
-    t_end = _number("t_end", t_end, "> 0 s (a finite number)")
-    safety = _number("safety", safety, "0 < safety <= 1")
-    if safety > 1:
-        raise _bad("safety", safety, "0 < safety <= 1")
-    if isinstance(n_out, (bool, np.bool_)) or not isinstance(n_out, (int, np.integer)) or n_out < 2:
-        raise _bad("n_out", n_out, "an int >= 2")
-    if isinstance(substep_levels, (bool, np.bool_)) or not isinstance(substep_levels, (int, np.integer)) \
-            or not 0 <= substep_levels <= 20:
-        raise _bad("substep_levels", substep_levels, "an int 0 .. 20")
-    if isinstance(refine, (bool, np.bool_)) or not isinstance(refine, (int, np.integer)) or not 0 <= refine <= 10:
-        raise _bad("refine", refine, "an int 0 .. 10")
-    for name, lim in (("max_work", max_work), ("max_memory", max_memory)):
-        if lim is not None:
-            _number(name, lim, "> 0 (or None)")
+    t_end, safety = _checked_inputs(line, drive, t_end, scheme, safety, n_out, substep_levels, refine, max_work,
+                                    max_memory)
     dts = stable_step(line, peak_force)
     if dt is None:
         dt = safety * dts if scheme == "explicit" else min(10.0 * dts, t_end / 1000.0)
@@ -380,10 +349,47 @@ def simulate(
         prev = res
         dt = res.dt / 2.0
     res.refinements = attempt
+    msgs = _run_messages(line, drive, t_end, scheme, peak_force, refine, strict, res, prev, eb, dt0)
+    for m in msgs:
+        warnings.warn(m, RuntimeWarning, stacklevel=2)
+    res.warnings = msgs
+    return res
+
+
+def _checked_inputs(line: ChainLine, drive: Drive, t_end: float, scheme: str, safety: float, n_out: int,
+                    substep_levels: int, refine: int, max_work: float | None,
+                    max_memory: float | None) -> tuple[float, float]:
+    """Check :func:`simulate`'s inputs (ValueError naming the first bad one): (t_end [s], safety) as floats."""
+    if not isinstance(line, ChainLine):
+        raise _bad("line", type(line).__name__, "a ChainLine")
+    if not isinstance(drive, Drive):
+        raise _bad("drive", type(drive).__name__, "a Drive")
+    if scheme not in SCHEMES:
+        raise _bad("scheme", scheme, f"one of {list(SCHEMES)}")
+    t_end = _number("t_end", t_end, "> 0 s (a finite number)")
+    safety = _number("safety", safety, "0 < safety <= 1")
+    if safety > 1:
+        raise _bad("safety", safety, "0 < safety <= 1")
+    if isinstance(n_out, (bool, np.bool_)) or not isinstance(n_out, (int, np.integer)) or n_out < 2:
+        raise _bad("n_out", n_out, "an int >= 2")
+    if isinstance(substep_levels, (bool, np.bool_)) or not isinstance(substep_levels, (int, np.integer)) \
+            or not 0 <= substep_levels <= 20:
+        raise _bad("substep_levels", substep_levels, "an int 0 .. 20")
+    if isinstance(refine, (bool, np.bool_)) or not isinstance(refine, (int, np.integer)) or not 0 <= refine <= 10:
+        raise _bad("refine", refine, "an int 0 .. 10")
+    for name, lim in (("max_work", max_work), ("max_memory", max_memory)):
+        if lim is not None:
+            _number(name, lim, "> 0 (or None)")
+    return t_end, safety
+
+
+def _run_messages(line: ChainLine, drive: Drive, t_end: float, scheme: str, peak_force: float | None, refine: int,
+                  strict: bool, res: SimResult, prev: SimResult | None, eb: dict, dt0: float) -> list[str]:
+    """Warnings on the final run (refinement, peak [N], step [s], drive resolution, energy balance); strict raises."""
     msgs: list[str] = []
-    if attempt:
-        msgs.append(f"step refined {attempt} time(s) (energy balance and peak under halving): dt {dt0:.3g} s -> "
-                    f"{res.dt:.3g} s")
+    if res.refinements:
+        msgs.append(f"step refined {res.refinements} time(s) (energy balance and peak under halving): "
+                    f"dt {dt0:.3g} s -> {res.dt:.3g} s")
     if refine and res.slack_substeps > 0 and not res.peak_change <= PEAK_TOL:
         msgs.append(f"peak tension not converged under step refinement: {res.peak_tension:.6g} N at dt = "
                     f"{res.dt:.3g} s vs {prev.peak_tension if prev else math.nan:.6g} N at twice that step "
@@ -397,17 +403,15 @@ def simulate(
         if res.dt > dts_peak:
             msgs.append(f"peak tension {peak:.4g} N exceeded peak_force = {peak_force:.4g} N and dt = {res.dt:.3g} s "
                         f"is above the stable step {dts_peak:.3g} s there: rerun with peak_force >= {peak:.4g} N")
-    msgs += resolution_warnings(drive, line.chain.pitch, res.dt, float(res.t[1] - res.t[0]) if res.t.size > 1 else t_end)
+    msgs += resolution_warnings(drive, line.chain.pitch, res.dt,
+                                float(res.t[1] - res.t[0]) if res.t.size > 1 else t_end)
     if eb["relative_error"] > BALANCE_TOL:
         msgs.append(f"energy balance error {eb['relative_error']:.3g} at t = {eb['worst_t_s']:.6g} s exceeds "
                     f"{BALANCE_TOL:g} ({scheme}, dt = {res.dt:.3g} s): the result is not converged; use a smaller dt "
                     "or more refinements (and compare the peak under step refinement)")
         if strict:
             raise SimulationError(f"strict: {msgs[-1]}")
-    for m in msgs:
-        warnings.warn(m, RuntimeWarning, stacklevel=2)
-    res.warnings = msgs
-    return res
+    return msgs
 
 
 #: a periodic drive needs at least this many time steps per period to be followed (the Verlet/Newmark phase

@@ -86,17 +86,45 @@ def eq26_section(folder: Path, model: Any, say: Progress) -> str:
     plot_table1_energy(fdir / "table1_energy.png", t1)
     figs = ["figures/gap_eq26/eq26_record.png", "figures/gap_eq26/table1_energy.png"]
     j = dump_json(folder, "gap_eq26.json", to_json({"eq26": d, "table1": t1, "figures": figs}))
+    rc = d["record"]
+    findings = _eq26_findings(d)
+    rows = [[t["test"], f"{t['omega_rad_s']:.3f}", f"{t['x0_mm']:g}", f"{t['A_mm']:g}", f"{t['F_ac_N']:g}",
+             f"{t['c_e_N_s_per_mm']:g}", f"{t['W_Nmm']:.0f}", f"{t['loss_factor']:.2f}",
+             ", ".join(s for s, ok in (("A", t["in_A_fit"]), ("ω", t["in_omega_fit"])) if ok) or "excluded"]
+            for t in t1["tests"]]
+    trend = _table1_trend(t1, d["in_phase"])
+    return "\n".join([
+        "### 4b. The paper's record: Eq. 26 (test 3) and Table 1\n",
+        f"A single test cannot go through the diagnosis (it needs ≥ {MIN_TESTS} tests), so Eq. 26 — x = "
+        f"{rc['x0_mm']:g} + {rc['A_mm']:g} sin({rc['omega_x_rad_s']:g}t) mm, F = {rc['F0_N']:.2f} + {rc['FA_N']:.1f} "
+        f"sin({rc['omega_F_rad_s']:g}t − {-rc['phi_rad']:.4f}) N — is compared with the model directly, with the "
+        f"diagnosis' residual tools (`chainid.gap.harmonic.where`). Model: {rc['model']}. JSON: `{j}`.\n",
+        *[f"- {s}" for s in findings],
+        "\n![Eq. 26 record against the model](figures/gap_eq26/eq26_record.png)\n",
+        "**Table 1** (ω converted to rad/s, audit a; W = π·F_ac·A):\n",
+        md_table(["test", "ω [rad/s]", "x₀ [mm]", "A [mm]", "F_ac [N]", "c_e [N·s/mm]", "W [N·mm]",
+                  "η vs model k_e", "used in slope"], rows),
+        "",
+        *[f"- {s}" for s in trend],
+        "\n![Table 1 energy per cycle](figures/gap_eq26/table1_energy.png)\n",
+    ])
+
+
+def _eq26_findings(d: dict[str, Any]) -> list[str]:
+    """The Eq. 26 record against the model (level N, stiffness N/mm, phase, residual harmonics N) as sentences."""
     rc, sl, ip, q, h = d["record"], d["stiffness_level"], d["in_phase"], d["quadrature"], d["residual_harmonics"]
-    findings = [
-        f"**Stiffness level.** The mean force F₀ = {sl['F0_N']:.0f} N is {100 * (1 - sl['F0_over_F_k_x0']):.0f} % below "
+    return [
+        f"**Stiffness level.** The mean force F₀ = {sl['F0_N']:.0f} N is "
+        f"{100 * (1 - sl['F0_over_F_k_x0']):.0f} % below "
         f"the model's F_k(x₀ = {rc['x0_mm']:g} mm) = {sl['F_k_x0_N']:.0f} N (cycle mean of F_k: "
         f"{sl['F_k_cycle_mean_N']:.0f} N). The model reaches F₀ at x = {sl['x_where_F_k_equals_F0_mm']:.3f} mm: the "
-        f"record reads like the model with a slack (zero offset) of {sl['offset_x0_minus_x_F0_mm']:.3f} mm, or a softer "
-        "chain.",
+        f"record reads like the model with a slack (zero offset) of {sl['offset_x0_minus_x_F0_mm']:.3f} mm, "
+        "or a softer chain.",
         f"**In-phase dynamic stiffness.** F_A cos φ / A = {ip['F_A_cos_phi_N']:.0f}/{rc['A_mm']:g} = "
         f"{ip['k_in_phase_N_per_mm']:.0f} N/mm against the model's k_e(x₀) = {ip['k_e_x0_N_per_mm']:.0f} N/mm "
         f"({ip['k_e_range_N_per_mm'][0]:.0f}–{ip['k_e_range_N_per_mm'][1]:.0f} over x₀ ± A; first-harmonic secant "
-        f"{ip['k_model_first_harmonic_N_per_mm']:.0f} N/mm): {ip['ratio_in_phase_over_k_e']:.1f} × stiffer. Inertia cannot "
+        f"{ip['k_model_first_harmonic_N_per_mm']:.0f} N/mm): {ip['ratio_in_phase_over_k_e']:.1f} × stiffer. "
+        f"Inertia cannot "
         f"explain it: m·ω²·10⁻³ = {ip['inertia_m_omega2_N_per_mm']:.3g} N/mm (m = {rc['mass_kg']:g} kg), and it would "
         f"lower, not raise, the dynamic stiffness. The force swings from {rc['F_min_N']:.0f} to {rc['F_max_N']:.0f} N: "
         "the fitted minimum is compressive, which a chain cannot carry (audit c).",
@@ -113,14 +141,15 @@ def eq26_section(folder: Path, model: Any, say: Progress) -> str:
         "the higher harmonics are only the model's own curvature: the record as published cannot show friction "
         "(odd harmonics), backlash or slack shapes — only level, stiffness and phase, and all three disagree with "
         "the model.",
-        f"The two frequencies of Eq. 25 (x: {rc['omega_x_rad_s']:g} rad/s) and Eq. 26 (F: {rc['omega_F_rad_s']:g} rad/s) "
+        f"The two frequencies of Eq. 25 (x: {rc['omega_x_rad_s']:g} rad/s) and Eq. 26 "
+        f"(F: {rc['omega_F_rad_s']:g} rad/s) "
         f"differ by {rc['phase_drift_per_cycle_rad']:.4f} rad of phase per cycle: negligible over one period.",
     ]
+
+
+def _table1_trend(t1: dict[str, Any], ip: dict[str, Any]) -> list[str]:
+    """Table 1's damping trend (W against A and ω), test 1 and the loss factor as sentences (units N, mm, rad/s)."""
     T = t1["tests"]
-    rows = [[t["test"], f"{t['omega_rad_s']:.3f}", f"{t['x0_mm']:g}", f"{t['A_mm']:g}", f"{t['F_ac_N']:g}",
-             f"{t['c_e_N_s_per_mm']:g}", f"{t['W_Nmm']:.0f}", f"{t['loss_factor']:.2f}",
-             ", ".join(s for s, ok in (("A", t["in_A_fit"]), ("ω", t["in_omega_fit"])) if ok) or "excluded"]
-            for t in T]
     t1d, jt = t1["test1"], t1["joint"]
     cls = t1["class"]
     dist = ", ".join(f"{k} {v:.2f}" for k, v in sorted(t1["distance_to_forms"].items(), key=lambda kv: kv[1]))
@@ -128,7 +157,7 @@ def eq26_section(folder: Path, model: Any, say: Progress) -> str:
     x0A = [t["x0_mm"] for t in T if t["in_A_fit"]]
     T29 = [t for t in T if t["test"] >= 2]
     t3 = next(t for t in T if t["test"] == 3)
-    trend = [
+    return [
         f"**Damping trend.** W grows as A^{t1['slope_A']:.2f} (tests {', '.join(map(str, t1['tests_A']))}, "
         f"R² = {t1['r2_A']:.3f}) and ω^{t1['slope_omega']:.2f} (tests {', '.join(map(str, t1['tests_omega']))}, "
         f"R² = {t1['r2_omega']:.3f}): closest to {_damping_words(cls)} (viscous would be A² ω¹, hysteretic A² ω⁰, "
@@ -147,21 +176,6 @@ def eq26_section(folder: Path, model: Any, say: Progress) -> str:
         f"{max(t['loss_factor'] for t in T29):.2f} (tests 2–9); against the in-phase stiffness of the Eq. 26 record "
         f"test 3 would have η = {t3['F_ac_N'] / (ip['k_in_phase_N_per_mm'] * t3['A_mm']):.3f}.",
     ]
-    return "\n".join([
-        "### 4b. The paper's record: Eq. 26 (test 3) and Table 1\n",
-        f"A single test cannot go through the diagnosis (it needs ≥ {MIN_TESTS} tests), so Eq. 26 — x = "
-        f"{rc['x0_mm']:g} + {rc['A_mm']:g} sin({rc['omega_x_rad_s']:g}t) mm, F = {rc['F0_N']:.2f} + {rc['FA_N']:.1f} "
-        f"sin({rc['omega_F_rad_s']:g}t − {-rc['phi_rad']:.4f}) N — is compared with the model directly, with the "
-        f"diagnosis' residual tools (`chainid.gap.harmonic.where`). Model: {rc['model']}. JSON: `{j}`.\n",
-        *[f"- {s}" for s in findings],
-        "\n![Eq. 26 record against the model](figures/gap_eq26/eq26_record.png)\n",
-        "**Table 1** (ω converted to rad/s, audit a; W = π·F_ac·A):\n",
-        md_table(["test", "ω [rad/s]", "x₀ [mm]", "A [mm]", "F_ac [N]", "c_e [N·s/mm]", "W [N·mm]",
-                   "η vs model k_e", "used in slope"], rows),
-        "",
-        *[f"- {s}" for s in trend],
-        "\n![Table 1 energy per cycle](figures/gap_eq26/table1_energy.png)\n",
-    ])
 
 
 # -- entry point -------------------------------------------------------------------
