@@ -23,10 +23,12 @@ truncated ``.nbi``/``.nbc`` file raises ``UnpicklingError`` there.  With
    and warn once (:class:`NumbaCacheWarning`).  If that is not writable either,
    import with a locator that never touches the disk and give every kernel
    numba's ``NullCache`` (compiled in memory on each run), again with one warning.
-2. **Corrupt cache entry**: every kernel's cache is a :class:`_RecoveringCache`:
+2. **Corrupt or stale cache entry**: every kernel's cache is a :class:`_RecoveringCache`:
    an entry that cannot be read counts as a miss (the kernel is recompiled from
    its source, one warning), and a corrupt index is rewritten when the new entry
-   is saved.  Only the index and data files of chainid's own kernels are ever
+   is saved.  numba's index is stamped with the function's own file only; here the
+   stamp also holds the files of every numba function it calls
+   (:func:`dependency_stamp`), so an edited callee makes its callers' entries stale.  Only the index and data files of chainid's own kernels are ever
    written (by numba, with its atomic temp-file + rename); nothing is deleted.
 3. **NUMBA_DISABLE_JIT=1**: the bit-cast intrinsics of the cube-root start value
    are replaced by their numpy equivalents (``ndarray.view``), so the kernels run
@@ -50,7 +52,7 @@ from typing import Any, Callable, Iterator
 
 import numpy as np
 
-__all__ = ["NumbaCacheWarning", "load_kernel_module", "njit_cached", "cache_mode"]
+__all__ = ["NumbaCacheWarning", "load_kernel_module", "njit_cached", "cache_mode", "dependency_stamp"]
 
 
 class NumbaCacheWarning(RuntimeWarning):
@@ -176,15 +178,74 @@ def _without_disk_cache() -> Iterator[None]:
         config.CACHE_LOCATOR_CLASSES = old
 
 
+def _called_dispatchers(py_func: Callable) -> list[Any]:
+    """The numba dispatchers a Python function's code names: globals (``g(x)``), attributes of global modules
+    (``kernels.g(x)``, every code object nested in it included) and closure cells."""
+    from numba.core.dispatcher import Dispatcher
+
+    code, names = py_func.__code__, set()
+    stack = [code]
+    while stack:
+        c = stack.pop()
+        names.update(c.co_names)
+        stack.extend(k for k in c.co_consts if inspect.iscode(k))
+    glb = getattr(py_func, "__globals__", {})
+    found = [glb[n] for n in names if isinstance(glb.get(n), Dispatcher)]
+    for n in names:
+        mod = glb.get(n)
+        if isinstance(mod, ModuleType):
+            found += [a for a in (getattr(mod, m, None) for m in names) if isinstance(a, Dispatcher)]
+    for cell in py_func.__closure__ or ():
+        try:
+            if isinstance(cell.cell_contents, Dispatcher):
+                found.append(cell.cell_contents)
+        except ValueError:  # an empty cell
+            pass
+    return found
+
+
+def dependency_stamp(py_func: Callable) -> tuple[tuple[str, float, int], ...]:
+    """The source files of every numba function ``py_func`` calls, directly or through others, with their
+    modification time and size: numba's cache checks only the function's own file, so an edit of a kernel in another
+    module (a ``git pull`` that changes ``chainid/generated`` and not its callers) left the callers' compiled code
+    calling the old kernel; with this in the index's stamp such an entry is stale and recompiled."""
+    seen: dict[int, Callable] = {}
+    stack = [py_func]
+    while stack:
+        f = stack.pop()
+        for d in _called_dispatchers(f):
+            g = d.py_func
+            if id(g) not in seen and g is not py_func:
+                seen[id(g)] = g
+                stack.append(g)
+    out = set()
+    for g in seen.values():
+        try:
+            path = inspect.getfile(g)
+            st = os.stat(path)
+        except (TypeError, OSError):
+            continue
+        out.add((path, st.st_mtime, st.st_size))
+    return tuple(sorted(out))
+
+
 @functools.lru_cache(maxsize=None)
 def _recovering_cache_class():
     from numba.core.caching import FunctionCache
 
     class _RecoveringCache(FunctionCache):
-        """numba's FunctionCache, but an unreadable entry is a miss and a corrupt index is rewritten."""
+        """numba's FunctionCache, but an unreadable entry is a miss, a corrupt index is rewritten, and an entry is
+        stale when any numba function it calls has changed (:func:`dependency_stamp`)."""
+
+        def _restamp(self) -> None:
+            cf = self._cache_file
+            if not hasattr(self, "_chainid_stamp"):
+                self._chainid_stamp = cf._source_stamp  # numba's: the function's own file
+            cf._source_stamp = (self._chainid_stamp, dependency_stamp(self._py_func))
 
         def load_overload(self, sig, target_context):
             try:
+                self._restamp()
                 return super().load_overload(sig, target_context)
             except Exception as exc:  # any failure to read or rebuild an entry: compile from source instead
                 name = getattr(self._py_func, "__qualname__", "?")
@@ -197,6 +258,7 @@ def _recovering_cache_class():
 
         def save_overload(self, sig, data):
             try:
+                self._restamp()
                 super().save_overload(sig, data)
                 return
             except Exception:

@@ -235,3 +235,62 @@ def test_njit_cached_gives_the_recovering_cache_with_and_without_options():
     assert twice(1.5) == 3.0 and thrice(1.5) == 4.5
     for disp in (twice, thrice):
         assert type(disp._cache).__name__ in ("_RecoveringCache", "NullCache")
+
+
+_CALLER = """
+from chainid.infra.numba_cache import njit_cached
+import dep
+from dep import g
+
+@njit_cached
+def via_module(x):
+    return dep.g(x) * 2.0
+
+@njit_cached
+def via_name(x):
+    return g(x) * 3.0
+"""
+
+
+def _callers(folder: Path, cache: Path) -> list[float]:
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache),
+               PYTHONPATH=os.pathsep.join([str(folder), str(REPO), os.environ.get("PYTHONPATH", "")]))
+    env.pop("NUMBA_DISABLE_JIT", None)
+    proc = subprocess.run([sys.executable, "-c", "import json, top; print(json.dumps([top.via_module(1.0), "
+                           "top.via_name(1.0)]))"], env=env, capture_output=True, text=True, timeout=300, cwd=folder)
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout.splitlines()[-1])
+
+
+@pytest.mark.slow
+def test_a_cached_caller_is_recompiled_when_a_kernel_it_calls_changes(tmp_path):
+    """numba stamps a cache entry with the function's own file only: a caller in an unchanged file kept calling the
+    old kernel after the kernel's file changed (4.0 for 6.0 below, checked on numba 0.68).  The callee's file is
+    part of the stamp now, whether it is called by name or as a module attribute."""
+    dep = tmp_path / "dep.py"
+    dep.write_text("from chainid.infra.numba_cache import njit_cached\n\n@njit_cached\ndef g(x):\n    return x + 1.0\n")
+    (tmp_path / "top.py").write_text(_CALLER)
+    cache = tmp_path / "cache"
+    assert _callers(tmp_path, cache) == [4.0, 6.0]
+    st = dep.stat()
+    dep.write_text(dep.read_text().replace("x + 1.0", "x + 2.0"))
+    os.utime(dep, (st.st_atime + 5, st.st_mtime + 5))  # a later edit, whatever the file system's time resolution
+    assert _callers(tmp_path, cache) == [6.0, 9.0]
+    assert _callers(tmp_path, cache) == [6.0, 9.0]  # and from the refreshed cache
+
+
+def test_dependency_stamp_names_the_files_of_the_numba_functions_called_from_a_closure():
+    from numba import njit
+
+    from chainid.infra.numba_cache import dependency_stamp
+
+    @njit
+    def inner(x):
+        return x + 1.0
+
+    def outer(x):  # inner is a closure cell of outer
+        return inner(x)
+
+    stamp = dependency_stamp(outer)
+    assert [s[0] for s in stamp] == [__file__] and stamp[0][2] == Path(__file__).stat().st_size
+    assert dependency_stamp(inner.py_func) == ()
