@@ -14,8 +14,7 @@ m·ẍ) and φ_j the columns of the free amplitudes a_j (:mod:`chainid.gap.timed
   over the record's samples);
 * every force- and mass-kind effect's amplitudes (:func:`chainid.model.effects.columns`);
 * the damping's slopes over record features, (ω_r − w_ref)·ẋ and (A_r − A_ref)·ẋ: part of the base when its
-  ``law`` is on (:class:`Base`), else the effect ``damping_law``; the features held within the training records'
-  box (:meth:`Base.law_point`);
+  ``law`` is on (:class:`Base`), else the effect ``damping_law``;
 * a covariate term ``effect.param@cov``: the column of that amplitude times (cov_r − cov_ref); ``effect@cov``: the
   effect with every amplitude following the covariate (its columns, and each times (cov_r − cov_ref)).
 
@@ -56,9 +55,7 @@ class Base:
     dashpot follows the records' features, c_r = c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref) (the paper's
     c_e(ω, A) carried to any excitation, part of the base), instead of one c for every record;
     ``law_features``: the features that law (or the effect ``damping_law``) follows, ``"w"`` and/or ``"A"``
-    (:func:`law_features`: a feature the records do not spread has no slope); ``box``: the training records'
-    feature box (``w_lo``, ``w_hi`` [rad/s], ``A_lo``, ``A_hi`` [mm]) the law is identified on, which holds a
-    record's features (:meth:`law_point`).
+    (:func:`law_features`: a feature the records do not spread has no slope).
     """
 
     kind: str
@@ -67,19 +64,6 @@ class Base:
     refs: dict[str, float] = field(default_factory=dict)
     law: bool = False
     law_features: tuple[str, ...] = ("w", "A")
-    box: dict[str, float] = field(default_factory=dict)
-
-    def law_point(self, d: Any) -> tuple[float, float]:
-        """A record's features (band centre ω_r [rad/s], half range A_r [mm]) as the law reads them: held within
-        the training box, so a held-out record beyond it gets the law's value at the box's edge, never an
-        extrapolation (what ``predict`` does with the saved model, :meth:`chainid.model.timedamping.Damping.
-        feature_value`)."""
-        w, A = float(d.omega_c), float(d.A_c)
-        if "w_lo" in self.box:
-            w = min(max(w, self.box["w_lo"]), self.box["w_hi"])
-        if "A_lo" in self.box:
-            A = min(max(A, self.box["A_lo"]), self.box["A_hi"])
-        return w, A
 
     @property
     def offsets(self) -> bool:
@@ -306,11 +290,10 @@ def _base_columns(base: Base, eff: Sequence[str], shapes: dict[str, float], v: _
     xd_c = v.lp(("xd",), v.xd)
     Phi[:, col["damping.c"]] = xd_c
     if "damping_law.b_w" in col:  # the dashpot following the record's features (the base's law, or the effect)
-        w, A = base.law_point(v.d)
         if "w" in base.law_features:
-            Phi[:, col["damping_law.b_w"]] = (w - base.refs.get("w_ref", 0.0)) * xd_c
+            Phi[:, col["damping_law.b_w"]] = (v.d.omega_c - base.refs.get("w_ref", 0.0)) * xd_c
         if "A" in base.law_features:
-            Phi[:, col["damping_law.b_A"]] = (A - base.refs.get("A_ref", 0.0)) * xd_c
+            Phi[:, col["damping_law.b_A"]] = (v.d.A_c - base.refs.get("A_ref", 0.0)) * xd_c
     return f
 
 

@@ -18,9 +18,8 @@ non-negative combinations
 of each pair 0 plus a share of the least corner value).  :func:`law_map` writes (c, b_w, b_A) = L·z, so the bounded
 least squares on z (:func:`chainid.gap.timedomain.lsq.solve`, z >= 0) is the best passive law; the map has a
 one-dimensional null space (z₁ + z₂ = z₃ + z₄ trade), which the solver's minimum-norm rule handles.  A feature
-whose records all share one value drops out (its slope is 0).  The box is that of the training records: the law
-is identified there, and a held-out record beyond it reads the law at the box's edge (as ``predict`` reads a saved
-law on new records), so passive on the box is passive on every record.
+whose records all share one value drops out (its slope is 0).  The box is that of every record of the set, held-out
+ones included: their features are the measured displacement's, known before any force is predicted.
 """
 
 from __future__ import annotations
@@ -93,8 +92,8 @@ def corner_minimum(c: float, b_w: float, b_A: float, refs: dict[str, float], box
 
 
 def law_box(records: Sequence[Any], feats: Sequence[str], refs: dict[str, float]) -> dict[str, float]:
-    """The box of the given records' features (``omega_c`` [rad/s], ``A_c`` [mm]; the training records), over
-    which the law is identified and kept passive; a feature the law does not follow (not in ``feats``) has no span (its
+    """The box of every record's features (``omega_c`` [rad/s], ``A_c`` [mm]; held-out records included), over
+    which the law is kept passive; a feature the law does not follow (not in ``feats``) has no span (its
     reference, ``refs["w_ref"]`` or ``refs["A_ref"]``)."""
     out = {}
     for k, attr in (("w", "omega_c"), ("A", "A_c")):

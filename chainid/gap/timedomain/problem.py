@@ -134,10 +134,9 @@ class TimeProblem:
         refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
         self.covariates = distinct_covariates(train_recs, covs)
         feats = law_features([d.omega_c for d in self.train], [d.A_c for d in self.train])
-        self.law_box = law_box(train_recs, feats, refs)  # held-out records beyond it read the law at its edge
         self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs,
-                         law=damping_law != "viscous" and self._law_separable(feats), law_features=feats,
-                         box=self.law_box)
+                         law=damping_law != "viscous" and self._law_separable(feats), law_features=feats)
+        self.law_box = law_box(self.tdata, feats, refs)
         allF = np.concatenate([d.F - d.F.mean() for d in self.tdata])
         self.F_scale = float(np.std(allF)) or 1.0
         self.x_scale = float(max(d.A for d in self.tdata)) or 1.0
@@ -382,7 +381,7 @@ class TimeProblem:
             sign_var = F_s**2 * float(np.mean(1.0 - s**2))
         refs = self.base.refs  # the record's own dashpot, where the damping follows its features
         c = feature_c(params.get("damping.c", 0.0), params.get("damping_law.b_w", 0.0),
-                      params.get("damping_law.b_A", 0.0), *self.base.law_point(d), refs["w_ref"], refs["A_ref"])
+                      params.get("damping_law.b_A", 0.0), d.omega_c, d.A_c, refs["w_ref"], refs["A_ref"])
         m = params.get("mass.m", self.base.mass_kg or 0.0) + (self.model.mass_kg if self.is_chain else 0.0)
         m += params.get("fixture_mass.m_f", 0.0)
         k = params.get("spring.k", 0.0)
