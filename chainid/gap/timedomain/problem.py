@@ -27,6 +27,7 @@ import numpy as np
 
 from chainid.gap.core.candidate import Candidate, jackknife_sd
 from chainid.gap.core.delayscan import refine_delay
+from chainid.gap.timedomain.basechoice import MIN_LAW_RECORDS, distinct_covariates, law_choice
 from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
 from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, law_features,
                                            shape_names, split_name)
@@ -38,8 +39,6 @@ from chainid.model.timedamping import feature_c
 
 __all__ = ["TimeProblem"]
 
-#: fewest training records with distinct features for a damping law over them
-MIN_LAW_RECORDS = 3
 #: records of at least this many samples together fit a selection round's effect sets on forked workers
 #: (:func:`chainid.gap.core.selection.prefetch`); below it a round takes a few seconds, and the workers' start and
 #: the column-cache entries they make and lose with them cost about what they save
@@ -47,38 +46,6 @@ PARALLEL_SAMPLES = 200_000
 #: relative sd × √n of the force-noise estimate σ̂² (1.4826·MAD(Δ²F))²/6 on n samples of white noise (Monte Carlo:
 #: 2.83, 2.92, 2.84 at n = 1 000, 8 000, 30 000, 400 draws each)
 SIGMA2_REL_SD = 2.9
-
-
-def distinct_covariates(records: Sequence[TimeData], names: Sequence[str]) -> list[str]:
-    """The covariates that vary over ``records`` and are not (correlation above 0.999) an affine function of one kept
-    before (a set pressure and the measured mean pressure of the same tests are one operating condition)."""
-    kept: list[str] = []
-    for c in names:
-        v = np.array([d.covariates[c] for d in records], float)
-        if not np.all(np.isfinite(v)) or np.ptp(v) == 0:
-            continue
-        dup = False
-        for k in kept:
-            u = np.array([d.covariates[k] for d in records], float)
-            r = np.corrcoef(u, v)[0, 1]
-            dup = dup or bool(abs(r) > 0.999)
-        if not dup:
-            kept.append(c)
-    return kept
-
-
-def law_choice(feature: bool, asked: str, n_train: int) -> tuple[str, str]:
-    """The base's damping on the time route and why: ``"feature"`` (the dashpot follows the records' band centre and
-    amplitude, :class:`chainid.gap.timedomain.design.Base`) or ``"viscous"`` (one c), for the law ``asked``
-    (``--damping-law``: ``viscous`` keeps one c; any other, the feature law where the records separate it)."""
-    if feature:
-        return "feature", (f"time domain: the dashpot follows the records' features, c_r = c + b_w·(ω_r − w_ref) + "
-                           f"b_A·(A_r − A_ref) (the paper's c_e(ω, A) over records of any excitation; {n_train} "
-                           "training records separate it)")
-    if asked == "viscous":
-        return "viscous", "given"
-    return "viscous", (f"time domain: viscous c·ẋ (fewer than {MIN_LAW_RECORDS} training records with distinct band "
-                       "centre and amplitude: no law over record features)")
 
 
 class TimeProblem:
@@ -97,7 +64,8 @@ class TimeProblem:
         The given moving mass of a linear base [kg] (None: fitted, >= 0).
     damping_law : str
         ``viscous``: one dashpot c for every record; otherwise (default ``auto``) the dashpot follows the records'
-        features where >= ``MIN_LAW_RECORDS`` training records separate them (:func:`law_choice`).
+        features where >= ``MIN_LAW_RECORDS`` training records separate them and no operating condition (a
+        covariate) differs between them (:func:`law_choice`).
     """
 
     hprob = None  # no phase-bin part: every record is evaluated sample by sample
@@ -134,8 +102,12 @@ class TimeProblem:
         refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
         self.covariates = distinct_covariates(train_recs, covs)
         feats = law_features([d.omega_c for d in self.train], [d.A_c for d in self.train])
+        # records at different operating conditions (a seal's pressure, a damper's current): the condition moves
+        # the records' damping and, through the device, their band and amplitude, so a law over the features would
+        # stand in for the condition; the base keeps one c and both laws are steps
+        separable = self._law_separable(feats)
         self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs,
-                         law=damping_law != "viscous" and self._law_separable(feats), law_features=feats)
+                         law=damping_law != "viscous" and separable and not self.covariates, law_features=feats)
         self.law_box = law_box(self.tdata, feats, refs)
         allF = np.concatenate([d.F - d.F.mean() for d in self.tdata])
         self.F_scale = float(np.std(allF)) or 1.0
@@ -145,7 +117,8 @@ class TimeProblem:
                        "v": float(max(np.quantile(np.abs(d.xd), 0.99) for d in self.tdata)) or 1.0,
                        "x_mid": refs["x_mid"], "tau": self._lag_range()}
         self.f_band = float(max(d.f_band for d in self.tdata))
-        self.law, self.law_reason = law_choice(self.base.law, damping_law, len(self.train))
+        self.law, self.law_reason = law_choice(self.base.law, damping_law, len(self.train),
+                                               self.covariates if separable else ())
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.tdata])))
         self.F_mean = {d.test: float(np.mean(d.F)) for d in self.tdata}
         self._cache = ColumnCache()

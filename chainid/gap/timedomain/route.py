@@ -93,7 +93,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     resamples, seed : resamples of the training blocks for the chain's stability and the parameters' intervals
         (:mod:`chainid.gap.core.resample`; 0: none)
     damping_law : ``viscous``: one dashpot for every record; otherwise the dashpot follows the records' features
-        where they separate it (:func:`chainid.gap.timedomain.problem.law_choice`)
+        where they separate it (:func:`chainid.gap.timedomain.basechoice.law_choice`)
     """
     warn = list(warn or [])
     if not quiet:
