@@ -28,7 +28,8 @@ truncated ``.nbi``/``.nbc`` file raises ``UnpicklingError`` there.  With
    its source, one warning), and a corrupt index is rewritten when the new entry
    is saved.  numba's index is stamped with the function's own file only; here the
    stamp also holds the files of every numba function it calls
-   (:func:`dependency_stamp`), so an edited callee makes its callers' entries stale.  Only the index and data files of chainid's own kernels are ever
+   (:func:`dependency_stamp`), so an edited callee makes its callers' entries stale.
+   Only the index and data files of chainid's own kernels are ever
    written (by numba, with its atomic temp-file + rename); nothing is deleted.
 3. **NUMBA_DISABLE_JIT=1**: the bit-cast intrinsics of the cube-root start value
    are replaced by their numpy equivalents (``ndarray.view``), so the kernels run

@@ -203,7 +203,7 @@ def test_identify_plots_names_do_not_collide_and_need_force(tmp_path, capsys):
 
 # -- SIGINT with the rows written, before the commit: rc 130, one line, no partial output -----------------------------
 
-_SLOW_WRITER = textwrap.dedent("""
+_INTERRUPTED_WRITER = textwrap.dedent("""
     import contextlib, os, signal, sys
     import chainid.infra.fileio as fio
     # a process started with SIGINT ignored (a runner in the background of a non-interactive shell) gets no
@@ -236,7 +236,7 @@ def test_sigint_before_the_commit_exits_130_and_leaves_no_partial_output(tmp_pat
     if existing is not None:
         out.write_text(existing)
     env = dict(os.environ, PYTHONPATH=str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    p = subprocess.run([sys.executable, "-c", _SLOW_WRITER, "simulate", str(out), "--force", "--ramp-rate", "0",
+    p = subprocess.run([sys.executable, "-c", _INTERRUPTED_WRITER, "simulate", str(out), "--force", "--ramp-rate", "0",
                         "--cycles", "4", "--samples-per-cycle", "64"],
                        capture_output=True, text=True, env=env, timeout=120)
     assert p.returncode == 130, p.stderr

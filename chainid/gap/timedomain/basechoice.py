@@ -59,7 +59,7 @@ def law_choice(feature: bool, asked: str, n_train: int, conditions: Sequence[str
         cov = ", ".join(conditions)
         return "viscous", (f"time domain: viscous c·ẋ in the base (the training records differ by the operating "
                            f"condition {cov}, which moves their features too: whether the damping follows the "
-                           f"condition, damping.c@{conditions[0]}, or the features, damping_law, is a step the held-out "
-                           "data judge)")
+                           f"condition, damping.c@{conditions[0]}, or the features, damping_law, is a step the "
+                           "held-out data judge)")
     return "viscous", (f"time domain: viscous c·ẋ (fewer than {MIN_LAW_RECORDS} training records with distinct band "
                        "centre and amplitude: no law over record features)")

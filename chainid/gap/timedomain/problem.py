@@ -102,9 +102,7 @@ class TimeProblem:
         refs |= {f"cov:{c}": float(np.mean([d.covariates[c] for d in train_recs])) for c in covs}
         self.covariates = distinct_covariates(train_recs, covs)
         feats = law_features([d.omega_c for d in self.train], [d.A_c for d in self.train])
-        # records at different operating conditions (a seal's pressure, a damper's current): the condition moves
-        # the records' damping and, through the device, their band and amplitude, so a law over the features would
-        # stand in for the condition; the base keeps one c and both laws are steps
+        # an operating condition differing between the records keeps one c in the base (.basechoice: why)
         separable = self._law_separable(feats)
         self.base = Base("chain" if self.is_chain else "linear", model if self.is_chain else None, mass_kg, refs,
                          law=damping_law != "viscous" and separable and not self.covariates, law_features=feats)
