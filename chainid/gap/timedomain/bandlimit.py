@@ -73,6 +73,14 @@ def _sos(fs: float, f_cut: float) -> np.ndarray | None:
     return lowpass_sos(fs, f_cut, 1 << 12)
 
 
+@functools.lru_cache(maxsize=256)
+def _steady_state(fs: float, f_cut: float) -> np.ndarray:
+    """The filter's unit-step steady state, ``scipy.signal.sosfilt_zi`` of :func:`_sos` (computed once)."""
+    from scipy.signal import sosfilt_zi
+
+    return sosfilt_zi(_sos(fs, f_cut))
+
+
 def noise_share(fs: float, f_cut: float) -> float:
     """ρ: the share of a white noise's power that the zero-phase filter at ``f_cut`` [Hz] keeps (1 when none)."""
     sos = _sos(float(fs), float(f_cut)) if math.isfinite(f_cut) else None
@@ -84,18 +92,34 @@ def noise_share(fs: float, f_cut: float) -> float:
     return float(np.mean(np.abs(h) ** 4))
 
 
+def _filtfilt(sos: np.ndarray, zi: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``scipy.signal.sosfiltfilt(sos, x, axis=0)`` with its default padding, the same operations in the same
+    order (odd extension by 3·(2·sections + 1) samples, forward pass from the steady state at the first sample,
+    backward pass from the one at the last), with the steady state ``zi`` given instead of solved for on every
+    call: bit-identical, at a quarter of the time on a 4 000-sample run (``benchmarks/bandlimit_bench.py``)."""
+    from scipy.signal import sosfilt
+
+    edge = 3 * (2 * sos.shape[0] + 1)
+    ext = np.concatenate((2 * x[:1] - x[edge:0:-1], x, 2 * x[-1:] - x[-2 : -(edge + 2) : -1]), axis=0)
+    z = zi.reshape((sos.shape[0], 2) + (1,) * (x.ndim - 1))
+    y, _ = sosfilt(sos, ext, axis=0, zi=z * ext[:1])
+    y, _ = sosfilt(sos, y[::-1], axis=0, zi=z * y[-1:])
+    return y[::-1][edge:-edge]
+
+
 def band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray | None = None) -> np.ndarray:
     """``a`` (samples along axis 0) through the zero-phase filter at ``f_cut`` [Hz], each run of consecutive
     sample indices ``idx`` (a view of windows of a record; None: one run) filtered on its own; ``a`` unchanged
     when ``f_cut`` is NaN.  A run too short for the filter's padding (a view of every q-th sample, q > 1, is all
-    runs of one: a decimated series has no band to cut at the record's rate) passes as it is."""
+    runs of one: a decimated series has no band to cut at the record's rate) passes as it is.  Each run's result
+    is the one ``scipy.signal.sosfiltfilt`` gives it (:func:`_filtfilt`, with the filter's steady state solved once
+    per rate and cut)."""
     if not math.isfinite(f_cut):
         return a
-    from scipy.signal import sosfiltfilt
-
     sos = _sos(float(fs), float(f_cut))
     if sos is None:
         return a
+    zi = _steady_state(float(fs), float(f_cut))
     a = np.asarray(a, float)
     if idx is None:
         starts, ends = np.array([0]), np.array([a.shape[0]])
@@ -108,5 +132,5 @@ def band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray | None 
         return a
     out = a.copy()
     for i, j in zip(starts[long], ends[long]):
-        out[i:j] = sosfiltfilt(sos, a[i:j], axis=0)
+        out[i:j] = _filtfilt(sos, zi, a[i:j])
     return out
