@@ -31,6 +31,7 @@ from chainid.infra.progress import stage
 # records' validation: identify, audit, predict and the diagnosis use it alike
 from chainid.records.validate import MAX_ABS_F_N, MAX_ABS_X_MM  # noqa: F401  (re-exported)
 from chainid.records.validate import check_channels as check_magnitudes
+from chainid.records.validate import check_data
 
 
 def fit_linear_model(records: Sequence[Any], holdout: Sequence[str], mass_kg: float = 0.0) -> Any:
@@ -49,6 +50,7 @@ def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, stead
     data, excluded = [], []
     for r in records:
         if r.t.size >= 64 and is_broadband(r.t, r.x):  # clearly not one sine: no harmonic estimate to try
+            check_data(r, allow_compression=allow_compression)  # its data errors and sign warnings, as any record's
             excluded.append({"test": r.test, "reason": "not a harmonic test (broadband displacement)"})
             continue
         try:

@@ -123,6 +123,12 @@ def check_data(rec: Record, *, allow_compression: bool = False) -> None:
     elongation's zero is offset (the ``slack`` effect) or its sign flipped.  ``allow_compression``: none of
     these (a part whose force changes sign, a linear spring).
     """
+    _check(rec, allow_compression, warn=True)
+
+
+def _check(rec: Record, allow_compression: bool, warn: bool) -> None:
+    """:func:`check_data`'s checks; its warnings only with ``warn`` (a caller that has issued them once already
+    checks again without: one warning per record, not one per layer of the analysis)."""
     name = rec.test
     for col, arr in (("t", rec.t), ("x", rec.x), ("F", rec.F)):
         bad = ~np.isfinite(arr)
@@ -137,7 +143,7 @@ def check_data(rec: Record, *, allow_compression: bool = False) -> None:
             f"(t = {rec.t[i]:.9g} s then {rec.t[i + 1]:.9g} s)"
         )
     if not allow_compression:
-        _check_chain_signs(rec)
+        _check_chain_signs(rec, warn)
 
 
 #: a chain record whose force goes below zero must keep a mean tension of at least this share of max |F| (a mean
@@ -145,8 +151,8 @@ def check_data(rec: Record, *, allow_compression: bool = False) -> None:
 MIN_MEAN_TENSION = 0.01
 
 
-def _check_chain_signs(rec: Record) -> None:
-    """The sign checks of a record read for a chain (see :func:`check_data`)."""
+def _check_chain_signs(rec: Record, warn: bool = True) -> None:
+    """The sign checks of a record read for a chain (see :func:`check_data`); the warnings only with ``warn``."""
     import warnings
 
     name = rec.test
@@ -166,17 +172,18 @@ def _check_chain_signs(rec: Record) -> None:
                 f"{100 * MIN_MEAN_TENSION:g} % of max |F| with a chain model. Is F's sign flipped (--scale F=-1)? "
                 f"For a part whose force changes sign: --model linear or --allow-compression "
                 f"(allow_compression=True)")
-        warnings.warn(
-            f"test {name!r}: the measured force dips below zero ({where}; mean F = {mean:.6g} N): the chain's "
-            f"spring cannot push, but a measured force can (damping c·ẋ, inertia m·ẍ, the fixture); it is "
-            f"analysed on the chain's spring-force model as any other (--allow-compression: no warning)",
-            RecordWarning, stacklevel=3)
-    if rec.x.size and float(np.max(rec.x)) < 0 and mean > 0 and mean > 0.1 * float(np.ptp(F)):
+        if warn:
+            warnings.warn(
+                f"test {name!r}: the measured force dips below zero ({where}; mean F = {mean:.6g} N): the chain's "
+                f"spring cannot push, but a measured force can (damping c·ẋ, inertia m·ẍ, the fixture); it is "
+                f"analysed on the chain's spring-force model as any other (--allow-compression: no warning)",
+                RecordWarning, stacklevel=4)
+    if warn and rec.x.size and float(np.max(rec.x)) < 0 and mean > 0 and mean > 0.1 * float(np.ptp(F)):
         warnings.warn(
             f"test {name!r}: x < 0 throughout (max x = {float(np.max(rec.x)):.6g} mm) under a mean tension of "
             f"{mean:.6g} N: a chain at x <= 0 is slack and carries nothing (F_k(x <= 0) = 0), so the elongation's "
             f"zero is offset (the slack effect; a displacement measured from another reference) or its sign is "
-            f"flipped (--scale x=-1)", RecordWarning, stacklevel=3)
+            f"flipped (--scale x=-1)", RecordWarning, stacklevel=4)
 
 
 def _check_estimate(
@@ -261,7 +268,7 @@ def validate_record(
     HarmonicEstimate
         The estimate used for the checks.
     """
-    check_data(rec, allow_compression=allow_compression)
+    _check(rec, allow_compression, warn=True)
     return _check_estimate(rec, estimate, min_cycles=min_cycles, min_snr=min_snr, steady_tol=steady_tol)
 
 
@@ -311,12 +318,18 @@ def analyse_record(
         Any :func:`validate_record` problem (data error or analysis failure).
     """
     tol = steady_tol if (rel_tol is _UNSET or rel_tol is None) else rel_tol
+    return _analyse(rec, side, tol, allow_compression, min_cycles, min_snr, warn=True)
+
+
+def _analyse(rec: Record, side: tuple[float, float, float] | None, tol: float | None, allow_compression: bool,
+             min_cycles: float, min_snr: float, warn: bool) -> HarmonicEstimate:
+    """:func:`analyse_record`'s work: the data checked once, first (its warnings only with ``warn``)."""
+    _check(rec, allow_compression, warn)
     if side is None:
         cached = rec.estimate
         if cached is not None and cached.window is not None and cached.window.requested_tol == tol:
             est = cached
         else:
-            check_data(rec, allow_compression=allow_compression)
             est = _check_estimate(rec, None, min_cycles=min_cycles, min_snr=min_snr, steady_tol=tol)
     else:
         w, x0, A = side
@@ -334,8 +347,7 @@ def analyse_record(
         else:
             noise = float("inf")
         est = HarmonicEstimate(w, x0, A, theta, noise, shift_window(win, t0), source="side file", t_origin=t0)
-    return validate_record(rec, allow_compression=allow_compression, min_cycles=min_cycles, min_snr=min_snr,
-                           estimate=est)
+    return _check_estimate(rec, est, min_cycles=min_cycles, min_snr=min_snr, steady_tol=None)
 
 
 def try_analyse(
@@ -381,10 +393,9 @@ def try_analyse(
     """
     if steady_tol is not None and not (0.0 < steady_tol < 1.0):
         raise ValueError(f"steady_tol = {steady_tol!r} is invalid: must be in (0, 1) (e.g. 0.03 = 3 %), or None")
-    check_data(rec, allow_compression=allow_compression)
+    check_data(rec, allow_compression=allow_compression)  # data errors raised, its warnings issued once, here
     try:
-        est = analyse_record(rec, side, allow_compression=allow_compression, min_cycles=min_cycles,
-                             min_snr=min_snr, steady_tol=steady_tol)
+        est = _analyse(rec, side, steady_tol, allow_compression, min_cycles, min_snr, warn=False)
     except (ValueError, np.linalg.LinAlgError) as exc:
         msg = str(exc)
         prefix = f"test {rec.test!r}: "

@@ -100,3 +100,54 @@ def test_a_simulated_taut_chain_may_dip_but_a_slack_one_is_refused():
     simulate([TestSpec("taut", 20.0, 0.6, 0.3)], ChainModel(), C, n_cycles=3, samples_per_cycle=64)
     with pytest.raises(ValueError, match=r"test 'slack': the force goes compressive where the chain is slack"):
         simulate([TestSpec("slack", 20.0, 0.2, 0.5)], ChainModel(), C, n_cycles=3, samples_per_cycle=64)
+
+
+def _dip_warnings(caught) -> list[str]:
+    return [str(w.message) for w in caught if issubclass(w.category, RecordWarning) and "dips below zero" in
+            str(w.message)]
+
+
+def test_each_layer_of_the_analysis_warns_once_per_record():
+    """try_analyse checks the data, then analyses it (which validates it): the warning is said once, not per layer."""
+    import warnings
+
+    from chainid.records.validate import analyse_record, try_analyse, validate_record
+
+    rec = simulate([PLAN[4]], ChainModel(), C, n_cycles=6, samples_per_cycle=128, ramp_rate=None)[0]
+    assert float(rec.F.min()) < 0.0  # c·A·ω = 9 kN against F_k(0.3 mm) = 980 N: it dips (module docstring)
+    for call in (lambda: try_analyse(rec), lambda: analyse_record(rec, allow_compression=False),
+                 lambda: validate_record(rec), lambda: analyse_record(rec, (30.0, 0.6, 0.3), allow_compression=False)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            call()
+        assert len(_dip_warnings(caught)) == 1
+
+
+def test_broadband_chain_records_are_checked_as_harmonic_ones_are():
+    """A record that is no harmonic test goes to the time route, but its data are a chain's all the same: a dip
+    below zero is warned about once, and a force without mean tension is refused (not diagnosed as a chain)."""
+    import warnings
+
+    from chainid.gap.diagnose import diagnose
+
+    rng = np.random.default_rng(5)
+    t = np.arange(0.0, 8.0, 1.0 / 400.0)
+    recs = []
+    for i in range(5):  # broadband x about 0.6 mm, |x − 0.6| <= 0.3 mm: F_k(x) >= 980 N; c·ẋ takes F below zero
+        u = np.cumsum(rng.normal(size=(t.size, 6)), axis=0)[:, 0]
+        u = np.convolve(u - u.mean(), np.ones(40) / 40.0, mode="same")
+        x = 0.6 + 0.3 * u / np.max(np.abs(u))
+        recs.append(Record(f"b{i}", t, x, force(x) + C * np.gradient(x, t)))
+    dipping = {r.test for r in recs if float(r.F.min()) < 0.0}
+    assert dipping  # the closed form's damping force exceeds the spring's somewhere
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            diagnose(recs, ["b4"], ChainModel(), uncertainty=False, quiet=True, max_combo=1, effects=["friction"])
+        except ValueError:
+            pass  # the diagnosis of these few records is not what this test pins
+    said = _dip_warnings(caught)
+    assert sorted(w.split("'")[1] for w in said) == sorted(dipping)  # each dipping record once, and only those
+    pushing = Record("push", t, recs[0].x, recs[0].F - float(np.mean(recs[0].F)))  # mean force zero: no tension
+    with pytest.raises(ValueError, match=r"test 'push': force goes compressive .* its mean is no tension"):
+        diagnose([pushing] + recs[1:], ["b4"], ChainModel(), uncertainty=False, quiet=True, max_combo=1)
