@@ -136,6 +136,8 @@ def _check_generator(args: argparse.Namespace) -> None:
                          "(--generator ode) has its own bases and excitations")
     if args.seed < 0:
         raise ValueError(f"--seed = {args.seed} is out of range; valid range >= 0")
+    if args.cases is not None and args.generator != "ode":
+        raise ValueError("--cases chooses the ODE world's cases by label; it needs --generator ode")
 
 
 def cmd_benchmark(args: argparse.Namespace) -> int:
@@ -185,7 +187,7 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
             out["ode"] = run_world(small=args.small, seed=args.seed, jobs=args.workers,
                                    json_path=None if both else args.json, overwrite=args.force,
                                    scheduler=args.scheduler, progress=not args.no_progress,
-                                   resamples=args.resamples)
+                                   resamples=args.resamples, only=args.cases)
         if both and args.json:
             from chainid.infra.fileio import write_json
 
@@ -267,6 +269,9 @@ def _add_benchmark_parser(subparsers: Any) -> None:
                    help="sim generator: which excitations run, comma separated: harmonic (steady test plans), random, "
                         "sweep, startup (ramp with load steps), quake (earthquake-like), transfer (fit harmonic, "
                         "score random, and back); default all")
+    b.add_argument("--cases", metavar="TEXT", default=None,
+                   help="ode generator: run only the cases whose label contains TEXT (e.g. '~table1', "
+                        "'single/damper/'; the labels are in the --json rows)")
     b.add_argument("--chain", metavar="FILE.toml|PRESET",
                    help="run every case on this chain (TOML file or preset, e.g. studless:76:grade=R4), its "
                         "displacements scaled to the 14x50 chain's nominal stress (default: the built-in 14x50 "

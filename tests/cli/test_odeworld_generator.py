@@ -81,3 +81,22 @@ def test_ode_world_through_the_cli_writes_real_rows(monkeypatch, tmp_path, capsy
     assert row["score"]["right"] == (row["verdict"] == "none")
     assert d["families"]["control"]["n"] == 1
     assert "ODE world: 1 cases" in capsys.readouterr().out
+
+
+def test_cases_runs_only_the_labels_that_contain_it(monkeypatch, capsys):
+    seen = []
+    monkeypatch.setattr(odeworld, "run_case", lambda c: seen.append(c["label"]) or {})
+    monkeypatch.setattr("chainid.gap.benchmark.odescore.summarise", lambda rows: {"n": len(rows)})
+    monkeypatch.setattr("chainid.gap.benchmark.odescore.format_table", lambda s: "TABLE")
+    assert main(["benchmark-gap", "--generator", "ode", "--cases", "~table1", "--scheduler", "serial",
+                 "--no-progress"]) == 0
+    assert len(seen) == 8 and all(lbl.endswith("~table1") for lbl in seen)  # 7 singles and the pair
+    assert sum(lbl.startswith("pair/") for lbl in seen) == 1
+
+
+@pytest.mark.parametrize("argv, msg", [
+    (["--generator", "ode", "--cases", "nothing-like-this"], "--cases 'nothing-like-this' matches no case label"),
+    (["--cases", "~table1"], "--cases chooses the ODE world's cases by label; it needs --generator ode")])
+def test_cases_that_match_nothing_or_without_the_ode_world_are_refused(argv, msg, capsys):
+    assert main(["benchmark-gap", "--no-progress", *argv]) == 2
+    assert msg in capsys.readouterr().err

@@ -50,10 +50,14 @@ def test_right_verdict_per_family(family, effects, verdict, shrinkage, right):
     ({"backlash": 1.0, "damping_law": 1.0}, "backlash", "feature", True),
     ({"backlash": 1.0, "damping_law": 1.0}, "none", "feature", False),
     ({"backlash": 1.0, "damping_law": 1.0}, "backlash", "viscous", False),
+    ({"damping_law": 1.0}, "none", "polynomial", True),                 # the harmonic route's Eq. 21 carries it
+    ({"damping_law": 1.0}, "friction", "polynomial", False),
+    ({"damping_law": 1.0}, "none", "hysteretic", False),                # c_e = h/ω, of ω alone: must be named
 ])
 def test_a_base_carrying_the_damping_law_reports_it(effects, verdict, base_law, right):
-    """A time-route base whose dashpot follows the records' features carries a ``damping_law`` truth itself: alone
-    it is right as ``none``, in a pair by the other effect; a base with one c must name it."""
+    """A base whose dashpot follows the records' ω and A (the time route's feature law, the harmonic route's Eq. 21)
+    carries a ``damping_law`` truth itself: alone it is right as ``none``, in a pair by the other effect; a base
+    with one c, or a law of one variable, must name it."""
     fam = "single" if len(effects) == 1 else "pair"
     assert sc.score_row(_row(fam, effects, verdict, 0.8, base_law=base_law))["right"] is right
 

@@ -161,3 +161,42 @@ def test_a_case_is_rebuilt_identically_from_its_seed():
         d = ra.F - rc.F
         assert float(np.abs(d).max()) <= 6 * m["sigma_F"] + m["q_F"]
         assert float(d.std()) == pytest.approx(math.sqrt(m["sigma_F"] ** 2 + m["q_F"] ** 2 / 12), rel=0.1)
+
+
+def test_table1_ranges_hold_the_papers_own_exponents():
+    """The Table-1 world's exponent ranges are read from the paper's Table 1 (tests 1–5: ω = 1…10 rad/s at A = 0.25
+    mm; tests 6–9 with test 3: A = 0.2…0.4 mm at ω = 6 rad/s): a log-log least-squares slope of each."""
+    from chainid.gap.benchmark.odeworld import TABLE1_P, TABLE1_Q
+
+    w, c_w = np.array([1, 4, 6, 8, 10.0]), np.array([5095.5, 3503.2, 2834.4, 2332.8, 1964.3])
+    A, c_A = np.array([0.2, 0.25, 0.3, 0.35, 0.4]), np.array([2614.1, 2834.4, 2906.9, 3058.8, 3090.5])
+    p = -np.polyfit(np.log(w), np.log(c_w), 1)[0]
+    q = np.polyfit(np.log(A), np.log(c_A), 1)[0]
+    assert TABLE1_P[0] < p < TABLE1_P[1] and TABLE1_Q[0] < q < TABLE1_Q[1]
+    assert (p, q) == (pytest.approx(0.39, abs=0.01), pytest.approx(0.24, abs=0.01))  # as the module states
+
+
+def test_table1_law_gives_each_record_its_power_law_c_and_is_curved():
+    case = {"family": "single", "base": "stiff", "excitation": "harmonic", "effects": {"damping_law": 1.0},
+            "outside": {}, "covariate": None, "sign": 1.0, "seed": 21, "law_form": "table1"}
+    recs, _, truth = build(case, clean=True)
+    law = truth["damping_law"]
+    assert law["form"] == "table1" and truth["effects"]["damping_law"] == {}  # no linear coefficients to score
+    cs = np.array([m["c"] for m in truth["records"]])
+    w = np.array([2 * np.pi * m["f"] for m in truth["records"]])
+    A = np.array([0.5 * float(np.ptp(r.x)) for r in recs])
+    for r, m, w_r in zip(recs, truth["records"], w):  # each record's c, read back from its own F and x
+        B = np.column_stack([np.ones_like(r.t), np.cos(w_r * r.t), np.sin(w_r * r.t)])
+        (_, xc, xs), (_, Fc, Fs) = (np.linalg.lstsq(B, y, rcond=None)[0] for y in (r.x, r.F))
+        assert float(np.imag((Fc - 1j * Fs) / (xc - 1j * xs))) / w_r == pytest.approx(m["c"], rel=0.01)
+    want = law["c"] * (w / law["omega_mean"]) ** (-law["p"]) * (A / law["A_mean"]) ** law["q"]
+    assert cs == pytest.approx(want, rel=1e-3)
+    assert 0.25 <= law["p"] <= 0.55 and 0.10 <= law["q"] <= 0.35  # level 1: the ranges themselves
+    assert np.ptp(w) / w.mean() > 0.3  # the records spread the band enough for the curvature to show
+
+
+def test_an_unknown_law_form_is_refused():
+    case = {"family": "single", "base": "stiff", "excitation": "harmonic", "effects": {"damping_law": 1.0},
+            "outside": {}, "covariate": None, "sign": 1.0, "seed": 21, "law_form": "cubic"}
+    with pytest.raises(ValueError, match=r"law_form = 'cubic' is unknown; valid: linear, table1"):
+        build(case)

@@ -7,8 +7,10 @@ strengths each case has.
 * ``single`` — each library effect alone at strengths 0.5, 1, 2 (× the typical strength of
   :func:`chainid.gap.benchmark.odecases.effect_params`) on the bases it applies to: chain-only effects
   (stiffness_level, contact_law, slack) on chains, hardening and deadband on linear bases, sensor_delay with the
-  force lagging and with the displacement lagging, damping_law (c varying ±20 % over the records by a c(ω, A) law)
-  on displacement-driven bases;
+  force lagging and with the displacement lagging, damping_law (c varying ±20 % over the records by a c(ω, A) law
+  linear in the record features) on displacement-driven bases; and damping_law shaped as the paper's Table 1
+  (``law_form = "table1"``: a power law in ω and A, curved, so a law linear in the features is a local fit;
+  :data:`TABLE1_CASES`);
 * ``pair`` — two effects together;
 * ``outside`` — relaxation (a Maxwell branch), drift, stick-slip chatter: outside the library;
 * ``covariate`` — 3–5 operating conditions with an amplitude parameter linear in the covariate (friction F_c in a
@@ -48,6 +50,11 @@ PAIRS = (("chain14", "friction", "sensor_delay"), ("chain14", "hysteresis", "sla
 OUTSIDE = (("chain14", "relaxation", "chirp"), ("stiff", "relaxation", "chirp"), ("damper", "relaxation", "noise"),
            ("chain14", "drift", "multisine"), ("resonant", "drift", "noise"), ("chain14", "chatter", "multisine"),
            ("stiff", "chatter", "noise"), ("chain18", "chatter", "chirp"))
+#: damping_law in the paper's Table 1 shape (base, excitation, level), and one pair with it
+TABLE1_CASES = (("chain14", "harmonic", 1.0), ("chain14", "multisine", 1.0), ("chain14", "noise", 2.0),
+                ("stiff", "noise", 1.0), ("stiff", "chirp", 2.0), ("damper", "multisine", 1.0),
+                ("damper", "chirp", 2.0))
+TABLE1_PAIR = ("chain14", "backlash", "chirp", 1.0)
 COVARIATES = (("damper", "friction", "F_c", "i", "A", 0.0, 2.0, 5, "multisine"),
               ("chain14", "hysteresis", "F_h", "T", "degC", 20.0, 60.0, 3, "noise"),
               ("stiff", "friction", "F_c", "i", "A", 0.0, 1.5, 4, "chirp"),
@@ -70,7 +77,8 @@ def _case(family: str, base: str, excitation: str, effects: dict[str, float], **
     return {"world": "ode", "family": family, "base": base, "excitation": excitation, "effects": eff,
             "outside": {}, "covariate": None, "sign": sign, "offsets": False,
             "label": f"{family}/{base}/{excitation}/{label}" + (f"@{lv}" if lv else "")
-            + ("+offsets" if kw.get("offsets") else ""), **kw}
+            + ("+offsets" if kw.get("offsets") else "")
+            + (f"~{kw['law_form']}" if kw.get("law_form", "linear") != "linear" else ""), **kw}
 
 
 def _full() -> list[dict[str, Any]]:
@@ -90,10 +98,14 @@ def _full() -> list[dict[str, Any]]:
                     exc = excs[i % len(excs)]
                 cases.append(_case("single", base, exc, {eff: lv}))
                 i += 1
+    for base, exc, lv in TABLE1_CASES:
+        cases.append(_case("single", base, exc, {"damping_law": lv}, law_form="table1"))
     for j, (base, a, b) in enumerate(PAIRS):
         excs = BASE_EXCITATIONS[base]
         for k, lv in enumerate((1.0, 2.0)):
             cases.append(_case("pair", base, excs[(j + k) % len(excs)], {a: lv, b: lv}))
+    base, eff, exc, lv = TABLE1_PAIR
+    cases.append(_case("pair", base, exc, {eff: lv, "damping_law": lv}, law_form="table1"))
     for base, kind, exc in OUTSIDE:
         for lv in (1.0, 2.0):
             cases.append(_case("outside", base, exc, {}, outside={kind: lv}))

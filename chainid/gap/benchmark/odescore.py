@@ -6,9 +6,11 @@ Right verdict per family:
 * ``single`` and ``covariate`` — the truth's effect is named alone or first;
 * ``pair`` — both effects are named (in any order, others may be named too);
 * ``control`` — the verdict is ``none``;
-* a truth with ``damping_law`` on a base that carries the dashpot's law over record features (the time route,
-  ``base_law == "feature"``): the law is the base's, so ``damping_law`` alone is right as ``none`` and a pair by
-  its other effect;
+* a truth with ``damping_law`` on a base that carries a dashpot law over the records' ω and A
+  (:data:`BASE_LAWS_OVER_FEATURES`: the time route's law over record features, ``base_law == "feature"``, and the
+  harmonic route's Eq. 21, ``"polynomial"``, chosen when the plan separates ω and A): the law is the base's, so
+  ``damping_law`` alone is right as ``none`` and a pair by its other effect (on the harmonic route the effect
+  ``damping_law`` means another law's form than Eq. 21's, which the world's laws are not);
 * ``outside`` — nothing is named with confidence: ``none`` or ``unexplained``, or a named effect whose held-out
   shrinkage is below :data:`OUTSIDE_SHRINK` (a weak verdict).
 
@@ -39,6 +41,9 @@ __all__ = ["FAMILIES", "OUTSIDE_SHRINK", "SNR_MIN", "score_row", "verdict_names"
            "markdown_table"]
 
 FAMILIES = ("control", "single", "pair", "outside", "covariate")
+#: the baseline damping laws that follow a record's ω and A (the paper's c_e(ω, A) in the base): with one of these a
+#: world's ``damping_law`` is the base's own (module docstring)
+BASE_LAWS_OVER_FEATURES = ("feature", "polynomial")
 #: a named effect with less held-out shrinkage than this is a weak verdict (right for an ``outside`` case)
 OUTSIDE_SHRINK = 0.5
 #: the "detectable" subset: the baseline's held-out residual is at least this many noise σ
@@ -59,7 +64,7 @@ def score_row(row: dict[str, Any]) -> dict[str, Any]:
     truth = [CANONICAL.get(n, n) for n in row.get("effects", {})]
     error = verdict.startswith("error")
     named_rest = named
-    if row.get("base_law") == "feature" and "damping_law" in truth:
+    if row.get("base_law") in BASE_LAWS_OVER_FEATURES and "damping_law" in truth:
         # the time route's base carries the dashpot's law over record features (the paper's c_e(ω, A) on any
         # excitation): that law is the base's, and what is left must be named (nothing, for damping_law alone)
         truth = [n for n in truth if n != "damping_law"]
