@@ -73,13 +73,16 @@ _UNITS = {"F_c": "N", "mu": "", "x_s": "mm", "F_h": "N", "x_h": "mm", "b": "mm",
           "k_d": "N/mm^p", "g": "mm", "x_c": "mm", "k3": "N/mm³", "k2": "N/mm²", "m_f": "kg", "k": "N/mm", "m": "kg"}
 
 
-def step_text(step: dict[str, Any]) -> str:
-    """One link of the explanation chain, e.g. ``stiffness level −21 % (EA × 0.79 ± 0.01)``."""
+def step_text(step: dict[str, Any], kept: bool = False) -> str:
+    """One link of the explanation chain, e.g. ``stiffness level −21 % (EA × 0.79 ± 0.01)``; ``kept``: the step is
+    in the kept chain (:func:`chainid.gap.core.verdict.trusted_path`), so a rise of the held-out error it made alone
+    is marked as recovered by the steps after it, not as over-fitting."""
     e = step["effect"]
     p, sd = step["params"], step.get("params_sd", {})
     tail = f" [held-out NRMSE {step['nrmse_holdout']:.3g}]" if step.get("nrmse_holdout") is not None else ""
     if step.get("worsened_holdout"):
-        tail += " [raised the held-out error: over-fitted, not in the verdict]"
+        tail += (" [raised the held-out error alone; kept: the step(s) after it take it lower]" if kept else
+                 " [raised the held-out error: over-fitted, not in the verdict]")
     if e == "baseline":
         return f"baseline{tail}"
     head = e.split("@", 1)[0]  # an effect with its amplitudes following a covariate: the effect's parameters

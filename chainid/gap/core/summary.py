@@ -125,6 +125,10 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
                    f"{part['nrmse_holdout_before']:.4g} → {part['nrmse_holdout']:.4g}, {100 * part['shrinkage']:.0f} %), "
                    f"but closes less than {100 * part['min_shrink']:.0f} % of the held-out gap: a part of it, not its "
                    "cause")
+        elif result.get("overfitted") and result.get("trusted_steps", 1) <= 1:
+            cut = result["steps"][1]
+            why = (f"{cut['effect']} passed the step rule on the training data but raised the held-out NRMSE "
+                   f"({result['baseline']['nrmse_holdout']:.4g} → {cut['nrmse_holdout']:.4g}): over-fitted, not kept")
         else:
             why = "no library effect passed the step rule or shrinks the held-out gap by half"
         lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")

@@ -118,7 +118,8 @@ def decide(consistent: bool, final: Any, stat: dict[str, Any], excess: float, pa
         if c.at_bound:
             warn.append(f"{c.name}: parameter(s) {', '.join(c.at_bound)} at the bound of their physical range; "
                         "the effect's form may not match the data there (read the value as a limit, not an estimate)")
-    if final is None and verdict == "unexplained" and best is not None:
+    if final is None and verdict == "unexplained" and best is not None and len(path) <= 1:
+        # (steps that passed it and were cut as over-fitted have their own warning: overfit_warning)
         warn.append(f"no effect passed the step rule ({fwd['stop']})")
     return verdict
 
@@ -166,7 +167,8 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "overfitted": bad is not None,
         "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,
-        "chain_text": " → ".join(step_text(s) for s in steps) + f" → residual {residual['db_over_noise']:.1f} dB over noise"
+        "chain_text": " → ".join(step_text(s, i < len(ok_path)) for i, s in enumerate(steps))
+        + f" → residual {residual['db_over_noise']:.1f} dB over noise"
         + kinematic_floor_text(residual),
         "warnings": warn,
         "holdout": holdout,

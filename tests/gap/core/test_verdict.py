@@ -115,3 +115,41 @@ def test_verdict_warns_of_each_step_with_a_parameter_at_its_bound():
             "as a limit, not an estimate)")
     # path[0] is the baseline: not warned about even if it had a bound
     assert warn == [f"friction: parameter(s) friction.x_s {tail}", f"backlash: parameter(s) backlash.b, backlash.k {tail}"]
+
+
+def test_a_chain_cut_as_over_fitted_is_not_said_to_have_had_no_step():
+    """A step that passed the step rule and was cut because it raised the held-out error is not "no effect passed
+    the step rule": that warning is for a chain with no step at all; the cut has its own over-fitting warning."""
+    base = SimpleNamespace(names=(), nrmse_holdout=0.24)
+    cut = SimpleNamespace(names=("hysteresis",), nrmse_holdout=0.32, shrinkage=-0.33, at_bound=())
+    warn: list[str] = []
+    v = vd.decide(False, None, dict(STAT_OK), 1.0, [base, cut], {"stop": "STOP"}, [], warn, best=cut)
+    assert v == "unexplained" and warn == []
+
+
+def test_the_summary_names_the_cut_step_and_a_kept_rising_step_reads_kept():
+    from chainid.gap.core.summary import summary
+    from chainid.gap.harmonic.problem import Candidate
+    from chainid.gap.core.verdict import contract
+
+    def cand(name, loto, hold, params=None):
+        return Candidate(name, params or {}, len(params or {}), nrmse_loto=loto, nrmse_holdout=hold)
+
+    prob, model = SimpleNamespace(law="viscous", law_reason="given"), SimpleNamespace(name="linear")
+    base = cand("baseline", 0.63, 0.24)
+    h = cand("hysteresis", 0.16, 0.32, {"hysteresis.F_h": 6.5})
+    (base.shrinkage, base.db_holdout), (h.shrinkage, h.db_holdout) = (0.0, 26.8), (1 - 0.32 / 0.24, 29.2)
+    noise = {"noise_sigma_N": 0.1, "db_over_noise": 26.8, "excess_rms_N": 2.2, "chi2_ratio": 480.0}
+    res = contract(prob, model, base, noise, {"path": [base, h],
+                   "singles": [h], "stop": "S", "dropped": []}, "unexplained", "", {"db_over_noise": 26.8}, [], [],
+                   [], [], ["h"], [])
+    text = summary(res)
+    assert ("VERDICT: unexplained — hysteresis passed the step rule on the training data but raised the held-out "
+            "NRMSE (0.24 → 0.32): over-fitted, not kept") in text
+    # a rising step the next one recovers is kept, and its text says so (not "not in the verdict")
+    d = cand("damping_law", 0.14, 0.09, {"damping_law.b_w": -3.0})
+    res = contract(prob, model, base, {"noise_sigma_N": 0.1}, {"path": [base, h, d], "singles": [h, d], "stop": "S",
+                   "dropped": []}, "hysteresis+damping_law", "", {"db_over_noise": 18.6}, [], [], [], [], ["h"], [])
+    assert "hysteresis F_h = 6.5 N [held-out NRMSE 0.32] [raised the held-out error alone; kept: the step(s) after " \
+           "it take it lower] → damping_law" in res["chain_text"]
+    assert "not in the verdict" not in res["chain_text"]
