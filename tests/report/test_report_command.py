@@ -113,3 +113,27 @@ def test_report_data_step_with_compressive_records_uses_a_linear_spring(tmp_path
     assert doc["model"].startswith("linear")
     ce = [t["c_e"] for t in doc["tests"]]
     assert ce == pytest.approx([20.0] * len(ce), rel=0.02)
+
+
+@pytest.mark.slow
+def test_report_json_holds_every_warning_it_printed(tmp_path, capsys, monkeypatch):
+    """A report's JSON files carry the run's warnings (``chainid.report.common`` merges them), as every other
+    command's JSON does: records in ms read as s are implausibly slow, printed once and in identify.json.  (The gap
+    and verification steps, with their own tests, are stubs here: this pins the warnings' path.)"""
+    import chainid.report.build as build
+    from chainid.model.base import ChainModel
+    from chainid.records.files import write_records
+    from chainid.records.record import Record
+    from chainid.records.simulate import paper_plan, simulate
+
+    recs = simulate(paper_plan()[:4], ChainModel(), 2834.4, n_cycles=4, samples_per_cycle=64)
+    data = tmp_path / "slow.csv"
+    write_records(data, [Record(r.test, r.t * 1000.0, r.x, r.F) for r in recs])  # t in ms, read as s
+    monkeypatch.setattr(build, "step_gap", lambda *a, **k: "## gap (stub)\n")
+    monkeypatch.setattr(build, "step_verification", lambda *a, **k: "## verification (stub)\n")
+    assert cli.main(["report", "--data", str(data), "--out", str(tmp_path / "rep")]) == 0
+    head = "chainid report: warning: "
+    printed = [ln[len(head):] for ln in capsys.readouterr().err.splitlines() if ln.startswith(head)]
+    assert any("implausibly slow" in w and "--units t=ms" in w for w in printed)
+    doc = json.loads((tmp_path / "rep" / "json" / "identify.json").read_text())
+    assert [w for w in printed if w not in doc["warnings"]] == []
