@@ -58,11 +58,14 @@ def separating_test(a: str, b: str) -> str:
     return "tests over a wider mean-load range x0 (stiffness-side effects scale differently with load)"
 
 
-def _fmt(v: float | None, sd: float | None = None) -> str:
+def _fmt(v: float | None, sd: float | None = None, ci: Any = None) -> str:
+    """A value with its spread: the resampled 90 % interval ``ci`` [lo, hi] when given, else ± ``sd``."""
     if v is None:
         return "?"
     s = f"{v:.4g}"
-    if sd is not None and math.isfinite(sd) and sd > 0:
+    if ci is not None and len(ci) == 2 and all(math.isfinite(b) for b in ci):
+        s += f" [{ci[0]:.4g}, {ci[1]:.4g}]"
+    elif sd is not None and math.isfinite(sd) and sd > 0:
         s += f" ± {sd:.2g}"
     return s
 
@@ -89,13 +92,14 @@ def step_text(step: dict[str, Any], kept: bool = False) -> str:
     pre = head + "." if "." not in head else head
     mine = {k[len(pre):]: v for k, v in p.items() if k.startswith(pre)}
     msd = {k[len(pre):]: v for k, v in sd.items() if k.startswith(pre)}
+    mci = {k[len(pre):]: v for k, v in (step.get("params_ci90") or {}).items() if k.startswith(pre)}
     if e == "stiffness_level" and mine.get("scale") is not None:
         sc = mine["scale"]
-        return f"stiffness level {100 * (sc - 1):+.0f} % (EA × {_fmt(sc, msd.get('scale'))}){tail}"
+        return f"stiffness level {100 * (sc - 1):+.0f} % (EA × {_fmt(sc, msd.get('scale'), mci.get('scale'))}){tail}"
     if e == "contact_law":
-        return (f"contact law: Hertz compliance × {_fmt(mine.get('scale'), msd.get('scale'))}, exponent "
-                f"{_fmt(mine.get('beta'), msd.get('beta'))} (Hertz 0.667){tail}")
-    ps = ", ".join(f"{k} = {_fmt(v, msd.get(k))}{(' ' + _UNITS.get(k, '')) if _UNITS.get(k) else ''}"
+        return (f"contact law: Hertz compliance × {_fmt(mine.get('scale'), msd.get('scale'), mci.get('scale'))}, "
+                f"exponent {_fmt(mine.get('beta'), msd.get('beta'), mci.get('beta'))} (Hertz 0.667){tail}")
+    ps = ", ".join(f"{k} = {_fmt(v, msd.get(k), mci.get(k))}{(' ' + _UNITS.get(k, '')) if _UNITS.get(k) else ''}"
                    for k, v in mine.items())
     return f"{e} {ps}{tail}".rstrip()
 

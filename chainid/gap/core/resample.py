@@ -235,14 +235,19 @@ def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], reason: str 
 
 
 def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:
-    """Put a resampling's numbers into a diagnosis result: per step ``stability`` and ``params_ci90``, the whole
-    under ``stability``, and ``confidence`` — ``confident`` when every step of the verdict's chain is chosen by at
+    """Put a resampling's numbers into a diagnosis result: per step ``stability`` and ``params_ci90`` (and the
+    chain's line, ``chain_text``, with those intervals), the whole under ``stability``, and ``confidence`` — ``confident`` when every step of the verdict's chain is chosen by at
     least :data:`CONFIDENT` of the resamples, else ``tentative``."""
     for st, row in zip(result["steps"], stab["steps"]):
         if "stability" in row:
             st["stability"] = row["stability"]
         st["params_ci90"] = row["params_ci90"]
     result["stability"] = stab
+    if result.get("residual"):  # the chain's line again, with the resampled intervals
+        from chainid.gap.core.verdict import chain_text
+
+        result["chain_text"] = chain_text(result["steps"], result.get("trusted_steps", len(result["steps"])),
+                                          result["residual"])
     shares = [r["stability"] for r in stab["steps"][1:]]
     result["confidence"] = "confident" if all(v >= CONFIDENT for v in shares) else "tentative"
     if shares and result["confidence"] == "tentative":

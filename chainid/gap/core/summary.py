@@ -33,15 +33,20 @@ def write_json(result: dict[str, Any], path: str | Path, overwrite: bool = False
     return p
 
 
-def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = ()) -> str:
-    sd = sd or {}
+def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = (),
+            ci: dict[str, Any] | None = None) -> str:
+    """``name=value`` of each parameter with its spread: the resampled 90 % interval ``[lo, hi]`` where ``ci`` has
+    one (a resampled diagnosis), else ``±`` the jack-knife standard deviation ``sd``; "(at bound)" on a bound."""
+    sd, ci = sd or {}, ci or {}
     out = []
     for k, v in p.items():
         if v is None or k.startswith("law.") or k.startswith("spring."):
             continue
         s = f"{k}={v:.4g}"
         at_bound = k in bound or (v == 0 and sd.get(k) == 0)  # a zero estimate that no resample moves sits on a bound
-        if sd.get(k) is not None and not at_bound:
+        if ci.get(k) is not None and not at_bound:
+            s += f" [{ci[k][0]:.4g}, {ci[k][1]:.4g}]"
+        elif sd.get(k) is not None and not at_bound:
             s += f"±{sd[k]:.2g}"
         if at_bound:
             s += " (at bound)"
@@ -52,8 +57,11 @@ def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = ()
 def waterfall(result: dict[str, Any]) -> list[str]:
     """The explanation chain as table lines: step, effect, held-out NRMSE, held-out fit % ("n/a" for a step
     without one), shrinkage, dB over noise, params."""
+    steps = result.get("steps", [])
+    resampled = any(st.get("params_ci90") for st in steps)
     lines = [f"  {'step':<5} {'+ effect':<20} {'LOTO':>8} {'held-out':>9} {'fit %':>6} {'shrink':>7} {'dB/noise':>8}"
-             "  parameters"]
+             "  parameters" + (" [90 % interval over the resamples]; the share of resamples that choose the step"
+                               if resampled else " ± jack-knife standard deviation")]
     kept = result.get("trusted_steps", len(result.get("steps", [])))
     for i, st in enumerate(result.get("steps", [])):
         mark = ("" if not st.get("worsened_holdout") else "  << raised the held-out error: over-fitted" if i >= kept
@@ -62,13 +70,20 @@ def waterfall(result: dict[str, Any]) -> list[str]:
         lines.append(f"  {i:<5} {st['effect']:<20} {st['nrmse_loto']:>8.4g} {st['nrmse_holdout']:>9.4g} "
                      f"{f'{fit:.1f}' if fit is not None else 'n/a':>6} {100 * (st['shrinkage'] or 0):>6.1f}% "
                      f"{st['db_over_noise']:>8.1f}  "
-                     f"{_params(st['params'], st.get('params_sd'), st.get('at_bound', ()))}{mark}")
+                     f"{_params(st['params'], st.get('params_sd'), st.get('at_bound', ()), st.get('params_ci90'))}"
+                     f"{_chosen(st)}{mark}")
     r = result.get("residual") or {}
     if r:
         stat = {True: "stationary", False: "NOT stationary", None: "stationarity not checked"}[r.get("stationary")]
         lines.append(f"  left: {r['db_over_noise']:.1f} dB over the noise floor"
                      f"{' (at the floor)' if r.get('at_noise_floor') else ''}; {stat}")
     return lines
+
+
+def _chosen(step: dict[str, Any]) -> str:
+    """How often the resamples choose a step (:mod:`chainid.gap.core.resample`), "" when not resampled."""
+    share = step.get("stability")
+    return f"; chosen in {100 * share:.0f} % of resamples" if share is not None else ""
 
 
 def _left(result: dict[str, Any]) -> str:

@@ -133,7 +133,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     ``noise`` holds the baseline's excess_rms_N, noise_sigma_N, chi2_ratio and db_over_noise.  The private
     keys ``_problem``, ``_best`` and ``_path`` carry the fitted objects (plots, transfer).
     """
-    from chainid.gap.core.interpret import covariate_dependence, mechanism, step_dict, step_text
+    from chainid.gap.core.interpret import covariate_dependence, mechanism, step_dict
 
     path = fwd["path"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
@@ -167,9 +167,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "overfitted": bad is not None,
         "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,
-        "chain_text": " → ".join(step_text(s, i < len(ok_path)) for i, s in enumerate(steps))
-        + f" → residual {residual['db_over_noise']:.1f} dB over noise"
-        + kinematic_floor_text(residual),
+        "chain_text": chain_text(steps, len(ok_path), residual),
         "warnings": warn,
         "holdout": holdout,
         "tests": tests,
@@ -177,6 +175,15 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "_best": best,
         "_path": path,
     }
+
+
+def chain_text(steps: list[dict[str, Any]], kept: int, residual: dict[str, Any]) -> str:
+    """The explanation chain in one line: each step's text (:func:`chainid.gap.core.interpret.step_text`; the
+    first ``kept`` steps are the kept chain), then the residual over the noise and the kinematic floor."""
+    from chainid.gap.core.interpret import step_text
+
+    return (" → ".join(step_text(s, i < kept) for i, s in enumerate(steps))
+            + f" → residual {residual['db_over_noise']:.1f} dB over noise" + kinematic_floor_text(residual))
 
 
 def kinematic_floor_text(residual: dict[str, Any]) -> str:

@@ -153,3 +153,34 @@ def test_the_summary_names_the_cut_step_and_a_kept_rising_step_reads_kept():
     assert "hysteresis F_h = 6.5 N [held-out NRMSE 0.32] [raised the held-out error alone; kept: the step(s) after " \
            "it take it lower] → damping_law" in res["chain_text"]
     assert "not in the verdict" not in res["chain_text"]
+
+
+def test_a_resampled_diagnosis_prints_its_intervals_and_shares_not_the_jack_knife():
+    """With resamples the terminal shows each parameter's 90 % resampled interval and how often each step is
+    chosen, in the waterfall and in the VERDICT line; without, ± the jack-knife standard deviation (labelled)."""
+    from chainid.gap.core.resample import attach
+    from chainid.gap.core.summary import summary
+    from chainid.gap.harmonic.problem import Candidate
+    from chainid.gap.core.verdict import contract
+
+    base = Candidate("baseline", {}, 0, nrmse_loto=0.9, nrmse_holdout=0.8)
+    f = Candidate("friction", {"friction.F_c": 12.0}, 1, nrmse_loto=0.2, nrmse_holdout=0.1)
+    f.param_sd = {"friction.F_c": 0.01}
+    (base.shrinkage, base.db_holdout), (f.shrinkage, f.db_holdout) = (0.0, 20.0), (0.875, 1.0)
+    noise = {"noise_sigma_N": 1.0, "db_over_noise": 20.0, "excess_rms_N": 10.0, "chi2_ratio": 100.0}
+
+    def result():
+        return contract(SimpleNamespace(law="viscous", law_reason="given"), SimpleNamespace(name="chain"), base,
+                        noise, {"path": [base, f], "singles": [f], "stop": "S", "dropped": []}, "friction", "",
+                        {"db_over_noise": 1.0}, [], [], [], [], ["h"], [])
+
+    plain = summary(result())
+    assert "parameters ± jack-knife standard deviation" in plain and "friction.F_c=12±0.01" in plain
+    res = result()
+    attach(res, {"resamples": 200, "steps": [{"effect": "baseline", "params_ci90": {}},
+                                             {"effect": "friction", "params_ci90": {"friction.F_c": [9.5, 14.25]},
+                                              "stability": 0.97}]})
+    text = summary(res)
+    assert "friction.F_c=12 [9.5, 14.25]; chosen in 97 % of resamples" in text
+    assert "[90 % interval over the resamples]" in text and "±0.01" not in text
+    assert "friction F_c = 12 [9.5, 14.25] N" in res["chain_text"]
