@@ -236,8 +236,9 @@ def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], reason: str 
 
 def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:
     """Put a resampling's numbers into a diagnosis result: per step ``stability`` and ``params_ci90`` (and the
-    chain's line, ``chain_text``, with those intervals), the whole under ``stability``, and ``confidence`` — ``confident`` when every step of the verdict's chain is chosen by at
-    least :data:`CONFIDENT` of the resamples, else ``tentative``."""
+    chain's line, ``chain_text``, with those intervals), the whole under ``stability``, and ``confidence`` —
+    ``confident`` when every step of the verdict's chain is chosen by at least :data:`CONFIDENT` of the
+    resamples, else ``tentative``."""
     for st, row in zip(result["steps"], stab["steps"]):
         if "stability" in row:
             st["stability"] = row["stability"]
