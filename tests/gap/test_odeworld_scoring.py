@@ -183,3 +183,34 @@ def test_the_world_imports_none_of_the_projects_simulator():
                     if isinstance(node, ast.ImportFrom) else
                     [a.name for a in node.names] if isinstance(node, ast.Import) else [])
             assert not banned & set(mods), f"{f.name} imports {banned & set(mods)}"
+
+
+def test_open_world_rates_and_which_finding_flagged_the_outside_cases():
+    """Flags on outside cases (and by which finding: the learner's ``state``, a ``time`` trend, ``chatter``),
+    silence on controls and on right verdicts, counted by hand."""
+    def ow_row(family, effects, verdict, kinds, **kw):
+        r = _row(family, effects, verdict, 0.8, **kw)
+        r["open_world"] = {"missing_effect": bool(kinds), "kinds": kinds, "predictable_share": 0.3}
+        r["score"] = sc.score_row(r)
+        return r
+
+    rows = [ow_row("outside", {}, "unexplained", ["state"], outside={"relaxation": 1.0}),
+            ow_row("outside", {}, "unexplained", ["time"], outside={"drift": 1.0}),
+            ow_row("outside", {}, "none", ["state", "chatter"], outside={"chatter": 1.0}),
+            ow_row("outside", {}, "unexplained", [], outside={"relaxation": 2.0}),
+            ow_row("control", {}, "none", []), ow_row("control", {}, "none", ["time"]),
+            ow_row("single", {"friction": 1.0}, "friction", []), ow_row("pair", {"friction": 1, "slack": 1},
+                                                                        "friction+slack", []),
+            ow_row("single", {"friction": 1.0}, "hysteresis", ["state"])]  # wrong: not among the explained
+    got = sc.open_world_rates(rows)
+    assert (got["outside_flagged"], got["outside_n"]) == (0.75, 4)
+    assert got["outside_by_kind"] == {"state": 2, "time": 1, "chatter": 1}
+    assert (got["control_silent"], got["control_n"], got["explained_silent"], got["explained_n"]) == (0.5, 2, 1.0, 2)
+    summary = sc.summarise(rows)
+    assert "flags outside cases 75 % of 4 (by finding: state 2, time 1, chatter 1)" in sc.format_table(summary)
+    del rows[0]["open_world"]["kinds"]  # a row written before the findings were recorded
+    assert sc.open_world_rates(rows)["outside_by_kind"] is None
+    from chainid.gap.benchmark.report import open_world_row
+
+    assert open_world_row({"open_world": {"missing_effect": True, "kinds": ["time"], "predictable_share": 0.1}}) == {
+        "missing_effect": True, "kinds": ["time"], "predictable_share": 0.1}

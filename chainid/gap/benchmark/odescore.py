@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from chainid.gap.benchmark.report import by_kind_text, flags_by_kind
 from chainid.gap.benchmark.paramscore import (CANONICAL, Z90, coverage_by_effect, param_scores,  # noqa: F401  (API)
                                               param_table, pool_scores)
 
@@ -136,6 +137,7 @@ def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
     explained = [r for r in ok if r["family"] in ("single", "pair", "covariate") and r["score"]["right"]]
     rate = lambda rr, f: (sum(f(r) for r in rr) / len(rr)) if rr else None  # noqa: E731
     return {"outside_flagged": rate(outside, flagged), "outside_n": len(outside),
+            "outside_by_kind": flags_by_kind(outside),
             "control_silent": rate(control, lambda r: not flagged(r)), "control_n": len(control),
             "explained_silent": rate(explained, lambda r: not flagged(r)), "explained_n": len(explained)}
 
@@ -168,7 +170,8 @@ def format_table(s: dict[str, Any]) -> str:
             f"{k} {_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["coverage_by_effect"].items()))
     ow = s.get("open_world")
     if ow:
-        lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}; "
+        lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}"
+                     f"{by_kind_text(ow.get('outside_by_kind'))}; "
                      f"silent on controls {_pct(ow['control_silent'])} of {ow['control_n']}, on right verdicts "
                      f"{_pct(ow['explained_silent'])} of {ow['explained_n']}")
     if s["errors"]:
@@ -202,7 +205,8 @@ def markdown_table(s: dict[str, Any]) -> str:
     ow = s.get("open_world")
     if ow:
         lines += ["", "| model-free check | rate | cases |", "|---|---|---|",
-                  f"| flags a missing effect on `outside` cases | {_pct(ow['outside_flagged'])} | {ow['outside_n']} |",
+                  f"| flags a missing effect on `outside` cases{by_kind_text(ow.get('outside_by_kind'))} | "
+                  f"{_pct(ow['outside_flagged'])} | {ow['outside_n']} |",
                   f"| silent on controls | {_pct(ow['control_silent'])} | {ow['control_n']} |",
                   f"| silent on right verdicts (single, pair, covariate) | {_pct(ow['explained_silent'])} | "
                   f"{ow['explained_n']} |"]
