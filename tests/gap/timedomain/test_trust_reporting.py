@@ -145,6 +145,7 @@ def test_model_free_check_flags_relaxation():
     res = rc.diagnosed("relaxation", _relaxation)[0]
     ow = res["open_world"]
     assert ow["missing_effect"] is True, (ow, res["chain_text"])
+    assert "state" in ow["kinds"] and ow["significant"] is True  # the learner's own finding, not only a trend
     assert ow["predictable_share"] >= 0.10
     assert res["verdict"] == "unexplained", res["chain_text"]  # outside the library: never named with confidence
 
