@@ -49,8 +49,11 @@ def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, stead
 
     data, excluded = [], []
     for r in records:
-        if r.t.size >= 64 and is_broadband(r.t, r.x):  # clearly not one sine: no harmonic estimate to try
-            check_data(r, allow_compression=allow_compression)  # its data errors and sign warnings, as any record's
+        finite = bool(np.all(np.isfinite(r.t)) and np.all(np.isfinite(r.x)))  # else prepare_test names the sample
+        if r.t.size >= 64 and finite and is_broadband(r.t, r.x):  # clearly not one sine: no harmonic estimate
+            # its data are checked as any record's: a data error (a chain force without mean tension) is raised,
+            # never a reason to leave the record out; its sign warnings said once
+            check_data(r, allow_compression=allow_compression)
             excluded.append({"test": r.test, "reason": "not a harmonic test (broadband displacement)"})
             continue
         try:

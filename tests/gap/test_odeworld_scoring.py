@@ -210,7 +210,22 @@ def test_open_world_rates_and_which_finding_flagged_the_outside_cases():
     assert "flags outside cases 75 % of 4 (by finding: state 2, time 1, chatter 1)" in sc.format_table(summary)
     del rows[0]["open_world"]["kinds"]  # a row written before the findings were recorded
     assert sc.open_world_rates(rows)["outside_by_kind"] is None
-    from chainid.gap.benchmark.report import open_world_row
+    from chainid.gap.benchmark.openworldscore import open_world_row
 
     assert open_world_row({"open_world": {"missing_effect": True, "kinds": ["time"], "predictable_share": 0.1}}) == {
         "missing_effect": True, "kinds": ["time"], "predictable_share": 0.1}
+    # the learner's finding does not count where what is left is at the noise floor (chainid.gap.core.openworld)
+    assert open_world_row({"open_world": {"missing_effect": True, "kinds": ["state", "time"], "at_noise_floor": True,
+                                          "predictable_share": 0.2}})["kinds"] == ["time"]
+
+
+@pytest.mark.parametrize("verdict, base_law, right", [
+    ("none", "feature", True), ("unexplained", "feature", True), ("damping_law", "polynomial", True),
+    ("hysteresis", "feature", False),        # a wrong effect named for the curvature the base leaves
+    ("unexplained", "viscous", False),       # one c in the base: the law must be named
+])
+def test_a_table1_law_the_base_only_approximates_is_right_when_nothing_else_is_named(verdict, base_law, right):
+    row = _row("single", {"damping_law": 1.0}, verdict, 0.8, base_law=base_law, law_form="table1")
+    assert sc.score_row(row)["right"] is right
+    lin = _row("single", {"damping_law": 1.0}, "unexplained", 0.8, base_law="feature")  # the world's law is linear:
+    assert sc.score_row(lin)["right"] is False                                          # the base fits it exactly

@@ -10,7 +10,10 @@ Right verdict per family:
   (:data:`BASE_LAWS_OVER_FEATURES`: the time route's law over record features, ``base_law == "feature"``, and the
   harmonic route's Eq. 21, ``"polynomial"``, chosen when the plan separates ω and A): the law is the base's, so
   ``damping_law`` alone is right as ``none`` and a pair by its other effect (on the harmonic route the effect
-  ``damping_law`` means another law's form than Eq. 21's, which the world's laws are not);
+  ``damping_law`` means another law's form than Eq. 21's).  A world law of another form than the base's
+  (``law_form = "table1"``, a power law in ω and A, which neither Eq. 21 nor the time route's linear law is)
+  may leave a residual the base cannot fit: ``damping_law`` alone is then right as any verdict that names no
+  other effect (``none``, ``unexplained``, ``damping_law``);
 * ``outside`` — nothing is named with confidence: ``none`` or ``unexplained``, or a named effect whose held-out
   shrinkage is below :data:`OUTSIDE_SHRINK` (a weak verdict).
 
@@ -34,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark.report import by_kind_text, flags_by_kind
+from chainid.gap.benchmark.openworldscore import by_kind_text, flags_by_kind
 from chainid.gap.benchmark.paramscore import (CANONICAL, Z90, coverage_by_effect, param_scores,  # noqa: F401  (API)
                                               param_table, pool_scores)
 
@@ -73,7 +76,10 @@ def score_row(row: dict[str, Any]) -> dict[str, Any]:
         named = ["damping_law"] + named_rest
         if not truth:
             fam = "control"
-    if fam in ("single", "covariate"):
+    curved_law = fam == "control" and row.get("law_form", "linear") != "linear"
+    if curved_law:  # the world's law is not the base's form: what is left may show (module docstring)
+        right = not error and not named_rest
+    elif fam in ("single", "covariate"):
         right = bool(named_rest) and named_rest[0] == truth[0]
     elif fam == "pair":
         right = set(truth) <= set(named_rest)

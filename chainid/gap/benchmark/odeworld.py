@@ -183,7 +183,7 @@ def _holdout(case: dict[str, Any], n: int, cov: np.ndarray | None, rng: np.rando
 
 
 def _result_row(res: dict[str, Any]) -> dict[str, Any]:
-    from chainid.gap.benchmark.report import open_world_row
+    from chainid.gap.benchmark.openworldscore import open_world_row
 
     steps = res.get("steps") or []
     last = steps[-1] if steps else {}

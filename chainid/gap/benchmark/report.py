@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from chainid.gap.benchmark.openworldscore import by_kind_text, flags_by_kind, open_world_row  # noqa: F401  (API)
 from chainid.gap.benchmark.paramscore import (CANONICAL, coverage_by_effect, coverage_lines, param_scores, param_table,
                                               pool_scores)
 from chainid.gap.benchmark.simtruth import nested, trusted_fields
@@ -28,33 +29,6 @@ def case_row(case: dict[str, Any], res: dict[str, Any], seconds: float, truth: d
             "steps": [s["effect"] for s in res.get("steps", [])[1:]], **trusted_fields(res), "true_params": truth,
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"], "open_world": open_world_row(res)}
-
-
-def open_world_row(res: dict[str, Any]) -> dict[str, Any]:
-    """The model-free check of a diagnosis (``res["open_world"]``) as a benchmark row's fields: whether it flags a
-    missing effect, which findings did (``kinds``: ``state`` — the learner —, ``time``, ``chatter``), and the
-    held-out share of the residual the learner predicts."""
-    ow = res.get("open_world") or {}
-    return {"missing_effect": bool(ow.get("missing_effect")), "kinds": list(ow.get("kinds") or []),
-            "predictable_share": ow.get("predictable_share")}
-
-
-def flags_by_kind(rows: list[dict[str, Any]]) -> dict[str, int] | None:
-    """How many of the flagged ``rows`` each finding of the model-free check flagged (a row may count under more
-    than one); None when no row records its findings (a row written before they were)."""
-    rows = [r for r in rows if (r.get("open_world") or {}).get("missing_effect")]
-    if any("kinds" not in (r.get("open_world") or {}) for r in rows):
-        return None
-    out = {k: 0 for k in ("state", "time", "chatter")}
-    for r in rows:
-        for k in r["open_world"]["kinds"]:
-            out[k] = out.get(k, 0) + 1
-    return out
-
-
-def by_kind_text(counts: dict[str, int] | None) -> str:
-    """" (by finding: state 3, time 5, chatter 1)" for :func:`flags_by_kind`, "" when unknown."""
-    return "" if counts is None else " (by finding: " + ", ".join(f"{k} {n}" for k, n in counts.items()) + ")"
 
 
 def _flagged(r: dict[str, Any]) -> bool:
@@ -301,8 +275,9 @@ def format_nonharmonic(s: dict[str, Any]) -> list[str]:
 def open_world_line(r: dict[str, Any]) -> str:
     """The model-free check's rates of a family summary (:func:`family_rates`) in one line."""
     return (f"model-free check: flags a missing effect on outside cases {_pct(r['open_world_outside_flagged_rate'])}"
-            f"{by_kind_text(r.get('open_world_outside_by_kind'))} (target >= 90 %); silent on controls {_pct(r['open_world_control_silent_rate'])}, on right single/pair "
-            f"verdicts {_pct(r['open_world_explained_silent_rate'])} (targets >= 90 %)")
+            f"{by_kind_text(r.get('open_world_outside_by_kind'))} (target >= 90 %); silent on controls "
+            f"{_pct(r['open_world_control_silent_rate'])}, on right single/pair verdicts "
+            f"{_pct(r['open_world_explained_silent_rate'])} (targets >= 90 %)")
 
 
 def format_summary(s: dict[str, Any]) -> str:

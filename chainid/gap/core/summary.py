@@ -54,22 +54,33 @@ def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = ()
     return ", ".join(out)
 
 
+def _g(v: Any, spec: str) -> str:
+    """``v`` formatted by ``spec`` (e.g. ``">9.4g"``), or "n/a" at the same width where it is None or not finite
+    (a held-out score that could not be computed)."""
+    ok = isinstance(v, (int, float)) and math.isfinite(v)
+    width = "".join(ch for ch in spec.split(".")[0] if ch.isdigit() or ch in "<>")
+    return format(v, spec) if ok else format("n/a", width)
+
+
 def waterfall(result: dict[str, Any]) -> list[str]:
     """The explanation chain as table lines: step, effect, held-out NRMSE, held-out fit % ("n/a" for a step
-    without one), shrinkage, dB over noise, params."""
+    without one), shrinkage, dB over noise, params.  A resampled result gives each parameter of the steps it
+    resampled (the kept chain) its 90 % interval over the resamples, and each step its share of them; a step
+    outside the kept chain keeps ± its jack-knife standard deviation, and says so."""
     steps = result.get("steps", [])
-    resampled = any(st.get("params_ci90") for st in steps)
+    resampled = "stability" in result
     lines = [f"  {'step':<5} {'+ effect':<20} {'LOTO':>8} {'held-out':>9} {'fit %':>6} {'shrink':>7} {'dB/noise':>8}"
              "  parameters" + (" [90 % interval over the resamples]; the share of resamples that choose the step"
                                if resampled else " ± jack-knife standard deviation")]
-    kept = result.get("trusted_steps", len(result.get("steps", [])))
-    for i, st in enumerate(result.get("steps", [])):
+    kept = result.get("trusted_steps", len(steps))
+    for i, st in enumerate(steps):
         mark = ("" if not st.get("worsened_holdout") else "  << raised the held-out error: over-fitted" if i >= kept
                 else "  << raised the held-out error alone (kept: the next step(s) take it lower)")
-        fit = st.get("fit_holdout_pct")
-        lines.append(f"  {i:<5} {st['effect']:<20} {st['nrmse_loto']:>8.4g} {st['nrmse_holdout']:>9.4g} "
-                     f"{f'{fit:.1f}' if fit is not None else 'n/a':>6} {100 * (st['shrinkage'] or 0):>6.1f}% "
-                     f"{st['db_over_noise']:>8.1f}  "
+        if resampled and i > 0 and not st.get("params_ci90") and st.get("params_sd"):
+            mark = " (± jack-knife: not resampled)" + mark
+        lines.append(f"  {i:<5} {st['effect']:<20} {_g(st['nrmse_loto'], '>8.4g')} {_g(st['nrmse_holdout'], '>9.4g')} "
+                     f"{_g(st.get('fit_holdout_pct'), '>6.1f')} {100 * (st['shrinkage'] or 0):>6.1f}% "
+                     f"{_g(st['db_over_noise'], '>8.1f')}  "
                      f"{_params(st['params'], st.get('params_sd'), st.get('at_bound', ()), st.get('params_ci90'))}"
                      f"{_chosen(st)}{mark}")
     r = result.get("residual") or {}
@@ -122,8 +133,9 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
     lines += ["", "Each effect alone on the baseline (ranking):"]
     lines.append(f"  {'effect':<30} {'LOTO':>8} {'held-out':>9} {'shrink':>7}  params")
     for c in result["ranking"][:n_rank]:
-        lines.append(f"  {c['effect']:<30} {c['nrmse_loto']:>8.4g} {c['nrmse_holdout']:>9.4g} "
-                     f"{100 * c['shrinkage']:>6.1f}%  {_params(c['params'], None, c.get('at_bound', ()))}")
+        shrink = 100 * c["shrinkage"] if isinstance(c.get("shrinkage"), (int, float)) else None
+        lines.append(f"  {c['effect']:<30} {_g(c['nrmse_loto'], '>8.4g')} {_g(c['nrmse_holdout'], '>9.4g')} "
+                     f"{_g(shrink, '>6.1f')}%  {_params(c['params'], None, c.get('at_bound', ()))}")
     for cf in result.get("confounded", []):
         lines.append(f"  confounded: {cf['pair'][0]} ~ {cf['pair'][1]}; to separate them: {cf['separate_by']}")
     lines.append("")
@@ -142,8 +154,9 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
                    "cause")
         elif result.get("overfitted") and result.get("trusted_steps", 1) <= 1:
             cut = result["steps"][1]
-            why = (f"{cut['effect']} passed the step rule on the training data but raised the held-out NRMSE "
-                   f"({result['baseline']['nrmse_holdout']:.4g} → {cut['nrmse_holdout']:.4g}): over-fitted, not kept")
+            before, after = result["baseline"]["nrmse_holdout"], cut["nrmse_holdout"]
+            why = (f"{cut['effect']} passed the step rule on the training data but did not hold on the held-out "
+                   f"data (held-out NRMSE {_g(before, '.4g')} → {_g(after, '.4g')}): over-fitted, not kept")
         else:
             why = "no library effect passed the step rule or shrinks the held-out gap by half"
         lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")

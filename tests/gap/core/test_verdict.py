@@ -144,8 +144,13 @@ def test_the_summary_names_the_cut_step_and_a_kept_rising_step_reads_kept():
                    "singles": [h], "stop": "S", "dropped": []}, "unexplained", "", {"db_over_noise": 26.8}, [], [],
                    [], [], ["h"], [])
     text = summary(res)
-    assert ("VERDICT: unexplained — hysteresis passed the step rule on the training data but raised the held-out "
-            "NRMSE (0.24 → 0.32): over-fitted, not kept") in text
+    assert ("VERDICT: unexplained — hysteresis passed the step rule on the training data but did not hold on the "
+            "held-out data (held-out NRMSE 0.24 → 0.32): over-fitted, not kept") in text
+    h.nrmse_holdout = float("nan")  # a held-out score that could not be computed: "n/a", no crash
+    res = contract(prob, model, base, noise, {"path": [base, h], "singles": [h], "stop": "S", "dropped": []},
+                   "unexplained", "", {"db_over_noise": 26.8}, [], [], [], [], ["h"], [])
+    assert "(held-out NRMSE 0.24 → n/a): over-fitted, not kept" in summary(res)
+    h.nrmse_holdout = 0.32
     # a rising step the next one recovers is kept, and its text says so (not "not in the verdict")
     d = cand("damping_law", 0.14, 0.09, {"damping_law.b_w": -3.0})
     res = contract(prob, model, base, {"noise_sigma_N": 0.1}, {"path": [base, h, d], "singles": [h, d], "stop": "S",
@@ -184,3 +189,14 @@ def test_a_resampled_diagnosis_prints_its_intervals_and_shares_not_the_jack_knif
     assert "friction.F_c=12 [9.5, 14.25]; chosen in 97 % of resamples" in text
     assert "[90 % interval over the resamples]" in text and "±0.01" not in text
     assert "friction F_c = 12 [9.5, 14.25] N" in res["chain_text"]
+    # a step cut as over-fitted is not resampled: its ± is the jack-knife's, and the line says so
+    s = Candidate("slack", {"friction.F_c": 12.0, "slack.s": 0.1}, 2, nrmse_loto=0.15, nrmse_holdout=0.2)
+    s.param_sd, s.shrinkage, s.db_holdout = {"slack.s": 0.02}, 0.75, 3.0
+    res = contract(SimpleNamespace(law="viscous", law_reason="given"), SimpleNamespace(name="chain"), base, noise,
+                   {"path": [base, f, s], "singles": [f, s], "stop": "S", "dropped": []}, "friction", "",
+                   {"db_over_noise": 1.0}, [], [], [], [], ["h"], [])
+    attach(res, {"resamples": 200, "steps": [{"effect": "baseline", "params_ci90": {}},
+                                             {"effect": "friction", "params_ci90": {"friction.F_c": [9.5, 14.25]},
+                                              "stability": 0.97}]})
+    line = next(ln for ln in summary(res).splitlines() if ln.startswith("  2     slack"))
+    assert "slack.s=0.1±0.02" in line and "(± jack-knife: not resampled)" in line
