@@ -136,7 +136,7 @@ def _check_generator(args: argparse.Namespace) -> None:
                          "(--generator ode) has its own bases and excitations")
     if args.seed < 0:
         raise ValueError(f"--seed = {args.seed} is out of range; valid range >= 0")
-    if args.cases is not None and args.generator != "ode":
+    if getattr(args, "cases", None) is not None and args.generator != "ode":
         raise ValueError("--cases chooses the ODE world's cases by label; it needs --generator ode")
 
 
@@ -187,7 +187,7 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
             out["ode"] = run_world(small=args.small, seed=args.seed, jobs=args.workers,
                                    json_path=None if both else args.json, overwrite=args.force,
                                    scheduler=args.scheduler, progress=not args.no_progress,
-                                   resamples=args.resamples, only=args.cases)
+                                   resamples=args.resamples, only=getattr(args, "cases", None))
         if both and args.json:
             from chainid.infra.fileio import write_json
 
