@@ -34,6 +34,7 @@ def former_band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray 
     from scipy.signal import sosfiltfilt
 
     from chainid.gap.core.noise import lowpass_sos
+    from chainid.gap.timedomain.bandlimit import runs
 
     if not math.isfinite(f_cut):
         return a
@@ -41,11 +42,7 @@ def former_band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray 
     if sos is None:
         return a
     a = np.asarray(a, float)
-    if idx is None:
-        starts, ends = np.array([0]), np.array([a.shape[0]])
-    else:
-        cut = np.flatnonzero(np.diff(idx) != 1) + 1
-        starts, ends = np.concatenate([[0], cut]), np.concatenate([cut, [idx.size]])
+    starts, ends = runs(a.shape[0], idx)  # the same runs as the current filter's
     long = np.flatnonzero(ends - starts > 3 * (2 * sos.shape[0] + 1))
     if long.size == 0:
         return a

@@ -41,7 +41,7 @@ import numpy as np
 
 from chainid.gap.core.noise import lowpass_sos, psd
 
-__all__ = ["residual_cut", "noise_share", "band_limited"]
+__all__ = ["residual_cut", "noise_share", "runs", "band_limited"]
 
 
 def residual_cut(F: np.ndarray, fs: float, f_a: float, sigma: float, beyond_a: bool) -> float:
@@ -114,6 +114,15 @@ def _filtfilt(sos: np.ndarray, zi: np.ndarray, x: np.ndarray) -> np.ndarray:
     return y[::-1][edge:-edge]
 
 
+def runs(n: int, idx: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Start and end (exclusive) positions of the runs of consecutive sample indices in ``idx`` (a view of windows
+    of a record; None: one run of ``n`` samples)."""
+    if idx is None:
+        return np.array([0]), np.array([n])
+    cut = np.flatnonzero(np.diff(idx) != 1) + 1
+    return np.concatenate([[0], cut]), np.concatenate([cut, [idx.size]])
+
+
 def band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray | None = None) -> np.ndarray:
     """``a`` (samples along axis 0) through the zero-phase filter at ``f_cut`` [Hz], each run of consecutive
     sample indices ``idx`` (a view of windows of a record; None: one run) filtered on its own; ``a`` unchanged
@@ -128,11 +137,7 @@ def band_limited(a: np.ndarray, fs: float, f_cut: float, idx: np.ndarray | None 
         return a
     zi = _steady_state(float(fs), float(f_cut))
     a = np.asarray(a, float)
-    if idx is None:
-        starts, ends = np.array([0]), np.array([a.shape[0]])
-    else:
-        cut = np.flatnonzero(np.diff(idx) != 1) + 1
-        starts, ends = np.concatenate([[0], cut]), np.concatenate([cut, [idx.size]])
+    starts, ends = runs(a.shape[0], idx)
     pad = _pad(sos)  # sosfiltfilt's default padding needs a run longer than it
     long = np.flatnonzero(ends - starts > pad)
     if long.size == 0:
