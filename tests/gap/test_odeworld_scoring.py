@@ -197,17 +197,19 @@ def test_open_world_rates_and_which_finding_flagged_the_outside_cases():
     rows = [ow_row("outside", {}, "unexplained", ["state"], outside={"relaxation": 1.0}),
             ow_row("outside", {}, "unexplained", ["time"], outside={"drift": 1.0}),
             ow_row("outside", {}, "none", ["state", "chatter"], outside={"chatter": 1.0}),
-            ow_row("outside", {}, "unexplained", [], outside={"relaxation": 2.0}),
+            ow_row("outside", {}, "unexplained", [], outside={"relaxation": 2.0}, snr=0.3),  # at the noise
             ow_row("control", {}, "none", []), ow_row("control", {}, "none", ["time"]),
             ow_row("single", {"friction": 1.0}, "friction", []), ow_row("pair", {"friction": 1, "slack": 1},
                                                                         "friction+slack", []),
             ow_row("single", {"friction": 1.0}, "hysteresis", ["state"])]  # wrong: not among the explained
     got = sc.open_world_rates(rows)
     assert (got["outside_flagged"], got["outside_n"]) == (0.75, 4)
+    assert (got["outside_flagged_strong"], got["outside_strong_n"]) == (1.0, 3)  # residual >= 3 σ
     assert got["outside_by_kind"] == {"state": 2, "time": 1, "chatter": 1}
     assert (got["control_silent"], got["control_n"], got["explained_silent"], got["explained_n"]) == (0.5, 2, 1.0, 2)
     summary = sc.summarise(rows)
-    assert "flags outside cases 75 % of 4 (by finding: state 2, time 1, chatter 1)" in sc.format_table(summary)
+    assert ("flags outside cases 75 % of 4 (by finding: state 2, time 1, chatter 1) (100 % of 3 with residual >= 3 σ)"
+            in sc.format_table(summary))
     del rows[0]["open_world"]["kinds"]  # a row written before the findings were recorded
     assert sc.open_world_rates(rows)["outside_by_kind"] is None
     from chainid.gap.benchmark.openworldscore import open_world_row

@@ -132,7 +132,8 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
 
 
 def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """How often the model-free check flags a missing effect: on ``outside`` cases (it should, >= 90 %), on
+    """How often the model-free check flags a missing effect: on ``outside`` cases (it should, >= 90 %; also on
+    those whose baseline residual is at least :data:`SNR_MIN` noise σ, where there is something to flag), on
     controls and on cases with a right verdict in the other families (it should not, >= 90 % silent)."""
     def flagged(r: dict[str, Any]) -> bool:
         return bool((r.get("open_world") or {}).get("missing_effect"))
@@ -142,7 +143,9 @@ def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
     control = [r for r in ok if r["family"] == "control"]
     explained = [r for r in ok if r["family"] in ("single", "pair", "covariate") and r["score"]["right"]]
     rate = lambda rr, f: (sum(f(r) for r in rr) / len(rr)) if rr else None  # noqa: E731
+    strong = [r for r in outside if np.isfinite(r.get("snr", np.nan)) and r["snr"] >= SNR_MIN]
     return {"outside_flagged": rate(outside, flagged), "outside_n": len(outside),
+            "outside_flagged_strong": rate(strong, flagged), "outside_strong_n": len(strong),
             "outside_by_kind": flags_by_kind(outside),
             "control_silent": rate(control, lambda r: not flagged(r)), "control_n": len(control),
             "explained_silent": rate(explained, lambda r: not flagged(r)), "explained_n": len(explained)}
@@ -177,7 +180,8 @@ def format_table(s: dict[str, Any]) -> str:
     ow = s.get("open_world")
     if ow:
         lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}"
-                     f"{by_kind_text(ow.get('outside_by_kind'))}; "
+                     f"{by_kind_text(ow.get('outside_by_kind'))} ({_pct(ow.get('outside_flagged_strong'))} of "
+                     f"{ow.get('outside_strong_n', 0)} with residual >= {SNR_MIN:g} σ); "
                      f"silent on controls {_pct(ow['control_silent'])} of {ow['control_n']}, on right verdicts "
                      f"{_pct(ow['explained_silent'])} of {ow['explained_n']}")
     if s["errors"]:
@@ -213,6 +217,8 @@ def markdown_table(s: dict[str, Any]) -> str:
         lines += ["", "| model-free check | rate | cases |", "|---|---|---|",
                   f"| flags a missing effect on `outside` cases{by_kind_text(ow.get('outside_by_kind'))} | "
                   f"{_pct(ow['outside_flagged'])} | {ow['outside_n']} |",
+                  f"| ... where the baseline's residual is >= {SNR_MIN:g} σ | "
+                  f"{_pct(ow.get('outside_flagged_strong'))} | {ow.get('outside_strong_n', 0)} |",
                   f"| silent on controls | {_pct(ow['control_silent'])} | {ow['control_n']} |",
                   f"| silent on right verdicts (single, pair, covariate) | {_pct(ow['explained_silent'])} | "
                   f"{ow['explained_n']} |"]
