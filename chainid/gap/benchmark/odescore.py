@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark.openworldscore import by_kind_text, flags_by_kind
+from chainid.gap.benchmark.openworldscore import by_kind_text, flagged, flags_by_kind
 from chainid.gap.benchmark.paramscore import (CANONICAL, Z90, coverage_by_effect, param_scores,  # noqa: F401  (API)
                                               param_table, pool_scores)
 
@@ -135,9 +135,6 @@ def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
     """How often the model-free check flags a missing effect: on ``outside`` cases (it should, >= 90 %; also on
     those whose baseline residual is at least :data:`SNR_MIN` noise σ, where there is something to flag), on
     controls and on cases with a right verdict in the other families (it should not, >= 90 % silent)."""
-    def flagged(r: dict[str, Any]) -> bool:
-        return bool((r.get("open_world") or {}).get("missing_effect"))
-
     ok = [r for r in rows if not r["score"]["error"]]
     outside = [r for r in ok if r["family"] == "outside"]
     control = [r for r in ok if r["family"] == "control"]

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["open_world_row", "flags_by_kind", "by_kind_text"]
+__all__ = ["open_world_row", "flagged", "flags_by_kind", "by_kind_text"]
 
 #: the findings of the model-free check: the learner's structure in the state, a trend in time, chatter
 KINDS = ("state", "time", "chatter")
@@ -25,10 +25,15 @@ def open_world_row(res: dict[str, Any]) -> dict[str, Any]:
             "predictable_share": ow.get("predictable_share")}
 
 
+def flagged(row: dict[str, Any]) -> bool:
+    """Whether the model-free check flagged a benchmark row's case as missing an effect."""
+    return bool((row.get("open_world") or {}).get("missing_effect"))
+
+
 def flags_by_kind(rows: list[dict[str, Any]]) -> dict[str, int] | None:
     """How many of the flagged ``rows`` each finding of the model-free check flagged (a row may count under more
     than one); None when a flagged row does not record its findings (a row written before they were)."""
-    rows = [r for r in rows if (r.get("open_world") or {}).get("missing_effect")]
+    rows = [r for r in rows if flagged(r)]
     if any("kinds" not in (r.get("open_world") or {}) for r in rows):
         return None
     out = {k: 0 for k in KINDS}

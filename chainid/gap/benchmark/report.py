@@ -7,7 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from chainid.gap.benchmark.openworldscore import by_kind_text, flags_by_kind, open_world_row  # noqa: F401  (API)
+from chainid.gap.benchmark.openworldscore import (by_kind_text, flagged, flags_by_kind,  # noqa: F401  (API)
+                                                  open_world_row)
 from chainid.gap.benchmark.paramscore import (CANONICAL, coverage_by_effect, coverage_lines, param_scores, param_table,
                                               pool_scores)
 from chainid.gap.benchmark.simtruth import nested, trusted_fields
@@ -29,10 +30,6 @@ def case_row(case: dict[str, Any], res: dict[str, Any], seconds: float, truth: d
             "steps": [s["effect"] for s in res.get("steps", [])[1:]], **trusted_fields(res), "true_params": truth,
             "confounded": [list(c["pair"]) for c in res.get("confounded", [])],
             "stationary": res["residual"]["stationary"], "open_world": open_world_row(res)}
-
-
-def _flagged(r: dict[str, Any]) -> bool:
-    return bool((r.get("open_world") or {}).get("missing_effect"))
 
 
 def canon(names: Any) -> set[str]:
@@ -114,11 +111,11 @@ def family_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
                              for v in sorted({r["verdict"] for r in fam["outside"]})},
         "chatter_reported_rate": _rate(chat, lambda r: bool(r.get("chatter"))),
         # the model-free check: flags a missing effect on outside cases, silent on controls and right verdicts
-        "open_world_outside_flagged_rate": _rate(fam["outside"], _flagged),
+        "open_world_outside_flagged_rate": _rate(fam["outside"], flagged),
         "open_world_outside_by_kind": flags_by_kind(fam["outside"]),
-        "open_world_control_silent_rate": _rate(fam["control"], lambda r: not _flagged(r)),
+        "open_world_control_silent_rate": _rate(fam["control"], lambda r: not flagged(r)),
         "open_world_explained_silent_rate": _rate([r for r in fam["single"] + fam["pair"] if right(r)],
-                                                  lambda r: not _flagged(r)),
+                                                  lambda r: not flagged(r)),
         "chatter_n": len(chat),
         "errors": [{"case": {k: r.get(k) for k in ("excitation", "family", "truth", "chain", "plan", "noise", "seed")},
                     "error": r["verdict"]} for r in rows if r["verdict"].startswith("error:")],
