@@ -16,7 +16,10 @@ Each warning names the likely slip and the option that fixes it; nothing is ever
   elongation at the breaking load (x in um read as mm) or under 1/1000 of its elongation at the working load
   (x in m read as mm); a secant stiffness span(F)/span(x) more than 30x off the chain's k_e over the record's
   force range (x or F 1000x or 25.4x off); a force above 3x the breaking load (F in N declared kN) or a largest
-  force below 1/10000 of the working load (F in kN read as N).
+  force below 1/10000 of the working load (F in kN read as N); a harmonic record whose chain inertia at the
+  declared main frequency, m·(2πf)²·A, is over :data:`INERTIA_SHARE` (a quarter) of the measured force's
+  half-span while the paper's harmonic tests are quasi-static (a test in s declared ms puts the paper's 14x50
+  chain, f_n = √(k_e/m)/2π ≈ 200-250 Hz, far above its own natural frequency).
 
 Units: t [s], x [mm], F [N], k [N/mm].
 """
@@ -31,7 +34,7 @@ import numpy as np
 
 from chainid.records.record import Record
 
-__all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "A_MAX_MM_S2", "GAP_FACTOR", "sampling_warnings", "gap_warnings", "chain_warnings",
+__all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "A_MAX_MM_S2", "GAP_FACTOR", "INERTIA_SHARE", "sampling_warnings", "gap_warnings", "chain_warnings",
            "smallest_chain", "not_a_chain", "plausibility_warnings", "grouped"]
 
 #: A sampling rate above this [Hz] is implausible for a chain test rig.
@@ -41,6 +44,8 @@ V_MAX_MM_S = 5000.0
 #: Standard gravity [mm/s²]; an acceleration of x over :data:`A_MAX_MM_S2` (1000 g) is implausible for a test rig.
 G_MM_S2 = 9806.65
 A_MAX_MM_S2 = 1000.0 * G_MM_S2
+#: A chain inertia m·ω²·A over this share of the measured force's half-span is not a quasi-static test.
+INERTIA_SHARE = 0.25
 #: A time step over this multiple of the median step is a gap in the record.
 GAP_FACTOR = 5.0
 _SLIPS = ((1000.0, "x in m read as mm (--units x=m) or F declared kN while in N"),
@@ -167,7 +172,29 @@ def chain_warnings(records: Sequence[Record], chain: Any, variant: str = "paper"
                 out.append(f"{tag}: the record's stiffness span(F)/span(x) = {k_rec:.4g} N/mm is {k_rec / ref:.3g}x "
                            f"the chain's k_e ({k_lo:.4g}..{k_hi:.4g} N/mm over the record's forces): "
                            f"{_slip(k_rec / ref)}")
+        out += _inertia_warning(r, chain, k_of(x_of(max(float(np.median(r.F)), 1.0))))
     return out
+
+
+def _inertia_warning(r: Record, chain: Any, k_mid: float) -> list[str]:
+    """The chain's own inertia at the record's main frequency against its measured force (Eq. 1's m·ẍ): a quarter
+    of the force's half-span or more is not the quasi-static harmonic test of Eq. 21-28.  m [kg], A [mm],
+    k_mid [N/mm] (k_e at the median force); the force m·ω²·A in N is 1e-3·m·ω²·A."""
+    m = float(chain.mass_kg)
+    f = _main_frequency(r) if r.t.size >= 8 else float("nan")
+    if not (m > 0 and math.isfinite(f) and f > 0):
+        return []
+    amp = 0.5 * float(np.subtract(*np.percentile(r.x, [99.0, 1.0])))
+    half_F = 0.5 * float(np.subtract(*np.percentile(r.F, [99.0, 1.0])))
+    f_in = 1e-3 * m * (2 * math.pi * f) ** 2 * amp
+    if not (half_F > 0 and f_in > INERTIA_SHARE * half_F):
+        return []
+    f_n = math.sqrt(1e3 * k_mid / m) / (2 * math.pi)
+    return [f"test {r.test!r}: at the main frequency {f:.4g} Hz the chain's own inertia m·(2πf)²·A = {f_in:.4g} N "
+            f"({m:.3g} kg, A {amp:.3g} mm) is {f_in / half_F:.3g}x the measured force's half-span {half_F:.4g} N, "
+            f"{f / f_n:.3g}x the chain's natural frequency √(k_e/m)/2π = {f_n:.4g} Hz; the paper's harmonic tests "
+            "are quasi-static: is t in s declared ms (--units t=ms) or --fs too large? (A test this fast needs the "
+            "inertia in the base model: the time route carries m·ẍ.)"]
 
 
 @lru_cache(maxsize=1)

@@ -195,3 +195,48 @@ def test_the_main_frequency_rule_does_not_depend_on_the_unit_of_x():
         x = 2.2 + scale * np.sin(2 * np.pi * 300.0 * t)
         (w,) = sampling_warnings([Record("s", t, x, 1000.0 + 10.0 * x)])
         assert "1000 Hz sampling gives 3.3 samples per cycle of the main frequency 300 Hz " in w, scale
+
+
+# ---------------------------------------------------------------- the chain's inertia at the declared frequency
+def _quasi_static_chain_record(f_hz: float) -> Record:
+    """A paper-chain harmonic test at *f_hz*: x = 2.2 + 0.25·sin(2πft) mm, F = F_k(x) of Eq. 15 (typed in
+    paper_forms) with no inertia in it, 40 samples per cycle over 5 cycles."""
+    import paper_forms
+
+    t = np.arange(200) / (40.0 * f_hz)
+    x = 2.2 + 0.25 * np.sin(2 * np.pi * f_hz * t)
+    return Record("q", t, x, np.array([paper_forms.F_of_x(float(v)) for v in x]))
+
+
+@pytest.mark.parametrize("f_hz", [0.3, 3.0])
+def test_a_quasi_static_chain_test_draws_no_inertia_warning(f_hz):
+    """At 0.3 and 3 Hz the paper chain's inertia (3.2 kg) is far under a quarter of the force swing."""
+    w = [s for s in plausibility_warnings([_quasi_static_chain_record(f_hz)], default_chain()) if "inertia" in s]
+    assert w == []
+
+
+def test_a_test_in_seconds_declared_ms_is_named_by_the_chain_inertia_it_would_need():
+    """The same 0.3 Hz record with t read as ms (300 Hz, 0.47 m/s, 90 g: inside every sampling bound) puts the
+    paper chain's inertia m·(2πf)²·A, computed here by hand from m = 3.2 kg (16 links x 50 mm x 4 kg/m), over
+    the measured force swing: the warning names the share and suggests --units t=ms."""
+    import paper_forms
+
+    rec = _quasi_static_chain_record(300.0)
+    assert plausibility_warnings([rec]) == []  # the sampling checks alone pass it
+    w = [s for s in plausibility_warnings([rec], default_chain()) if "inertia" in s]
+    f_in = 3.2e-3 * (2 * np.pi * 300.0) ** 2 * 0.25
+    half_F = 0.5 * (paper_forms.F_of_x(2.45) - paper_forms.F_of_x(1.95))
+    assert len(w) == 1 and "--units t=ms" in w[0], w
+    share = float(w[0].split(" is ")[1].split("x the measured")[0])
+    assert share == pytest.approx(f_in / half_F, rel=0.03)
+
+
+@pytest.mark.parametrize("share, warns", [(0.2, False), (0.3, True)])
+def test_the_inertia_warning_starts_at_a_quarter_of_the_force_swing(share, warns):
+    """The frequency at which m·ω²·A is *share* of the half-span of F (both by hand): 0.2 is quiet, 0.3 warns."""
+    import paper_forms
+
+    half_F = 0.5 * (paper_forms.F_of_x(2.45) - paper_forms.F_of_x(1.95))
+    f_hz = np.sqrt(share * half_F / (3.2e-3 * 0.25)) / (2 * np.pi)
+    w = [s for s in plausibility_warnings([_quasi_static_chain_record(f_hz)], default_chain()) if "inertia" in s]
+    assert bool(w) is warns, (f_hz, w)
