@@ -128,7 +128,9 @@ assert control["verdict"] == "none"
 # `../shared/realdata/friction-damper/` (CC BY-SA 4.0, see its SOURCE.md) holds measured loops of a
 # friction damper.  It is not a chain, so the baseline is a linear spring (`--model linear`, i.e.
 # `model=None`) plus the identified damping law.  The data are not shipped with chainid; this cell
-# runs only in a source checkout next to `../shared`.
+# runs only in a source checkout next to `../shared`.  It ranks the single effects (`max_combo=1`, about
+# 10 s: 150 000 samples at 1 kHz); the whole chain, a pair on these loops, is `benchmarks/real_devices.py`'s
+# (`benchmarks/RESULTS_real.md`), a few minutes.
 
 # %%
 real = Path(chainid.__file__).resolve().parents[2] / "shared" / "realdata" / "friction-damper" / "brfd_ds2_tension30lb.csv"
@@ -136,9 +138,9 @@ if real.is_file():
     from chainid.records.files import read_records
 
     recs = read_records(real, allow_compression=True)
-    res = diagnose(recs, ["f0.5_a1.0", "f1.0_a0.5", "f0.25_a1.5"], None, uncertainty=False)
+    res = diagnose(recs, ["f0.5_a1.0", "f1.0_a0.5", "f0.25_a1.5"], None, uncertainty=False, max_combo=1)
     rank = {c["effect"]: c for c in res["ranking"]}
-    print("verdict:", res["verdict"], "| held-out NRMSE", round(res["baseline"]["nrmse_holdout"], 3), "->",
+    print("best single effect:", res["verdict"], "| held-out NRMSE", round(res["baseline"]["nrmse_holdout"], 3), "->",
           round(res["ranking"][0]["nrmse_holdout"], 3))
     print("friction alone shrinks the held-out gap by", f"{100 * rank['friction']['shrinkage']:.0f} %")
 else:
