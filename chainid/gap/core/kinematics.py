@@ -20,12 +20,17 @@ by the error it predicts, and the error it predicts is reported (it enters the n
    the difference, σ_c² = σ_x²·(2/fs)·∫₀^{fs/2} D(f)²·|H_c(f)|⁴ df.  Every sample takes the most smoothed estimate
    that agrees with all the less smoothed ones within ±``ICI_GAMMA`` of their noise (the intersection of
    confidence intervals, :func:`adaptive`): a smoother estimate where it is unbiased, a sharper one where the
-   motion changes fast (an onset, a reversal, an edge).  The error reported per sample is σ_c·√(1 + Γ²/3) (the
-   noise and a bias the intersection keeps within ±Γσ_c).
-3. *Edges*: the filters run on the record extended at each end by its odd reflection about a denoised end value
-   (a quadratic fitted over an eighth of the band edge's period), so a noisy first sample does not launch a
-   transient.  The estimate there still rests on that extrapolation, within half a period of the cut of each end
-   (:meth:`Kinematics.edge_samples`); a user that compares forces sample by sample leaves those samples out.
+   motion changes fast (an onset, a reversal, an edge).  The error reported per sample is that of the estimate
+   it takes: its cut's stationary budget, the signal's |(2πf)^k − |H_c|²·D^k|² and the noise σ_c, the bias at most
+   what the intersection tolerates (:func:`_capped`); inside broadband records it is the actual error of ẋ and ẍ
+   within 20 % (tests/gap/core/test_kinematics_error_prediction.py).
+3. *Edges*: the filters and the differences run on the record extended at each end by its odd reflection about
+   the even part of a cubic fitted over a quarter of the band edge's period (:func:`chainid.gap.core.lowpass.
+   pad_odd`: x, ẋ, ẍ and x⃛ continue unbroken, where a plain odd reflection flips ẍ and its error spreads over
+   the filter's length), so a noisy first sample does not launch a transient.  The estimate there still rests on
+   that extrapolation; its predicted error within the padding's reach of each end is the exact one of the linear
+   estimator on the record's spectrum (:func:`chainid.gap.core.lowpass.end_profile`), over records of that
+   spectrum.  The time route compares forces from half a period of the cut in (:meth:`Kinematics.edge_samples`).
 4. *Rest*: where the smooth speed and acceleration both stay within ``REST_SIGMAS`` noise standard deviations of
    zero for at least half a period of f_cut, the record shows no motion and ẋ is 0 (a contact at rest is stuck);
    a reversal passes through zero speed with an acceleration and keeps its estimate.  ẍ is the derivative of the
@@ -38,9 +43,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
+from chainid.gap.core.lowpass import (butter_gain2, curvature_weight, derivative, end_profile, filtered,
+                                     pad_lengths, stencil_gain)
 from chainid.gap.core.noise import force_noise, sample_rate
 
 __all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
@@ -76,10 +84,14 @@ class Kinematics:
     err_x: float = 0.0
     #: the predicted RMS error of ẋ per sample [mm/s] (None: ``err_v`` everywhere)
     err_v_t: np.ndarray | None = None
+    #: the predicted RMS error of ẍ per sample [mm/s²] (None: ``err_a`` everywhere)
+    err_a_t: np.ndarray | None = None
     #: ẍ's cut-off [Hz] (the filter estimator's start inside the record); NaN: not set
     f_cut_a: float = float("nan")
     #: whether x's spectrum holds signal (lines or a continuous roll-off) above ``f_cut_a``: motion ẍ cannot follow
     beyond_a: bool = False
+    #: the spread under which friction's sign is taken, per sample [mm/s] (None: :meth:`v_error`)
+    sign_sd_t: np.ndarray | None = None
     _spread: np.ndarray | None = None
 
     def v_error(self) -> np.ndarray | float:
@@ -87,12 +99,16 @@ class Kinematics:
         return self.err_v_t if self.err_v_t is not None else self.err_v
 
     def v_spread(self, t: np.ndarray) -> np.ndarray:
-        """The velocity's predicted RMS error per sample [mm/s] (an array; :meth:`v_error` broadcast): the spread
-        under which the sign of sliding friction is taken (:func:`chainid.model.effects.forms.sliding_sign`).  A force
-        channel samples the force at an instant (after its anti-alias filter), so only the estimate's own error
-        softens the sign."""
+        """The spread per sample [mm/s] under which the sign of sliding friction is taken
+        (:func:`chainid.model.effects.forms.sliding_sign`): the velocity's random error, its noise σ_c times
+        √(1 + Γ²/3) for a bias the intersection keeps within ±Γσ_c (``sign_sd_t``; :meth:`v_error` broadcast where
+        it is not set).  Not the predicted error with its stationary bias: a smoothing's bias shifts a reversal's
+        zero crossing the same way in every record, which a Gaussian softening does not model (on noise-free
+        friction records the softened sign then moved F_c between sampling rates).  A force channel samples the
+        force at an instant (after its anti-alias filter), so only the estimate's own error softens the sign."""
         if self._spread is None or self._spread.size != np.size(t):
-            self._spread = np.broadcast_to(np.asarray(self.v_error(), float), np.shape(t)).copy()
+            sd = self.sign_sd_t if self.sign_sd_t is not None else self.v_error()
+            self._spread = np.broadcast_to(np.asarray(sd, float), np.shape(t)).copy()
         return self._spread
 
     def edge_samples(self, fs: float) -> int:
@@ -104,9 +120,14 @@ class Kinematics:
         return int(math.ceil(0.5 * fs / self.f_cut))
 
     def trimmed(self, a: int, b: int) -> "Kinematics":
-        """The same estimate on samples a … b − 1 (every per-sample array sliced)."""
-        return replace(self, x=self.x[a:b], xd=self.xd[a:b], xdd=self.xdd[a:b],
-                       err_v_t=None if self.err_v_t is None else self.err_v_t[a:b], _spread=None)
+        """The same estimate on samples a … b − 1 (every per-sample array sliced; ``err_v`` and ``err_a`` the RMS of
+        the per-sample errors over the samples kept, where they vary)."""
+        ev_t = None if self.err_v_t is None else self.err_v_t[a:b]
+        ea_t = None if self.err_a_t is None else self.err_a_t[a:b]
+        rms = (lambda e, whole: whole if e is None or not e.size else float(np.sqrt(np.mean(e ** 2))))
+        return replace(self, x=self.x[a:b], xd=self.xd[a:b], xdd=self.xdd[a:b], err_v_t=ev_t, err_a_t=ea_t,
+                       err_v=rms(ev_t, self.err_v), err_a=rms(ea_t, self.err_a), _spread=None,
+                       sign_sd_t=None if self.sign_sd_t is None else self.sign_sd_t[a:b])
 
     def info(self) -> dict[str, float | str]:
         """The estimator and its predicted errors, for a report."""
@@ -216,59 +237,6 @@ def spectral(x: np.ndarray, fs: float, f_cut: float) -> tuple[np.ndarray, np.nda
     return np.fft.irfft(X, n), np.fft.irfft(w * X, n), np.fft.irfft(w * w * X, n)
 
 
-def _pad_odd(x: np.ndarray, m: int, k: int) -> np.ndarray:
-    """x extended at each end by m samples of its odd reflection about a denoised end value: a quadratic fitted over
-    the first / last k samples, evaluated at the end sample."""
-    m = max(1, min(m, x.size - 1))
-    k = max(5, min(k, x.size))
-    u = np.arange(k, dtype=float)
-    a0 = float(np.polyval(np.polyfit(u, x[:k], 2), 0.0))
-    a1 = float(np.polyval(np.polyfit(u, x[-k:], 2), k - 1.0))
-    return np.concatenate([2.0 * a0 - x[m:0:-1], x, 2.0 * a1 - x[-2:-m - 2:-1]])
-
-
-def filtered(t: np.ndarray, x: np.ndarray, f_cut: float, f_band: float | None = None
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Zero-phase Butterworth (4th order, forward-backward) at f_cut [Hz] with odd-reflection padding (the end
-    values from quadratics over an eighth of the band edge's period, f_band [Hz], default f_cut/4), then central
-    differences on the time stamps: x, ẋ, ẍ [mm, mm/s, mm/s²] (no smoothing at or above 0.45·fs)."""
-    from scipy.signal import butter, sosfiltfilt
-
-    t = np.asarray(t, float)
-    x = np.asarray(x, float)
-    fs = sample_rate(t)
-    if f_cut < 0.45 * fs and x.size >= 30:
-        sos = butter(4, f_cut / (0.5 * fs), output="sos")
-        m = int(min(x.size - 1, max(8, math.ceil(3.0 * fs / f_cut))))
-        k = int(math.ceil(fs / (8.0 * (f_band if f_band else 0.25 * f_cut))))
-        xs = sosfiltfilt(sos, _pad_odd(x, m, k), padtype=None)[m:m + x.size]
-    else:
-        xs = x.copy()
-    xd = derivative(xs, t)
-    return xs, xd, derivative(xd, t)
-
-
-def derivative(y: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """dy/dt by five-point differences on a uniform grid (second-order one-sided differences at the two samples at
-    each end); ``np.gradient`` on the time stamps when the sampling is not uniform (a step off the median by more
-    than 1 %)."""
-    y = np.asarray(y, float)
-    t = np.asarray(t, float)
-    dt = np.diff(t)
-    h = float(np.median(dt))
-    if y.size < 5 or np.max(np.abs(dt - h)) > 0.01 * h:
-        return np.gradient(y, t)
-    d = np.gradient(y, h, edge_order=2)
-    d[2:-2] = (y[:-4] - 8.0 * y[1:-3] + 8.0 * y[3:-1] - y[4:]) / (12.0 * h)
-    return d
-
-
-def _stencil_gain(w: np.ndarray, fs: float) -> np.ndarray:
-    """The five-point difference's gain at angular frequency w [rad/s] (true: w)."""
-    th = w / fs
-    return fs * (8.0 * np.sin(th) - np.sin(2.0 * th)) / 6.0
-
-
 def error_budget(f: np.ndarray, S: np.ndarray, fs: float, f_cut: float, sigma_x: float, order: int = 1,
                  spectral_cut: bool = False) -> tuple[float, float]:
     """Predicted RMS error of the ``order``-th derivative (0: x [mm], 1: ẋ [mm/s], 2: ẍ [mm/s²]): (bias + noise,
@@ -282,29 +250,27 @@ def error_budget(f: np.ndarray, S: np.ndarray, fs: float, f_cut: float, sigma_x:
     if order not in (0, 1, 2):
         raise ValueError(f"order = {order!r} is out of range; valid: 0, 1 or 2")
     w = 2.0 * np.pi * np.asarray(f, float)
-    ff = np.linspace(0.0, 0.5 * fs, 4097)
-    ww = 2.0 * np.pi * ff
+    noise = sigma_x ** 2 * _noise_gain(float(fs), float(f_cut), int(order), bool(spectral_cut))
     if spectral_cut:
         keep = w <= 2.0 * np.pi * f_cut
         bias = float(np.sum(S[~keep] * w[~keep] ** (2 * order)))
-        kk = ww <= 2.0 * np.pi * f_cut
-        noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid(ww[kk] ** (2 * order), ff[kk])) if kk.sum() > 1 else 0.0
         return math.sqrt(bias + noise), math.sqrt(noise)
-    H2 = _butter_gain2(w / (2 * np.pi), f_cut, fs)
-    D = _stencil_gain(w, fs) ** order
+    H2 = butter_gain2(w / (2 * np.pi), f_cut, fs)
+    D = stencil_gain(w, fs) ** order
     bias = float(np.sum(np.abs(w ** order - H2 * D) ** 2 * S))
-    H2f = _butter_gain2(ff, f_cut, fs)
-    noise = sigma_x ** 2 * (2.0 / fs) * float(np.trapezoid(_stencil_gain(ww, fs) ** (2 * order) * H2f ** 2, ff))
     return math.sqrt(bias + noise), math.sqrt(noise)
 
 
-def _butter_gain2(f: np.ndarray, f_cut: float, fs: float) -> np.ndarray:
-    """|H(f)|² of the digital 4th-order Butterworth at f_cut (bilinear transform of the analog prototype):
-    1/(1 + (tan(πf/fs)/tan(πf_cut/fs))^8) — the forward-backward gain (1 at or above 0.45·fs)."""
-    if f_cut >= 0.45 * fs:
-        return np.ones_like(np.asarray(f, float))
-    ratio = np.tan(np.pi * np.minimum(np.asarray(f, float), 0.4999999 * fs) / fs) / math.tan(math.pi * f_cut / fs)
-    return 1.0 / (1.0 + ratio ** 8)
+@lru_cache(maxsize=512)
+def _noise_gain(fs: float, f_cut: float, order: int, spectral_cut: bool) -> float:
+    """The white noise of x's power gain into the ``order``-th derivative of an estimator (per mm² of σ_x²):
+    (2/fs)·∫₀^{fs/2} (2πf)^2k df below the spectral cut, or (2/fs)·∫ D(f)^2k·|H(f)|⁴ df for the filter."""
+    ff = np.linspace(0.0, 0.5 * fs, 4097)
+    ww = 2.0 * np.pi * ff
+    if spectral_cut:
+        kk = ww <= 2.0 * np.pi * f_cut
+        return (2.0 / fs) * float(np.trapezoid(ww[kk] ** (2 * order), ff[kk])) if kk.sum() > 1 else 0.0
+    return (2.0 / fs) * float(np.trapezoid(stencil_gain(ww, fs) ** (2 * order) * butter_gain2(ff, f_cut, fs) ** 2, ff))
 
 
 def _rest_zero(xd: np.ndarray, xdd: np.ndarray, v_noise: float | np.ndarray, a_noise: float | np.ndarray,
@@ -418,8 +384,9 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     sample, going from the least smoothed estimate to the most smoothed, the intervals ẋ_k ± ``ICI_GAMMA``·σ_k are
     intersected; the sample takes the most smoothed estimate whose interval still meets all the less smoothed
     ones' (a smoother estimate that disagrees is biased there: an onset, a reversal, an edge).  x and ẍ are chosen
-    the same way on their own intervals.  The error reported per sample is σ_k·√(1 + Γ²/3) (the noise, and a bias
-    that ICI keeps within ±Γσ_k, taken uniform), its RMS ``err_v``; ``f_cut`` is the cut most samples take.
+    the same way on their own intervals.  The error reported per sample is the chosen cut's predicted error, its
+    stationary budget (bias and noise) inside the record and its end profile near either end
+    (:func:`_predicted_errors`); their RMS is ``err_v`` and ``err_a``; ``f_cut`` is the cut most samples take.
     """
     fs = sample_rate(t)
     cuts = _cuts(f_band, 0.45 * fs)
@@ -429,7 +396,8 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     first = [i_v, i_v, _best_cut(f, S, fs, cuts, sigma_x, 2, False)]
     lo = min(first)
     cuts = cuts[lo:]
-    est = [filtered(t, x, fc, f_band) for fc in cuts]
+    rho = curvature_weight(f, S, fs, pad_lengths(x.size, fs, cuts[0], f_band)[1], sigma_x)
+    est = [filtered(t, x, fc, f_band, rho) for fc in cuts]
     nx = np.array([error_budget(f, S, fs, fc, sigma_x, 0)[1] for fc in cuts])
     nv = np.array([error_budget(f, S, fs, fc, sigma_x, 1)[1] for fc in cuts])
     na = np.array([error_budget(f, S, fs, fc, sigma_x, 2)[1] for fc in cuts])
@@ -443,20 +411,63 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     inner = _ici(np.array([e[2] for e in est])[a0:span], na[a0:span]) + a0
     reach = int(min(x.size // 2, math.ceil(3.0 * fs / cuts[a0])))
     ka[reach:x.size - reach] = inner[reach:x.size - reach]
+    ex_t, ev_t, ea_t = _at_the_ends(f, S, fs, cuts, f_band, sigma_x, x.size, [i - lo for i in first], [kx, kv, ka],
+                                    rho)
     rows = np.arange(x.size)
     xs = np.array([e[0] for e in est])[kx, rows]
     xd = np.array([e[1] for e in est])[kv, rows]
     xdd = np.array([e[2] for e in est])[ka, rows]
-    g = math.sqrt(1.0 + ICI_GAMMA**2 / 3.0)
-    ev_t, ea_t = nv[kv] * g, na[ka] * g
     fc = cuts[int(np.bincount(kv, minlength=len(cuts)).argmax())]
-    ex, _ = error_budget(f, S, fs, fc, sigma_x, 0)
+    ex = float(np.sqrt(np.mean(ex_t ** 2)))
     xd = _rest_zero(xd, xdd, nv[kv], na[ka], max(3, int(math.ceil(0.5 * fs / fc))))
     kin = Kinematics(xs, xd, xdd, "butterworth-ici", fc, sigma_x, float(np.sqrt(np.mean(ev_t**2))),
                      float(np.sqrt(np.mean(ea_t**2))), float(np.sqrt(np.mean(nv[kv] ** 2))), ex)
-    kin.err_v_t = ev_t
+    kin.err_v_t, kin.err_a_t = ev_t, ea_t
+    kin.sign_sd_t = nv[kv] * math.sqrt(1.0 + ICI_GAMMA ** 2 / 3.0)
     kin.f_cut_a = cuts[a0]
     return kin
+
+
+def _capped(f: np.ndarray, S: np.ndarray, fs: float, cuts: list[float], sigma_x: float, order: int
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """Per cut: the stationary budget (:func:`error_budget`) and the predicted error inside the record, the noise σ_c
+    and the bias b_c with b_c² ≤ Γ²σ'²/3, σ' the noise of the next sharper cut (the intersection keeps an estimate
+    whose bias stays within the sharper estimates' ±Γσ'; taken uniform there).  A noise bin that passes for a line
+    far above the band (one record in twenty) would otherwise count its (2πf)^2k-weighted power as bias of every
+    cut: the bound keeps that record's prediction within a few times its error."""
+    tot, noise = (np.array(v) for v in zip(*(error_budget(f, S, fs, fc, sigma_x, order) for fc in cuts)))
+    sharper = np.append(noise[1:], noise[-1])
+    return tot, np.sqrt(noise ** 2 + np.minimum(tot ** 2 - noise ** 2, ICI_GAMMA ** 2 * sharper ** 2 / 3.0))
+
+
+def _at_the_ends(f: np.ndarray, S: np.ndarray, fs: float, cuts: list[float], f_band: float, sigma_x: float,
+                 n: int, first: list[int], picks: list[np.ndarray], rho: float) -> list[np.ndarray]:
+    """Per-sample predicted errors of x, ẋ, ẍ [mm, mm/s, mm/s²], with the ends' cuts chosen by them.
+
+    Inside the record each sample keeps the intersection's cut (``picks``, indices into ``cuts``) and the cut's
+    :func:`_capped` error.  Within three periods of the smoothest cut of either end the intersection cannot see the
+    padding's bias (its intervals hold noise only: at a 12-20 Hz record's first samples it took estimates twice as
+    wrong as their own prediction), so there every sample takes, from order k's first candidate on, the cut whose
+    predicted error at that distance from the end is least: the cut's end profile (:func:`chainid.gap.core.lowpass.
+    end_profile`) in excess of its stationary budget, added to its :func:`_capped` error.  The choice depends on the
+    spectrum, not on the record's values at the ends, so the prediction holds over records of that spectrum."""
+    reach = int(min(n // 2, math.ceil(3.0 * fs / cuts[0])))
+    profiles = [end_profile(f, S, fs, fc, f_band, sigma_x, n, rho) for fc in cuts]
+    out = []
+    for order, k_t in enumerate(picks):
+        tot, capped = _capped(f, S, fs, cuts, sigma_x, order)
+        e_t = capped[k_t]
+        for side, idx in enumerate((np.arange(reach), n - 1 - np.arange(reach))):
+            E = np.tile(capped[:, None], (1, reach))
+            for c, prof in enumerate(profiles):
+                R = min(prof.shape[2], reach)
+                E[c, :R] = np.sqrt(capped[c] ** 2 + np.maximum(prof[side, order, :R] ** 2 - tot[c] ** 2, 0.0))
+            E[:first[order]] = np.inf
+            best = np.argmin(E, axis=0)
+            k_t[idx] = best
+            e_t[idx] = E[best, np.arange(reach)]
+        out.append(e_t)
+    return out
 
 
 #: half-width of the ICI confidence intervals, in noise standard deviations

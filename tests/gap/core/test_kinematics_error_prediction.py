@@ -51,17 +51,52 @@ def test_the_estimator_follows_the_record():
     assert _estimated("random", 1e-3)[-1].method.startswith("butterworth")
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the per-sample predicted error err_v_t is 3x too small at the ends of a non-periodic record: random "
-    "0.5-10 Hz, sigma_x 1 um, first 20 samples actual RMS 0.324 mm/s vs predicted 0.108 (five-point differences "
-    "after odd padding about the quadratic end value; before: 0.353 vs 0.104, last 20 0.731 vs 0.126)"))
-def test_predicted_velocity_error_holds_at_the_record_ends():
-    t, x, xd, xm, kin = _estimated("random", 1e-3)
-    err = kin.xd - xd
-    for sl in (slice(0, 20), slice(-20, None)):
-        actual = float(np.sqrt(np.mean(err[sl] ** 2)))
-        pred = float(np.sqrt(np.mean(np.asarray(kin.v_error() * np.ones(N))[sl] ** 2)))
-        assert 0.5 <= actual / pred <= 2.0, (sl, actual, pred)
+def _ensemble(name: str, n_rec: int) -> list[tuple]:
+    """n_rec records of one kind (motion seeds 500 + i, noise seeds i, σ_x 1 µm): (true ẋ, true ẍ, Kinematics)."""
+    t = sd.sample_times(N, FS)
+    out = []
+    for i in range(n_rec):
+        carrier = sd.multisine(T, 0.5, 10.0, 1.0, 0.0, seed=500 + i, periodic=False)
+        motion = carrier if name == "random" else sd.onset(carrier, 2.0, 0.5, 0.0)
+        x, xd, xdd = motion(t)
+        xm = x + np.random.default_rng(i).normal(0.0, 1e-3, N)
+        out.append((xd, xdd, estimate(t, xm, excitation_band(t, xm))))
+    return out
+
+
+@pytest.mark.parametrize("name", ["random", "rest_onset"])
+def test_predicted_errors_hold_at_the_record_ends_over_records_of_one_spectrum(name):
+    """The first and the last 20 samples of 30 records, each end apart: the RMS error of ẋ and ẍ is the per-sample
+    prediction's (``err_v_t``, ``err_a_t``) within a factor 1.5, at errors 5-50x the record's inside (the end at
+    rest of ``rest_onset``: under it, the prediction being the moving record's).  (One record's
+    error there varies with the phase of its motion; the prediction is its expectation.  Before the padding kept ẍ
+    and the ends were predicted, one record's first 20 samples had 0.324 mm/s against 0.108 predicted.)"""
+    act = np.zeros((2, 2))
+    pred = np.zeros((2, 2))
+    for xd, xdd, kin in _ensemble(name, 30):
+        for side, rows in enumerate((np.arange(20), N - 1 - np.arange(20))):
+            for i, (est, true, e_t) in enumerate(((kin.xd, xd, kin.err_v_t), (kin.xdd, xdd, kin.err_a_t))):
+                act[side, i] += np.sum((est[rows] - true[rows]) ** 2)
+                pred[side, i] += np.sum(e_t[rows] ** 2)
+    ratio = np.sqrt(act / pred)
+    moving = ratio if name == "random" else ratio[1:]  # rest_onset ends in motion, starts at rest
+    assert np.all((moving > 1 / 1.5) & (moving < 1.5)), ratio
+    if name == "rest_onset":  # at rest ẋ is 0 and ẍ near it: the spectrum's prediction is conservative there
+        assert np.all(ratio[0] < 1.0), ratio
+
+
+@pytest.mark.parametrize("name", ["random", "rest_onset"])
+def test_inside_the_record_the_predicted_error_is_the_actual_one(name):
+    """Beyond three periods of the smoothest cut from either end, one record's RMS error of ẋ and ẍ is its
+    prediction's within 20 % (σ_x 1 and 5 µm): the stationary budget of the cut each sample takes, not an allowance
+    on top of the noise (the former √(1 + Γ²/3) = 1.75x)."""
+    for sigma_x in (1e-3, 5e-3):
+        t, x, xd, xm, kin = _estimated(name, sigma_x)
+        xdd = _motions()[name](t)[2]
+        inner = slice(200, N - 200)
+        for est, true, e_t in ((kin.xd, xd, kin.err_v_t), (kin.xdd, xdd, kin.err_a_t)):
+            ratio = np.sqrt(np.mean((est[inner] - true[inner]) ** 2) / np.mean(e_t[inner] ** 2))
+            assert 0.8 <= ratio <= 1.2, (name, sigma_x, ratio)
 
 
 def _damping_dominated(periodic: bool) -> tuple[float, float, float]:
@@ -91,17 +126,16 @@ def test_damping_dominated_residual_matches_the_predicted_floor_on_a_random_reco
     assert abs(20 * np.log10(res / floor)) <= 1.0, (res, floor)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the predicted acceleration error err_a is 2-3x too small on the filter estimator (sigma_x 1 um): random "
-    "0.5-10 Hz 2.6x, rest then onset 2.1x (before the five-point differences: 3.3x and 4.2x); the spectral "
-    "estimator on a periodic record is right (12.6 vs 11.7). It enters the floor as m*err_a (a resonant device)"))
 @pytest.mark.parametrize("name", ["random", "rest_onset"])
-def test_acceleration_error_is_within_a_factor_two_of_its_prediction(name):
-    t = sd.sample_times(N, FS)
-    _, _, xdd = _motions()[name](t)
-    *_, kin = _estimated(name, 1e-3)
-    ratio = float(np.sqrt(np.mean((kin.xdd - xdd) ** 2))) / kin.err_a
-    assert 0.5 <= ratio <= 2.0, (name, ratio)
+def test_acceleration_error_is_its_prediction_over_records_of_one_spectrum(name):
+    """The whole record's RMS error of ẍ over 30 records is the RMS of ``err_a`` within a factor 1.5 (it enters the
+    floor as m·err_a on a resonant device).  One record's is not a test of it: a fifth of the predicted mean square
+    sits in the first and last 5 samples, whose error varies with the motion's phase there (one record: 4.77 mm/s²
+    against 11.8 predicted, the ensemble's 1.0x)."""
+    recs = _ensemble(name, 30)
+    act = np.mean([np.mean((kin.xdd - xdd) ** 2) for _, xdd, kin in recs])
+    pred = np.mean([kin.err_a ** 2 for *_, kin in recs])
+    assert 1 / 1.5 < np.sqrt(act / pred) < 1.5, np.sqrt(act / pred)
 
 
 def _narrowband(periodic: bool):
