@@ -34,7 +34,8 @@ import numpy as np
 
 from chainid.records.record import Record
 
-__all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "A_MAX_MM_S2", "GAP_FACTOR", "INERTIA_SHARE", "sampling_warnings", "gap_warnings", "chain_warnings",
+__all__ = ["FS_MAX_HZ", "V_MAX_MM_S", "A_MAX_MM_S2", "GAP_FACTOR", "INERTIA_SHARE", "sampling_warnings", "gap_warnings",
+           "chain_warnings",
            "smallest_chain", "not_a_chain", "plausibility_warnings", "grouped"]
 
 #: A sampling rate above this [Hz] is implausible for a chain test rig.
