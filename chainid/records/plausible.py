@@ -190,10 +190,12 @@ def _inertia_warning(r: Record, chain: Any, k_mid: float) -> list[str]:
     f_in = 1e-3 * m * (2 * math.pi * f) ** 2 * amp
     if not (half_F > 0 and f_in > INERTIA_SHARE * half_F):
         return []
-    f_n = math.sqrt(1e3 * k_mid / m) / (2 * math.pi)
+    f_n = math.sqrt(1e3 * k_mid / m) / (2 * math.pi) if k_mid > 0 else float("nan")
+    natural = f"{f / f_n:.3g}x the chain's natural frequency √(k_e/m)/2π = {f_n:.4g} Hz" if f_n > 0 else \
+        "above a natural frequency the chain's k_e (0 here) cannot give"
     return [f"test {r.test!r}: at the main frequency {f:.4g} Hz the chain's own inertia m·(2πf)²·A = {f_in:.4g} N "
             f"({m:.3g} kg, A {amp:.3g} mm) is {f_in / half_F:.3g}x the measured force's half-span {half_F:.4g} N, "
-            f"{f / f_n:.3g}x the chain's natural frequency √(k_e/m)/2π = {f_n:.4g} Hz; the paper's harmonic tests "
+            f"{natural}; the paper's harmonic tests "
             "are quasi-static: is t in s declared ms (--units t=ms) or --fs too large? (A test this fast needs the "
             "inertia in the base model: the time route carries m·ẍ.)"]
 

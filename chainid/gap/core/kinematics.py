@@ -121,7 +121,7 @@ class Kinematics:
 
     def trimmed(self, a: int, b: int) -> "Kinematics":
         """The same estimate on samples a … b − 1 (every per-sample array sliced; ``err_v`` and ``err_a`` the RMS of
-        the per-sample errors over the samples kept, where they vary)."""
+        the per-sample errors over the samples kept, where they vary; ``err_x`` and ``noise_v`` stay the record's)."""
         ev_t = None if self.err_v_t is None else self.err_v_t[a:b]
         ea_t = None if self.err_a_t is None else self.err_a_t[a:b]
         rms = (lambda e, whole: whole if e is None or not e.size else float(np.sqrt(np.mean(e ** 2))))
@@ -386,7 +386,7 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     ones' (a smoother estimate that disagrees is biased there: an onset, a reversal, an edge).  x and ẍ are chosen
     the same way on their own intervals.  The error reported per sample is the chosen cut's predicted error, its
     stationary budget (bias and noise) inside the record and its end profile near either end
-    (:func:`_predicted_errors`); their RMS is ``err_v`` and ``err_a``; ``f_cut`` is the cut most samples take.
+    (:func:`_at_the_ends`); their RMS is ``err_v`` and ``err_a``; ``f_cut`` is the cut most samples take.
     """
     fs = sample_rate(t)
     cuts = _cuts(f_band, 0.45 * fs)
@@ -430,13 +430,14 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
 
 def _capped(f: np.ndarray, S: np.ndarray, fs: float, cuts: list[float], sigma_x: float, order: int
             ) -> tuple[np.ndarray, np.ndarray]:
-    """Per cut: the stationary budget (:func:`error_budget`) and the predicted error inside the record, the noise σ_c
-    and the bias b_c with b_c² ≤ Γ²σ'²/3, σ' the noise of the next sharper cut (the intersection keeps an estimate
-    whose bias stays within the sharper estimates' ±Γσ'; taken uniform there).  A noise bin that passes for a line
-    far above the band (one record in twenty) would otherwise count its (2πf)^2k-weighted power as bias of every
-    cut: the bound keeps that record's prediction within a few times its error."""
+    """Per cut: the stationary budget (:func:`error_budget`) and the predicted error inside the record, the
+    noise σ_c and the bias b_c with b_c² ≤ Γ²σ'²/3, σ' the noise of the next sharper cut (the intersection keeps
+    an estimate whose bias stays within the sharper estimates' ±Γσ'; taken uniform there; the sharpest cut's
+    bias uncapped).  A noise bin that passes for a line far above the band (one record in twenty) would
+    otherwise count its (2πf)^2k-weighted power as bias of every cut: the bound keeps that record's prediction
+    within a few times its error."""
     tot, noise = (np.array(v) for v in zip(*(error_budget(f, S, fs, fc, sigma_x, order) for fc in cuts)))
-    sharper = np.append(noise[1:], noise[-1])
+    sharper = np.append(noise[1:], np.inf)  # no sharper estimate bounds the sharpest cut's bias
     return tot, np.sqrt(noise ** 2 + np.minimum(tot ** 2 - noise ** 2, ICI_GAMMA ** 2 * sharper ** 2 / 3.0))
 
 

@@ -151,7 +151,8 @@ def butter_gain2(f: np.ndarray, f_cut: float, fs: float) -> np.ndarray:
 
 #: an end whose weights span more samples than this is probed with random signs instead of every unit impulse
 EXACT_SPAN = 600
-#: random-sign probes of the noise term past EXACT_SPAN (a row's sum of squares to about ±12 %, its root ±6 %)
+#: random-sign probes of the noise term past EXACT_SPAN (a row's sum of squares to ±12 % (1 sd), its root ±6 %;
+#: the worst of a profile's rows about 20 % off the exact sum)
 PROBES = 128
 #: the signal's bins are merged into at most this many (power-weighted centre frequency, summed power)
 MAX_LINES = 64
