@@ -398,9 +398,9 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     cuts = cuts[lo:]
     rho = curvature_weight(f, S, fs, pad_lengths(x.size, fs, cuts[0], f_band)[1], sigma_x)
     est = [filtered(t, x, fc, f_band, rho) for fc in cuts]
-    nx = np.array([error_budget(f, S, fs, fc, sigma_x, 0)[1] for fc in cuts])
-    nv = np.array([error_budget(f, S, fs, fc, sigma_x, 1)[1] for fc in cuts])
-    na = np.array([error_budget(f, S, fs, fc, sigma_x, 2)[1] for fc in cuts])
+    # (total, noise) of every cut for x, ẋ, ẍ, computed once: the intervals' noise and the predicted errors
+    budgets = [np.array([error_budget(f, S, fs, fc, sigma_x, k) for fc in cuts]) for k in (0, 1, 2)]
+    nx, nv, na = (b[:, 1] for b in budgets)
     kx, kv, ka = (_ici(np.array([e[j] for e in est])[first[j] - lo:], sd[first[j] - lo:]) + first[j] - lo
                   for j, sd in enumerate((nx, nv, na)))
     # inside the record ẍ's candidates end at ACC_SPAN times its start: a rare empty intersection would otherwise
@@ -412,7 +412,7 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     reach = int(min(x.size // 2, math.ceil(3.0 * fs / cuts[a0])))
     ka[reach:x.size - reach] = inner[reach:x.size - reach]
     ex_t, ev_t, ea_t = _at_the_ends(f, S, fs, cuts, f_band, sigma_x, x.size, [i - lo for i in first], [kx, kv, ka],
-                                    rho)
+                                    rho, budgets)
     rows = np.arange(x.size)
     xs = np.array([e[0] for e in est])[kx, rows]
     xd = np.array([e[1] for e in est])[kv, rows]
@@ -428,24 +428,24 @@ def adaptive(t: np.ndarray, x: np.ndarray, f_band: float, sigma_x: float, f: np.
     return kin
 
 
-def _capped(f: np.ndarray, S: np.ndarray, fs: float, cuts: list[float], sigma_x: float, order: int
-            ) -> tuple[np.ndarray, np.ndarray]:
-    """Per cut: the stationary budget (:func:`error_budget`) and the predicted error inside the record, the
-    noise σ_c and the bias b_c with b_c² ≤ Γ²σ'²/3, σ' the noise of the next sharper cut (the intersection keeps
-    an estimate whose bias stays within the sharper estimates' ±Γσ'; taken uniform there; the sharpest cut's
-    bias uncapped).  A noise bin that passes for a line far above the band (one record in twenty) would
-    otherwise count its (2πf)^2k-weighted power as bias of every cut: the bound keeps that record's prediction
-    within a few times its error."""
-    tot, noise = (np.array(v) for v in zip(*(error_budget(f, S, fs, fc, sigma_x, order) for fc in cuts)))
+def _capped(tot: np.ndarray, noise: np.ndarray) -> np.ndarray:
+    """Per cut, from its stationary budget (:func:`error_budget`: ``tot``, ``noise``): the predicted error
+    inside the record, the noise σ_c and the bias b_c with b_c² ≤ Γ²σ'²/3, σ' the noise of the next sharper cut
+    (the intersection keeps an estimate whose bias stays within the sharper estimates' ±Γσ'; taken uniform
+    there; the sharpest cut's bias uncapped).  A noise bin that passes for a line far above the band (one record
+    in twenty) would otherwise count its (2πf)^2k-weighted power as bias of every cut: the bound keeps that
+    record's prediction within a few times its error."""
     sharper = np.append(noise[1:], np.inf)  # no sharper estimate bounds the sharpest cut's bias
-    return tot, np.sqrt(noise ** 2 + np.minimum(tot ** 2 - noise ** 2, ICI_GAMMA ** 2 * sharper ** 2 / 3.0))
+    return np.sqrt(noise ** 2 + np.minimum(tot ** 2 - noise ** 2, ICI_GAMMA ** 2 * sharper ** 2 / 3.0))
 
 
 def _at_the_ends(f: np.ndarray, S: np.ndarray, fs: float, cuts: list[float], f_band: float, sigma_x: float,
-                 n: int, first: list[int], picks: list[np.ndarray], rho: float) -> list[np.ndarray]:
+                 n: int, first: list[int], picks: list[np.ndarray], rho: float, budgets: list[np.ndarray]
+                 ) -> list[np.ndarray]:
     """Per-sample predicted errors of x, ẋ, ẍ [mm, mm/s, mm/s²], with the ends' cuts chosen by them.
 
-    Inside the record each sample keeps the intersection's cut (``picks``, indices into ``cuts``) and the cut's
+    ``budgets[k]`` holds every cut's (total, noise) :func:`error_budget` of order k.  Inside the record each
+    sample keeps the intersection's cut (``picks``, indices into ``cuts``, rewritten at the ends) and the cut's
     :func:`_capped` error.  Within three periods of the smoothest cut of either end the intersection cannot see the
     padding's bias (its intervals hold noise only: at a 12-20 Hz record's first samples it took estimates twice as
     wrong as their own prediction), so there every sample takes, from order k's first candidate on, the cut whose
@@ -456,7 +456,8 @@ def _at_the_ends(f: np.ndarray, S: np.ndarray, fs: float, cuts: list[float], f_b
     profiles = [end_profile(f, S, fs, fc, f_band, sigma_x, n, rho) for fc in cuts]
     out = []
     for order, k_t in enumerate(picks):
-        tot, capped = _capped(f, S, fs, cuts, sigma_x, order)
+        tot = budgets[order][:, 0]
+        capped = _capped(tot, budgets[order][:, 1])
         e_t = capped[k_t]
         for side, idx in enumerate((np.arange(reach), n - 1 - np.arange(reach))):
             E = np.tile(capped[:, None], (1, reach))
