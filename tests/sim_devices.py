@@ -38,11 +38,11 @@ def sines(freqs: np.ndarray, amps: np.ndarray, phases: np.ndarray, x0: float = 0
     return fn
 
 
-def multisine(duration: float, f_lo: float, f_hi: float, rms: float, x0: float = 0.0, seed: int = 0,
-              periodic: bool = False, n_lines: int | None = None) -> MotionFn:
-    """A band-limited random motion of RMS ``rms`` [mm] about ``x0``: equal-amplitude sines with random phases
-    between f_lo and f_hi [Hz].  ``periodic``: the lines on the grid k/duration (the record is a whole number of
-    periods of every line); otherwise ``n_lines`` frequencies drawn uniformly in the band (off the grid)."""
+def multisine_lines(duration: float, f_lo: float, f_hi: float, rms: float, seed: int = 0, periodic: bool = False,
+                    n_lines: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The lines (f [Hz], a, φ [rad]) of a band-limited random multisine of RMS ``rms``: equal amplitudes, random
+    phases between f_lo and f_hi.  ``periodic``: on the grid k/duration (a record is a whole number of periods of
+    every line); otherwise ``n_lines`` frequencies drawn uniformly in the band (off the grid)."""
     rng = np.random.default_rng(seed)
     if periodic:
         k = np.arange(max(1, math.ceil(f_lo * duration)), math.floor(f_hi * duration) + 1)
@@ -50,8 +50,13 @@ def multisine(duration: float, f_lo: float, f_hi: float, rms: float, x0: float =
     else:
         f = np.sort(rng.uniform(f_lo, f_hi, n_lines or max(8, int((f_hi - f_lo) * duration))))
     ph = rng.uniform(0.0, 2.0 * np.pi, f.size)
-    a = np.full(f.size, rms * math.sqrt(2.0 / f.size))
-    return sines(f, a, ph, x0)
+    return f, np.full(f.size, rms * math.sqrt(2.0 / f.size)), ph
+
+
+def multisine(duration: float, f_lo: float, f_hi: float, rms: float, x0: float = 0.0, seed: int = 0,
+              periodic: bool = False, n_lines: int | None = None) -> MotionFn:
+    """A band-limited random motion of RMS ``rms`` [mm] about ``x0`` (the lines of :func:`multisine_lines`)."""
+    return sines(*multisine_lines(duration, f_lo, f_hi, rms, seed, periodic, n_lines), x0)
 
 
 def smoothstep(t: np.ndarray, t0: float, t1: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -188,10 +193,25 @@ def stribeck_force(v: np.ndarray, F_c: float, dF_s: float, v_s: float) -> np.nda
     return np.sign(v) * (F_c + dF_s * np.exp(-(v / v_s) ** 2))
 
 
+@dataclass(frozen=True)
+class LineForce:
+    """A force [N] that is a sum of lines Σ a_k·sin(2π f_k t + φ_k) (f Hz, a N): callable on t [s]."""
+
+    freqs: np.ndarray
+    amps: np.ndarray
+    phases: np.ndarray
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        return sines(self.freqs, self.amps, self.phases)(np.asarray(t, float))[0]
+
+
 def resonant_response(force: Callable[[np.ndarray], np.ndarray], t: np.ndarray, m: float, c: float, k: float
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A mass–spring–damper m·ẍ·1e-3 + c·ẋ + k·x = F(t) from rest, integrated by ``solve_ivp`` (DOP853, rtol
-    1e-10): x [mm], ẋ [mm/s], ẍ [mm/s²] at the times t."""
+    """A mass–spring–damper m·ẍ·1e-3 + c·ẋ + k·x = F(t) from rest at t[0]: x [mm], ẋ [mm/s], ẍ [mm/s²] at the
+    times t.  A :class:`LineForce` is solved in closed form (:func:`resonant_lines`); any other force is
+    integrated by ``solve_ivp`` (DOP853, rtol 1e-10)."""
+    if isinstance(force, LineForce):
+        return resonant_lines(force, t, m, c, k)
     from scipy.integrate import solve_ivp
 
     def rhs(tt: float, y: np.ndarray) -> list[float]:
@@ -204,11 +224,34 @@ def resonant_response(force: Callable[[np.ndarray], np.ndarray], t: np.ndarray, 
     return x, v, (force(t) - c * v - k * x) / (m * 1e-3)
 
 
-def force_sines(duration: float, f_lo: float, f_hi: float, rms: float, seed: int = 0
-                ) -> Callable[[np.ndarray], np.ndarray]:
+def resonant_lines(force: LineForce, t: np.ndarray, m: float, c: float, k: float
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The exact response from rest at t[0] to a line force: each line's steady state a·Im[H(ω)·e^{i(ωt+φ)}],
+    H = 1/(k − m·1e-3·ω² + i·c·ω) [mm/N], plus the free response A·e^{s₁τ} + B·e^{s₂τ} (s the roots of
+    m·1e-3·s² + c·s + k, τ = t − t[0]) that cancels x and ẋ at t[0].  Distinct roots only (not critical damping)."""
+    me = m * 1e-3
+    w = 2.0 * np.pi * np.asarray(force.freqs, float)
+    H = force.amps / (k - me * w**2 + 1j * c * w)
+    e = np.exp(1j * (w[:, None] * np.asarray(t, float)[None, :] + force.phases[:, None]))
+    xp = np.imag(H @ e)
+    vp = np.imag((1j * w * H) @ e)
+    disc = np.sqrt(complex(c * c - 4.0 * me * k))
+    if abs(disc) <= 1e-9 * abs(c) + 1e-300:
+        raise ValueError(f"critical damping (c = {c}, m = {m}, k = {k}): roots not distinct")
+    s1, s2 = (-c + disc) / (2.0 * me), (-c - disc) / (2.0 * me)
+    x0, v0 = -xp[0], -vp[0]
+    A = (v0 - s2 * x0) / (s1 - s2)
+    B = x0 - A
+    tau = np.asarray(t, float) - t[0]
+    e1, e2 = np.exp(s1 * tau), np.exp(s2 * tau)
+    x = xp + np.real(A * e1 + B * e2)
+    v = vp + np.real(A * s1 * e1 + B * s2 * e2)
+    return x, v, (force(t) - c * v - k * x) / me
+
+
+def force_sines(duration: float, f_lo: float, f_hi: float, rms: float, seed: int = 0) -> LineForce:
     """A random multisine force [N] of RMS ``rms`` with lines on the grid k/duration between f_lo and f_hi [Hz]."""
-    fn = multisine(duration, f_lo, f_hi, rms, 0.0, seed, periodic=True)
-    return lambda t: fn(np.asarray(t, float))[0]
+    return LineForce(*multisine_lines(duration, f_lo, f_hi, rms, seed, periodic=True))
 
 
 # ---------------------------------------------------------------------------------------------------- records

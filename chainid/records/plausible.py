@@ -75,6 +75,11 @@ def _main_frequency(rec: Record) -> float:
     return k / (x.size * dt * step)
 
 
+def _half_span(a: np.ndarray) -> float:
+    """Half the 1..99 % span of a channel (its amplitude, robust to spikes and noise), in the channel's unit."""
+    return 0.5 * float(np.subtract(*np.percentile(a, [99.0, 1.0])))
+
+
 def sampling_warnings(records: Sequence[Record]) -> list[str]:
     """Time-step warnings of each record (see the module docstring)."""
     out = []
@@ -103,7 +108,7 @@ def sampling_warnings(records: Sequence[Record]) -> list[str]:
             out.append(f"test {r.test!r}: the main frequency {f:.4g} Hz is implausibly fast for a chain test: is t "
                        "in s declared ms (--units t=...) or --fs too large?")
         else:
-            amp = 0.5 * float(np.subtract(*np.percentile(r.x, [99.0, 1.0])))
+            amp = _half_span(r.x)
             w = 2 * math.pi * f
             v, acc = w * amp, w * w * amp
             if v > V_MAX_MM_S or acc > A_MAX_MM_S2:
@@ -185,8 +190,8 @@ def _inertia_warning(r: Record, chain: Any, k_mid: float) -> list[str]:
     f = _main_frequency(r) if r.t.size >= 8 else float("nan")
     if not (m > 0 and math.isfinite(f) and f > 0):
         return []
-    amp = 0.5 * float(np.subtract(*np.percentile(r.x, [99.0, 1.0])))
-    half_F = 0.5 * float(np.subtract(*np.percentile(r.F, [99.0, 1.0])))
+    amp = _half_span(r.x)
+    half_F = _half_span(r.F)
     f_in = 1e-3 * m * (2 * math.pi * f) ** 2 * amp
     if not (half_F > 0 and f_in > INERTIA_SHARE * half_F):
         return []

@@ -128,6 +128,24 @@ def test_step_rule_boundaries():
     assert st["z"] == pytest.approx(sum(g) / 2 / se, rel=1e-12) and st["relative_gain"] == pytest.approx(0.25)
 
 
+def test_look_ahead_counts_only_extensions_the_step_rule_would_take(monkeypatch):
+    """Friction (0.5) is chosen over sensor_delay (0.51, within LOOKAHEAD).  Sensor_delay+slack (0.35) would beat
+    friction+slack (0.44, a 12 % step that passes) by more than TIE, but slack's parameter sits at a bound there
+    (rule 4) and friction+sensor_delay (0.49) is a 3.9 % step (rule 3): the runner-up's path ends at 0.51, so
+    friction stays.  With slack inside its bounds the runner-up is taken (0.35 < 0.95·0.44)."""
+    table = dict(TABLE) | {("sensor_delay",): (0.51, (26.0, 26.0, 17.0), (), 1),
+                           ("friction", "slack"): (0.44, (20.0, 20.0, 13.0), (), 2),
+                           ("friction", "sensor_delay"): (0.49, (24.5, 24.5, 15.5), (), 2),
+                           ("sensor_delay", "slack"): (0.35, (12.0, 12.0, 8.0), ("slack.p",), 2)}
+    sel, base, _ = _world(monkeypatch, table)
+    out = sel.forward_select(None, ["friction", "slack", "sensor_delay"], base, 1.0, max_effects=2)
+    assert [c.names for c in out["path"]][1:] == [["friction"], ["friction", "slack"]]
+    free = table | {("sensor_delay", "slack"): (0.35, (12.0, 12.0, 8.0), (), 2)}
+    sel, base, _ = _world(monkeypatch, free)
+    out = sel.forward_select(None, ["friction", "slack", "sensor_delay"], base, 1.0, max_effects=2)
+    assert [c.names for c in out["path"]][1:] == [["sensor_delay"], ["sensor_delay", "slack"]]
+
+
 def test_no_look_ahead_beyond_the_maximum_chain(monkeypatch):
     """At the last allowed step (two effects chosen, at most three) the look-ahead would fit four effects: it
     is not run (only effect sets of up to ``max_effects`` are ever fitted), and the near-tie is reported."""
