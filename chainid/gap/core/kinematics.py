@@ -52,7 +52,8 @@ from chainid.gap.core.lowpass import (butter_gain2, curvature_weight, derivative
 from chainid.gap.core.noise import force_noise, sample_rate
 
 __all__ = ["Kinematics", "CUT_FACTOR", "CUT_CHOICES", "REST_SIGMAS", "estimate", "is_periodic", "spectral",
-           "spectral_best", "signal_power", "filtered", "error_budget", "adaptive", "displacement_noise", "derivative"]
+           "spectral_best", "signal_power", "filtered", "error_budget", "adaptive", "displacement_noise", "derivative",
+           "periodogram"]
 
 #: the spectral x and ẋ keep this many times the band edge
 CUT_FACTOR = 4.0
@@ -162,7 +163,7 @@ def is_periodic(x: np.ndarray, sigma_x: float) -> bool:
     return wrap <= 3.0 * inner + 4.0 * sigma_x
 
 
-def _periodogram(x: np.ndarray, fs: float, window: bool) -> tuple[np.ndarray, np.ndarray, float]:
+def periodogram(x: np.ndarray, fs: float, window: bool) -> tuple[np.ndarray, np.ndarray, float]:
     """One-sided power spectrum of the record [mm² per bin, summing to its variance] — a periodic record with its
     mean removed, any other detrended and Hann-windowed — and the white noise floor [mm² per bin] (median of the
     upper half)."""
@@ -303,7 +304,7 @@ def displacement_noise(x: np.ndarray, fs: float, f_band: float) -> float:
     if x.size < 16:
         return force_noise(x) if x.size >= 5 else 0.0
     if f_band < 0.25 * fs:
-        _, _, floor = _periodogram(x, fs, window=True)
+        _, _, floor = periodogram(x, fs, window=True)
         return math.sqrt(max(floor, 0.0) / math.log(2.0) * x.size / 2.0)
     return force_noise(x)
 
@@ -325,7 +326,7 @@ def estimate(t: np.ndarray, x: np.ndarray, f_band: float) -> Kinematics:
     fs = sample_rate(t)
     sigma_x = displacement_noise(x, fs, f_band)
     periodic = is_periodic(x, sigma_x)
-    f, P, floor = _periodogram(x, fs, window=not periodic)
+    f, P, floor = periodogram(x, fs, window=not periodic)
     S_all = signal_power(P, floor, windowed=not periodic)
     if periodic:
         kin = spectral_best(x, fs, f_band, sigma_x, f, signal_power(P, floor, continuous=False), S_all)

@@ -70,7 +70,7 @@ def _spectrum(t, xm):
     fs = K.sample_rate(t)
     fb = excitation_band(t, xm)
     sx = K.displacement_noise(xm, fs, fb)
-    f, P, floor = K._periodogram(xm, fs, window=True)
+    f, P, floor = K.periodogram(xm, fs, window=True)
     return fs, fb, sx, f, K.signal_power(P, floor, windowed=True, continuous=False)
 
 
