@@ -2,9 +2,9 @@
 
 Everything here is written from the device laws of the effect library's specification (numpy, scipy): closed-form
 motions with exact derivatives, hysteresis integrated in displacement by a fine Runge–Kutta step, friction on the
-true velocity, a force-driven resonant device integrated with ``scipy.integrate.solve_ivp``.  Nothing comes from
-``chainid.model.effects``, ``chainid.model.operators`` or ``chainid.records.simulate``; the only chainid pieces
-used are :class:`chainid.records.Record` (the container) and, for a chain base, ``ChainModel().force`` (the base
+true velocity, a force-driven resonant device in closed form for a sum of lines (``scipy.integrate.solve_ivp``
+for any other force).  Nothing comes from ``chainid.model.effects``, ``chainid.model.operators`` or
+``chainid.records.simulate``; the only chainid pieces used are :class:`chainid.records.Record` (the container) and, for a chain base, ``ChainModel().force`` (the base
 spring the diagnosis is given).
 
 Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N, m kg (m·ẍ·1e-3 = N), c N·s/mm, k N/mm.
@@ -40,9 +40,10 @@ def sines(freqs: np.ndarray, amps: np.ndarray, phases: np.ndarray, x0: float = 0
 
 def multisine_lines(duration: float, f_lo: float, f_hi: float, rms: float, seed: int = 0, periodic: bool = False,
                     n_lines: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The lines (f [Hz], a, φ [rad]) of a band-limited random multisine of RMS ``rms``: equal amplitudes, random
-    phases between f_lo and f_hi.  ``periodic``: on the grid k/duration (a record is a whole number of periods of
-    every line); otherwise ``n_lines`` frequencies drawn uniformly in the band (off the grid)."""
+    """The lines (f [Hz], a, φ [rad]) of a band-limited random multisine of RMS ``rms`` (a in the unit of ``rms``):
+    lines between f_lo and f_hi, equal amplitudes, random phases.  ``periodic``: on the grid k/duration (a record
+    is a whole number of periods of every line); otherwise ``n_lines`` frequencies drawn uniformly in the band (off
+    the grid)."""
     rng = np.random.default_rng(seed)
     if periodic:
         k = np.arange(max(1, math.ceil(f_lo * duration)), math.floor(f_hi * duration) + 1)
@@ -193,7 +194,7 @@ def stribeck_force(v: np.ndarray, F_c: float, dF_s: float, v_s: float) -> np.nda
     return np.sign(v) * (F_c + dF_s * np.exp(-(v / v_s) ** 2))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LineForce:
     """A force [N] that is a sum of lines Σ a_k·sin(2π f_k t + φ_k) (f Hz, a N): callable on t [s]."""
 

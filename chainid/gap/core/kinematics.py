@@ -164,9 +164,11 @@ def is_periodic(x: np.ndarray, sigma_x: float) -> bool:
 
 
 def periodogram(x: np.ndarray, fs: float, window: bool) -> tuple[np.ndarray, np.ndarray, float]:
-    """One-sided power spectrum of the record [mm² per bin, summing to its variance] — a periodic record with its
-    mean removed, any other detrended and Hann-windowed — and the white noise floor [mm² per bin] (median of the
-    upper half)."""
+    """One-sided power spectrum of a record x [mm] sampled at fs [Hz].
+
+    ``window``: detrended and Hann-windowed (a record that is not periodic); else the mean removed.  Returns the
+    frequencies f [Hz], the power P [mm² per bin, summing to the variance] and the white noise floor [mm² per bin]
+    (the median of the upper half)."""
     y = _detrended(np.asarray(x, float)) if window else np.asarray(x, float) - float(np.mean(x))
     n = y.size
     wv = np.hanning(n) if window else np.ones(n)

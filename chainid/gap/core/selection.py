@@ -147,8 +147,8 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
     hysteresis with a short travel), so the best single step can block the best pair.  When a runner-up is
     within ``LOOKAHEAD`` of the choice, both are extended by every remaining effect; the runner-up is taken
     when its best extension beats the choice's best extension by more than ``TIE``.  An extension counts only when
-    the step rule would take it (significant, material, its parameters inside their bounds): a path whose better
-    next step the rule forbids ends where it is.  A runner-up that nests the
+    the step rule would take it (above the training noise floor, significant, material, its parameters inside
+    their bounds): a path whose better next step the rule forbids ends where it is.  A runner-up that nests the
     choice or is nested in it (:data:`~chainid.gap.core.steprule.SIMPLER`: Stribeck and Coulomb friction, Bouc–Wen
     and Dahl hysteresis) is not explored: its extensions are the choice's with a parameter more or less, which the
     final chain's exchange (the richer one, when it fits better) and split (the simpler one plus a second cause)
@@ -169,7 +169,9 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
 
     def best_next(c: Candidate) -> float:
         """Where the path through c gets in one more step: the lowest LOTO of the extensions the step rule would
-        take (rules 2-4), else c's own (the chain would stop at c)."""
+        take (c above its training noise floor, then rules 2-4), else c's own (the chain would stop at c)."""
+        if train_floor(prob, c):
+            return c.nrmse_loto
         ext = (cached(c, n) for n in remaining if n not in c.names)
         return min((e.nrmse_loto for e in ext if not pinned_params(e) and passes(step_test(c, e))),
                    default=c.nrmse_loto)

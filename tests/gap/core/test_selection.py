@@ -89,13 +89,15 @@ def test_forward_selection_stop_reasons(monkeypatch):
 
 def test_forward_selection_near_tie_is_confounded_and_look_ahead_takes_the_runner_up(monkeypatch):
     """Hysteresis (2 parameters) within TIE = 5 % of friction (1): friction is chosen, the pair is reported as
-    confounded.  The runner-up is within LOOKAHEAD = 30 %; its best extension (hysteresis+slack) must beat the
-    choice's best (friction+slack, 0.48) by more than TIE to be taken: 0.47 is not (> 0.95·0.48 = 0.456), 0.40 is."""
+    confounded.  The runner-up is within LOOKAHEAD = 30 %; its best extension (hysteresis+slack, a step the rule
+    takes) must beat the choice's best (friction+slack, 0.44, a 12 % step) by more than TIE to be taken: 0.43 is not
+    (> 0.95·0.44 = 0.418), 0.40 is."""
     base_table = dict(TABLE) | {("hysteresis",): (0.51, (26.0, 26.0, 17.0), (), 2),
+                                ("friction", "slack"): (0.44, (20.0, 20.0, 13.0), (), 2),
                                 ("friction", "hysteresis"): (0.49, (24.5, 24.5, 15.5), (), 3)}
-    sel, base, _ = _world(monkeypatch, base_table | {("hysteresis", "slack"): (0.47, (24.0, 24.0, 15.0), (), 3)})
-    out = sel.forward_select(None, ["friction", "slack", "hysteresis"], base, 1.0)
-    assert out["path"][1].names == ["friction"]
+    sel, base, _ = _world(monkeypatch, base_table | {("hysteresis", "slack"): (0.43, (20.5, 20.5, 13.3), (), 3)})
+    out = sel.forward_select(None, ["friction", "slack", "hysteresis"], base, 1.0, max_effects=2)
+    assert [c.names for c in out["path"]][1:] == [["friction"], ["friction", "slack"]]
     assert out["confounded"][0] == {"step": 1, "pair": ["friction", "hysteresis"], "loto": [0.5, 0.51]}
     sel, base, _ = _world(monkeypatch, base_table | {("hysteresis", "slack"): (0.40, (10.0, 10.0, 6.0), (), 3)})
     out = sel.forward_select(None, ["friction", "slack", "hysteresis"], base, 1.0, max_effects=2)
@@ -130,20 +132,23 @@ def test_step_rule_boundaries():
 
 def test_look_ahead_counts_only_extensions_the_step_rule_would_take(monkeypatch):
     """Friction (0.5) is chosen over sensor_delay (0.51, within LOOKAHEAD).  Sensor_delay+slack (0.35) would beat
-    friction+slack (0.44, a 12 % step that passes) by more than TIE, but slack's parameter sits at a bound there
-    (rule 4) and friction+sensor_delay (0.49) is a 3.9 % step (rule 3): the runner-up's path ends at 0.51, so
-    friction stays.  With slack inside its bounds the runner-up is taken (0.35 < 0.95·0.44)."""
+    friction+slack (0.44, a 12 % step that passes) by more than TIE, but it is not a step the rule takes: with
+    slack's parameter at a bound (rule 4), or carried by one test (SSE 12, 26, 17 after 26, 26, 17: g = (0.39, 0, 0),
+    mean = SE, not > 2 SE: rule 2); friction+sensor_delay (0.49) is a 3.9 % step from sensor_delay (rule 3).  The
+    runner-up's path ends at 0.51, so friction stays.  With slack inside its bounds and the gain on every test the
+    runner-up is taken (0.35 < 0.95·0.44); with the runner-up at its training noise floor (rule 1) it is not."""
     table = dict(TABLE) | {("sensor_delay",): (0.51, (26.0, 26.0, 17.0), (), 1),
                            ("friction", "slack"): (0.44, (20.0, 20.0, 13.0), (), 2),
                            ("friction", "sensor_delay"): (0.49, (24.5, 24.5, 15.5), (), 2),
                            ("sensor_delay", "slack"): (0.35, (12.0, 12.0, 8.0), ("slack.p",), 2)}
-    sel, base, _ = _world(monkeypatch, table)
-    out = sel.forward_select(None, ["friction", "slack", "sensor_delay"], base, 1.0, max_effects=2)
-    assert [c.names for c in out["path"]][1:] == [["friction"], ["friction", "slack"]]
+    one_test = table | {("sensor_delay", "slack"): (0.35, (12.0, 26.0, 17.0), (), 2)}
     free = table | {("sensor_delay", "slack"): (0.35, (12.0, 12.0, 8.0), (), 2)}
-    sel, base, _ = _world(monkeypatch, free)
-    out = sel.forward_select(None, ["friction", "slack", "sensor_delay"], base, 1.0, max_effects=2)
-    assert [c.names for c in out["path"]][1:] == [["sensor_delay"], ["sensor_delay", "slack"]]
+    for world, floor, runner_up in ((table, (), False), (one_test, (), False), (free, (), True),
+                                    (free, {("sensor_delay",)}, False)):
+        sel, base, _ = _world(monkeypatch, world, floor)
+        out = sel.forward_select(None, ["friction", "slack", "sensor_delay"], base, 1.0, max_effects=2)
+        first = "sensor_delay" if runner_up else "friction"
+        assert out["path"][1].names == [first], (world, floor)
 
 
 def test_no_look_ahead_beyond_the_maximum_chain(monkeypatch):

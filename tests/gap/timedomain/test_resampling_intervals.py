@@ -65,7 +65,8 @@ def test_resample_refit_agrees_with_a_refit_from_scratch():
 
 
 def test_percentile_interval_agrees_with_one_from_brute_force_refits():
-    """The 90 % interval of F_c from the resampling's refits (shapes polished from the full fit) against the one
+    """The 90 % interval of F_c from the resampling's refits (shapes polished from the full fit; before the
+    diagnosis recentres them on its estimate, a shift the same for every refit) against the one
     from refits from scratch (``prob.fit(names, weights=mult)``) on the same 40 draws: each end within 2 % of the
     brute-force interval's width, and the widths within 2 % (observed: the same to 8 digits).  The time sampling's
     bias, which every resample shares, is in neither: the coverage test above takes it in (the diagnosis widens
