@@ -4,8 +4,8 @@ Everything here is written from the device laws of the effect library's specific
 motions with exact derivatives, hysteresis integrated in displacement by a fine Runge–Kutta step, friction on the
 true velocity, a force-driven resonant device in closed form for a sum of lines (``scipy.integrate.solve_ivp``
 for any other force).  Nothing comes from ``chainid.model.effects``, ``chainid.model.operators`` or
-``chainid.records.simulate``; the only chainid pieces used are :class:`chainid.records.Record` (the container) and, for a chain base, ``ChainModel().force`` (the base
-spring the diagnosis is given).
+``chainid.records.simulate``; the only chainid pieces used are :class:`chainid.records.Record` (the container)
+and, for a chain base, ``ChainModel().force`` (the base spring the diagnosis is given).
 
 Units: t s, x mm, ẋ mm/s, ẍ mm/s², F N, m kg (m·ẍ·1e-3 = N), c N·s/mm, k N/mm.
 """
