@@ -247,7 +247,8 @@ def resonant_lines(force: LineForce, t: np.ndarray, m: float, c: float, k: float
     e1, e2 = np.exp(s1 * tau), np.exp(s2 * tau)
     x = xp + np.real(A * e1 + B * e2)
     v = vp + np.real(A * s1 * e1 + B * s2 * e2)
-    return x, v, (force(t) - c * v - k * x) / me
+    F = np.imag(force.amps @ e)  # the force itself, on the exponentials already formed
+    return x, v, (F - c * v - k * x) / me
 
 
 def force_sines(duration: float, f_lo: float, f_hi: float, rms: float, seed: int = 0) -> LineForce:
