@@ -18,7 +18,7 @@ from chainid.gap.core.candidate import Candidate, Problem
 from chainid.gap.core.refine import second_look
 from chainid.gap.core.steprule import (ALIASES, FAMILIES, MIN_GAIN, NONE_FRACTION, SIMPLER, TIE, Z, at_noise_floor,
                                       fit_cached, fit_score, loto_jackknife, passes, pick, pinned_params, step_test,
-                                      term_prefix, train_floor)
+                                      takes, term_prefix, train_floor)
 from chainid.infra.forkpool import fork_map
 from chainid.infra.progress import stage
 
@@ -78,7 +78,7 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
         # the best candidate that passes the rule (the lowest-LOTO one may fail it: an improvement carried by
         # a few tests), near-ties resolved by pick, then the one-step look-ahead among those that pass; a step
         # must be physically identified: the new effect's parameters inside their bounds (rule 4)
-        passing = [c for c in cands if not pinned_params(c) and passes(c.step_test)]  # type: ignore[attr-defined]
+        passing = [c for c in cands if takes(c, c.step_test)]  # type: ignore[attr-defined]
         if not passing:
             rejected = rejections(cands)
             stop = stop_message(rejected)
@@ -173,8 +173,7 @@ def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Ca
         if train_floor(prob, c):
             return c.nrmse_loto
         ext = (cached(c, n) for n in remaining if n not in c.names)
-        return min((e.nrmse_loto for e in ext if not pinned_params(e) and passes(step_test(c, e))),
-                   default=c.nrmse_loto)
+        return min((e.nrmse_loto for e in ext if takes(e, step_test(c, e))), default=c.nrmse_loto)
 
     alt = alts[0]
     if fetch is not None:  # both extensions' fits at once (in parallel on a large problem)

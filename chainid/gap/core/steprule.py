@@ -115,6 +115,12 @@ def pinned_params(c: Candidate) -> list[str]:
     return [k for k in c.at_bound if k.startswith(new)]
 
 
+def takes(c: Candidate, st: dict[str, float]) -> bool:
+    """Rules 2-4 for a step to ``c`` with step-test numbers ``st`` (:func:`step_test`): significant, material, and
+    its newest term's parameters inside their bounds."""
+    return not pinned_params(c) and passes(st)
+
+
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
     pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
