@@ -50,6 +50,8 @@ class Candidate:
     loto_num: dict[str, float] = field(default_factory=dict)
     db_holdout: float = float("nan")
     db_train: float = float("nan")
+    #: the damping law the training tests' c_e were tied to in the fit ("" : each test's own c_e)
+    tied_law: str = ""
 
     @property
     def names(self) -> list[str]:

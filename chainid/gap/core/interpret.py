@@ -163,6 +163,7 @@ def step_dict(c: Any, i: int, prev: Any = None) -> dict[str, Any]:
         "params": {k: f(float(v)) for k, v in c.params.items() if not k.startswith("spring.")},
         "params_sd": {k: f(float(v)) for k, v in c.param_sd.items() if not k.startswith("spring.")},
         "damping_law": c.law,
+        "c_e_tied_to_law": bool(getattr(c, "tied_law", "")),
         "nrmse_loto": f(c.nrmse_loto),
         "nrmse_holdout": f(c.nrmse_holdout),
         "shrinkage": f(c.shrinkage),

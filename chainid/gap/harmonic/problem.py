@@ -90,6 +90,8 @@ class Problem:
         self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
         self._mult: np.ndarray | None = None  # multiplicities of the training tests in a fit (a resample)
+        #: effect sets whose fits tie the training tests' c_e to a damping law (:mod:`.tie`), by law name
+        self.ties: dict[tuple[str, ...], str] = {}
         self._own = {d.test: d for d in self.data}
         self._memo: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self._fk: dict[tuple, np.ndarray] = {}
@@ -301,13 +303,21 @@ class Problem:
     # --------------------------------------------------------------------- fit
     def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
         """Whitened residuals of the training tests, each weighted by √(its multiplicity) in a resample (the same
-        sum of squares as the test repeated, without evaluating it again)."""
-        out = []
+        sum of squares as the test repeated, without evaluating it again).  Each test's c_e is its own projection,
+        or, for an effect set in :attr:`ties`, the tied law's c_e(ω, A) with coefficients fitted over the tests."""
+        law = self.ties.get(tuple(names))
+        rows = []
         for i, d in enumerate(self.train):
             Fn, v = self._parts(names, p, d)
             w = np.sqrt(d.counts) if self._mult is None else np.sqrt(d.counts * self._mult[i])
-            out.append(w * (d.Fbar - Fn - _ce(d, Fn, v) * v) / d.sigma)
-        return np.concatenate(out)
+            rows.append((w / d.sigma, Fn, v))
+        if law is None:
+            return np.concatenate([w * (d.Fbar - Fn - _ce(d, Fn, v) * v) for d, (w, Fn, v) in zip(self.train, rows)])
+        X = L.design(law, *self._wak(self.train))
+        # c_e,r = X_r·b for every test: the residual is linear in b, projected out over all tests at once
+        D = np.concatenate([(w * v)[:, None] * X[i][None, :] for i, (w, _, v) in enumerate(rows)])
+        y = np.concatenate([w * (d.Fbar - Fn) for d, (w, Fn, _) in zip(self.train, rows)])
+        return y - D @ np.linalg.lstsq(D, y, rcond=None)[0]
 
     def _keys(self, names: Sequence[str]) -> tuple[list[str], list[float], list[float], list[float]]:
         keys, lo, hi, x0 = [], [], [], []
@@ -343,10 +353,13 @@ class Problem:
         return {k: (a, b) for k, a, b in zip(keys, lo, hi)}
 
     def train_chi2(self, names: Sequence[str], p: dict[str, float]) -> tuple[float, int, int]:
-        """χ² of the training tests at ``p`` (bin residuals over σ/√counts, each test's c_e its projection), the
-        number of residuals and of fitted values (the parameters and one c_e per training test)."""
+        """χ² of the training tests at ``p`` (bin residuals over σ/√counts, each test's c_e its projection or the
+        tied law's), the number of residuals and of fitted values (the parameters and one c_e per training test,
+        or the tied law's coefficients)."""
         r = self._train_resid(names, p)
-        return float(np.sum(r**2)), int(r.size), len(self._keys(names)[0]) + len(self.train)
+        law = self.ties.get(tuple(names))
+        n_ce = len(self.train) if law is None else L.LAWS[law]
+        return float(np.sum(r**2)), int(r.size), len(self._keys(names)[0]) + n_ce
 
     def fit(self, names: Sequence[str], train_only: Sequence[TestData] | None = None,
             start: dict[str, float] | None = None, polish_only: bool = False,
@@ -440,10 +453,12 @@ class Problem:
             self.train = saved
             self._mult = None
 
-    def score(self, cand: Candidate, names: Sequence[str], base_hold: float) -> Candidate:
-        """Score a fitted candidate: the damping law re-identified (LOTO-best of :meth:`laws_for`)."""
+    def score(self, cand: Candidate, names: Sequence[str], base_hold: float,
+              laws: Sequence[str] | None = None) -> Candidate:
+        """Score a fitted candidate: the damping law re-identified (LOTO-best of ``laws``, default
+        :meth:`laws_for`)."""
         best = None
-        for law in self.laws_for(names):
+        for law in laws or self.laws_for(names):
             ev = self.evaluate(names, cand.params, law)
             if best is None or ev["nrmse_loto"] < best[1]["nrmse_loto"]:
                 best = (law, ev)

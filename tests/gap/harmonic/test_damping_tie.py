@@ -1,0 +1,72 @@
+"""A step's c_e tied to its damping law (:mod:`chainid.gap.harmonic.tie`).
+
+Linear device F = 10·x + c_r·ẋ + 2·sgn(ẋ) on the six sine tests of :data:`recovery_cases.HARMONIC_PAIRS` (test h3
+held out): with one c_r = 0.2 N·s/mm for every test the tie to the law is kept; with c_r scattered from test to test
+(0.1 … 0.4 N·s/mm in no order of ω or A: a damping no law of (ω, A) follows) the F test refutes it.
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import recovery_cases as rc
+from chainid.gap.core.selection import baseline_candidate
+from chainid.gap.diagnose import fit_linear_model
+from chainid.gap.harmonic import law_choice as L
+from chainid.gap.harmonic.prepare import prepare_test
+from chainid.gap.harmonic.problem import Problem
+from chainid.gap.harmonic.tie import f_test, tie_damping
+
+#: per-test dashpots scattered about 0.2 N·s/mm (test order of HARMONIC_PAIRS)
+SCATTER = (0.0, 0.2, -0.1, 0.15, -0.15, 0.05)
+
+
+def _friction_problem(scatter: float):
+    def force(mo, t, f, A):
+        x, xd, _ = mo(t)
+        c = rc.C_LIN + scatter * SCATTER[rc.HARMONIC_PAIRS.index((f, A))]
+        return rc.K_LIN * x + c * xd + 2.0 * np.sign(xd)
+
+    recs = rc.harmonic_set(force)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        prob = Problem([prepare_test(r) for r in recs], fit_linear_model(recs, ["h3"], 0.0), ["h3"], fit_mass=True)
+    base = baseline_candidate(prob)
+    cand = prob.score(prob.fit(["friction"]), ["friction"], base.nrmse_holdout)
+    return prob, cand, base
+
+
+def test_f_statistic_against_a_hand_computation_and_the_table():
+    """Δχ² = 10 over 4 released values, χ² = 137 on 137 degrees of freedom: F = 2.5; F₀.₉₅(4, 137) = 2.438 by
+    interpolation in 120/ν between the table's 2.447 (ν = 120) and 2.372 (ν = ∞)."""
+    stat, crit = f_test(137.0, 147.0, 148, 11, 7)
+    assert stat == pytest.approx(2.5, rel=1e-12)
+    assert crit == pytest.approx(2.438, abs=0.005)
+
+
+def test_nothing_released_is_no_test():
+    stat, crit = f_test(100.0, 90.0, 50, 5, 5)
+    assert stat == float("inf") and crit == 0.0
+
+
+@pytest.mark.slow
+def test_a_tie_the_tests_allow_is_kept_for_every_later_fit():
+    prob, cand, base = _friction_problem(0.0)
+    n_free = prob.train_chi2(["friction"], cand.params)[2]
+    assert tie_damping(prob, cand, base.nrmse_holdout)
+    assert cand.tied_law == cand.law and prob.ties == {("friction",): cand.law}
+    # the tied law's coefficients replace one c_e per training test among the fitted values
+    n_tied = prob.train_chi2(["friction"], cand.params)[2]
+    assert n_free - n_tied == len(prob.train) - L.LAWS[cand.law]
+    assert cand.params["friction.F_c"] == pytest.approx(2.0, rel=0.03)
+
+
+@pytest.mark.slow
+def test_a_tie_refuted_by_per_test_damping_is_not_kept():
+    prob, cand, base = _friction_problem(1.0)
+    before = dict(cand.params)
+    assert not tie_damping(prob, cand, base.nrmse_holdout)
+    assert cand.tied_law == "" and prob.ties == {}
+    assert cand.params == before
