@@ -4,11 +4,11 @@ them, and whether the dashpot follows the records' features.
 * :func:`distinct_covariates`: the covariates (operating conditions: a pressure, a coil current) that vary over the
   records, one per condition;
 * :func:`law_choice`: the base's damping, ``"feature"`` (c_r = c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref), the
-  paper's c_e(ω, A) carried to any excitation) or ``"viscous"`` (one c), and why.  The law needs more training
-  records with distinct features than it has coefficients (:func:`law_records_needed`); records at different
-  operating conditions keep one c in the base, since the condition moves a record's damping and, through the device,
-  its band and amplitude (a seal's friction slows the actuator as the pressure rises): a law over the features would
-  stand in for the condition.  The dashpot following the condition (``damping.c@cov``) and the features (the effect
+  paper's c_e(ω, A) carried to any excitation) or ``"viscous"`` (one c), and why.  The law needs
+  :data:`MIN_LAW_RECORDS` training records with distinct features; records at different operating conditions keep
+  one c in the base, since the condition moves a record's damping and, through the device, its band and amplitude
+  (a seal's friction slows the actuator as the pressure rises): a law over the features would stand in for the
+  condition.  The dashpot following the condition (``damping.c@cov``) and the features (the effect
   ``damping_law``) are then steps the held-out data judge.
 
 Units: ω rad/s, A mm, c N·s/mm.
@@ -20,16 +20,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
-__all__ = ["law_records_needed", "distinct_covariates", "law_choice"]
+__all__ = ["MIN_LAW_RECORDS", "distinct_covariates", "law_choice"]
 
-
-def law_records_needed(features: Sequence[str]) -> int:
-    """Fewest training records with distinct features for a dashpot law over ``features`` (``"w"``, ``"A"``): its
-    coefficients (c and one slope per feature) and one more, so that every record can be left out and predicted by
-    the law fitted on the others (the harmonic route's rule for its laws, :func:`chainid.gap.harmonic.law_choice.
-    allowed`).  With no more records than coefficients the law interpolates them: it cannot be judged, and it
-    extrapolates a held-out record's damping from slopes the noise set."""
-    return len(features) + 2
+#: fewest training records with distinct features for a damping law over them
+MIN_LAW_RECORDS = 3
 
 
 def distinct_covariates(records: Sequence[Any], names: Sequence[str]) -> list[str]:
@@ -67,5 +61,5 @@ def law_choice(feature: bool, asked: str, n_train: int, conditions: Sequence[str
                            f"condition {cov}, which moves their features too: whether the damping follows the "
                            f"condition, damping.c@{conditions[0]}, or the features, damping_law, is a step the "
                            "held-out data judge)")
-    return "viscous", ("time domain: viscous c·ẋ (no law over record features: it needs more training records with "
-                       "distinct band centre and amplitude than its coefficients)")
+    return "viscous", (f"time domain: viscous c·ẋ (fewer than {MIN_LAW_RECORDS} training records with distinct band "
+                       "centre and amplitude: no law over record features)")

@@ -27,7 +27,7 @@ import numpy as np
 
 from chainid.gap.core.candidate import Candidate, jackknife_sd
 from chainid.gap.core.delayscan import refine_delay
-from chainid.gap.timedomain.basechoice import distinct_covariates, law_choice, law_records_needed
+from chainid.gap.timedomain.basechoice import MIN_LAW_RECORDS, distinct_covariates, law_choice
 from chainid.gap.timedomain.data import TimeData, fit_subsets, split_blocks
 from chainid.gap.timedomain.design import (Base, ColumnCache, amplitude_bounds, amplitude_names, build, law_features,
                                            shape_names, split_name)
@@ -64,8 +64,8 @@ class TimeProblem:
         The given moving mass of a linear base [kg] (None: fitted, >= 0).
     damping_law : str
         ``viscous``: one dashpot c for every record; otherwise (default ``auto``) the dashpot follows the records'
-        features where enough training records separate them (:func:`law_records_needed`) and no operating
-        condition (a covariate) differs between them (:func:`law_choice`).
+        features where >= ``MIN_LAW_RECORDS`` training records separate them and no operating condition (a
+        covariate) differs between them (:func:`law_choice`).
     """
 
     hprob = None  # no phase-bin part: every record is evaluated sample by sample
@@ -131,16 +131,14 @@ class TimeProblem:
         return float(min(0.5 * longest, 0.25 * dur))
 
     def _law_separable(self, feats: Sequence[str]) -> bool:
-        """Whether the training records separate a damping law over their features: a feature that spreads (``feats``,
-        :func:`.design.law_features`) and more records with distinct (band centre, amplitude) than the law has
-        coefficients (:func:`law_records_needed`)."""
-        distinct = {(round(d.omega_c, 6), round(d.A_c, 6)) for d in self.train}
-        return bool(feats) and len(distinct) >= law_records_needed(feats)
+        """Whether the training records separate a damping law over their features: >= ``MIN_LAW_RECORDS`` of them
+        with distinct (band centre, amplitude), and a feature that spreads (``feats``, :func:`.design.law_features`)."""
+        return bool(feats) and len({(round(d.omega_c, 6), round(d.A_c, 6)) for d in self.train}) >= MIN_LAW_RECORDS
 
     def applicable(self) -> list[str]:
         """Library effects for this base: chain-only effects need the chain, linear-only ones a linear device;
         ``damping_law`` (the dashpot following record features) is an effect only when the base does not carry
-        it already and enough training records with distinct features separate it; with covariates,
+        it already and >= ``MIN_LAW_RECORDS`` training records with distinct features separate it; with covariates,
         every force effect as ``effect@cov`` (its amplitudes following the operating condition)."""
         kind = self.base.kind
         out = [n for n in EFFECT_NAMES if kind in SPECS[n].bases]
