@@ -4,7 +4,8 @@ The training units (time blocks, harmonic tests) are drawn with replacement ``n`
 tests and contiguous blocks, never single samples).  On every resample:
 
 * **the chain is chosen again** by the step rule (:mod:`.steprule`: significance over units, materiality,
-  identification), then the final chain's family exchange and split of a richer effect
+  identification, and the one-step look-ahead at a close runner-up, :func:`.steprule.look_ahead`, among the
+  extensions the diagnosis fitted), then the final chain's family exchange and split of a richer effect
   (:func:`exchange_replay`, :func:`split_replay`), among the effect sets the diagnosis fitted, each scored on the
   resample with its amplitudes (or its damping law) refitted exactly and its shape parameters kept (the route's
   ``rescore``) — the share of resamples that choose each step is its *stability*;
@@ -29,8 +30,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.core.steprule import (FAMILIES, SIMPLER, near_tie_first, passes, pick, split_acceptable, step_test,
-                                      swap_acceptable, term_prefix)
+from chainid.gap.core.steprule import (FAMILIES, SIMPLER, look_ahead, near_tie_first, newest, pick, split_acceptable,
+                                      step_test, swap_acceptable, takes)
 from chainid.infra.forkpool import can_fork, fork_map
 
 __all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "order_replay", "widen",
@@ -56,21 +57,27 @@ def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, 
                                           at_bound=c.at_bound, n_params=c.n_params, bic=c.bic)
         return scored[key]
 
+    def extend(c: Any, n: str) -> Any:
+        """The fitted set of c's terms plus n, rescored, or None (not fitted by the diagnosis)."""
+        key = tuple(sorted(set(c.names) | {n}))
+        if key not in cache:
+            return None
+        e = score(cache[key])
+        return e if set(e.loto_num) == set(c.loto_num) else None
+
+    library = sorted(set().union(*cache)) if cache else []
     cur = score(base)
     chain: list[str] = []
     while len(chain) < max_effects and not cur.at_floor:
         nxt = [c for key, c in cache.items() if len(key) == len(chain) + 1 and set(chain) <= set(key)]
-        cands = [score(c) for c in nxt]
-        ok = []
-        for c in cands:
-            new = [n for n in c.names if n not in chain][-1:]
-            pinned = any(k.startswith(term_prefix(new[0])) for k in c.at_bound) if new else True
-            if not pinned and set(c.loto_num) == set(cur.loto_num) and passes(step_test(cur, c)):
-                ok.append(c)
+        ok = [c for c in map(score, nxt)
+              if set(c.loto_num) == set(cur.loto_num) and takes(c, step_test(cur, c), newest(c, chain))]
         if not ok:
             break
         chosen, _ = pick(ok)
-        chain.append(next(n for n in chosen.names if n not in chain))
+        remaining = [n for n in library if n not in chain]
+        chosen = look_ahead(chain, chosen, ok, remaining, max_effects, extend, lambda c: c.at_floor)
+        chain.append(newest(chosen, chain))
         cur = chosen
     swapped, cur = exchange_replay(chain, cur, cache, score)
     split = split_replay(swapped, cur, cache, score, max_effects)

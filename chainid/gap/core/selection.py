@@ -16,9 +16,9 @@ from typing import Any, Sequence
 
 from chainid.gap.core.candidate import Candidate, Problem
 from chainid.gap.core.refine import second_look
-from chainid.gap.core.steprule import (ALIASES, FAMILIES, MIN_GAIN, NONE_FRACTION, SIMPLER, TIE, Z, at_noise_floor,
-                                      fit_cached, fit_score, loto_jackknife, passes, pick, pinned_params, step_test,
-                                      takes, term_prefix, train_floor)
+from chainid.gap.core.steprule import (ALIASES, FAMILIES, LOOKAHEAD, MIN_GAIN, NONE_FRACTION, TIE, Z, at_noise_floor,
+                                      fit_cached, fit_score, look_ahead, loto_jackknife, passes, pick, pinned_params,
+                                      step_test, takes, term_prefix, train_floor)
 from chainid.infra.forkpool import fork_map
 from chainid.infra.progress import stage
 
@@ -84,8 +84,8 @@ def forward_select(prob: Problem, names: Sequence[str], base: Candidate, base_ho
             stop = stop_message(rejected)
             break
         chosen, ties = pick(passing)
-        chosen = _look_ahead(prob, cur, chosen, passing, remaining, cached, max_effects,
-                             lambda jobs: prefetch(prob, cache, jobs, base_hold))
+        chosen = look_ahead(cur.names, chosen, passing, remaining, max_effects, cached,
+                            lambda c: train_floor(prob, c), lambda jobs: prefetch(prob, cache, jobs, base_hold))
         for t in ties:
             confounded.append({"step": len(path), "pair": [chosen.names[-1], t.names[-1]],
                                "loto": [chosen.nrmse_loto, t.nrmse_loto]})
@@ -133,53 +133,6 @@ def stop_message(rejected: Sequence[dict[str, Any]]) -> str:
     if free is not None and free is not top:
         msg += f"; the best identified one, {free['effect']} (LOTO NRMSE {free['nrmse_loto']:.4g}): {free['reason']}"
     return msg
-
-
-#: a runner-up within this relative LOTO NRMSE of the step's choice is explored one step further
-LOOKAHEAD = 0.3
-
-
-def _look_ahead(prob: Problem, cur: Candidate, chosen: Candidate, cands: list[Candidate], remaining: list[str],
-                cached: Any, max_effects: int, fetch: Any = None) -> Candidate:
-    """Greedy selection with a one-step look-ahead.
-
-    Two effects can explain part of each other's signature (a delayed Coulomb switch looks like Dahl
-    hysteresis with a short travel), so the best single step can block the best pair.  When a runner-up is
-    within ``LOOKAHEAD`` of the choice, both are extended by every remaining effect; the runner-up is taken
-    when its best extension beats the choice's best extension by more than ``TIE``.  An extension counts only when
-    the step rule would take it (above the training noise floor, significant, material, its parameters inside
-    their bounds): a path whose better next step the rule forbids ends where it is.  A runner-up that nests the
-    choice or is nested in it (:data:`~chainid.gap.core.steprule.SIMPLER`: Stribeck and Coulomb friction, Bouc–Wen
-    and Dahl hysteresis) is not explored: its extensions are the choice's with a parameter more or less, which the
-    final chain's exchange (the richer one, when it fits better) and split (the simpler one plus a second cause)
-    decide; the best other runner-up within ``LOOKAHEAD`` is.  ``fetch(jobs)``, when given, fits all those
-    extensions at once first (:func:`prefetch`).
-    """
-    if len(cur.names) + 2 > max_effects or len(remaining) < 2:
-        return chosen
-    new = chosen.names[-1]
-    # a nested runner-up is left to the final chain's exchange and split, when the chain leaves them room: one more
-    # step and a split's extra effect (else it is explored here, as any runner-up)
-    nested = ({new, SIMPLER.get(new)} | {k for k, v in SIMPLER.items() if v == new}
-              if len(cur.names) + 2 < max_effects else {new})
-    alts = sorted((c for c in cands if c is not chosen and c.names[-1] not in nested
-                   and c.nrmse_loto <= (1 + LOOKAHEAD) * chosen.nrmse_loto), key=lambda c: c.nrmse_loto)[:1]
-    if not alts:
-        return chosen
-
-    def best_next(c: Candidate) -> float:
-        """Where the path through c gets in one more step: the lowest LOTO of the extensions the step rule would
-        take (c above its training noise floor, then rules 2-4), else c's own (the chain would stop at c)."""
-        if train_floor(prob, c):
-            return c.nrmse_loto
-        ext = (cached(c, n) for n in remaining if n not in c.names)
-        return min((e.nrmse_loto for e in ext if takes(e, step_test(c, e))), default=c.nrmse_loto)
-
-    alt = alts[0]
-    if fetch is not None:  # both extensions' fits at once (in parallel on a large problem)
-        fetch([(c, n) for c in (chosen, alt) for n in remaining if n not in c.names])
-    mine = best_next(chosen)
-    return alt if best_next(alt) < (1 - TIE) * mine else chosen
 
 
 def prefetch(prob: Problem, cache: dict[tuple[str, ...], Candidate], jobs: Sequence[tuple[Candidate, str]],

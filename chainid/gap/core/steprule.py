@@ -107,18 +107,82 @@ def term_prefix(term: str) -> str:
     return head + "." if "." not in head else term
 
 
-def pinned_params(c: Candidate) -> list[str]:
-    """The parameters of the candidate's newest term pinned at a bound of their physical range."""
-    if not c.names:
-        return []
-    new = term_prefix(c.names[-1])
-    return [k for k in c.at_bound if k.startswith(new)]
+def pinned_params(c: Candidate, new: str | None = None) -> list[str]:
+    """The parameters of the candidate's term ``new`` (default: its newest) pinned at a bound of their physical
+    range."""
+    if new is None:
+        if not c.names:
+            return []
+        new = c.names[-1]
+    pre = term_prefix(new)
+    return [k for k in c.at_bound if k.startswith(pre)]
 
 
-def takes(c: Candidate, st: dict[str, float]) -> bool:
+def takes(c: Candidate, st: dict[str, float], new: str | None = None) -> bool:
     """Rules 2-4 for a step to ``c`` with step-test numbers ``st`` (:func:`step_test`): significant, material, and
-    its newest term's parameters inside their bounds."""
-    return not pinned_params(c) and passes(st)
+    the parameters of the term it adds (``new``, default its newest) inside their bounds."""
+    return not pinned_params(c, new) and passes(st)
+
+
+def newest(c: Any, chain: Sequence[str]) -> str:
+    """The term a step candidate ``c`` adds to ``chain`` (its one name not in the chain)."""
+    return next(n for n in c.names if n not in chain)
+
+
+#: a runner-up within this relative LOTO NRMSE of the step's choice is explored one step further
+LOOKAHEAD = 0.3
+
+
+def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remaining: Sequence[str], max_effects: int,
+               extend: Any, at_floor: Any, fetch: Any = None) -> Any:
+    """The step's choice after a one-step look-ahead (the forward selection's and its replay on a resample's).
+
+    Two effects can explain part of each other's signature (a delayed Coulomb switch looks like Dahl hysteresis
+    with a short travel), so the best single step can block the best pair.  When a runner-up is within
+    ``LOOKAHEAD`` of the choice, both are extended by every remaining effect; the runner-up is taken when its best
+    extension beats the choice's best extension by more than ``TIE``.  An extension counts only when the step rule
+    would take it (above the training noise floor, significant, material, its parameters inside their bounds): a
+    path whose better next step the rule forbids ends where it is.  A runner-up that nests the choice or is nested
+    in it (:data:`SIMPLER`: Stribeck and Coulomb friction, Bouc–Wen and Dahl hysteresis) is not explored: its
+    extensions are the choice's with a parameter more or less, which the final chain's exchange (the richer one,
+    when it fits better) and split (the simpler one plus a second cause) decide; the best other runner-up within
+    ``LOOKAHEAD`` is.
+
+    Parameters
+    ----------
+    chain : the current chain's terms; ``chosen`` and ``cands`` (the candidates the rule takes) each add one
+    remaining : the library terms not in the chain
+    extend : ``extend(c, n)`` → the scored candidate of c's terms plus n, or None when there is none
+    at_floor : ``at_floor(c)`` → whether c's training residual is at the noise floor (rule 1: the chain ends at c)
+    fetch : ``fetch(jobs)``, when given, fits every ``(c, n)`` extension of the choice and the runner-up at once
+    """
+    if len(chain) + 2 > max_effects or len(remaining) < 2:
+        return chosen
+    new = newest(chosen, chain)
+    # a nested runner-up is left to the final chain's exchange and split, when the chain leaves them room: one more
+    # step and a split's extra effect (else it is explored here, as any runner-up)
+    nested = ({new, SIMPLER.get(new)} | {k for k, v in SIMPLER.items() if v == new}
+              if len(chain) + 2 < max_effects else {new})
+    alts = sorted((c for c in cands if c is not chosen and newest(c, chain) not in nested
+                   and c.nrmse_loto <= (1 + LOOKAHEAD) * chosen.nrmse_loto), key=lambda c: c.nrmse_loto)[:1]
+    if not alts:
+        return chosen
+
+    def best_next(c: Any) -> float:
+        """Where the path through c gets in one more step: the lowest LOTO of the extensions the step rule would
+        take (c above its training noise floor, then rules 2-4), else c's own (the chain would stop at c)."""
+        if at_floor(c):
+            return c.nrmse_loto
+        here = set(chain) | {newest(c, chain)}
+        ext = ((extend(c, n), n) for n in remaining if n not in here)
+        return min((e.nrmse_loto for e, n in ext if e is not None and takes(e, step_test(c, e), n)),
+                   default=c.nrmse_loto)
+
+    alt = alts[0]
+    if fetch is not None:  # both extensions' fits at once (in parallel on a large problem)
+        fetch([(c, n) for c in (chosen, alt) for n in remaining if n not in c.names])
+    mine = best_next(chosen)
+    return alt if best_next(alt) < (1 - TIE) * mine else chosen
 
 
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:

@@ -70,8 +70,8 @@ def test_interpretation_dahl_and_stiffness_level_by_hand():
 
 def test_step_dict_is_the_json_contract_of_a_step():
     """The step's keys (docs/guide/trust.md): non-finite numbers None, spring.* parameters left out; the held-out
-    fit % = 100·(1 − NRMSE_holdout), the residual over noise 10^(dB/20) (3 dB: 1.41254) and ``worsened_holdout``
-    when the step's held-out NRMSE is above the step before's."""
+    fit % = 100·(1 − NRMSE_holdout), the residual over noise 10^(dB/20) (3 dB: 1.41254), ``worsened_holdout``
+    when the step's held-out NRMSE is above the step before's, and ``c_e_tied_to_law``."""
     from chainid.gap.core.interpret import step_dict
 
     c = SimpleNamespace(names=("friction", "slack"), params={"spring.k": 1.0, "friction.F_c": 3.0, "slack.s": 0.1},
@@ -84,7 +84,9 @@ def test_step_dict_is_the_json_contract_of_a_step():
         "effect": "slack", "effects": ("friction", "slack"), "params": {"friction.F_c": 3.0, "slack.s": 0.1},
         "params_sd": {"friction.F_c": None, "slack.s": 0.01}, "damping_law": "viscous", "nrmse_loto": 0.1,
         "nrmse_holdout": None, "shrinkage": 0.7, "db_over_noise": 3.0, "z_loto": 4.5, "relative_gain_loto": 0.3,
-        "at_bound": ["slack.s"], "fit_holdout_pct": None, "worsened_holdout": False}
+        "at_bound": ["slack.s"], "fit_holdout_pct": None, "worsened_holdout": False, "c_e_tied_to_law": False}
+    c.tied_law = "viscous"  # the harmonic route's fit tied each test's c_e to the law
+    assert step_dict(c, 2)["c_e_tied_to_law"] is True
     c.step_test = {}
     d = step_dict(c, 0)
     assert d["effect"] == "baseline" and d["z_loto"] is None and d["relative_gain_loto"] is None
