@@ -15,8 +15,13 @@ MECHANISM = {"friction": "friction", "hysteresis": "hysteresis", "backlash": "pl
              "fixture_mass": "inertia"}
 
 
+#: the phrase of :func:`interpretation` that reads an effect of the hysteresis family as friction
+READS_AS_FRICTION = {"hysteresis": "Dahl friction", "bouc_wen": "Jenkins friction"}
+
+
 def mechanism(verdict: str, interpretation: str) -> str:
-    """The verdict's physical families joined by ``+`` (Dahl hysteresis with x_h << A counts as friction).
+    """The verdict's physical families joined by ``+`` (Dahl hysteresis with x_h << A, and Bouc–Wen read as a
+    rounded Jenkins slider, count as friction: :func:`interpretation`).
 
     ``none`` and ``unexplained`` map to themselves.
     """
@@ -25,7 +30,7 @@ def mechanism(verdict: str, interpretation: str) -> str:
     fams: list[str] = []
     for name in verdict.split("+"):
         fam = MECHANISM.get(name, name)
-        if name == "hysteresis" and "Dahl friction" in interpretation:
+        if name in READS_AS_FRICTION and READS_AS_FRICTION[name] in interpretation:
             fam = "friction"
         if fam not in fams:
             fams.append(fam)
@@ -124,6 +129,25 @@ def covariate_dependence(params: dict[str, float]) -> list[dict[str, Any]]:
     return out
 
 
+#: Bouc–Wen unloads along its elastic line when |1 − 2r| is at most this (r = 1/2 exactly: unloading stiffness
+#: within 20 % of the loading's elastic F_y/x_y)
+ELASTIC_UNLOADING = 0.2
+#: a Bouc–Wen knee this sharp or sharper (|z|^n: at z = 0.8 the slope has fallen by 59 %) reads as a slip corner
+SHARP_KNEE = 4.0
+
+
+def _jenkins_reading(p: dict[str, float], amin: float) -> list[str]:
+    """A Bouc–Wen fit that unloads elastically, with a sharp knee and a yield travel well below the amplitudes, is an
+    elastic–plastic (Jenkins) slider whose slip corner is rounded: Coulomb friction with elastic stick."""
+    r, n = p.get("bouc_wen.r", float("nan")), p.get("bouc_wen.n", float("nan"))
+    Fy, xy = p.get("bouc_wen.F_y", float("nan")), p.get("bouc_wen.x_y", float("nan"))
+    if not (abs(1 - 2 * r) <= ELASTIC_UNLOADING and n >= SHARP_KNEE and xy < 0.5 * amin):
+        return []
+    return [f"Bouc–Wen with elastic unloading (r = {r:.2g}) and a sharp knee (n = {n:.2g}), yield travel "
+            f"x_y = {xy:.3g} mm << A (>= {amin:.3g} mm): an elastic–plastic slider, Coulomb friction F_y = {Fy:.4g} N "
+            f"with stick stiffness F_y/x_y = {Fy / xy:.4g} N/mm, its slip corner rounded (Jenkins friction)"]
+
+
 def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
     """Readable meaning of the final fit (Dahl friction, stiffness level, equivalent series compliance)."""
     if len(path) < 2:
@@ -136,6 +160,8 @@ def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
         if xh < 0.5 * amin:
             out.append(f"Dahl-type hysteresis with transition travel x_h = {xh:.3g} mm << A (>= {amin:.3g} mm): "
                        "rate-independent frictional sliding with smooth pre-sliding (Dahl friction)")
+    if "bouc_wen" in final.names:
+        out += _jenkins_reading(final.params, min(d.A for d in prob.data))
     if "stiffness_level" in final.names and getattr(prob.model, "coefficients", None) is not None:
         sc = final.params.get("stiffness_level.scale", 1.0)
         c_lin = prob.model.coefficients[0]

@@ -68,6 +68,26 @@ def test_interpretation_dahl_and_stiffness_level_by_hand():
     assert interpretation([base, lvl], lin, "stiffness_level") == ""
 
 
+def test_bouc_wen_that_unloads_elastically_with_a_sharp_knee_reads_as_a_rounded_jenkins_slider():
+    """dz/dx = (1/x_y)·[1 − (r·sgn(ẋz) + 1 − r)·|z|^n]: unloading (ẋz < 0) has slope (1 − (1 − 2r)·|z|^n)/x_y, the
+    elastic 1/x_y for r = 1/2 — a Jenkins slider (slip force F_y, stick stiffness F_y/x_y = 3/0.02 = 150 N/mm)
+    whose slip corner the knee n rounds.  Read so for |1 − 2r| <= 0.2, n >= 4 and x_y < A_min/2; not for r = 0.65
+    (|1 − 2r| = 0.3), n = 3 or x_y = A_min/2; the mechanism is then friction."""
+    from chainid.gap.core.interpret import interpretation, mechanism
+
+    prob = SimpleNamespace(data=[SimpleNamespace(A=0.3), SimpleNamespace(A=0.1)], model=SimpleNamespace())
+    base = SimpleNamespace(names=(), params={})
+    p = {"bouc_wen.F_y": 3.0, "bouc_wen.x_y": 0.02, "bouc_wen.n": 6.0, "bouc_wen.r": 0.55}
+    text = interpretation([base, SimpleNamespace(names=("bouc_wen",), params=p)], prob, "bouc_wen")
+    assert text == ("Bouc–Wen with elastic unloading (r = 0.55) and a sharp knee (n = 6), yield travel x_y = 0.02 mm "
+                    "<< A (>= 0.1 mm): an elastic–plastic slider, Coulomb friction F_y = 3 N with stick stiffness "
+                    "F_y/x_y = 150 N/mm, its slip corner rounded (Jenkins friction)")
+    assert mechanism("bouc_wen", text) == "friction" and mechanism("bouc_wen", "") == "hysteresis"
+    for change in ({"bouc_wen.r": 0.65}, {"bouc_wen.n": 3.0}, {"bouc_wen.x_y": 0.05}):
+        fin = SimpleNamespace(names=("bouc_wen",), params=p | change)
+        assert interpretation([base, fin], prob, "bouc_wen") == "", change
+
+
 def test_step_dict_is_the_json_contract_of_a_step():
     """The step's keys (docs/guide/trust.md): non-finite numbers None, spring.* parameters left out; the held-out
     fit % = 100·(1 − NRMSE_holdout), the residual over noise 10^(dB/20) (3 dB: 1.41254), ``worsened_holdout``
