@@ -53,7 +53,10 @@ def test_nothing_released_is_no_test():
 
 @pytest.mark.slow
 def test_a_tie_the_tests_allow_is_kept_for_every_later_fit():
+    """The step scored with the device's law (one c; the selection's LOTO choice here is viscous+coulomb, which
+    takes part of the friction's first harmonic and is not tied to: next test)."""
     prob, cand, base = _friction_problem(0.0)
+    prob.score(cand, ["friction"], base.nrmse_holdout, laws=["viscous"])
     n_free = prob.train_chi2(["friction"], cand.params)[2]
     assert tie_damping(prob, cand, base.nrmse_holdout)
     assert cand.tied_law == cand.law and prob.ties == {("friction",): cand.law}
@@ -64,8 +67,19 @@ def test_a_tie_the_tests_allow_is_kept_for_every_later_fit():
 
 
 @pytest.mark.slow
+def test_a_law_that_varies_with_the_test_is_not_tied_to():
+    """viscous+coulomb: its Coulomb term 4·F_f/(π·ω·A) is the friction's first harmonic itself."""
+    prob, cand, base = _friction_problem(0.0)
+    assert cand.law == "viscous+coulomb"
+    before = dict(cand.params)
+    assert not tie_damping(prob, cand, base.nrmse_holdout)
+    assert cand.tied_law == "" and prob.ties == {} and cand.params == before
+
+
+@pytest.mark.slow
 def test_a_tie_refuted_by_per_test_damping_is_not_kept():
     prob, cand, base = _friction_problem(1.0)
+    prob.score(cand, ["friction"], base.nrmse_holdout, laws=["viscous"])
     before = dict(cand.params)
     assert not tie_damping(prob, cand, base.nrmse_holdout)
     assert cand.tied_law == "" and prob.ties == {}
