@@ -132,7 +132,7 @@ def covariate_dependence(params: dict[str, float]) -> list[dict[str, Any]]:
 #: Bouc–Wen unloads along its elastic line when |1 − 2r| is at most this (r = 1/2 exactly: unloading stiffness
 #: within 20 % of the loading's elastic F_y/x_y)
 ELASTIC_UNLOADING = 0.2
-#: a Bouc–Wen knee this sharp or sharper (|z|^n: at z = 0.8 the slope has fallen by 59 %) reads as a slip corner
+#: a Bouc–Wen knee this sharp or sharper (|z|^n: at z = 0.8 the slope has fallen by 41 %) reads as a slip corner
 SHARP_KNEE = 4.0
 
 

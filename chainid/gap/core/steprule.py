@@ -152,7 +152,8 @@ def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remainin
     ----------
     chain : the current chain's terms; ``chosen`` and ``cands`` (the candidates the rule takes) each add one
     remaining : the library terms not in the chain
-    extend : ``extend(c, n)`` → the scored candidate of c's terms plus n, or None when there is none
+    extend : ``extend(c, n)`` → the scored candidate of c's terms plus n, or None when there is none (a replay among
+        the diagnosis' fits: then no look-ahead, the paths could not be compared alike)
     at_floor : ``at_floor(c)`` → whether c's training residual is at the noise floor (rule 1: the chain ends at c)
     fetch : ``fetch(jobs)``, when given, fits every ``(c, n)`` extension of the choice and the runner-up at once
     """
@@ -168,21 +169,24 @@ def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remainin
     if not alts:
         return chosen
 
-    def best_next(c: Any) -> float:
+    def extensions(c: Any) -> list[tuple[Any, str]]:
+        here = set(chain) | {newest(c, chain)}
+        return [(extend(c, n), n) for n in remaining if n not in here]
+
+    def best_next(c: Any, ext: list[tuple[Any, str]]) -> float:
         """Where the path through c gets in one more step: the lowest LOTO of the extensions the step rule would
         take (c above its training noise floor, then rules 2-4), else c's own (the chain would stop at c)."""
         if at_floor(c):
             return c.nrmse_loto
-        here = set(chain) | {newest(c, chain)}
-        ext = ((extend(c, n), n) for n in remaining if n not in here)
-        return min((e.nrmse_loto for e, n in ext if e is not None and takes(e, step_test(c, e), n)),
-                   default=c.nrmse_loto)
+        return min((e.nrmse_loto for e, n in ext if takes(e, step_test(c, e), n)), default=c.nrmse_loto)
 
     alt = alts[0]
     if fetch is not None:  # both extensions' fits at once (in parallel on a large problem)
         fetch([(c, n) for c in (chosen, alt) for n in remaining if n not in c.names])
-    mine = best_next(chosen)
-    return alt if best_next(alt) < (1 - TIE) * mine else chosen
+    mine, theirs = extensions(chosen), extensions(alt)
+    if any(e is None for e, _ in mine + theirs):  # an extension not fitted (a replay): no fair comparison
+        return chosen
+    return alt if best_next(alt, theirs) < (1 - TIE) * best_next(chosen, mine) else chosen
 
 
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:

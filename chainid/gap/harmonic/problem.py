@@ -7,7 +7,8 @@ Method (all on whole tests, never on random samples):
   only, held-out c_e predicted by the law.
 * An effect set: its physical parameters (all of them, jointly) are fitted by
   ``scipy.optimize.least_squares`` (bounded) on the training tests, the
-  per-test c_e re-identified at every step; score = leave-one-test-out NRMSE
+  per-test c_e re-identified at every step (or, for an effect set in ``ties``, every test's c_e from one
+  damping law fitted with them: :mod:`chainid.gap.harmonic.tie`); score = leave-one-test-out NRMSE
   over the training tests (damping law re-fitted without the test) and BIC;
   held-out NRMSE and shrinkage are reported.
 
@@ -90,7 +91,7 @@ class Problem:
         self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
         self._mult: np.ndarray | None = None  # multiplicities of the training tests in a fit (a resample)
-        #: effect sets whose fits tie the training tests' c_e to a damping law (:mod:`.tie`), by law name
+        #: effect sets (sorted names) whose fits tie the training tests' c_e to a damping law (:mod:`.tie`)
         self.ties: dict[tuple[str, ...], str] = {}
         self._own = {d.test: d for d in self.data}
         self._memo: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
@@ -305,7 +306,7 @@ class Problem:
         """Whitened residuals of the training tests, each weighted by √(its multiplicity) in a resample (the same
         sum of squares as the test repeated, without evaluating it again).  Each test's c_e is its own projection,
         or, for an effect set in :attr:`ties`, the tied law's c_e(ω, A) with coefficients fitted over the tests."""
-        law = self.ties.get(tuple(names))
+        law = self.ties.get(tuple(sorted(names)))
         rows = []
         for i, d in enumerate(self.train):
             Fn, v = self._parts(names, p, d)
@@ -357,7 +358,7 @@ class Problem:
         tied law's), the number of residuals and of fitted values (the parameters and one c_e per training test,
         or the tied law's coefficients)."""
         r = self._train_resid(names, p)
-        law = self.ties.get(tuple(names))
+        law = self.ties.get(tuple(sorted(names)))
         n_ce = len(self.train) if law is None else L.LAWS[law]
         return float(np.sum(r**2)), int(r.size), len(self._keys(names)[0]) + n_ce
 
@@ -458,7 +459,7 @@ class Problem:
         """Score a fitted candidate: the damping law re-identified (LOTO-best of ``laws``, default
         :meth:`laws_for`)."""
         best = None
-        for law in laws or self.laws_for(names):
+        for law in laws if laws is not None else self.laws_for(names):
             ev = self.evaluate(names, cand.params, law)
             if best is None or ev["nrmse_loto"] < best[1]["nrmse_loto"]:
                 best = (law, ev)

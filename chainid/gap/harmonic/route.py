@@ -26,7 +26,7 @@ from chainid.infra.progress import stage
 from chainid.gap.core.stationarity import check as stationarity_check
 from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
 from chainid.gap.harmonic.problem import Problem, damping_separable
-from chainid.gap.harmonic.tie import tie_damping
+from chainid.gap.harmonic.tie import tie_path
 from chainid.gap.harmonic.where import localise
 
 __all__ = ["diagnose_harmonic", "jackknife"]
@@ -68,9 +68,8 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
     excess = math.sqrt(max(r2 - f2, 0.0))
     consistent = fw.at_noise_floor(r2, f2, sig_hold, nbin)
     fwd = fw.forward_select(prob, fw.library(prob, effects), base_c, base_c.nrmse_holdout, max_effects=int(max_combo))
+    fwd["path"] = tie_path(prob, fwd["path"], base_c.nrmse_holdout)  # c_e tied where the tests allow (.tie: why)
     path: list[Candidate] = fwd["path"]
-    for c in path[1:]:  # each step's c_e tied to its law where the tests allow (.tie: why)
-        tie_damping(prob, c, base_c.nrmse_holdout)
     singles: list[Candidate] = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     ok_path, bad = trusted_path(path)
     if bad is not None:

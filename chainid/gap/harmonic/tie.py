@@ -18,23 +18,26 @@ c_e (``chainid benchmark-gap --excitations harmonic --resamples 200``).
 
 The tie is kept when the tests do not refute it: the nested-model F test of the training χ² with each test's own
 c_e (n_train of them) against the law's coefficients (fewer), at :data:`LEVEL`; the noise scale is the free fit's
-χ² per degree of freedom.  A tie that pins a parameter at a bound the free fit did not is not kept.  A kept tie
-applies to every later fit of the step's effect set (jack-knife, resamples, profiles:
-:attr:`chainid.gap.harmonic.problem.Problem.ties`), and the step is scored again with its tied parameters and
-law.
+χ² per degree of freedom.  A tie that pins a parameter at a bound the free fit did not, or under which the chain
+would not pass the step rule, is not kept.  A kept tie applies to every later fit of the step's effect set
+(jack-knife, resamples, profiles: :attr:`chainid.gap.harmonic.problem.Problem.ties`), and the step is scored again
+with its tied parameters.  The selection itself (its fits, its scores, the resamples' replay of it) stays with each
+test's own c_e: the tie refits the chain it chose.
 
 Units: χ² dimensionless; parameters in their own units.
 """
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 from scipy.stats import f as f_dist
 
+from chainid.gap.core.steprule import passes, step_test
 from chainid.gap.harmonic import law_choice as L
 
-__all__ = ["LEVEL", "TIED_LAW", "tie_damping", "f_test"]
+__all__ = ["LEVEL", "TIED_LAW", "f_test", "tie_key", "tie_damping", "tie_path"]
 
 #: confidence level of the F test that refutes a tie
 LEVEL = 0.95
@@ -52,24 +55,57 @@ def f_test(chi2_free: float, chi2_tied: float, n: int, p_free: int, p_tied: int)
     return float(stat), float(f_dist.ppf(LEVEL, dnu, nu))
 
 
-def tie_damping(prob: Any, cand: Any, base_hold: float) -> bool:
-    """Tie a step's c_e to its damping law where it is :data:`TIED_LAW` and the training tests allow it; the
-    candidate is refitted and scored again in place (``cand.tied_law`` names the law).  Returns whether the tie was
-    kept."""
-    names = tuple(cand.names)
+def tie_key(names: Any) -> tuple[str, ...]:
+    """The key of an effect set in :attr:`chainid.gap.harmonic.problem.Problem.ties` (its names, sorted)."""
+    return tuple(sorted(names))
+
+
+def tie_damping(prob: Any, cand: Any, base_hold: float) -> Any:
+    """A step's candidate with its c_e tied to :data:`TIED_LAW` (a scored copy, ``tied_law`` naming the law, the
+    tie registered in ``prob.ties``), or None: the step is not scored with that law, or the training tests refute
+    the tie (F test), or the tied fit pins a parameter at a bound the free fit did not.  The copy is scored as
+    every step is (each test's c_e its projection, the law fitted on them; LOTO and held-out from the law), at the
+    tied parameters."""
+    names = list(cand.names)
+    key = tie_key(names)
     law = cand.law
     if not names or law != TIED_LAW or L.LAWS[law] >= len(prob.train):
-        return False
-    chi2_free, n, p_free = prob.train_chi2(list(names), cand.params)
-    prob.ties[names] = law
-    tied = prob.fit(list(names), start=cand.params)
-    chi2_tied, _, p_tied = prob.train_chi2(list(names), tied.params)
+        return None
+    chi2_free, n, p_free = prob.train_chi2(names, cand.params)
+    prob.ties[key] = law
+    try:
+        tied = prob.fit(names, start=cand.params)
+        chi2_tied, _, p_tied = prob.train_chi2(names, tied.params)
+    except Exception:
+        del prob.ties[key]
+        raise
     stat, crit = f_test(chi2_free, chi2_tied, n, p_free, p_tied)
     if stat > crit or not set(tied.at_bound) <= set(cand.at_bound):
-        del prob.ties[names]
-        return False
-    new = prob.score(tied, list(names), base_hold, laws=[law])
-    keep = {"param_sd", "step_test"}
-    cand.__dict__.update({k: v for k, v in new.__dict__.items() if k not in keep})
-    cand.tied_law = law
-    return True
+        del prob.ties[key]
+        return None
+    new = prob.score(tied, names, base_hold, laws=[law])
+    new.name = cand.name
+    new.param_sd = dict(cand.param_sd)
+    new.tied_law = law
+    return new
+
+
+def tie_path(prob: Any, path: list[Any], base_hold: float) -> list[Any]:
+    """The explanation chain with each step's c_e tied where :func:`tie_damping` allows and the chain still passes
+    the step rule (rules 2 and 3 of :mod:`chainid.gap.core.steprule`, each step against the one before, both as
+    reported): a tie under which the step, or the step after it, would not have been taken is undone.  Every step
+    gets its ``step_test`` against the step before as reported; the candidates of the selection (its cache, its
+    single effects) are left as they were fitted."""
+    out = [path[0]]
+    for i, c in enumerate(path[1:], start=1):
+        t = tie_damping(prob, c, base_hold)
+        if t is not None:
+            after = path[i + 1] if i + 1 < len(path) else None
+            ok = passes(step_test(out[-1], t)) and (after is None or passes(step_test(t, after)))
+            if not ok:
+                del prob.ties[tie_key(c.names)]
+                t = None
+        nxt = copy.copy(t if t is not None else c)
+        nxt.step_test = step_test(out[-1], nxt)  # type: ignore[attr-defined]
+        out.append(nxt)
+    return out

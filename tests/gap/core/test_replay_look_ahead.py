@@ -63,3 +63,12 @@ def test_replay_without_the_runner_up_extensions_keeps_the_greedy_choice():
     base = Candidate("baseline", {}, 0)
     base.bic = 0.0
     assert replay(None, _hooks(world, ()), _cache(world), base, np.ones(3), 2)[0] == "friction"
+
+
+def test_replay_without_the_choice_extensions_keeps_the_greedy_choice():
+    """The runner-up's extensions were fitted and the choice's were not (another resample's diagnosis): the two paths
+    cannot be compared alike, so the replay keeps the best step rather than favour the path it can see."""
+    world = {k: v for k, v in FREE.items() if k != ("friction", "slack")}
+    base = Candidate("baseline", {}, 0)
+    base.bic = 0.0
+    assert replay(None, _hooks(world, ()), _cache(world), base, np.ones(3), 2)[0] == "friction"

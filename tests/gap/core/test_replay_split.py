@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from chainid.gap.core.resample import replay
+from chainid.gap.core.steprule import LOOKAHEAD
 from chainid.gap.harmonic.problem import Candidate
 
 
@@ -55,7 +56,7 @@ def test_replay_exchanges_within_a_family_when_the_swapped_set_was_fitted():
     names = {("friction",): 3, ("slack",): 2, ("friction", "slack"): 4, ("bouc_wen", "slack"): 6, ("bouc_wen",): 5}
     loto = {(): 1.0, ("friction",): 0.12, ("slack",): 0.30, ("friction", "slack"): 0.080, ("bouc_wen", "slack"): 0.070,
             ("bouc_wen",): 0.16}
-    assert 0.16 > 1.3 * 0.12
+    assert 0.16 > (1 + LOOKAHEAD) * 0.12
     cache = {k: _cand(list(k), n) for k, n in names.items()}
     base = _cand([], 0)
     mult = np.ones(3)
