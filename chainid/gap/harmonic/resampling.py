@@ -7,8 +7,8 @@ and each drawn test's error is that of the law refitted without it, weighted by 
 drawn tests are fewer than the law's coefficients (a 5-coefficient law and few distinct tests in the draw), the
 law without that test is fitted on every other training test instead (the plain leave-one-test-out): a resample
 never loses a test, so the steps' stability is not diluted by draws that could score nothing.  :func:`refit`
-polishes a candidate's parameters on the drawn tests (each weighted by its multiplicity; a step whose c_e the
-diagnosis tied to its law, :mod:`chainid.gap.harmonic.tie`, is refitted tied).
+polishes a candidate's parameters on the drawn tests (each weighted by its multiplicity; each test's c_e free, also
+for a step whose point estimate tied them to its law, :mod:`chainid.gap.harmonic.tie`).
 
 Units: N² for the errors; each parameter's own unit.
 """

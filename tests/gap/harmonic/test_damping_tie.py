@@ -53,7 +53,7 @@ def test_nothing_released_is_no_test():
 
 
 @pytest.mark.slow
-def test_a_tie_the_tests_allow_is_kept_for_every_later_fit():
+def test_a_tie_the_tests_allow_gives_the_point_estimate_only():
     """The step scored with the device's law (one c; the selection's LOTO choice here is viscous+coulomb, which
     takes part of the friction's first harmonic and is not tied to: next test)."""
     prob, cand, base = _friction_problem(0.0)
@@ -62,11 +62,9 @@ def test_a_tie_the_tests_allow_is_kept_for_every_later_fit():
     before = dict(cand.params)
     tied = tie_damping(prob, cand, base.nrmse_holdout)
     assert tied is not None and tied is not cand and cand.params == before  # a scored copy; the fit left as it was
-    assert tied.tied_law == "viscous" and prob.ties == {("friction",): "viscous"}
-    # one c for every test replaces one c_e per training test among the fitted values
-    n_tied = prob.train_chi2(["friction"], tied.params)[2]
-    assert n_free - n_tied == len(prob.train) - 1
-    assert tied.params["friction.F_c"] == pytest.approx(2.0, rel=0.03)
+    assert tied.tied_law == "viscous" and tied.params["friction.F_c"] == pytest.approx(2.0, rel=0.03)
+    # the point estimate's alone: later fits (jack-knife, resamples, profiles) leave each test's c_e free
+    assert prob.ties == {} and prob.train_chi2(["friction"], tied.params)[2] == n_free
 
 
 @pytest.mark.slow
@@ -93,7 +91,6 @@ def test_a_tie_under_which_the_step_would_not_be_taken_is_undone():
     prob.score(cand, ["friction"], base.nrmse_holdout, laws=["viscous"])
     kept = tie_path(prob, [base, cand], base.nrmse_holdout)
     assert kept[1].tied_law == "viscous" and kept[1].step_test["relative_gain"] > 0.1
-    prob.ties.clear()
     twin = copy.copy(base)
     twin.nrmse_loto, twin.loto_num = kept[1].nrmse_loto, dict(kept[1].loto_num)
     undone = tie_path(prob, [twin, cand], base.nrmse_holdout)
