@@ -55,7 +55,8 @@ def separating_test(a: str, b: str) -> str:
             return RICHER_SHAPE[rich] + (f"; then {separating_test(rich, rest[0])} for {rest[0]}" if rest else "")
     s = {a, b}
     if s == {"friction", "hysteresis"}:
-        return "a small-amplitude test (A comparable to the hysteresis travel x_h) separates sliding from smooth hysteresis"
+        return ("a small-amplitude test (A comparable to the hysteresis travel x_h) separates sliding from smooth "
+                "hysteresis")
     if "sensor_delay" in s:
         return "tests over a wider frequency range (a delay's phase grows with ω)"
     if "damping_law" in s or "friction" in s:

@@ -2,8 +2,8 @@
 
 A resample gives every training test a multiplicity (a multinomial draw of as many tests as there are; held-out
 tests stay out).  :func:`rescore` scores a fitted candidate on a resample at its fitted parameters: each test's
-c_e is its own projection (as in the selection's fits), the damping law is refitted on the drawn tests by weighted least squares
-and each drawn test's error is that of the law refitted without it, weighted by its multiplicity.  When the other
+c_e is its own projection (as in the selection's fits), the damping law is refitted on the drawn tests by weighted
+least squares and each drawn test's error is that of the law refitted without it, weighted by its multiplicity.  When the other
 drawn tests are fewer than the law's coefficients (a 5-coefficient law and few distinct tests in the draw), the
 law without that test is fitted on every other training test instead (the plain leave-one-test-out): a resample
 never loses a test, so the steps' stability is not diluted by draws that could score nothing.  :func:`refit`
