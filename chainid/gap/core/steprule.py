@@ -169,24 +169,26 @@ def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remainin
     if not alts:
         return chosen
 
-    def extensions(c: Any) -> list[tuple[Any, str]]:
-        here = set(chain) | {newest(c, chain)}
-        return [(extend(c, n), n) for n in remaining if n not in here]
-
-    def best_next(c: Any, ext: list[tuple[Any, str]]) -> float:
+    def best_next(c: Any) -> float | None:
         """Where the path through c gets in one more step: the lowest LOTO of the extensions the step rule would
-        take (c above its training noise floor, then rules 2-4), else c's own (the chain would stop at c)."""
+        take (c above its training noise floor, then rules 2-4), else c's own (the chain would stop at c); None
+        when an extension was not fitted (a replay)."""
         if at_floor(c):
             return c.nrmse_loto
+        here = set(chain) | {newest(c, chain)}
+        ext = [(extend(c, n), n) for n in remaining if n not in here]
+        if any(e is None for e, _ in ext):
+            return None
         return min((e.nrmse_loto for e, n in ext if takes(e, step_test(c, e), n)), default=c.nrmse_loto)
 
     alt = alts[0]
     if fetch is not None:  # both extensions' fits at once (in parallel on a large problem)
         fetch([(c, n) for c in (chosen, alt) for n in remaining if n not in c.names])
-    mine, theirs = extensions(chosen), extensions(alt)
-    if any(e is None for e, _ in mine + theirs):  # an extension not fitted (a replay): no fair comparison
+    mine = best_next(chosen)
+    theirs = best_next(alt) if mine is not None else None
+    if mine is None or theirs is None:  # the paths cannot be compared alike
         return chosen
-    return alt if best_next(alt, theirs) < (1 - TIE) * best_next(chosen, mine) else chosen
+    return alt if theirs < (1 - TIE) * mine else chosen
 
 
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
