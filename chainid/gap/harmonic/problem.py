@@ -18,8 +18,9 @@ Units: mm, N, s; NRMSE = RMS(residual)/RMS(F − mean F) over whole tests.
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Iterator, Sequence
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -91,7 +92,7 @@ class Problem:
         self.ke = {d.test: float(np.asarray(model.stiffness(np.array([d.x0])), float)[0]) for d in self.data}
         self.sigma_raw = float(np.sqrt(np.mean([d.sigma**2 for d in self.data])))
         self._mult: np.ndarray | None = None  # multiplicities of the training tests in a fit (a resample)
-        #: effect sets (sorted names) whose fits tie the training tests' c_e to a damping law (:mod:`.tie`)
+        #: effect sets (sorted names) whose fits tie the training tests' c_e to a damping law (:meth:`tied`)
         self.ties: dict[tuple[str, ...], str] = {}
         self._own = {d.test: d for d in self.data}
         self._memo: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
@@ -302,11 +303,26 @@ class Problem:
                 "unit_hold": cat("uh"), "names": ["x", "xd", "xdd", "travel", "direction", "x_lag", "load"]}
 
     # --------------------------------------------------------------------- fit
+    @contextmanager
+    def tied(self, names: Sequence[str], law: str) -> Iterator[None]:
+        """Within the block, fits of the effect set ``names`` tie every training test's c_e to ``law``
+        (:mod:`chainid.gap.harmonic.tie`); outside it each test's c_e is its own again."""
+        key = tuple(sorted(names))
+        self.ties[key] = law
+        try:
+            yield
+        finally:
+            del self.ties[key]
+
+    def _tied_law(self, names: Sequence[str]) -> str | None:
+        """The law an effect set's c_e are tied to (:meth:`tied`), or None: each test's own."""
+        return self.ties.get(tuple(sorted(names)))
+
     def _train_resid(self, names: Sequence[str], p: dict[str, float]) -> np.ndarray:
         """Whitened residuals of the training tests, each weighted by √(its multiplicity) in a resample (the same
         sum of squares as the test repeated, without evaluating it again).  Each test's c_e is its own projection,
         or, for an effect set in :attr:`ties`, the tied law's c_e(ω, A) with coefficients fitted over the tests."""
-        law = self.ties.get(tuple(sorted(names)))
+        law = self._tied_law(names)
         rows = []
         for i, d in enumerate(self.train):
             Fn, v = self._parts(names, p, d)
@@ -358,7 +374,7 @@ class Problem:
         tied law's), the number of residuals and of fitted values (the parameters and one c_e per training test,
         or the tied law's coefficients)."""
         r = self._train_resid(names, p)
-        law = self.ties.get(tuple(sorted(names)))
+        law = self._tied_law(names)
         n_ce = len(self.train) if law is None else L.LAWS[law]
         return float(np.sum(r**2)), int(r.size), len(self._keys(names)[0]) + n_ce
 

@@ -37,9 +37,8 @@ from typing import Any
 from scipy.stats import f as f_dist
 
 from chainid.gap.core.steprule import passes, step_test
-from chainid.gap.harmonic import law_choice as L
 
-__all__ = ["LEVEL", "TIED_LAW", "f_test", "tie_key", "tie_damping", "tie_path"]
+__all__ = ["LEVEL", "TIED_LAW", "f_test", "tie_damping", "tie_path"]
 
 #: confidence level of the F test that refutes a tie
 LEVEL = 0.95
@@ -57,36 +56,24 @@ def f_test(chi2_free: float, chi2_tied: float, n: int, p_free: int, p_tied: int)
     return float(stat), float(f_dist.ppf(LEVEL, dnu, nu))
 
 
-def tie_key(names: Any) -> tuple[str, ...]:
-    """The key of an effect set in :attr:`chainid.gap.harmonic.problem.Problem.ties` (its names, sorted)."""
-    return tuple(sorted(names))
-
-
 def tie_damping(prob: Any, cand: Any, base_hold: float) -> Any:
     """A step's candidate with its c_e tied to :data:`TIED_LAW` (a scored copy, ``tied_law`` naming the law), or
-    None: the step is not scored with that law, or the training tests refute
-    the tie (F test), or the tied fit pins a parameter at a bound the free fit did not.  The copy is scored as
-    every step is (each test's c_e its projection, the law fitted on them; LOTO and held-out from the law), at the
-    tied parameters."""
+    None: the step is not scored with that law, or the training tests refute the tie (F test), or the tied fit
+    pins a parameter at a bound the free fit did not.  The copy is scored as every step is (each test's c_e its
+    projection, the law fitted on them; LOTO and held-out from the law), at the tied parameters."""
     names = list(cand.names)
-    key = tie_key(names)
-    law = cand.law
-    if not names or law != TIED_LAW or L.LAWS[law] >= len(prob.train):
+    if not names or cand.law != TIED_LAW:
         return None
     chi2_free, n, p_free = prob.train_chi2(names, cand.params)
-    prob.ties[key] = law
-    try:
+    with prob.tied(names, TIED_LAW):  # the tie is the point estimate's alone: later fits leave each c_e free
         tied = prob.fit(names, start=cand.params)
         chi2_tied, _, p_tied = prob.train_chi2(names, tied.params)
-    finally:  # the tie is the point estimate's alone: every later fit leaves each test's c_e free
-        del prob.ties[key]
     stat, crit = f_test(chi2_free, chi2_tied, n, p_free, p_tied)
     if stat > crit or not set(tied.at_bound) <= set(cand.at_bound):
         return None
-    new = prob.score(tied, names, base_hold, laws=[law])
+    new = prob.score(tied, names, base_hold, laws=[TIED_LAW])
     new.name = cand.name
-    new.param_sd = dict(cand.param_sd)
-    new.tied_law = law
+    new.tied_law = TIED_LAW
     return new
 
 
@@ -104,7 +91,7 @@ def tie_path(prob: Any, path: list[Any], base_hold: float) -> list[Any]:
             ok = passes(step_test(out[-1], t)) and (after is None or passes(step_test(t, after)))
             if not ok:
                 t = None
-        nxt = copy.copy(t if t is not None else c)
+        nxt = t if t is not None else copy.copy(c)  # (a tied candidate is already a new object)
         nxt.step_test = step_test(out[-1], nxt)  # type: ignore[attr-defined]
         out.append(nxt)
     return out
