@@ -20,6 +20,7 @@
 
 # %%
 import importlib.util
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -38,7 +39,7 @@ src = emit.module_source(mine)
 print("\n".join(src.splitlines()[:6]))
 
 # %%
-folder = Path(tempfile.mkdtemp())
+folder = Path(tempfile.mkdtemp(prefix="chainid_nb02_"))
 path = folder / "stiffness_my_variant.py"
 path.write_text(src)
 spec = importlib.util.spec_from_file_location("stiffness_my_variant", path)
@@ -61,3 +62,9 @@ assert k_new > k_paper  # the inner-bend contact is more conformal, hence stiffe
 # %%
 for v in kernels.VARIANTS:
     print(f"{v:>18}: k_e(2.2) = {kernels.stiffness(2.2, c, v):8.1f} N/mm")
+
+# %% [markdown]
+# The scratch folder holding the emitted variant is removed (the module stays loaded for this session).
+
+# %%
+shutil.rmtree(folder, ignore_errors=True)

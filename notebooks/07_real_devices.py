@@ -33,6 +33,7 @@
 # %%
 import json
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -122,3 +123,10 @@ if have_data:
           f"model-free share {ow['predictable_share']}; significant: {ow['significant']}")
     for w in res["warnings"][:4]:
         print("warning:", w)
+
+# %% [markdown]
+# The scratch folder this notebook made (the converted records, the model file, the JSON) is removed; copy what
+# you want to keep out of `work` before this cell.
+
+# %%
+shutil.rmtree(work, ignore_errors=True)

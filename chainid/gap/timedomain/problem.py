@@ -180,6 +180,12 @@ class TimeProblem:
             parts.append((f, Phi, y))
         return stats, parts
 
+    def columns(self, names: Sequence[str], params: dict[str, float]
+                ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Per record, on every sample: the fixed force f, the amplitude columns Φ (in the order of
+        :func:`.design.amplitude_names`) and the compared force y, for the shape parameters in ``params``."""
+        return self._blocks(names, params, False)[1]
+
     def _train_mult(self) -> np.ndarray:
         """0/1 per (record, block) in stacking order: the training units."""
         tr = {(d.test, b) for d, b in self.train_units}

@@ -30,6 +30,7 @@ from chainid.gap.core.resample import attach, resample, widen
 from chainid.infra.progress import stage
 from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
 from chainid.gap.timedomain.data import prepare_time
+from chainid.gap.timedomain.lawreach import law_extrapolation
 from chainid.gap.timedomain.problem import TimeProblem
 from chainid.gap.timedomain.where import drift, localise_time
 
@@ -136,6 +137,13 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
         warn.append(f"the baseline's held-out residual ({math.sqrt(r2):.3g} N RMS) is at the kinematic floor "
                     f"({kin_floor:.3g} N: the force noise and the displacement noise through the estimated ẋ, ẍ), "
                     "no effect passes the step rule and no state variable predicts what is left: read as noise")
+    if not consistent and final is None and not ow.get("missing_effect"):
+        reach = law_extrapolation(prob, list(base_c.names), base_c.params)
+        if reach is not None:
+            consistent = True
+            where.insert(0, reach)
+            warn.append(reach["finding"] + ": read as the law's reach, not an effect (training records that span "
+                        "the held-out conditions would fix the law)")
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
         warn.append("stick-slip chatter after reversals (" + f"{chatter['frequency_Hz']:.3g} Hz, RMS "

@@ -1,0 +1,89 @@
+"""A held-out gap that is the base's damping law read beyond its training records
+(:mod:`chainid.gap.timedomain.lawreach`).
+
+A linear device F = 10·x + c_r·ẋ + preload, each record's own dashpot c_r (no effect at all).  Three training records
+in 0.5–1.4 Hz, the held-out record r3 at 2.5–3.5 Hz: the base's law c + b_w·(ω − w̄) + b_A·(A − Ā) passes through
+the three training c_r exactly and, extrapolated to r3's band, misses its c (0.40 N·s/mm) by far more than the
+noise allows.  Nothing but a damping level differs, so the verdict is ``none`` with the finding that names r3, and
+r3's own dashpot refitted alone is its true c (the reference: the simulated c_r, within 2 %).  The same records with
+a Coulomb friction of 1 N on every record: the dashpot cannot absorb it, and the finding is absent.  A held-out
+record inside the training range: the finding is absent (the law interpolates there; a miss is the law's form).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import recovery_cases as rc
+import sim_devices as sd
+from chainid.gap.core import selection as fw
+from chainid.gap.timedomain.lawreach import law_extrapolation, own_damping
+from chainid.gap.timedomain.route import build_problem
+
+FS, N = 200.0, 4000
+#: (band [Hz], RMS [mm], c_r [N·s/mm]) of r0, r1, r2 (training) and r3 (held out, beyond the training band)
+SPEC = (((0.5, 1.0), 0.6, 0.40), ((0.6, 1.2), 1.2, 0.46), ((0.8, 1.4), 0.9, 0.36), ((2.5, 3.5), 0.9, 0.40))
+#: r3 inside the training band instead
+INSIDE = ((0.7, 1.1), 0.8, 0.40)
+
+
+def _records(spec=SPEC, friction: float = 0.0) -> list:
+    t = sd.sample_times(N, FS)
+    T = N / FS
+    recs = []
+    for i, (band, rms, c) in enumerate(spec):
+        f = np.arange(math.ceil(band[0] * T), math.floor(band[1] * T) + 1, 4) / T
+        a = np.full(f.size, rms * math.sqrt(2.0 / f.size))
+        x, xd, _ = sd.sines(f, a, np.random.default_rng(90 + i).uniform(0.0, 2 * np.pi, f.size))(t)
+        F = rc.K_LIN * x + c * xd + 3.0 * i + friction * np.tanh(xd / 0.05)
+        recs.append(sd.noisy(f"r{i}", t, x, F, rc.SX_LIN, rc.SF_LIN, i))
+    return recs
+
+
+def _baseline(recs):
+    prob = build_problem(recs, ["r3"], 0, None)
+    base = fw.baseline_candidate(prob)
+    return prob, base
+
+
+def test_the_held_out_records_own_dashpot_is_its_true_c():
+    prob, base = _baseline(_records())
+    assert prob.base.law  # three training records spread both features: the base carries the law
+    own = own_damping(prob, list(base.names), base.params)
+    (r3,) = own["records"]
+    assert r3["test"] == "r3"
+    assert rc.rel_err(r3["c_own"], 0.40) <= 0.02, r3
+    assert rc.rel_err(r3["c_law"], 0.40) > 0.10, r3  # the law extrapolated misses it: the case is a real one
+    assert own["r2"] <= 1.3 * own["f2_kin"]  # with its own c the record is at its floor
+
+
+def test_a_gap_that_is_the_law_extrapolated_names_the_record_and_its_range():
+    prob, base = _baseline(_records())
+    found = law_extrapolation(prob, list(base.names), base.params)
+    assert found is not None
+    assert found["kind"] == "damping_extrapolation"
+    assert [r["test"] for r in found["records"]] == ["r3"]
+    assert "omega_c" in found["records"][0]["outside"]
+    lo, hi = found["range"]["omega_c"]
+    assert hi < found["records"][0]["omega_c"]
+    assert 2 * math.pi * 0.5 < lo < hi < 2 * math.pi * 1.4
+
+
+def test_a_friction_the_dashpot_cannot_absorb_is_not_read_as_the_law():
+    prob, base = _baseline(_records(friction=1.0))
+    assert law_extrapolation(prob, list(base.names), base.params) is None
+
+
+def test_a_held_out_record_inside_the_training_range_is_not_extrapolation():
+    prob, base = _baseline(_records(SPEC[:3] + (INSIDE,)))
+    assert law_extrapolation(prob, list(base.names), base.params) is None
+
+
+@pytest.mark.slow
+def test_the_diagnosis_of_a_law_extrapolated_is_none_with_the_finding():
+    res = rc.diagnosed("law_extrapolated", lambda: (_records(), ["r3"], None))[0]
+    assert res["verdict"] == "none", (res["chain_text"], res["warnings"])
+    assert res["where"][0]["kind"] == "damping_extrapolation"
+    assert any("damping law extrapolated" in w and "r3" in w for w in res["warnings"])
