@@ -1,6 +1,9 @@
 """The verdict rule of the diagnosis, one for both routes (phase bins and time domain).
 
-* ``none`` — the baseline's held-out residual is consistent with the noise;
+* ``none`` — the baseline's held-out residual is consistent with the noise (on the time route also when no
+  effect passes, the model-free check is silent and the route reads the residual as the kinematic floor or as
+  the base's damping law extrapolated: ``chainid.gap.timedomain.route.read_as_none``, passed in as
+  ``consistent``);
 * the chain's effects — the chain shrinks the held-out gap by at least ``MIN_SHRINK``;
 * ``unexplained`` — otherwise, or when what is left drifts with time by at least
   ``NONSTAT_FRACTION`` of the baseline's systematic residual (no static effect explains a drift).

@@ -1,21 +1,25 @@
 """Whether a held-out gap is the base's damping law read beyond the training records.
 
 The time route's base may carry the dashpot law c_r = c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref) (the paper's
-c_e(ω, A), Eq. 21–28, over a record's band centre and amplitude: :func:`chainid.model.timedamping.feature_c`), fitted
-on the training records.  A held-out record whose features lie outside the training records' range reads the law by
+c_e(ω, A), Eq. 21–28, over a record's band centre and amplitude: :meth:`.problem.TimeProblem.record_c`), fitted on
+the training records.  A held-out record whose features lie outside the training records' range reads the law by
 extrapolation; with few training records (three records fix the law's three coefficients exactly) the extrapolated
 c can be far from the record's own while the law's form is right, and the baseline then leaves a held-out residual
 that no effect of the library explains.
 
-:func:`own_damping` refits one dashpot per held-out record on that record alone (one linear parameter per record,
-every other parameter of the fitted model kept) and returns what that leaves.  :func:`law_extrapolation` reads it:
-the gap is the law's extrapolation when (1) the base carries the law and whole records are held out, (2) at least
-one held-out record lies outside the training records' range in a feature the law follows, (3) every refitted
-dashpot is passive (c ≥ 0), and (4) with their own dashpots the held-out records are at their floor by the rule of
+:func:`own_damping` refits one dashpot on each wholly held-out record that lies *beyond* the training range (one
+linear parameter per such record, every other parameter of the fitted model kept); every other held-out sample (a
+record inside the range, a held-out block of a training record) keeps the law's c.  :func:`law_extrapolation` reads
+it: the gap is the law's extrapolation when (1) the base carries the law, (2) at least one wholly held-out record
+lies beyond the training range in a feature the law follows, by more than ``MARGIN`` of the training span (nearer,
+extrapolation and interpolation differ by less than the law's own form can), (3) every refitted dashpot is passive
+(c ≥ 0), and (4) every held-out record, and all of them pooled, is then at its floor by the rule of
 :func:`chainid.gap.core.steprule.at_noise_floor` — the force noise plus the kinematics' predicted errors through the
-record's own dashpot (:meth:`.problem.TimeProblem.kinematic_floor`), the degrees of freedom reduced by the refitted
-dashpots.  The route then reads the baseline as ``none`` with a warning naming the records, the law's c and their
-own: nothing beyond a damping level differs, and the law needs training records spanning the held-out conditions.
+record's dashpot (:meth:`.problem.TimeProblem.kinematic_floor`), one degree of freedom less per refitted dashpot.
+The route then reads the baseline as ``none`` with a warning naming the records, the law's c and their own: nothing
+beyond the damping level of the records the law could not reach differs, and training records spanning the
+held-out conditions would fix the law.  A record inside the range that the law misses is the law's form, and stops
+the reading.
 
 Units: ω rad/s, A mm, c N·s/mm, forces N.
 """
@@ -29,94 +33,103 @@ import numpy as np
 
 from chainid.gap.core.steprule import at_noise_floor
 from chainid.gap.timedomain.design import amplitude_names
-from chainid.model.timedamping import feature_c
+from chainid.gap.timedomain.problem import SIGMA2_REL_SD, TimeProblem
 
-__all__ = ["law_extrapolation", "own_damping"]
+__all__ = ["MARGIN", "law_extrapolation", "own_damping"]
 
 #: the record features the base's dashpot law reads, by the law's feature key (:func:`.design.law_features`)
 FEATURES = (("w", "omega_c"), ("A", "A_c"))
+#: a held-out record reads the law by extrapolation when a feature lies this fraction of the training span beyond it
+MARGIN = 0.1
 
 
-def _record_c(prob: Any, params: dict[str, float], d: Any) -> float:
-    """The dashpot [N·s/mm] the fitted law gives record ``d``."""
-    refs = prob.base.refs
-    return feature_c(params.get("damping.c", 0.0), params.get("damping_law.b_w", 0.0),
-                     params.get("damping_law.b_A", 0.0), d.omega_c, d.A_c, refs["w_ref"], refs["A_ref"])
-
-
-def own_damping(prob: Any, names: list[str], params: dict[str, float]) -> dict[str, Any]:
-    """Each wholly held-out record's own dashpot and the held-out residual it leaves.
-
-    Returns ``records`` (per record: ``test``, ``omega_c`` [rad/s], ``A_c`` [mm], ``c_law`` and ``c_own``
-    [N·s/mm]), ``r2`` (mean squared residual per held-out sample [N²]), ``f2_force`` (the force-noise floor [N²])
-    and ``f2_kin`` (the floor with the kinematics' errors through each record's own dashpot [N²]); ``records``
-    empty when no record is held out whole or the model has no dashpot column.
-    """
-    amps = amplitude_names(prob.base, names)
-    out: dict[str, Any] = {"records": [], "r2": math.nan, "f2_force": math.nan, "f2_kin": math.nan}
-    if "damping.c" not in amps:
-        return out
-    j = amps.index("damping.c")
-    a = np.array([params[k] for k in amps])
-    r2 = f2 = fk = 0.0
-    n = 0
-    for d, (f, Phi, y) in zip(prob.tdata, prob.columns(names, params)):
-        if prob.train_mask(d.test).any():
-            continue
-        r, v = y - f - Phi @ a, Phi[:, j]
-        vv = float(v @ v)
-        dc = float(r @ v) / vv if vv > 0 else 0.0
-        c_law = _record_c(prob, params, d)
-        own = params | {"damping.c": c_law + dc, "damping_law.b_w": 0.0, "damping_law.b_A": 0.0}
-        r2 += float(np.sum((r - dc * v) ** 2))
-        f2 += prob.noise_floor(d, params) * r.size
-        fk += prob.kinematic_floor(d, own) * r.size
-        n += r.size
-        out["records"].append({"test": d.test, "omega_c": float(d.omega_c), "A_c": float(d.A_c),
-                               "c_law": float(c_law), "c_own": float(c_law + dc)})
-    if n:
-        out |= {"r2": r2 / n, "f2_force": f2 / n, "f2_kin": fk / n}
-    return out
-
-
-def _outside(prob: Any, rec: dict[str, Any]) -> list[str]:
-    """The law's features in which held-out record ``rec`` lies outside the training records' range."""
+def beyond(prob: TimeProblem, d: Any) -> list[str]:
+    """The features of the law in which record ``d`` lies beyond the training records' range by more than
+    ``MARGIN`` of its span."""
     out = []
     for key, attr in FEATURES:
         if key not in prob.base.law_features:
             continue
-        vals = [float(getattr(d, attr)) for d in prob.tdata if prob.train_mask(d.test).any()]
-        if not min(vals) <= rec[attr] <= max(vals):
+        vals = [float(getattr(t, attr)) for t in prob.train]
+        lo, hi = min(vals), max(vals)
+        v, pad = float(getattr(d, attr)), MARGIN * (hi - lo)
+        if v < lo - pad or v > hi + pad:
             out.append(attr)
     return out
 
 
-def law_extrapolation(prob: Any, names: list[str], params: dict[str, float]) -> dict[str, Any] | None:
+def own_damping(prob: TimeProblem, names: list[str], params: dict[str, float]) -> dict[str, Any]:
+    """The held-out residual with each wholly held-out record beyond the training range on its own dashpot.
+
+    Returns ``records`` (per record with held-out samples: ``test``, ``omega_c`` [rad/s], ``A_c`` [mm], ``outside``
+    (the features beyond the range), ``refit`` (its own dashpot fitted), ``c_law`` and ``c_own`` [N·s/mm], ``r2``,
+    ``f2_force``, ``f2_kin`` [N² per held-out sample], ``n_cells``), and the same four numbers pooled over every
+    held-out sample; no records when the model has no dashpot column.
+    """
+    amps = amplitude_names(prob.base, names)
+    out: dict[str, Any] = {"records": [], "r2": math.nan, "f2_force": math.nan, "f2_kin": math.nan, "n_cells": 0}
+    if "damping.c" not in amps:
+        return out
+    j = amps.index("damping.c")
+    a = np.array([params[k] for k in amps])
+    tot = np.zeros(3)
+    n = 0
+    for d, (f, Phi, y) in zip(prob.tdata, prob.columns(names, params)):
+        hold = ~prob.train_mask(d.test)
+        if not hold.any():
+            continue
+        r, v = (y - f - Phi @ a)[hold], Phi[hold, j]
+        outside = beyond(prob, d) if hold.all() else []
+        vv = float(v @ v)
+        dc = float(r @ v) / vv if outside and vv > 0 else 0.0
+        c_law = prob.record_c(d, params)
+        own = params | {"damping.c": c_law + dc, "damping_law.b_w": 0.0, "damping_law.b_A": 0.0}
+        row = np.array([np.sum((r - dc * v) ** 2), prob.noise_floor(d, params) * r.size,
+                        prob.kinematic_floor(d, own) * r.size])
+        tot += row
+        n += r.size
+        cells = int(d.rho * r.size) - (1 if outside else 0)
+        out["records"].append({"test": d.test, "omega_c": float(d.omega_c), "A_c": float(d.A_c), "outside": outside,
+                               "refit": bool(outside), "c_law": float(c_law), "c_own": float(c_law + dc),
+                               "r2": row[0] / r.size, "f2_force": row[1] / r.size, "f2_kin": row[2] / r.size,
+                               "n_cells": max(cells, 1), "n": int(r.size), "n_record": int(d.t.size)})
+        out["n_cells"] += cells
+    if n:
+        out |= {"r2": tot[0] / n, "f2_force": tot[1] / n, "f2_kin": tot[2] / n}
+    return out
+
+
+def _at_floor(r2: float, f2_kin: float, f2_force: float, n_cells: int, rel_sd: float) -> bool:
+    """The step rule's floor test on a residual r2 against the kinematic floor f2_kin [N²]."""
+    return at_noise_floor(r2, f2_kin, math.sqrt(f2_force), max(n_cells, 1), rel_sd)
+
+
+def law_extrapolation(prob: TimeProblem, names: list[str], params: dict[str, float]) -> dict[str, Any] | None:
     """The finding that the held-out gap of the model ``names``/``params`` is its dashpot law extrapolated (see the
     module docstring), or None when any of the four conditions fails.
 
     The finding has the ``where`` keys (``finding``, ``kind`` = ``damping_extrapolation``, ``score``) plus
-    ``records`` (those outside the training range, with ``outside``: the features) and the training ``range``.
+    ``records`` (the refitted ones), the training ``range`` and the pooled RMS left [N] and floor [N].
     """
     if not prob.base.law:
         return None
     own = own_damping(prob, names, params)
     recs = own["records"]
-    beyond = [r | {"outside": _outside(prob, r)} for r in recs]
-    beyond = [r for r in beyond if r["outside"]]
-    if not beyond or any(r["c_own"] < 0.0 for r in recs):
+    refit = [r for r in recs if r["refit"]]
+    if not refit or not all(r["c_own"] >= 0.0 for r in refit):  # (a NaN c fails >= as well)
         return None
-    n_cells = max(prob.n_cells("hold") - len(recs), 1)
-    if not at_noise_floor(own["r2"], own["f2_kin"], math.sqrt(own["f2_force"]), n_cells, prob.floor_rel_sd("hold")):
+    if not all(_at_floor(r["r2"], r["f2_kin"], r["f2_force"], r["n_cells"], SIGMA2_REL_SD / math.sqrt(r["n_record"]))
+               for r in recs):
         return None
-    train = [d for d in prob.tdata if prob.train_mask(d.test).any()]
-    rng = {attr: [min(float(getattr(d, attr)) for d in train), max(float(getattr(d, attr)) for d in train)]
+    if not _at_floor(own["r2"], own["f2_kin"], own["f2_force"], own["n_cells"], prob.floor_rel_sd("hold")):
+        return None
+    rng = {attr: [min(float(getattr(d, attr)) for d in prob.train), max(float(getattr(d, attr)) for d in prob.train)]
            for key, attr in FEATURES if key in prob.base.law_features}
     text = "; ".join(f"{r['test']} (ω_c {r['omega_c']:.3g} rad/s, A {r['A_c']:.3g} mm): the law's c "
-                     f"{r['c_law']:.3g} N·s/mm, its own {r['c_own']:.3g}" for r in beyond)
+                     f"{r['c_law']:.3g} N·s/mm, its own {r['c_own']:.3g}" for r in refit)
     span = ", ".join(f"{a} {lo:.3g}–{hi:.3g}" for a, (lo, hi) in rng.items())
-    finding = (f"the held-out gap is the damping law extrapolated beyond the {len(train)} training records ({span}): "
-               f"{text}; with its own dashpot every held-out record is at its noise floor")
-    return {"finding": finding, "kind": "damping_extrapolation", "score": math.sqrt(max(own["r2"], 0.0)),
-            "records": beyond, "range": rng, "rms_own_N": math.sqrt(max(own["r2"], 0.0)),
-            "floor_N": math.sqrt(max(own["f2_kin"], 0.0))}
+    finding = (f"the held-out gap is the damping law extrapolated beyond the {len(prob.train)} training records "
+               f"({span}): {text}; with their own dashpots every held-out record is at its noise floor")
+    rms = math.sqrt(max(own["r2"], 0.0))
+    return {"finding": finding, "kind": "damping_extrapolation", "score": rms, "records": refit, "range": rng,
+            "rms_own_N": rms, "floor_N": math.sqrt(max(own["f2_kin"], 0.0))}

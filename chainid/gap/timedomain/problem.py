@@ -182,8 +182,10 @@ class TimeProblem:
 
     def columns(self, names: Sequence[str], params: dict[str, float]
                 ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-        """Per record, on every sample: the fixed force f, the amplitude columns Φ (in the order of
-        :func:`.design.amplitude_names`) and the compared force y, for the shape parameters in ``params``."""
+        """Per record, on every sample: the fixed force f [N], the amplitude columns Φ (in the order of
+        :func:`.design.amplitude_names`; each in N per unit of its amplitude, the dashpot's ẋ in mm/s) and the
+        compared force y [N] (low-passed where the record is compared below a cut, as in :meth:`evaluate`), for the
+        shape parameters in ``params``."""
         return self._blocks(names, params, False)[1]
 
     def _train_mult(self) -> np.ndarray:
@@ -356,9 +358,7 @@ class TimeProblem:
         if F_s > 0.0 and d.xd.size:
             s = sliding_sign(d.xd, False, kin.v_spread(d.t))
             sign_var = F_s**2 * float(np.mean(1.0 - s**2))
-        refs = self.base.refs  # the record's own dashpot, where the damping follows its features
-        c = feature_c(params.get("damping.c", 0.0), params.get("damping_law.b_w", 0.0),
-                      params.get("damping_law.b_A", 0.0), d.omega_c, d.A_c, refs["w_ref"], refs["A_ref"])
+        c = self.record_c(d, params)
         m = params.get("mass.m", self.base.mass_kg or 0.0) + (self.model.mass_kg if self.is_chain else 0.0)
         m += params.get("fixture_mass.m_f", 0.0)
         k = params.get("spring.k", 0.0)
@@ -366,6 +366,13 @@ class TimeProblem:
             k = float(np.asarray(self.model.stiffness(np.array([max(d.x0, 1e-6)])), float)[0])
         return (self.noise_floor(d, params) + (c * kin.err_v) ** 2 + (m * 1e-3 * kin.err_a) ** 2
                 + (k * kin.err_x) ** 2 + sign_var)
+
+    def record_c(self, d: TimeData, params: dict[str, float]) -> float:
+        """Record ``d``'s dashpot [N·s/mm]: one c, or where the damping follows the records' features the law
+        c + b_w·(ω_r − w_ref) + b_A·(A_r − A_ref) at the record's band centre and amplitude (:func:`feature_c`)."""
+        refs = self.base.refs
+        return feature_c(params.get("damping.c", 0.0), params.get("damping_law.b_w", 0.0),
+                         params.get("damping_law.b_A", 0.0), d.omega_c, d.A_c, refs["w_ref"], refs["A_ref"])
 
     def floor_rel_sd(self, split: str = "hold") -> float:
         """Relative standard deviation of a split's noise floor from the estimate of each record's force noise:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import sys
+from functools import partial
 from types import SimpleNamespace
 from typing import Any, Sequence
 
@@ -34,7 +35,7 @@ from chainid.gap.timedomain.lawreach import law_extrapolation
 from chainid.gap.timedomain.problem import TimeProblem
 from chainid.gap.timedomain.where import drift, localise_time
 
-__all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any"]
+__all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any", "read_as_none"]
 
 #: blocks per record for leave-one-block-out scoring when whole tests are held out
 LOO_BLOCKS = 4
@@ -75,6 +76,32 @@ def kinematic_none(final: Candidate | None, r2: float, kin_floor: float, f2: flo
     if final is not None or ow.get("missing_effect") or not (kin_floor > 0.0 and f2 > 0.0):
         return False
     return fw.at_noise_floor(r2, kin_floor**2, math.sqrt(f2), prob.n_cells("hold"), prob.floor_rel_sd("hold"))
+
+
+def read_as_none(prob: TimeProblem, base_c: Candidate, final: Candidate | None, floors: tuple[float, float, float],
+                 ow: dict[str, Any], where: list[dict[str, Any]], warn: list[str]) -> bool:
+    """Whether a baseline above its force noise is still read as ``none``, and why (a warning; a ``where`` finding).
+
+    Two readings, each only when no effect passed the step rule and the model-free check is silent: the residual is
+    the kinematic floor (:func:`kinematic_none`), or the held-out gap is the base's damping law read beyond the
+    training records (:func:`chainid.gap.timedomain.lawreach.law_extrapolation`).  ``floors``: the baseline's
+    held-out mean squared residual r2, its force-noise floor f2 [N²] and the kinematic floor [N].
+    """
+    r2, f2, kin_floor = floors
+    if kinematic_none(final, r2, kin_floor, f2, prob, ow):
+        warn.append(f"the baseline's held-out residual ({math.sqrt(r2):.3g} N RMS) is at the kinematic floor "
+                    f"({kin_floor:.3g} N: the force noise and the displacement noise through the estimated ẋ, ẍ), "
+                    "no effect passes the step rule and no state variable predicts what is left: read as noise")
+        return True
+    if final is not None or ow.get("missing_effect"):
+        return False
+    reach = law_extrapolation(prob, list(base_c.names), base_c.params)
+    if reach is None:
+        return False
+    where.insert(0, reach)
+    warn.append(reach["finding"] + ": read as the law's reach, not an effect (training records that span the "
+                "held-out conditions would fix the law)")
+    return True
 
 
 def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, holdout_blocks: int = 0,
@@ -132,18 +159,8 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     stage("model-free check")
     ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
                     chatter=chatter)
-    if not consistent and kinematic_none(final, r2, kin_floor, f2, prob, ow):
-        consistent = True
-        warn.append(f"the baseline's held-out residual ({math.sqrt(r2):.3g} N RMS) is at the kinematic floor "
-                    f"({kin_floor:.3g} N: the force noise and the displacement noise through the estimated ẋ, ẍ), "
-                    "no effect passes the step rule and no state variable predicts what is left: read as noise")
-    if not consistent and final is None and not ow.get("missing_effect"):
-        reach = law_extrapolation(prob, list(base_c.names), base_c.params)
-        if reach is not None:
-            consistent = True
-            where.insert(0, reach)
-            warn.append(reach["finding"] + ": read as the law's reach, not an effect (training records that span "
-                        "the held-out conditions would fix the law)")
+    if not consistent:
+        consistent = read_as_none(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn)
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
         warn.append("stick-slip chatter after reversals (" + f"{chatter['frequency_Hz']:.3g} Hz, RMS "
@@ -160,24 +177,32 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
                                            _tests(prob, base_c, left))
     summary["open_world"] = ow
     if resamples:
-        stage("resampling", f"{resamples} resamples")
-        from chainid.gap.timedomain import resampling
-        from chainid.gap.timedomain.discretisation import ORDER, richardson_shifts
-
-        stab = resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo))
-        stage("discretisation bias", "records decimated by 2")
-        shifts, why = richardson_shifts(records, prob, ok_path,
-                                        lambda rs: build_problem(rs, holdout, holdout_blocks, model, mass_kg,
-                                                                           damping_law))
-        widen(stab, shifts, why, ORDER)
-        stage("profile likelihood")
-        attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))
-        attach(summary, stab)
+        rebuild = partial(build_problem, holdout=holdout, holdout_blocks=holdout_blocks, model=model,
+                          mass_kg=mass_kg, damping_law=damping_law)  # the records decimated, the same problem
+        attach(summary, _trust(prob, records, rebuild, fwd, ok_path, resamples, seed, int(max_combo)))
     summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
     summary["base"] = {"model": prob.base.kind, "mass_given_kg": mass_kg, "offsets": "per test" if prob.base.offsets
                        else "none", "covariates": list(prob.covariates)}
     summary["noise"] = _noise_method(prob)
     return summary
+
+
+def _trust(prob: TimeProblem, records: Sequence[Any], rebuild: Any, fwd: dict[str, Any], ok_path: list[Candidate],
+           resamples: int, seed: int, max_effects: int) -> dict[str, Any]:
+    """The chain's stability and its parameters' intervals: ``resamples`` resamples of the training blocks
+    (:func:`chainid.gap.core.resample.resample`), widened by the time sampling's bias (the records decimated by 2 and
+    rebuilt by ``rebuild``: :mod:`.discretisation`), with the profile-likelihood intervals beside them."""
+    stage("resampling", f"{resamples} resamples")
+    from chainid.gap.timedomain import resampling
+    from chainid.gap.timedomain.discretisation import ORDER, richardson_shifts
+
+    stab = resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=max_effects)
+    stage("discretisation bias", "records decimated by 2")
+    shifts, why = richardson_shifts(records, prob, ok_path, rebuild)
+    widen(stab, shifts, why, ORDER)
+    stage("profile likelihood")
+    attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))
+    return stab
 
 
 def _left_residual(prob: TimeProblem, left: Candidate, stat: dict[str, Any], chatter: dict[str, Any] | None,
