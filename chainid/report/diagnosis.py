@@ -12,6 +12,7 @@ import warnings
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
+from chainid.gap.core.verdict import none_text
 from chainid.report.common import md_table
 
 Progress = Callable[[str], None]
@@ -91,7 +92,7 @@ def diagnosis_markdown(res: dict[str, Any], fig_rel: str, json_rel: str, n_where
                      f"{cf['separate_by']}.")
     v, best = res["verdict"], res.get("best")
     if v == "none":
-        lines.append("\n**Verdict: none** — the baseline's held-out residual is consistent with the noise.")
+        lines.append(f"\n**Verdict: none** — {none_text(res)}.")
     elif v == "unexplained":
         lines.append(f"\n**Verdict: unexplained** — no library effect halves the held-out gap (best "
                      f"{best['effect'] if best else '–'}: shrinkage "

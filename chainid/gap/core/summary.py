@@ -6,6 +6,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+from chainid.gap.core.verdict import none_text
+
 
 def _clean(o: Any) -> Any:
     if isinstance(o, dict):
@@ -142,7 +144,7 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
     v = result["verdict"]
     steps = result.get("steps", [])
     if v == "none":
-        lines.append("VERDICT: none — the baseline's held-out residual is consistent with the noise.")
+        lines.append(f"VERDICT: none — {none_text(result)}.")
     elif v == "unexplained":
         part = result.get("partial")
         if (result.get("residual") or {}).get("stationary") is False:

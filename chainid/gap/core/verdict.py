@@ -158,6 +158,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "stop": fwd["stop"],
         "dropped": fwd["dropped"],
         "verdict": verdict,
+        "none_reading": "noise" if verdict == "none" else None,
         "best": best.to_dict() if best is not None else None,
         "residual": residual,
         "trusted_steps": len(ok_path),
@@ -178,6 +179,23 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "_best": best,
         "_path": path,
     }
+
+
+#: what a ``none`` verdict says, by how the baseline's held-out residual was read (the result's ``none_reading``)
+NONE_TEXT = {
+    "noise": "the baseline's held-out residual is consistent with the noise",
+    "kinematic_floor": ("the baseline's held-out residual is at the kinematic floor (the force noise and the "
+                        "displacement noise through the estimated ẋ, ẍ); no effect passes the step rule and no state "
+                        "variable predicts what is left"),
+    "damping_extrapolation": ("no effect differs: the held-out gap is the base's damping law read beyond the training "
+                              "records, and on their own dashpots the held-out records are at their noise floor (see "
+                              "the finding `damping_extrapolation`)"),
+}
+
+
+def none_text(result: dict[str, Any]) -> str:
+    """The sentence a ``none`` verdict ends with, by its ``none_reading`` (:data:`NONE_TEXT`; ``noise`` when absent)."""
+    return NONE_TEXT.get(result.get("none_reading") or "noise", NONE_TEXT["noise"])
 
 
 def chain_text(steps: list[dict[str, Any]], kept: int, residual: dict[str, Any]) -> str:

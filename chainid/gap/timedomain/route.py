@@ -79,8 +79,9 @@ def kinematic_none(final: Candidate | None, r2: float, kin_floor: float, f2: flo
 
 
 def read_as_none(prob: TimeProblem, base_c: Candidate, final: Candidate | None, floors: tuple[float, float, float],
-                 ow: dict[str, Any], where: list[dict[str, Any]], warn: list[str]) -> bool:
-    """Whether a baseline above its force noise is still read as ``none``, and why (a warning; a ``where`` finding).
+                 ow: dict[str, Any], where: list[dict[str, Any]], warn: list[str]) -> str | None:
+    """How a baseline above its force noise is still read as ``none`` (``"kinematic_floor"`` or
+    ``"damping_extrapolation"``; None: it is not), with a warning and, for the law, a ``where`` finding.
 
     Two readings, each only when no effect passed the step rule and the model-free check is silent: the residual is
     the kinematic floor (:func:`kinematic_none`), or the held-out gap is the base's damping law read beyond the
@@ -92,16 +93,16 @@ def read_as_none(prob: TimeProblem, base_c: Candidate, final: Candidate | None, 
         warn.append(f"the baseline's held-out residual ({math.sqrt(r2):.3g} N RMS) is at the kinematic floor "
                     f"({kin_floor:.3g} N: the force noise and the displacement noise through the estimated ẋ, ẍ), "
                     "no effect passes the step rule and no state variable predicts what is left: read as noise")
-        return True
+        return "kinematic_floor"
     if final is not None or ow.get("missing_effect"):
-        return False
+        return None
     reach = law_extrapolation(prob, list(base_c.names), base_c.params)
     if reach is None:
-        return False
+        return None
     where.insert(0, reach)
     warn.append(reach["finding"] + ": read as the law's reach, not an effect (training records that span the "
                 "held-out conditions would fix the law)")
-    return True
+    return "damping_extrapolation"
 
 
 def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, holdout_blocks: int = 0,
@@ -159,8 +160,8 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     stage("model-free check")
     ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
                     chatter=chatter)
-    if not consistent:
-        consistent = read_as_none(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn)
+    reading = "noise" if consistent else read_as_none(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn)
+    consistent = reading is not None
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
         warn.append("stick-slip chatter after reversals (" + f"{chatter['frequency_Hz']:.3g} Hz, RMS "
@@ -176,6 +177,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
                                            list(excluded), confounded, warn, list(holdout),
                                            _tests(prob, base_c, left))
     summary["open_world"] = ow
+    summary["none_reading"] = reading if verdict == "none" else None
     if resamples:
         rebuild = partial(build_problem, holdout=holdout, holdout_blocks=holdout_blocks, model=model,
                           mass_kg=mass_kg, damping_law=damping_law)  # the records decimated, the same problem

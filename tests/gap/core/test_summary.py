@@ -126,3 +126,19 @@ def test_to_json_drops_private_keys_and_non_finite_numbers():
            "c": {"_x": 1, "y": np.float32(0.5)}, 4: "four"}
     assert to_json(res) == {"a": 1.5, "b": [3, None, [None, 2.0]], "c": {"y": 0.5}, 4: "four"}
     assert type(to_json(res)["b"][0]) is int and type(to_json(res)["c"]["y"]) is float  # numpy → Python
+
+
+def test_a_none_verdict_says_how_the_residual_was_read():
+    """``none`` states what was checked: the noise (both routes), or on the time route the kinematic floor or the
+    base's damping law extrapolated (``none_reading``); never "consistent with the noise" for the latter two."""
+    from chainid.gap.core.summary import summary
+
+    def last(**kw):
+        return [ln for ln in summary(_summary_result(verdict="none", **kw)).splitlines() if ln.startswith("VERDICT")][0]
+
+    assert last() == "VERDICT: none — the baseline's held-out residual is consistent with the noise."
+    assert last(none_reading="noise") == last()
+    kin = last(none_reading="kinematic_floor")
+    assert "at the kinematic floor" in kin and "consistent with the noise" not in kin
+    law = last(none_reading="damping_extrapolation")
+    assert "damping law read beyond the training records" in law and "consistent with the noise" not in law

@@ -120,5 +120,5 @@ def test_a_friction_in_the_held_out_blocks_stops_the_reading():
 def test_the_diagnosis_of_a_law_extrapolated_is_none_with_the_finding():
     res = rc.diagnosed("law_extrapolated", lambda: (_records(), ["r3"], None))[0]
     assert res["verdict"] == "none", (res["chain_text"], res["warnings"])
-    assert res["where"][0]["kind"] == "damping_extrapolation"
+    assert res["where"][0]["kind"] == "damping_extrapolation" and res["none_reading"] == "damping_extrapolation"
     assert any("damping law extrapolated" in w and "r3" in w for w in res["warnings"])

@@ -42,7 +42,7 @@ def test_a_passing_effect_or_a_predictable_residual_keeps_the_excess():
 def test_a_force_driven_device_with_a_noisy_displacement_is_none():
     res = rc.diagnosed("resonant_noisy_x", rc.resonant_noisy_x_set)[0]
     assert res["verdict"] == "none", (res["chain_text"], res["warnings"])
-    assert any("kinematic floor" in w for w in res["warnings"])
+    assert any("kinematic floor" in w for w in res["warnings"]) and res["none_reading"] == "kinematic_floor"
     left = res["residual"]
     assert left["db_over_noise"] > 1.0  # above the force noise alone: the rule, not the plain floor, decided
     # the predicted floor is an honest bound: the residual at most 1 dB over it, and it at most 3 dB over the residual
