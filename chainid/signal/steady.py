@@ -320,6 +320,19 @@ def _plateau(amps: np.ndarray, rel_tol: float, floor: np.ndarray | float = 0.0) 
     return float(np.median(amps[near]))
 
 
+def _mean_reference(means: np.ndarray, ok: np.ndarray, width: float) -> float:
+    """The cycle mean [mm] most of the cycles ``ok`` agree with within ``width`` [mm] (ties -> the later cycle: a
+    steady state follows its ramp), the median of that group.  A mean-load ramp that takes more cycles than the hold
+    after it has no two cycles alike, so it cannot outvote the hold (the median of every cycle's mean could sit
+    mid-ramp, away from all of them)."""
+    idx = np.flatnonzero(ok)
+    m = means[idx]
+    srt = np.sort(m)
+    counts = np.searchsorted(srt, m + width, side="right") - np.searchsorted(srt, m - width, side="left")
+    best = max(range(idx.size), key=lambda i: (counts[i], idx[i]))
+    return float(np.median(m[np.abs(m - m[best]) <= width]))
+
+
 def _scatter(amps: np.ndarray, means: np.ndarray, floor: np.ndarray | float = 0.0) -> float:
     """Robust cycle-to-cycle scatter of amplitude and mean, relative to the plateau amplitude.
 
@@ -374,7 +387,7 @@ def _select_with_tol(
     plateau = _plateau(amps_a, rel_tol, _amp_floor(sds, nn_i))
     ok_amp = (np.abs(amps_a - plateau) <= rel_tol * plateau + se_amp) & (amps_a > 0)
     if ok_amp.any():
-        mean_ref = float(np.nanmedian(means_a[ok_amp]))
+        mean_ref = _mean_reference(means_a, ok_amp, rel_tol * plateau + float(np.median(se_mean[ok_amp])))
         ok = (
             ok_amp
             & (np.abs(means_a - mean_ref) <= rel_tol * plateau + se_mean + 1e-12)

@@ -139,6 +139,21 @@ def test_drifting_mean_keeps_window_where_mean_holds():
     assert span_mean <= 2 * (win.rel_tol * A) + 0.01
 
 
+def test_a_mean_ramp_longer_than_the_hold_keeps_the_holds_cycles():
+    """The mean load ramps 0 → 20 mm over the first 24 s of a 40 s record (1 Hz, A = 1 mm), then holds: the 16
+    hold cycles (24–40 s) agree with each other and no two ramp cycles do, so the window is the hold less its first
+    cycle, 25–40 s (15 cycles), x0 = 25 mm and A = 1 mm.  (The median of every cycle's mean sat mid-ramp, 17.9 mm,
+    and no window was kept.)"""
+    fs, T = 200.0, 40.0
+    t = np.arange(0.0, T, 1 / fs)
+    ramp = np.where(t < 24.0, 20.0 * t / 24.0, 20.0)
+    x = 5.0 + ramp + np.sin(2 * math.pi * t) + np.random.default_rng(0).normal(0.0, 0.002, t.size)
+    est = estimate_harmonic(t, x)
+    assert est.window.n_cycles == 15
+    assert est.window.t_start == pytest.approx(25.0, abs=0.01) and est.window.t_end == pytest.approx(40.0, abs=0.01)
+    assert est.x0 == pytest.approx(25.0, abs=0.002) and est.A == pytest.approx(1.0, rel=0.002)
+
+
 def test_ringing_at_reversals_and_late_start():
     """A lead-in of 4 s standing still (the actuator lags the record start), then 20 cycles at 1 Hz with
     a decaying 25 Hz ring after each reversal (10 % of A).  The ring is not the fundamental: omega and A
