@@ -356,3 +356,13 @@ def test_linear_sweep_acceleration_closed_form():
     ph = 2 * np.pi * (1.0 * t + 0.5 * 5.0 * t * t)
     want = 0.5 * (2 * np.pi * 5.0 * np.cos(ph) - (2 * np.pi * (1.0 + 5.0 * t)) ** 2 * np.sin(ph))
     np.testing.assert_allclose(m.xdd, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))
+
+
+@pytest.mark.parametrize("fs", [0.0, -0.5, float("nan"), float("inf")])
+def test_a_sampling_rate_that_is_not_positive_and_finite_is_refused(fs):
+    """``fs`` must be finite and > 0 (a zero rate gives infinite times, a negative one times running backwards);
+    the message names the value and the range.  Bug caught: ``fs > 0`` → ``fs > -1`` (0 and -0.5 passed)."""
+    from chainid.records.excitation import sweep
+
+    with pytest.raises(ValueError, match=rf"^fs = {re.escape(repr(fs))} Hz is invalid: valid range > 0$"):
+        sweep(1000, fs, 0.5, 2.0, 1.0, 5.0)

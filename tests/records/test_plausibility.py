@@ -240,3 +240,19 @@ def test_the_inertia_warning_starts_at_a_quarter_of_the_force_swing(share, warns
     f_hz = np.sqrt(share * half_F / (3.2e-3 * 0.25)) / (2 * np.pi)
     w = [s for s in plausibility_warnings([_quasi_static_chain_record(f_hz)], default_chain()) if "inertia" in s]
     assert bool(w) is warns, (f_hz, w)
+
+
+# --- seed 29 survivors -----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("flat", ["x", "F"])
+def test_a_flat_channel_gets_no_stiffness_span_warning(flat):
+    """The record's stiffness span(F)/span(x) is judged only when both channels move: a constant x (a load cell
+    beside a locked actuator) or a constant F (a dead load cell) would give span(F)/span(x) = inf or 0, "∞× the
+    chain's k_e", a number that says nothing.  Bug caught: ``span_x > 0 and span_F > 0`` → ``or``."""
+    from chainid.records.plausible import chain_warnings
+
+    chain = default_chain()
+    t = np.linspace(0.0, 10.0, 500)
+    x = np.full(t.size, 2.2) if flat == "x" else 2.2 + 0.25 * np.sin(2.0 * t)
+    F = np.full(t.size, 11000.0) if flat == "F" else 11000.0 + 1000.0 * np.sin(2.0 * t)
+    out = chain_warnings([Record_("a", t, x, F)], chain)
+    assert not any("span(F)/span(x)" in w for w in out), out
