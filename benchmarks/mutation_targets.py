@@ -14,6 +14,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/chain/test_preset_options.py",
     ),
     "signal": (
+        "tests/signal/test_frequency_refinement_guard.py",
         "tests/records/test_record_files.py",
         "--deselect=tests/records/test_record_files.py::test_side_file_round_trip_and_bounds",
         "tests/records/test_time_origin.py",
@@ -26,6 +27,11 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/signal/test_steady_scatter_with_a_given_tolerance.py",
     ),
     "model": (
+        "tests/model/test_api_input.py",
+        "tests/model/test_delay_hook_composition.py",
+        "tests/model/test_modelfile_roundtrip_predicts.py",
+        "tests/model/test_reference_device_laws.py",
+        "tests/model/test_sliding_sign_reversal.py",
         "tests/damping/test_identify.py::test_fewer_than_six_tests_refused",
         "tests/damping/test_identify.py::test_fit_law_stats_against_brute_force",
         "tests/damping/test_identify.py::test_inertia_force_units",
@@ -79,6 +85,11 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/model/test_passivity_rule.py",
     ),
     "records": (
+        "tests/records/test_computed_columns.py",
+        "tests/records/test_covariate_sources.py",
+        "tests/records/test_select_and_duplicate_ids.py",
+        "tests/records/test_shared_rigs.py",
+        "tests/records/test_time_origin.py",
         "tests/records/test_excitation.py",
         "tests/records/test_plausibility.py",
         "tests/records/test_readers.py",
@@ -201,6 +212,8 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/gap/benchmark/test_benchmark_summary_from_json.py",
     ),
     "dynamics": (
+        "tests/dynamics/test_diagnosed_segment_model.py",
+        "tests/dynamics/test_segment_effect_bounds.py",
         "tests/cli/test_cli_dynamics.py",
         "--deselect=tests/cli/test_cli_dynamics.py::test_dynamics_sine_drive_defaults_to_the_librarys_omega",
         "--deselect=tests/cli/test_cli_dynamics.py::test_json_has_the_final_tensions_modes_line_and_drive",
@@ -229,6 +242,8 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/dynamics/test_segment_model_effects.py",
     ),
     "infra": (
+        "tests/infra/test_forkpool.py",
+        "tests/infra/test_one_thread.py",
         "tests/infra/test_fileio.py",
         "tests/infra/test_files_sacred.py",
         "tests/infra/test_floattext.py",
@@ -249,6 +264,9 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/infra/test_runlog_nested_runs.py",
     ),
     "cli": (
+        "tests/cli/test_cli_stiffness.py",
+        "tests/cli/test_odeworld_generator.py",
+        "tests/cli/test_reading_options_everywhere.py",
         "tests/chain/test_grade.py",
         "tests/chain/test_presets.py",
         "--deselect=tests/chain/test_presets.py::test_match_finds_a_mooring_preset_by_dimensions_only_inside_its_range",
