@@ -264,6 +264,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
         "tests/infra/test_runlog_nested_runs.py",
     ),
     "cli": (
+        "tests/cli/test_chain_for_checks.py",
         "tests/cli/test_cli_stiffness.py",
         "tests/cli/test_odeworld_generator.py",
         "tests/cli/test_reading_options_everywhere.py",
