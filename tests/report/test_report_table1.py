@@ -50,3 +50,18 @@ def test_table1_distances_test1_slopes_and_loss_factors_by_hand():
     assert [r["test"] for r in rows if r["in_omega_fit"]] == t["tests_omega"] == [2, 3, 4, 5]
     c = np.polyfit(np.log(A[iA]), np.log(ce[iA]), 1)[0]
     assert t["c_e_exponent_A"] == pytest.approx(c, rel=1e-12)
+
+
+def test_the_joint_energy_slopes_are_those_of_tests_2_to_9_by_hand():
+    """``joint``: log W = a·log A + b·log ω + c by least squares over tests 2–9 (test 1 left out, as the docstring
+    says), solved here from the printed table.  Seed-29 survivor: ``test >= 2`` → ``test != 2`` (test 1 in, test 2
+    out) went through every test."""
+    from chainid.report.table1 import table1_analysis
+
+    t = table1_analysis(LinearSpring(1e4))
+    test, col, x0, A, Fac, ce = (np.array(c, dtype=float) for c in zip(*TABLE1))
+    keep = test >= 2
+    X = np.column_stack([np.log(A[keep]), np.log(col[keep] * math.pi / 10), np.ones(int(keep.sum()))])
+    a, b, _ = np.linalg.lstsq(X, np.log(math.pi * Fac[keep] * A[keep]), rcond=None)[0]
+    assert t["joint"]["slope_A"] == pytest.approx(a, rel=1e-9)
+    assert t["joint"]["slope_omega"] == pytest.approx(b, rel=1e-9)
