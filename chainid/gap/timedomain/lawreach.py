@@ -33,25 +33,27 @@ import numpy as np
 
 from chainid.gap.core.steprule import at_noise_floor
 from chainid.gap.timedomain.design import amplitude_names
+from chainid.gap.timedomain.passivity import LAW_FEATURES, law_box
 from chainid.gap.timedomain.problem import SIGMA2_REL_SD, TimeProblem
 
-__all__ = ["MARGIN", "law_extrapolation", "own_damping"]
+__all__ = ["MARGIN", "law_extrapolation", "own_damping", "train_range"]
 
-#: the record features the base's dashpot law reads, by the law's feature key (:func:`.design.law_features`)
-FEATURES = (("w", "omega_c"), ("A", "A_c"))
 #: a held-out record reads the law by extrapolation when a feature lies this fraction of the training span beyond it
 MARGIN = 0.1
 
 
-def beyond(prob: TimeProblem, d: Any) -> list[str]:
-    """The features of the law in which record ``d`` lies beyond the training records' range by more than
+def train_range(prob: TimeProblem) -> dict[str, tuple[float, float]]:
+    """The training records' range of each feature the law follows (:func:`.passivity.law_box` over them), by the
+    record attribute (``omega_c`` [rad/s], ``A_c`` [mm])."""
+    box = law_box(prob.train, prob.base.law_features, prob.base.refs)
+    return {attr: (box[f"{k}_lo"], box[f"{k}_hi"]) for k, attr in LAW_FEATURES if k in prob.base.law_features}
+
+
+def beyond(rng: dict[str, tuple[float, float]], d: Any) -> list[str]:
+    """The features in ``rng`` (:func:`train_range`) in which record ``d`` lies beyond the range by more than
     ``MARGIN`` of its span."""
     out = []
-    for key, attr in FEATURES:
-        if key not in prob.base.law_features:
-            continue
-        vals = [float(getattr(t, attr)) for t in prob.train]
-        lo, hi = min(vals), max(vals)
+    for attr, (lo, hi) in rng.items():
         v, pad = float(getattr(d, attr)), MARGIN * (hi - lo)
         if v < lo - pad or v > hi + pad:
             out.append(attr)
@@ -63,11 +65,14 @@ def own_damping(prob: TimeProblem, names: list[str], params: dict[str, float]) -
 
     Returns ``records`` (per record with held-out samples: ``test``, ``omega_c`` [rad/s], ``A_c`` [mm], ``outside``
     (the features beyond the range), ``refit`` (its own dashpot fitted), ``c_law`` and ``c_own`` [N·s/mm], ``r2``,
-    ``f2_force``, ``f2_kin`` [N² per held-out sample], ``n_cells``), and the same four numbers pooled over every
-    held-out sample; no records when the model has no dashpot column.
+    ``f2_force``, ``f2_kin`` [N² per held-out sample], ``n_cells``, ``n_record`` (the record's samples)), the same
+    four numbers pooled over every held-out sample, and the training ``range`` (:func:`train_range`); no records
+    when the model has no dashpot column.
     """
     amps = amplitude_names(prob.base, names)
-    out: dict[str, Any] = {"records": [], "r2": math.nan, "f2_force": math.nan, "f2_kin": math.nan, "n_cells": 0}
+    rng = train_range(prob)
+    out: dict[str, Any] = {"records": [], "r2": math.nan, "f2_force": math.nan, "f2_kin": math.nan, "n_cells": 0,
+                           "range": rng}
     if "damping.c" not in amps:
         return out
     j = amps.index("damping.c")
@@ -79,7 +84,7 @@ def own_damping(prob: TimeProblem, names: list[str], params: dict[str, float]) -
         if not hold.any():
             continue
         r, v = (y - f - Phi @ a)[hold], Phi[hold, j]
-        outside = beyond(prob, d) if hold.all() else []
+        outside = beyond(rng, d) if hold.all() else []
         vv = float(v @ v)
         dc = float(r @ v) / vv if outside and vv > 0 else 0.0
         c_law = prob.record_c(d, params)
@@ -92,7 +97,7 @@ def own_damping(prob: TimeProblem, names: list[str], params: dict[str, float]) -
         out["records"].append({"test": d.test, "omega_c": float(d.omega_c), "A_c": float(d.A_c), "outside": outside,
                                "refit": bool(outside), "c_law": float(c_law), "c_own": float(c_law + dc),
                                "r2": row[0] / r.size, "f2_force": row[1] / r.size, "f2_kin": row[2] / r.size,
-                               "n_cells": max(cells, 1), "n": int(r.size), "n_record": int(d.t.size)})
+                               "n_cells": max(cells, 1), "n_record": int(d.t.size)})
         out["n_cells"] += cells
     if n:
         out |= {"r2": tot[0] / n, "f2_force": tot[1] / n, "f2_kin": tot[2] / n}
@@ -123,8 +128,7 @@ def law_extrapolation(prob: TimeProblem, names: list[str], params: dict[str, flo
         return None
     if not _at_floor(own["r2"], own["f2_kin"], own["f2_force"], own["n_cells"], prob.floor_rel_sd("hold")):
         return None
-    rng = {attr: [min(float(getattr(d, attr)) for d in prob.train), max(float(getattr(d, attr)) for d in prob.train)]
-           for key, attr in FEATURES if key in prob.base.law_features}
+    rng = own["range"]
     text = "; ".join(f"{r['test']} (ω_c {r['omega_c']:.3g} rad/s, A {r['A_c']:.3g} mm): the law's c "
                      f"{r['c_law']:.3g} N·s/mm, its own {r['c_own']:.3g}" for r in refit)
     span = ", ".join(f"{a} {lo:.3g}–{hi:.3g}" for a, (lo, hi) in rng.items())

@@ -31,10 +31,12 @@ import numpy as np
 from chainid.gap.timedomain.lsq import solve
 from chainid.model.timedamping import feature_c
 
-__all__ = ["LAW_AMPS", "HELD_WEIGHT", "law_box", "law_map", "corner_minimum", "lifted", "passive_solve"]
+__all__ = ["LAW_AMPS", "LAW_FEATURES", "HELD_WEIGHT", "law_box", "law_map", "corner_minimum", "lifted", "passive_solve"]
 
 #: the amplitudes of the dashpot law, in the order of the map's rows
 LAW_AMPS = ("damping.c", "damping_law.b_w", "damping_law.b_A")
+#: the record features the law reads, by its feature key (:func:`chainid.gap.timedomain.design.law_features`)
+LAW_FEATURES = (("w", "omega_c"), ("A", "A_c"))
 
 
 def _spans(box: dict[str, float]) -> list[tuple[str, float, float]]:
@@ -96,7 +98,7 @@ def law_box(records: Sequence[Any], feats: Sequence[str], refs: dict[str, float]
     which the law is kept passive; a feature the law does not follow (not in ``feats``) has no span (its
     reference, ``refs["w_ref"]`` or ``refs["A_ref"]``)."""
     out = {}
-    for k, attr in (("w", "omega_c"), ("A", "A_c")):
+    for k, attr in LAW_FEATURES:
         vals = [float(getattr(d, attr)) for d in records]
         lo, hi = (min(vals), max(vals)) if k in feats else (refs[f"{k}_ref"], refs[f"{k}_ref"])
         out[f"{k}_lo"], out[f"{k}_hi"] = lo, hi

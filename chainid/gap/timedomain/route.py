@@ -88,14 +88,14 @@ def read_as_none(prob: TimeProblem, base_c: Candidate, final: Candidate | None, 
     training records (:func:`chainid.gap.timedomain.lawreach.law_extrapolation`).  ``floors``: the baseline's
     held-out mean squared residual r2, its force-noise floor f2 [N²] and the kinematic floor [N].
     """
+    if final is not None or ow.get("missing_effect"):
+        return None
     r2, f2, kin_floor = floors
     if kinematic_none(final, r2, kin_floor, f2, prob, ow):
         warn.append(f"the baseline's held-out residual ({math.sqrt(r2):.3g} N RMS) is at the kinematic floor "
                     f"({kin_floor:.3g} N: the force noise and the displacement noise through the estimated ẋ, ẍ), "
                     "no effect passes the step rule and no state variable predicts what is left: read as noise")
         return "kinematic_floor"
-    if final is not None or ow.get("missing_effect"):
-        return None
     reach = law_extrapolation(prob, list(base_c.names), base_c.params)
     if reach is None:
         return None
