@@ -170,12 +170,16 @@ def _cycle_stats(
     return bounds, amps, means, drifts, resid_sd, n_in
 
 
+def _count_near(values: np.ndarray, half_width: np.ndarray | float) -> np.ndarray:
+    """For each value v: how many values lie within ``half_width`` (per value, or one for all) of it (O(n log n))."""
+    srt = np.sort(values)
+    return np.searchsorted(srt, values + half_width, side="right") - np.searchsorted(srt, values - half_width,
+                                                                                     side="left")
+
+
 def _count_within(amps: np.ndarray, rel_tol: float) -> np.ndarray:
     """For each amplitude a > 0: how many amplitudes lie within ``rel_tol * a`` of it (O(n log n))."""
-    srt = np.sort(amps)
-    lo = np.searchsorted(srt, amps - rel_tol * amps, side="left")
-    hi = np.searchsorted(srt, amps + rel_tol * amps, side="right")
-    return np.where(amps > 0, hi - lo, 0)
+    return np.where(amps > 0, _count_near(amps, rel_tol * amps), 0)
 
 
 def select_steady(
@@ -327,8 +331,7 @@ def _mean_reference(means: np.ndarray, ok: np.ndarray, width: float) -> float:
     mid-ramp, away from all of them)."""
     idx = np.flatnonzero(ok)
     m = means[idx]
-    srt = np.sort(m)
-    counts = np.searchsorted(srt, m + width, side="right") - np.searchsorted(srt, m - width, side="left")
+    counts = _count_near(m, width)
     best = max(range(idx.size), key=lambda i: (counts[i], idx[i]))
     return float(np.median(m[np.abs(m - m[best]) <= width]))
 
