@@ -117,7 +117,8 @@ def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[s
     models = step_models(summary, {"evaluation": evaluation})
     for st, cand, m in zip(summary["steps"], summary["_path"], models):
         st.update(step_fields(prob, cand, m))  # every fitted parameter: base, law coefficients, mass, delay
-    final = models[len(trusted_path(summary["_path"])[0]) - 1]  # the verdict's chain: no over-fitted step
+    kept = summary.get("trusted_steps", len(trusted_path(summary["_path"])[0]))
+    final = models[kept - 1]  # the verdict's chain: no over-fitted or rate-dependent step
     summary["model"] = model_to_dict(final)  # in the model file's keys
     summary["_models"] = models
     summary["_model"] = final

@@ -150,7 +150,8 @@ def _jenkins_reading(p: dict[str, float], amin: float) -> list[str]:
 
 
 def interpretation(path: Sequence[Any], prob: Any, verdict: str) -> str:
-    """Readable meaning of the final fit (Dahl friction, stiffness level, equivalent series compliance)."""
+    """Readable meaning of the last step of ``path``, the kept chain (Dahl friction, stiffness level, equivalent
+    series compliance)."""
     if len(path) < 2:
         return ""
     final = path[-1]

@@ -78,6 +78,8 @@ def waterfall(result: dict[str, Any]) -> list[str]:
     for i, st in enumerate(steps):
         mark = ("" if not st.get("worsened_holdout") else "  << raised the held-out error: over-fitted" if i >= kept
                 else "  << raised the held-out error alone (kept: the next step(s) take it lower)")
+        if st.get("rate_dependent"):
+            mark += "  << changes with the speed: rate-dependent, not kept (see where)"
         if resampled and i > 0 and not st.get("params_ci90") and st.get("params_sd"):
             mark = " (± jack-knife: not resampled)" + mark
         lines.append(f"  {i:<5} {st['effect']:<20} {_g(st['nrmse_loto'], '>8.4g')} {_g(st['nrmse_holdout'], '>9.4g')} "
@@ -154,6 +156,11 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
                    f"{part['nrmse_holdout_before']:.4g} → {part['nrmse_holdout']:.4g}, {100 * part['shrinkage']:.0f} %), "
                    f"but closes less than {100 * part['min_shrink']:.0f} % of the held-out gap: a part of it, not its "
                    "cause")
+        elif (result.get("rate_dependence") or {}).get("step") == 1:
+            rd = result["rate_dependence"]
+            why = (f"{rd['effect']} passed the step rule, but its {rd['parameter']} changes with the speed (∝ v^"
+                   f"{rd['exponent']:.2f}) where its form is rate-independent: it stands in for a rate-dependent "
+                   "mechanism outside the library")
         elif result.get("overfitted") and result.get("trusted_steps", 1) <= 1:
             cut = result["steps"][1]
             before, after = result["baseline"]["nrmse_holdout"], cut["nrmse_holdout"]

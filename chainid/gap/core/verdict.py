@@ -142,10 +142,15 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
     ok_path, bad = trusted_path(path)
+    if fwd.get("kept") is not None:  # a route's own cut (the time route's rate check) before the held-out one
+        ok_path, bad = ok_path[: fwd["kept"]], None  # the over-fitted step, if any, was after it
     final = ok_path[-1] if len(ok_path) > 1 else None
     best = final if final is not None else (singles[0] if singles else None)
     left = final if final is not None else base_c
     steps = [step_dict(c, i, path[i - 1] if i else None) for i, c in enumerate(path)]
+    rate = fwd.get("rate_dependence")
+    if rate is not None:
+        steps[rate["step"]]["rate_dependent"] = True
     return {
         "mechanism": mechanism(verdict, interp),
         "baseline": {"nrmse_train": base_c.nrmse_train, "nrmse_holdout": base_c.nrmse_holdout,
@@ -169,6 +174,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "fit_holdout_pct": 100.0 * (1.0 - left.nrmse_holdout),
         "covariate_dependence": covariate_dependence(left.params),
         "overfitted": bad is not None,
+        "rate_dependence": rate,
         "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,
         "chain_text": chain_text(steps, len(ok_path), residual),

@@ -91,7 +91,7 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
                 "at_noise_floor": fw.at_noise_floor(r2l, f2l, sig_hold, nbin)}
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     confounded = [cf | {"separate_by": separating_test(*cf["pair"])} for cf in fwd["confounded"]]
-    interp = interpretation(path, prob, verdict)
+    interp = interpretation(ok_path, prob, verdict)  # the verdict's chain, no cut step
     tests = [{"test": d.test, "omega": d.omega, "A": d.A, "x0": d.x0, "sigma_N": d.sigma, "window": d.window,
               "split": "holdout" if d in prob.hold else "train", "nrmse_before": base_c.per_test[d.test],
               "nrmse_after": left.per_test.get(d.test)} for d in prob.data]

@@ -5,9 +5,11 @@ Every record is prepared for the time domain (:mod:`.data`), the problem built o
 selection and step rule (:mod:`chainid.gap.core.selection`) and the same verdict rule
 (:mod:`chainid.gap.core.verdict`) as on the harmonic route run on it.  Covariate terms (an amplitude that varies
 linearly with an operating condition) are candidates of the selection like the effects: those of the base from
-the start, those of an effect once it is chosen.  The result has the JSON contract keys, plus ``route``, ``noise``
-(per record: force noise and the kinematics' estimator and predicted errors) and the time-domain ``where``
-findings (state maps, spectrum, ringing/chatter, backbone, drift).
+the start, those of an effect once it is chosen.  A loop effect of the kept chain whose parameters change with
+the speed is cut from it (:mod:`.ratecheck`: it stands in for a rate-dependent mechanism).  The result has the
+JSON contract keys, plus ``route``, ``noise`` (per record: force noise and the kinematics' estimator and predicted
+errors) and the time-domain ``where`` findings (state maps, spectrum, ringing/chatter, backbone, drift, rate
+dependence).
 
 Units: mm, N, s, kg.
 """
@@ -33,6 +35,7 @@ from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warn
 from chainid.gap.timedomain.data import prepare_time
 from chainid.gap.timedomain.lawreach import law_extrapolation
 from chainid.gap.timedomain.problem import TimeProblem
+from chainid.gap.timedomain.ratecheck import rate_cut
 from chainid.gap.timedomain.where import drift, localise_time
 
 __all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any", "read_as_none"]
@@ -144,6 +147,12 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     ok_path, bad = trusted_path(path)
     if bad is not None:
         warn.append(overfit_warning(path, bad))
+    cut, rate = rate_cut(prob, ok_path)
+    if rate is not None:
+        ok_path = ok_path[:cut]
+        fwd["kept"], fwd["rate_dependence"] = cut, rate
+        where.insert(0, rate)
+        warn.append(rate["finding"])
     warn.extend(joint_notes(ok_path))
     final = ok_path[-1] if len(ok_path) > 1 else None
     left = final if final is not None else base_c
@@ -160,14 +169,15 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     stage("model-free check")
     ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
                     chatter=chatter)
-    reading = "noise" if consistent else read_as_none(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn)
+    reading = "noise" if consistent else (None if rate is not None else
+                                          read_as_none(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn))
     consistent = reading is not None
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
         warn.append("stick-slip chatter after reversals (" + f"{chatter['frequency_Hz']:.3g} Hz, RMS "
                     f"{chatter['rms_N']:.3g} N): no library effect covers it; the named effects do not include it")
     confounded = [cf | {"separate_by": separating_test(*cf["pair"])} for cf in fwd["confounded"]]
-    interp = interpretation(path, prob, verdict)
+    interp = interpretation(ok_path, prob, verdict)  # the verdict's chain, no cut step
     noise = {"excess_rms_N": excess, "noise_sigma_N": sig, "noise_floor_N": math.sqrt(f2),
              "chi2_ratio": r2 / f2 if f2 > 0 else None, "db_over_noise": db0}
     base_model = prob.model if prob.is_chain else SimpleNamespace(

@@ -1,0 +1,124 @@
+"""A hysteresis whose loop changes with the speed is not kept (:mod:`chainid.gap.timedomain.ratecheck`).
+
+Six records of a linear device F = 10·x + 0.2·ẋ + preload, each a chirp 0.2 → 2 Hz (amplitudes 0.6–1.35 mm), r5
+held out.  Two added forces, each simulated apart from the code under test (:mod:`sim_devices`):
+
+* a Dahl hysteresis (Bouc–Wen with n = 1, r = 1), F_h = 5 N, x_h = 0.1 mm: rate-independent by its form, so its
+  parameters on the slow and the fast blocks are the same (rate exponent 0);
+* a Maxwell branch (spring k_m = 3 N/mm in series with a dashpot, τ = 3 s; outside the library).  For ẋ ≠ 0 its
+  force obeys dq/dx = (k_m·τ·|ẋ| − q)/(τ·|ẋ|): a Dahl loop with F_h = k_m·τ·|ẋ| and x_h = τ·|ẋ|, both in
+  proportion to the speed (rate exponent 1).  Here τ·|ẋ| (6–17 mm) is far beyond the stroke, the regime in which
+  the relaxation passes for a hysteresis loop.
+"""
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import pytest
+
+import recovery_cases as rc
+import sim_devices as sd
+from chainid.gap.core.summary import summary
+from chainid.gap.timedomain.ratecheck import MIN_EXPONENT, rate_exponent, block_speeds, rate_test
+from chainid.gap.timedomain.route import build_problem, diagnose_any
+
+FS, N, OVER = 200.0, 4000, 4
+K_M, TAU = 3.0, 3.0
+F_H, X_H = 5.0, 0.1
+
+
+@functools.lru_cache(maxsize=None)
+def _records(kind: str) -> list:
+    t = sd.sample_times(N, FS)
+    recs = []
+    for i in range(6):
+        mo = sd.chirp(0.2, 2.0, 1.0, N / FS - 1.0, 0.6 + 0.15 * i, 1.0)
+        x, xd, _ = mo(t)
+        tf, xf, _ = sd.fine_path(mo, t, OVER)
+        extra = (sd.maxwell_force(tf, xf, K_M, TAU) if kind == "maxwell"
+                 else F_H * sd.bouc_wen_z(xf, X_H, 1.0, 1.0))[::OVER]
+        F = rc.K_LIN * x + rc.C_LIN * xd + 3.0 * i + extra
+        recs.append(sd.noisy(f"r{i}", t, x, F, rc.SX_LIN, rc.SF_LIN, i))
+    return recs
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    out = {}
+    for kind in ("dahl", "maxwell"):
+        prob = build_problem(_records(kind), ["r5"], 0, None)
+        out[kind] = (prob, prob.fit(["hysteresis"]))
+    return out
+
+
+def test_block_speeds_are_the_rms_speed_of_each_block(fitted):
+    prob, _ = fitted["dahl"]
+    v = block_speeds(prob)
+    d = prob.tdata[2]
+    off = sum(dd.n_blocks for dd in prob.tdata[:2])
+    for b in range(d.n_blocks):
+        seg = d.xd[d.block == b]
+        assert v[off + b] == pytest.approx(math.sqrt(np.mean(seg**2)), rel=1e-12)
+
+
+def test_a_dahl_loop_has_the_same_parameters_on_slow_and_fast_blocks(fitted):
+    prob, cand = fitted["dahl"]
+    assert cand.params["hysteresis.F_h"] == pytest.approx(F_H, rel=0.02)  # the fit is the truth: a fair null
+    t = rate_test(prob, cand, "hysteresis")
+    assert t is not None and t["v_fast_mm_s"] / t["v_slow_mm_s"] > 2.0  # the chirps resolve the rate
+    for k in ("hysteresis.F_h", "hysteresis.x_h"):
+        assert abs(t["exponent"][k]) <= 0.05, t  # rate-independent: exponent 0
+    assert t["dependent"] == []
+
+
+def test_a_maxwell_relaxation_fitted_as_hysteresis_scales_with_the_speed(fitted):
+    prob, cand = fitted["maxwell"]
+    t = rate_test(prob, cand, "hysteresis")
+    assert t is not None
+    for k in ("hysteresis.F_h", "hysteresis.x_h"):
+        assert MIN_EXPONENT <= t["exponent"][k] <= 1.3, t  # the Maxwell loop: exponent 1
+        assert t["on_fast"][k] > 1.5 * t["on_slow"][k]
+    assert set(t["dependent"]) == {"hysteresis.F_h", "hysteresis.x_h"}
+
+
+def test_the_exponent_is_the_slope_through_zero_and_its_z_the_scatter_about_it():
+    ell = np.array([1.0, 0.5, -0.5, 0.2])
+    p, z = rate_exponent(ell, 0.8 * ell)
+    assert p == pytest.approx(0.8, rel=1e-12) and z > 1e12  # no scatter: z unbounded (rounding aside)
+    L = np.array([1.0, 0.3, -0.5, 0.4])  # by hand: Σℓ² = 1.54, ΣℓL = 1.48, p = 0.961038...
+    p, z = rate_exponent(ell, L)
+    res = L - p * ell
+    se = math.sqrt(float(np.sum(res**2)) / 3 / 1.54)
+    assert p == pytest.approx(1.48 / 1.54, rel=1e-12)
+    assert z == pytest.approx(p / se, rel=1e-12)
+    assert math.isnan(rate_exponent(ell[:2], L[:2])[0])  # two splits: no scatter to judge by
+
+
+def test_speeds_too_alike_to_resolve_a_rate_are_not_judged():
+    t = sd.sample_times(N, FS)
+    recs = []
+    for i in range(4):
+        mo = sd.sine(1.0, 1.0)
+        x, xd, _ = mo(t)
+        recs.append(sd.noisy(f"r{i}", t, x, rc.K_LIN * x + rc.C_LIN * xd + 2.0 * np.tanh(xd / 0.5), rc.SX_LIN,
+                             rc.SF_LIN, i))
+    prob = build_problem(recs, ["r3"], 0, None)
+    assert rate_test(prob, prob.fit(["hysteresis"]), "hysteresis") is None
+
+
+@pytest.mark.parametrize("kind", ["maxwell", "dahl"])
+def test_the_diagnosis_keeps_a_dahl_loop_and_cuts_a_relaxation(kind):
+    res = diagnose_any(_records(kind), ["r5"], None, effects=["hysteresis"], quiet=True)
+    if kind == "dahl":
+        assert res["verdict"] == "hysteresis" and res["rate_dependence"] is None
+        return
+    rd = res["rate_dependence"]
+    assert res["verdict"] == "unexplained" and res["trusted_steps"] == 1
+    assert rd["step"] == 1 and rd["effect"] == "hysteresis" and rd["exponent"] >= MIN_EXPONENT
+    assert res["where"][0]["kind"] == "rate_dependence"
+    assert res["steps"][1]["rate_dependent"] is True
+    text = summary(res)
+    assert "rate-dependent, not kept" in text
+    assert "changes with the speed" in text.split("VERDICT:")[1]
