@@ -209,9 +209,11 @@ class AugmentedModel:
         if np.any(np.diff(t) <= 0):
             raise ValueError("t must be strictly increasing [s]")
         xd = np.gradient(x, t) if xd is None else np.asarray(xd, float)
-        xdd = np.gradient(xd, t) if xdd is None else np.asarray(xdd, float)
-        if xd.shape != t.shape or xdd.shape != t.shape:
-            raise ValueError(f"xd and xdd must have the shape of t {t.shape}")
+        xdd = None if xdd is None else np.asarray(xdd, float)
+        if xd.shape != t.shape or (xdd is not None and xdd.shape != t.shape):  # before ẍ is made from ẋ
+            raise ValueError(f"xd and xdd must have the shape of t {t.shape}; got {xd.shape} and "
+                             f"{None if xdd is None else xdd.shape}")
+        xdd = np.gradient(xd, t) if xdd is None else xdd
         if self.delay_s != 0.0:
             ts = t - self.delay_s
             x, xd, xdd = np.interp(ts, t, x), np.interp(ts, t, xd), np.interp(ts, t, xdd)

@@ -83,6 +83,16 @@ def test_augmented_force_refuses_repeated_time():
         m.force([0.0, 0.1, 0.1, 0.2], [0.0, 1.0, 1.0, 2.0])
 
 
+@pytest.mark.parametrize("which", ["xd", "xdd"])
+@pytest.mark.parametrize("n", [3, 5])
+def test_augmented_force_refuses_a_velocity_or_acceleration_of_another_length(which, n):
+    """Given ẋ or ẍ must have the shape of t, longer or shorter.  Bug caught: != made < (a longer one passed)."""
+    m = AugmentedModel(LinearModel(100.0, 0.0), [], Damping("viscous", {"c": 1.0}), 0.0, 0.0)
+    t = [0.0, 0.1, 0.2, 0.3]
+    with pytest.raises(ValueError, match=r"xd and xdd must have the shape of t \(4,\)"):
+        m.force(t, [0.0, 1.0, 2.0, 3.0], **{which: np.zeros(n)})
+
+
 def test_cycle_parts_total_mass_closed_form():
     """With a moving mass m = 3 kg set on a linear spring k = 100 N/mm (x_ref = 1 mm) whose own mass is 0.5 kg,
     the undamped force is k·(x − x_ref) + m·ẍ·1e-3 on x = 2 + 0.5·sin(ω t) (closed form, ẍ = −ω²·0.5·sin).

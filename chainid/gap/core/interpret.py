@@ -89,7 +89,11 @@ def step_text(step: dict[str, Any], kept: bool = False) -> str:
     e = step["effect"]
     p, sd = step["params"], step.get("params_sd", {})
     tail = f" [held-out NRMSE {step['nrmse_holdout']:.3g}]" if step.get("nrmse_holdout") is not None else ""
-    if step.get("worsened_holdout"):
+    if step.get("rate_dependent"):
+        tail += " [changes with the speed: rate-dependent, not kept]"
+    elif step.get("rate_cut"):
+        tail += " [after a rate-dependent step: not kept]"
+    elif step.get("worsened_holdout"):
         tail += (" [raised the held-out error alone; kept: the step(s) after it take it lower]" if kept else
                  " [raised the held-out error: over-fitted, not in the verdict]")
     if e == "baseline":

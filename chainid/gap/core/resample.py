@@ -158,6 +158,8 @@ def split_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any], 
 def _one(j: dict[str, Any], i: int) -> tuple[list[str], list[dict[str, float]]]:
     mult = j["mult"][i]
     chain = replay(j["prob"], j["hooks"], j["cache"], j["base"], mult, j["max_effects"])
+    if j["cut"] in chain:  # an effect the route cut as rate-dependent is cut from every resample's chain too
+        chain = chain[: chain.index(j["cut"])]
     params = [j["hooks"].refit(j["prob"], c, mult) for c in j["steps"]]
     return chain, params
 
@@ -169,7 +171,8 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
     Parameters
     ----------
     prob, hooks : the route's problem and its resampling module (``draw``, ``identity``, ``rescore``, ``refit``)
-    fwd : the forward selection's result (its ``_cache`` of fitted effect sets, its ``path``)
+    fwd : the forward selection's result (its ``_cache`` of fitted effect sets, its ``path``; a
+        ``rate_dependence`` finding's effect is cut from every resample's chain, as from the diagnosis')
     steps : the steps of the chain to report (baseline first)
     n, seed : resamples and the seed of their draws
     max_effects : the most effects in a chain
@@ -187,7 +190,7 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
     shift = [{k: float(v) - float(c0[k]) for k, v in st.params.items() if k in c0 and math.isfinite(c0[k])
               and math.isfinite(v)} for st, c0 in ((st, hooks.refit(prob, st, ident)) for st in steps)]
     job = dict(prob=prob, hooks=hooks, cache=fwd["_cache"], base=fwd["path"][0], mult=mult, steps=list(steps),
-               max_effects=max_effects)
+               max_effects=max_effects, cut=(fwd.get("rate_dependence") or {}).get("effect"))
     out = fork_map(lambda i: _one(job, i), range(n), workers, min_items=POOL_MIN,
                    chunksize=max(1, n // (4 * (can_fork(workers) or 1))))
     return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed, shift)

@@ -78,8 +78,9 @@ def waterfall(result: dict[str, Any]) -> list[str]:
     for i, st in enumerate(steps):
         mark = ("" if not st.get("worsened_holdout") else "  << raised the held-out error: over-fitted" if i >= kept
                 else "  << raised the held-out error alone (kept: the next step(s) take it lower)")
-        if st.get("rate_dependent"):
-            mark += "  << changes with the speed: rate-dependent, not kept (see where)"
+        if st.get("rate_cut"):
+            mark = ("  << changes with the speed: rate-dependent, not kept (see where)" if st.get("rate_dependent")
+                    else "  << after a rate-dependent step: not kept")
         if resampled and i > 0 and not st.get("params_ci90") and st.get("params_sd"):
             mark = " (± jack-knife: not resampled)" + mark
         lines.append(f"  {i:<5} {st['effect']:<20} {_g(st['nrmse_loto'], '>8.4g')} {_g(st['nrmse_holdout'], '>9.4g')} "

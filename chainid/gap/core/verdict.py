@@ -41,6 +41,21 @@ def trusted_path(path: list[Any]) -> tuple[list[Any], int | None]:
     return list(path[: j + 1]), (j + 1 if j + 1 < len(path) else None)
 
 
+def kept_path(path: list[Any], fwd: dict[str, Any]) -> tuple[list[Any], int | None]:
+    """The verdict's chain and its first over-fitted step (:func:`trusted_path`), of the whole explanation chain or,
+    where a route cut it (the time route's rate check: ``fwd["rate_dependence"]["step"]``), of the steps before
+    the cut: the shorter chain is trimmed to its own held-out minimum, as the whole one is."""
+    rate = fwd.get("rate_dependence")
+    return trusted_path(list(path)[: rate["step"]] if rate else list(path))
+
+
+def fallback_best(singles: list[Any], fwd: dict[str, Any]) -> Any:
+    """The best single effect to report when no chain is kept (``singles`` sorted by LOTO), leaving out an effect
+    the route cut as rate-dependent; None when there is none."""
+    cut = (fwd.get("rate_dependence") or {}).get("effect")
+    return next((c for c in singles if cut not in c.names), None)
+
+
 def overfit_warning(path: list[Any], k: int) -> str:
     """The warning for a chain whose step ``k`` (the first after the held-out minimum) raised the held-out error."""
     a, b = path[k - 1].nrmse_holdout, path[k].nrmse_holdout
@@ -141,14 +156,14 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
     path = fwd["path"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
     ranking = sorted(singles + [c for c in path[1:] if len(c.names) >= 2], key=lambda c: c.nrmse_loto)
-    ok_path, bad = trusted_path(path)
-    if fwd.get("kept") is not None:  # a route's own cut (the time route's rate check) before the held-out one
-        ok_path, bad = ok_path[: fwd["kept"]], None  # the over-fitted step, if any, was after it
+    ok_path, bad = kept_path(path, fwd)
     final = ok_path[-1] if len(ok_path) > 1 else None
-    best = final if final is not None else (singles[0] if singles else None)
+    best = final if final is not None else fallback_best(singles, fwd)
     left = final if final is not None else base_c
     steps = [step_dict(c, i, path[i - 1] if i else None) for i, c in enumerate(path)]
     rate = fwd.get("rate_dependence")
+    for st in steps[rate["step"]:] if rate is not None else []:
+        st["rate_cut"] = True  # the rate-dependent step and those after it: not kept
     if rate is not None:
         steps[rate["step"]]["rate_dependent"] = True
     return {

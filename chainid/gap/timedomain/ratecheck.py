@@ -1,30 +1,35 @@
 """Whether a chosen hysteresis is rate-independent, as its form says: its loop refitted on slow and fast blocks.
 
-Dahl hysteresis (and Bouc–Wen, its shaped form) is rate-independent: dz/dx = (F_h·sgn(ẋ) − z)/x_h depends on the
-path in x, not on the speed along it, so F_h and x_h are the same on slow and on fast motion.  A mechanism that
-is not, fitted as one, shows it there.  The plainest is a viscoelastic relaxation (a Maxwell element, a spring
-k_m in series with a dashpot of time constant τ, outside the library): its force q obeys
-dq/dx = (k_m·τ·|ẋ| − q)/(τ·|ẋ|) for ẋ ≠ 0, a Dahl loop whose F_h = k_m·τ·|ẋ| and x_h = τ·|ẋ| grow in proportion
-to the speed (rate exponent 1); at speeds where τ·|ẋ| outgrows the stroke it stiffens into a spring and the loop
-shrinks instead.
+Dahl hysteresis (and Bouc–Wen, its shaped form) is rate-independent: dz/dt = |ẋ|·(F_h·sgn(ẋ) − z)/x_h, so z
+follows the path in x, not the speed along it, and F_h and x_h are the same on slow and on fast motion.  A
+mechanism that is not, fitted as one, shows it there.  The plainest is a viscoelastic relaxation (a Maxwell
+element: a spring k_m in series with a dashpot of time constant τ, outside the library): dq/dt = k_m·ẋ − q/τ =
+|ẋ|·(k_m·τ·|ẋ|·sgn(ẋ) − q)/(τ·|ẋ|), a Dahl loop whose F_h = k_m·τ·|ẋ| and x_h = τ·|ẋ| grow in proportion to the
+speed (rate exponent 1).  Where τ·|ẋ| outgrows the stroke the branch acts as a spring k_m, and a loop fitted to
+it changes with the speed in either direction; a velocity-weakening friction makes a loop that shrinks with it.
 
-The check: the training blocks are split at their median RMS speed (Section: the time route's blocks, each
-record cut in contiguous blocks); the candidate that added the effect is refitted on each half (shapes polished
-from its fit, amplitudes exact: :meth:`TimeProblem.fit` with the halves as block weights), and for each of the
-effect's scale parameters θ (a force and a travel) the log ratio L = ln(θ_fast/θ_slow) and the rate exponent
-p = L / ln(v_fast/v_slow) are read.  The effect is **rate-dependent** when, for one of them,
+The check, on the **kept chain's last fit** (the effect beside every other effect of the chain, so a later
+velocity-dependent step such as Stribeck friction takes its own part):
 
-* the halves' speeds differ enough to resolve it: v_fast/v_slow ≥ :data:`MIN_SPEED_RATIO`;
-* the change is material: |p| ≥ :data:`MIN_EXPONENT`, half way from the rate-independent form (0) to a loop
-  that scales with the speed (1);
-* and significant: |L| ≥ :data:`Z` times the root mean square of L over :data:`N_RANDOM` random halves of the
-  same training blocks (what splitting alone moves θ by; computed only when the first two hold).
+* the training blocks that move (RMS speed v > 0) are split at their median speed, at least :data:`MIN_BLOCKS`
+  of them; the halves' geometric-mean speeds must differ by ×:data:`MIN_SPEED_RATIO` at least;
+* the fit is refitted on each half (shapes polished from it, amplitudes exact: :meth:`TimeProblem.fit` with the
+  halves as block weights); for each of the effect's scale parameters θ (a force [N] and a travel [mm]) the log
+  ratio L = ln(θ_fast/θ_slow) is read (not read where either refit sits at a bound of θ's range);
+* when one of them changes by a rate exponent L/ℓ_v of at least :data:`MIN_EXPONENT` (ℓ_v the halves' log speed
+  ratio), up to :data:`N_RANDOM` distinct random halves of the same blocks are refitted as well, and L is
+  regressed on (ℓ_v, ℓ_s) over all the splits, through zero (ℓ_s the halves' log ratio of RMS stroke, so that a
+  loop following the amplitude is not read as following the speed): the rate exponent p is the slope on ℓ_v and
+  z = |p|/se(p), se from the scatter about the plane (n − 2 degrees of freedom);
+* the effect is **rate-dependent** when |p| ≥ :data:`MIN_EXPONENT` (half way from the rate-independent form, 0, to
+  a loop scaling with the speed, 1) and z ≥ :data:`Z` (the step rule's).  Splits whose speed and stroke ratios
+  go together (|correlation| > :data:`MAX_CORRELATION`) cannot separate them: not judged.
 
-A rate-dependent step is not kept: the chain is cut before it (the effect stands in for a mechanism the library
-does not have) and the finding ``rate_dependence`` says why.  The harmonic route has no such check (a harmonic
-test's speed and amplitude go together).
+A rate-dependent effect is not kept: the chain is cut before the step that added it (it stands in for a
+mechanism the library does not have) and the finding ``rate_dependence`` says why.  The harmonic route has no
+such check (a harmonic test's speed and amplitude go together).
 
-Units: N and mm for the parameters, mm/s for the speeds.
+Units: N and mm for the parameters, mm/s for the speeds, mm for the strokes.
 """
 
 from __future__ import annotations
@@ -36,37 +41,47 @@ import numpy as np
 
 from chainid.gap.core.steprule import Z as STEP_Z
 
-__all__ = ["RATE_PARAMS", "MIN_SPEED_RATIO", "MIN_EXPONENT", "Z", "N_RANDOM", "block_speeds", "rate_exponent",
-           "rate_test", "rate_cut"]
+__all__ = ["RATE_PARAMS", "MIN_BLOCKS", "MIN_SPEED_RATIO", "MIN_EXPONENT", "Z", "N_RANDOM", "MAX_CORRELATION",
+           "block_stats", "rate_exponent", "rate_test", "rate_cut"]
 
 #: the rate-independent loop effects and their scale parameters (a force [N] and a travel [mm])
 RATE_PARAMS = {"hysteresis": ("F_h", "x_h"), "bouc_wen": ("F_y", "x_y")}
+#: fewest moving training blocks to split (four halves of four blocks leave three distinct partitions)
+MIN_BLOCKS = 8
 #: slowest ratio of the fast half's speed to the slow half's at which the rate exponent is read
 MIN_SPEED_RATIO = 1.5
 #: smallest |rate exponent| that counts: half way from rate-independent (0) to a loop scaling with speed (1)
 MIN_EXPONENT = 0.5
-#: the speed split's log ratio against the random halves' RMS log ratio (the step rule's z, 2)
+#: z of the rate exponent (the step rule's z, 2)
 Z = STEP_Z
-#: random halves for the reference spread
+#: random halves beside the speed split
 N_RANDOM = 10
+#: above this |correlation| of the splits' speed and stroke ratios the two cannot be told apart
+MAX_CORRELATION = 0.95
 
 
-def block_speeds(prob: Any) -> np.ndarray:
-    """RMS speed [mm/s] of every block in the problem's stacking order (0 for an empty block)."""
-    out = []
+def block_stats(prob: Any) -> tuple[np.ndarray, np.ndarray]:
+    """RMS speed [mm/s] and RMS stroke (x about the block's mean) [mm] of every block, in the problem's stacking
+    order (0 for an empty block)."""
+    v, s = [], []
     for d in prob.tdata:
         for b in range(d.n_blocks):
-            v = d.xd[d.block == b]
-            out.append(math.sqrt(float(np.mean(v * v))) if v.size else 0.0)
-    return np.asarray(out, float)
+            m = d.block == b
+            xd, x = d.xd[m], d.x[m]
+            v.append(math.sqrt(float(np.mean(xd * xd))) if xd.size else 0.0)
+            s.append(float(np.std(x)) if x.size else 0.0)
+    return np.asarray(v, float), np.asarray(s, float)
 
 
 def _refits(prob: Any, cand: Any, keys: Sequence[str], a: np.ndarray, b: np.ndarray
             ) -> tuple[dict[str, float], dict[str, float]]:
-    """The values of ``keys`` with ``cand`` refitted on block weights ``a`` and on ``b``."""
-    pa = prob.fit(cand.names, start=cand.params, polish_only=True, weights=a).params
-    pb = prob.fit(cand.names, start=cand.params, polish_only=True, weights=b).params
-    return {k: float(pa.get(k, float("nan"))) for k in keys}, {k: float(pb.get(k, float("nan"))) for k in keys}
+    """The values of ``keys`` with ``cand`` refitted on block weights ``a`` and on ``b`` (NaN where a refit sits at
+    a bound of that parameter's range)."""
+    out = []
+    for w in (a, b):
+        c = prob.fit(cand.names, start=cand.params, polish_only=True, weights=w)
+        out.append({k: float("nan") if k in c.at_bound else float(c.params.get(k, float("nan"))) for k in keys})
+    return out[0], out[1]
 
 
 def _log_ratio(a: float, b: float) -> float:
@@ -81,81 +96,139 @@ def _split(train: np.ndarray, first: np.ndarray, second: np.ndarray) -> tuple[np
     return a, b
 
 
+def _random_halves(idx: np.ndarray, speed_half: np.ndarray, n: int) -> list[np.ndarray]:
+    """Up to ``n`` distinct random halves of the blocks ``idx`` (as their first halves), none the speed split
+    ``speed_half`` or its mirror; a fixed seed, so the check is reproducible."""
+    rng = np.random.default_rng(0)
+    h, first = idx.size // 2, int(idx.min())
+    everything = frozenset(idx.tolist())
+
+    def key(half: np.ndarray) -> frozenset:  # a partition, whichever half is named: the side holding idx.min()
+        f = frozenset(half.tolist())
+        return f if first in f else everything - f
+
+    seen, out = {key(speed_half)}, []
+    for _ in range(50 * n):
+        half = rng.permutation(idx)[:h]
+        k = key(half)
+        if k not in seen:
+            seen.add(k)
+            out.append(np.sort(half))
+        if len(out) == n:
+            break
+    return out
+
+
+def rate_exponent(ell_v: np.ndarray, ell_s: np.ndarray, L: np.ndarray) -> tuple[float, float]:
+    """The rate exponent p and its z = |p|/se(p) from L = p·ℓ_v + q·ℓ_s over the splits, least squares through 0.
+
+    Parameters
+    ----------
+    ell_v, ell_s : each split's log ratio of the halves' speeds and of their strokes
+    L : each split's log ratio of the parameter (NaN: not read; left out)
+
+    Returns
+    -------
+    (p, z); NaN for both with fewer than 4 finite splits or when ℓ_v and ℓ_s correlate beyond
+    :data:`MAX_CORRELATION` (z is inf when the splits lie exactly on the plane).
+    """
+    ok = np.isfinite(L)
+    X = np.column_stack([ell_v[ok], ell_s[ok]])
+    y = L[ok]
+    if y.size < 4:
+        return float("nan"), float("nan")
+    G = X.T @ X
+    if G[0, 0] <= 0 or G[1, 1] <= 0 or abs(G[0, 1]) / math.sqrt(G[0, 0] * G[1, 1]) > MAX_CORRELATION:
+        return float("nan"), float("nan")
+    beta = np.linalg.solve(G, X.T @ y)
+    rss = float(np.sum((y - X @ beta) ** 2))
+    se = math.sqrt(rss / (y.size - 2) * float(np.linalg.inv(G)[0, 0]))
+    p = float(beta[0])
+    return p, (abs(p) / se if se > 0 else math.inf)
+
+
 def rate_test(prob: Any, cand: Any, effect: str) -> dict[str, Any] | None:
-    """The rate check of ``effect`` in the fitted candidate ``cand`` (see the module docstring): a dict with the
-    halves' geometric-mean speeds [mm/s], each parameter's values on them, its rate exponent p and z, and
-    ``dependent``; None when the training blocks cannot resolve it (fewer than 4 moving ones, or a speed ratio
-    below :data:`MIN_SPEED_RATIO`)."""
+    """The rate check of ``effect`` in the fitted candidate ``cand`` (the module docstring).
+
+    Parameters
+    ----------
+    prob : the time-domain problem (:class:`chainid.gap.timedomain.problem.TimeProblem`)
+    cand : a fitted candidate holding ``effect``
+    effect : a key of :data:`RATE_PARAMS`
+
+    Returns
+    -------
+    dict or None
+        The halves' geometric-mean speeds [mm/s] (``v_slow_mm_s``, ``v_fast_mm_s``), each parameter's values on
+        them (``on_slow``, ``on_fast``), their log ratio, the rate exponent p and its z per parameter, and
+        ``dependent`` (the parameters that pass both tests); None when the blocks cannot resolve a rate (fewer
+        than :data:`MIN_BLOCKS` moving training blocks, or speeds within ×:data:`MIN_SPEED_RATIO`).
+    """
     train = prob._train_mult()
-    v = block_speeds(prob)
-    idx = np.flatnonzero((train > 0) & (v > 0))
-    if idx.size < 4:
+    v, st = block_stats(prob)
+    idx = np.flatnonzero((train > 0) & (v > 0) & (st > 0))
+    if idx.size < MIN_BLOCKS:
         return None
-    lnv, h = np.log(np.where(v > 0, v, 1.0)), idx.size // 2
+    lnv, lns, h = np.log(np.where(v > 0, v, 1.0)), np.log(np.where(st > 0, st, 1.0)), idx.size // 2
     order = idx[np.argsort(v[idx], kind="stable")]
-    ell0 = float(np.mean(lnv[order[h:]]) - np.mean(lnv[order[:h]]))
-    if ell0 < math.log(MIN_SPEED_RATIO):
+    ell = lambda a, b: (float(np.mean(lnv[b]) - np.mean(lnv[a])), float(np.mean(lns[b]) - np.mean(lns[a])))  # noqa
+    ell_v0, ell_s0 = ell(order[:h], order[h:])
+    if ell_v0 < math.log(MIN_SPEED_RATIO):
         return None
     keys = [f"{effect}.{p}" for p in RATE_PARAMS[effect]]
     on_slow, on_fast = _refits(prob, cand, keys, *_split(train, order[:h], order[h:]))
     L0 = {k: _log_ratio(on_slow[k], on_fast[k]) for k in keys}
-    p = {k: L0[k] / ell0 for k in keys}
+    p = {k: L0[k] / ell_v0 for k in keys}  # the speed split's own, until the regression
     z = {k: float("nan") for k in keys}
     if any(math.isfinite(p[k]) and abs(p[k]) >= MIN_EXPONENT for k in keys):
-        rng = np.random.default_rng(0)
-        ell, L = [ell0], {k: [L0[k]] for k in keys}
-        for _ in range(N_RANDOM):
-            perm = rng.permutation(idx)
-            ra, rb = _refits(prob, cand, keys, *_split(train, perm[:h], perm[h:]))
-            ell.append(float(np.mean(lnv[perm[h:]]) - np.mean(lnv[perm[:h]])))
+        ev, es, L = [ell_v0], [ell_s0], {k: [L0[k]] for k in keys}
+        for half in _random_halves(idx, order[:h], N_RANDOM):
+            rest = np.setdiff1d(idx, half)
+            ra, rb = _refits(prob, cand, keys, *_split(train, half, rest))
+            a_v, a_s = ell(half, rest)
+            ev.append(a_v)
+            es.append(a_s)
             for k in keys:
                 L[k].append(_log_ratio(ra[k], rb[k]))
         for k in keys:
-            p[k], z[k] = rate_exponent(np.asarray(ell), np.asarray(L[k]))
-    dependent = [k for k in keys if abs(p[k]) >= MIN_EXPONENT and z[k] >= Z]
+            p[k], z[k] = rate_exponent(np.asarray(ev), np.asarray(es), np.asarray(L[k]))
+    dependent = [k for k in keys if math.isfinite(L0[k]) and abs(p[k]) >= MIN_EXPONENT and z[k] >= Z]
     v_slow, v_fast = math.exp(float(np.mean(lnv[order[:h]]))), math.exp(float(np.mean(lnv[order[h:]])))
     return {"effect": effect, "v_slow_mm_s": v_slow, "v_fast_mm_s": v_fast, "on_slow": on_slow, "on_fast": on_fast,
             "log_ratio": L0, "exponent": p, "z": z, "dependent": dependent}
 
 
-def rate_exponent(ell: np.ndarray, L: np.ndarray) -> tuple[float, float]:
-    """The rate exponent p of L = p·ℓ over the splits (least squares through 0: each split's log ratio of a
-    parameter against its log ratio of speeds) and its z = |p|/se, se from the scatter about the line (NaN with
-    fewer than 3 finite splits)."""
-    ok = np.isfinite(L)
-    ell, L = ell[ok], L[ok]
-    sxx = float(np.sum(ell * ell))
-    if L.size < 3 or sxx <= 0:
-        return float("nan"), float("nan")
-    p = float(np.sum(ell * L) / sxx)
-    se = math.sqrt(float(np.sum((L - p * ell) ** 2)) / (L.size - 1) / sxx)
-    return p, (abs(p) / se if se > 0 else math.inf)
-
-
 def _finding(step: int, effect: str, t: dict[str, Any]) -> dict[str, Any]:
-    """The ``where`` finding of a rate-dependent step."""
+    """The ``where`` finding of a rate-dependent effect added at ``step``."""
     k = max(t["dependent"], key=lambda q: t["z"][q])
-    ratio = t["v_fast_mm_s"] / t["v_slow_mm_s"]
+    ratio, p = t["v_fast_mm_s"] / t["v_slow_mm_s"], t["exponent"][k]
+    why = ("the loop grows with the speed, as a viscoelastic relaxation's does (F_h, x_h ∝ τ·|ẋ|)" if p > 0 else
+           "the loop shrinks with the speed (a velocity-weakening friction, or a relaxation acting as a spring "
+           "where τ·|ẋ| outgrows the stroke)")
     text = (f"{effect} (step {step}) is not rate-independent as its form says: refitted on the slower and faster "
             f"halves of the training blocks (RMS speed {t['v_slow_mm_s']:.3g} vs {t['v_fast_mm_s']:.3g} mm/s, "
-            f"×{ratio:.2f}), {k} goes from {t['on_slow'][k]:.4g} to {t['on_fast'][k]:.4g} (∝ v^"
-            f"{t['exponent'][k]:.2f}, z {t['z'][k]:.1f} over random halves): a rate-dependent mechanism outside the "
-            "library stands in for it (a viscoelastic relaxation: its loop grows with τ·|ẋ|, then stiffens into a "
-            "spring once τ·|ẋ| outgrows the stroke); not kept")
+            f"×{ratio:.2f}), {k} goes from {t['on_slow'][k]:.4g} to {t['on_fast'][k]:.4g}; over these and "
+            f"{N_RANDOM} random halves its rate exponent is {p:.2f} (z {min(t['z'][k], 1e6):.1f}, the stroke's part "
+            f"apart): {why}; a mechanism outside the library stands in for it, so it is not kept")
+    zf = {q: None if math.isnan(x) else min(x, 1e6) for q, x in t["z"].items()}  # JSON has no inf
     return {"kind": "rate_dependence", "finding": text, "step": step, "effect": effect, "parameter": k,
-            "exponent": t["exponent"][k], "z": t["z"][k], "speed_ratio": ratio, "score": t["z"][k],
-            "exponents": t["exponent"], "z_all": t["z"]}
+            "exponent": p, "z": zf[k], "speed_ratio": ratio, "score": zf[k], "exponents": t["exponent"], "z_all": zf}
 
 
 def rate_cut(prob: Any, path: Sequence[Any]) -> tuple[int | None, dict[str, Any] | None]:
-    """The first step of ``path`` (step 0 the baseline) that adds a rate-dependent loop effect, and its finding;
-    (None, None) when every loop effect in the chain passes or cannot be judged."""
-    for i in range(1, len(path)):
-        added = [n for n in path[i].names if n not in path[i - 1].names]
-        for effect in added:
-            if effect not in RATE_PARAMS:
-                continue
-            t = rate_test(prob, path[i], effect)
+    """The step of ``path`` (step 0 the baseline) before which the chain is cut, and the finding: the loop effects
+    of the chain's last fit are checked there (:func:`rate_test`), and the earliest step that added a
+    rate-dependent one is returned; (None, None) when every one passes or cannot be judged."""
+    if len(path) < 2:
+        return None, None
+    final, hits = path[-1], []
+    for effect in final.names:
+        if effect in RATE_PARAMS:
+            t = rate_test(prob, final, effect)
             if t is not None and t["dependent"]:
-                return i, _finding(i, effect, t)
-    return None, None
+                step = next(i for i in range(1, len(path)) if effect in path[i].names)
+                hits.append((step, effect, t))
+    if not hits:
+        return None, None
+    step, effect, t = min(hits, key=lambda h: h[0])
+    return step, _finding(step, effect, t)

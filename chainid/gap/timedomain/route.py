@@ -31,7 +31,8 @@ from chainid.gap.core.openworld import open_world
 from chainid.gap.core.profile import attach_profiles, problem_hooks
 from chainid.gap.core.resample import attach, resample, widen
 from chainid.infra.progress import stage
-from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
+from chainid.gap.core.verdict import (contract, decide, fallback_best, joint_notes, kept_path, overfit_warning,
+                                      trusted_path)
 from chainid.gap.timedomain.data import prepare_time
 from chainid.gap.timedomain.lawreach import law_extrapolation
 from chainid.gap.timedomain.problem import TimeProblem
@@ -144,17 +145,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     lib = fw.library(prob, effects) + prob.covariate_terms()
     fwd = fw.forward_select(prob, lib, base_c, base_c.nrmse_holdout, max_effects=int(max_combo))
     path: list[Candidate] = fwd["path"]
-    ok_path, bad = trusted_path(path)
-    if bad is not None:
-        warn.append(overfit_warning(path, bad))
-    cut, rate = rate_cut(prob, ok_path)
-    if rate is not None:
-        ok_path = ok_path[:cut]
-        fwd["kept"], fwd["rate_dependence"] = cut, rate
-        where.insert(0, rate)
-        warn.append(rate["finding"])
-    warn.extend(joint_notes(ok_path))
-    final = ok_path[-1] if len(ok_path) > 1 else None
+    ok_path, final, rate = _kept_chain(prob, path, fwd, where, warn)
     left = final if final is not None else base_c
     lev = left._ev  # type: ignore[attr-defined]
     stat = drift(prob.tdata, lev["res"])
@@ -165,7 +156,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     residual = _left_residual(prob, left, stat, chatter, left_where)
     kin_floor = residual["kinematic_floor_N"]
     singles = sorted(fwd["singles"], key=lambda c: c.nrmse_loto)
-    best = final if final is not None else (singles[0] if singles else None)
+    best = final if final is not None else fallback_best(singles, fwd)
     stage("model-free check")
     ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
                     chatter=chatter)
@@ -197,6 +188,25 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
                        else "none", "covariates": list(prob.covariates)}
     summary["noise"] = _noise_method(prob)
     return summary
+
+
+def _kept_chain(prob: TimeProblem, path: list[Candidate], fwd: dict[str, Any], where: list[dict[str, Any]],
+                warn: list[str]) -> tuple[list[Candidate], Candidate | None, dict[str, Any] | None]:
+    """The verdict's chain: the explanation chain up to its held-out minimum, cut before a loop effect that changes
+    with the speed (:func:`.ratecheck.rate_cut`, its finding put in ``fwd``, ``where`` and ``warn``) and trimmed
+    again to the shorter chain's own minimum (:func:`chainid.gap.core.verdict.kept_path`); with its last
+    candidate (None: no effect kept) and the rate finding (None: none)."""
+    ok_path, _ = trusted_path(path)
+    _, rate = rate_cut(prob, ok_path)
+    if rate is not None:
+        fwd["rate_dependence"] = rate
+        where.insert(0, rate)
+        warn.append(rate["finding"])
+    ok_path, bad = kept_path(path, fwd)
+    if bad is not None:
+        warn.append(overfit_warning(path, bad))
+    warn.extend(joint_notes(ok_path))
+    return ok_path, (ok_path[-1] if len(ok_path) > 1 else None), rate
 
 
 def _trust(prob: TimeProblem, records: Sequence[Any], rebuild: Any, fwd: dict[str, Any], ok_path: list[Candidate],

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import functools
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -21,12 +22,14 @@ import pytest
 import recovery_cases as rc
 import sim_devices as sd
 from chainid.gap.core.summary import summary
-from chainid.gap.timedomain.ratecheck import MIN_EXPONENT, rate_exponent, block_speeds, rate_test
-from chainid.gap.timedomain.route import build_problem, diagnose_any
+from chainid.gap.timedomain.ratecheck import MIN_EXPONENT, block_stats, rate_cut, rate_exponent, rate_test
+from chainid.gap.diagnose import diagnose
+from chainid.gap.timedomain.route import build_problem
 
 FS, N, OVER = 200.0, 4000, 4
 K_M, TAU = 3.0, 3.0
 F_H, X_H = 5.0, 0.1
+DF_S, V_S = 3.0, 2.0  # a Stribeck peak beside the Dahl loop: friction that weakens with the speed
 
 
 @functools.lru_cache(maxsize=None)
@@ -39,6 +42,8 @@ def _records(kind: str) -> list:
         tf, xf, _ = sd.fine_path(mo, t, OVER)
         extra = (sd.maxwell_force(tf, xf, K_M, TAU) if kind == "maxwell"
                  else F_H * sd.bouc_wen_z(xf, X_H, 1.0, 1.0))[::OVER]
+        if kind == "dahl+stribeck":
+            extra = extra + sd.stribeck_force(xd, 0.0, DF_S, V_S)
         F = rc.K_LIN * x + rc.C_LIN * xd + 3.0 * i + extra
         recs.append(sd.noisy(f"r{i}", t, x, F, rc.SX_LIN, rc.SF_LIN, i))
     return recs
@@ -53,14 +58,15 @@ def fitted():
     return out
 
 
-def test_block_speeds_are_the_rms_speed_of_each_block(fitted):
+def test_block_stats_are_the_rms_speed_and_stroke_of_each_block(fitted):
     prob, _ = fitted["dahl"]
-    v = block_speeds(prob)
+    v, st = block_stats(prob)
     d = prob.tdata[2]
     off = sum(dd.n_blocks for dd in prob.tdata[:2])
     for b in range(d.n_blocks):
-        seg = d.xd[d.block == b]
+        seg, x = d.xd[d.block == b], d.x[d.block == b]
         assert v[off + b] == pytest.approx(math.sqrt(np.mean(seg**2)), rel=1e-12)
+        assert st[off + b] == pytest.approx(math.sqrt(np.mean((x - x.mean()) ** 2)), rel=1e-12)
 
 
 def test_a_dahl_loop_has_the_same_parameters_on_slow_and_fast_blocks(fitted):
@@ -83,17 +89,31 @@ def test_a_maxwell_relaxation_fitted_as_hysteresis_scales_with_the_speed(fitted)
     assert set(t["dependent"]) == {"hysteresis.F_h", "hysteresis.x_h"}
 
 
-def test_the_exponent_is_the_slope_through_zero_and_its_z_the_scatter_about_it():
-    ell = np.array([1.0, 0.5, -0.5, 0.2])
-    p, z = rate_exponent(ell, 0.8 * ell)
+def test_the_exponent_is_the_speed_slope_of_a_plane_through_zero_and_its_z_the_scatter_about_it():
+    ev = np.array([1.0, 0.5, -0.5, 0.2, -0.3, 0.4])
+    es = np.array([0.1, -0.4, 0.3, 0.5, 0.2, -0.1])
+    p, z = rate_exponent(ev, es, 0.8 * ev + 0.3 * es)
     assert p == pytest.approx(0.8, rel=1e-12) and z > 1e12  # no scatter: z unbounded (rounding aside)
-    L = np.array([1.0, 0.3, -0.5, 0.4])  # by hand: Σℓ² = 1.54, ΣℓL = 1.48, p = 0.961038...
-    p, z = rate_exponent(ell, L)
-    res = L - p * ell
-    se = math.sqrt(float(np.sum(res**2)) / 3 / 1.54)
-    assert p == pytest.approx(1.48 / 1.54, rel=1e-12)
-    assert z == pytest.approx(p / se, rel=1e-12)
-    assert math.isnan(rate_exponent(ell[:2], L[:2])[0])  # two splits: no scatter to judge by
+    L = 0.8 * ev + 0.3 * es + np.array([0.05, -0.03, 0.02, -0.04, 0.01, 0.03])
+    X = np.column_stack([ev, es])
+    beta, rss, *_ = np.linalg.lstsq(X, L, rcond=None)  # another method: the SVD solution
+    cov = rss[0] / (6 - 2) * np.linalg.inv(X.T @ X)
+    p, z = rate_exponent(ev, es, L)
+    assert p == pytest.approx(beta[0], rel=1e-10)
+    assert z == pytest.approx(abs(beta[0]) / math.sqrt(cov[0, 0]), rel=1e-10)
+    assert math.isnan(rate_exponent(ev, 2.0 * ev, L)[0])  # speed and stroke go together: not separable
+    assert math.isnan(rate_exponent(ev[:3], es[:3], L[:3])[0])  # three splits: too few to judge
+
+
+def test_the_loop_is_judged_beside_the_chains_other_effects():
+    """Dahl loop + Stribeck friction: the Dahl fit alone takes up the friction's fall with the speed and reads as
+    rate-dependent; in the chain's last fit, beside the Stribeck term, it is rate-independent and kept."""
+    prob = build_problem(_records("dahl+stribeck"), ["r5"], 0, None)
+    alone, both = prob.fit(["hysteresis"]), prob.fit(["hysteresis", "stribeck"])
+    assert rate_test(prob, alone, "hysteresis")["dependent"]  # the case tests something
+    t = rate_test(prob, both, "hysteresis")
+    assert t["dependent"] == [] and all(abs(p) <= 0.1 for p in t["exponent"].values()), t
+    assert rate_cut(prob, [SimpleNamespace(names=[]), alone, both]) == (None, None)
 
 
 def test_speeds_too_alike_to_resolve_a_rate_are_not_judged():
@@ -110,15 +130,27 @@ def test_speeds_too_alike_to_resolve_a_rate_are_not_judged():
 
 @pytest.mark.parametrize("kind", ["maxwell", "dahl"])
 def test_the_diagnosis_keeps_a_dahl_loop_and_cuts_a_relaxation(kind):
-    res = diagnose_any(_records(kind), ["r5"], None, effects=["hysteresis"], quiet=True)
+    res = diagnose(_records(kind), ["r5"], None, effects=["hysteresis"], quiet=True, uncertainty=False)
     if kind == "dahl":
         assert res["verdict"] == "hysteresis" and res["rate_dependence"] is None
         return
     rd = res["rate_dependence"]
-    assert res["verdict"] == "unexplained" and res["trusted_steps"] == 1
+    assert res["verdict"] == "unexplained" and res["trusted_steps"] == 1 and not res["overfitted"]
     assert rd["step"] == 1 and rd["effect"] == "hysteresis" and rd["exponent"] >= MIN_EXPONENT
     assert res["where"][0]["kind"] == "rate_dependence"
     assert res["steps"][1]["rate_dependent"] is True
+    assert res["best"] is None or "hysteresis" not in res["best"]["effect"]  # the cut effect is not "best"
+    assert res["model"]["effects"] == []  # the model found (the file --save-model writes) is the baseline
     text = summary(res)
-    assert "rate-dependent, not kept" in text
+    assert "<< changes with the speed: rate-dependent, not kept" in text  # the waterfall's step
     assert "changes with the speed" in text.split("VERDICT:")[1]
+    assert "[changes with the speed: rate-dependent, not kept]" in res["chain_text"]
+
+
+def test_the_resamples_cut_the_same_effect():
+    """The resampling replays the step rule on each resample; the effect cut as rate-dependent is cut from every
+    replayed chain too, so the kept chain (the baseline alone) is what they choose."""
+    res = diagnose(_records("maxwell"), ["r5"], None, effects=["hysteresis"], quiet=True, uncertainty=False,
+                   resamples=20)
+    assert res["rate_dependence"] is not None
+    assert res["stability"]["same_chain"] >= 0.9, res["stability"]["chains"]
