@@ -190,6 +190,7 @@ def contract(prob: Any, model: Any, base_c: Any, noise: dict[str, Any], fwd: dic
         "covariate_dependence": covariate_dependence(left.params),
         "overfitted": bad is not None,
         "rate_dependence": rate,
+        "rate_checks": fwd.get("rate_checks"),
         "rejected": fwd.get("rejected", [])[:6],
         "interpretation": interp,
         "chain_text": chain_text(steps, len(ok_path), residual),

@@ -42,7 +42,7 @@ import numpy as np
 from chainid.gap.core.steprule import Z as STEP_Z
 
 __all__ = ["RATE_PARAMS", "MIN_BLOCKS", "MIN_SPEED_RATIO", "MIN_EXPONENT", "Z", "N_RANDOM", "MAX_CORRELATION",
-           "block_stats", "rate_exponent", "rate_test", "rate_cut"]
+           "block_stats", "rate_exponent", "rate_test", "rate_checks", "rate_cut"]
 
 #: the rate-independent loop effects and their scale parameters (a force [N] and a travel [mm])
 RATE_PARAMS = {"hysteresis": ("F_h", "x_h"), "bouc_wen": ("F_y", "x_y")}
@@ -215,20 +215,35 @@ def _finding(step: int, effect: str, t: dict[str, Any]) -> dict[str, Any]:
             "exponent": p, "z": zf[k], "speed_ratio": ratio, "score": zf[k], "exponents": t["exponent"], "z_all": zf}
 
 
-def rate_cut(prob: Any, path: Sequence[Any]) -> tuple[int | None, dict[str, Any] | None]:
-    """The step of ``path`` (step 0 the baseline) before which the chain is cut, and the finding: the loop effects
-    of the chain's last fit are checked there (:func:`rate_test`), and the earliest step that added a
-    rate-dependent one is returned; (None, None) when every one passes or cannot be judged."""
+def rate_checks(prob: Any, path: Sequence[Any]) -> list[dict[str, Any]]:
+    """The rate check of every loop effect of the chain's last fit (``path[-1]``): per effect, the step that added
+    it, whether the blocks could judge it, and where they could, its rate exponents, z values and the halves' speed
+    ratio (for the JSON's ``rate_checks``: a loop kept was checked, and this is what the check read)."""
     if len(path) < 2:
-        return None, None
-    final, hits = path[-1], []
+        return []
+    final, out = path[-1], []
     for effect in final.names:
-        if effect in RATE_PARAMS:
-            t = rate_test(prob, final, effect)
-            if t is not None and t["dependent"]:
-                step = next(i for i in range(1, len(path)) if effect in path[i].names)
-                hits.append((step, effect, t))
-    if not hits:
-        return None, None
-    step, effect, t = min(hits, key=lambda h: h[0])
-    return step, _finding(step, effect, t)
+        if effect not in RATE_PARAMS:
+            continue
+        t = rate_test(prob, final, effect)
+        row: dict[str, Any] = {"effect": effect, "step": next(i for i in range(1, len(path))
+                                                              if effect in path[i].names), "judged": t is not None}
+        if t is not None:
+            row |= {"exponent": t["exponent"], "z": {k: None if math.isnan(v) else min(v, 1e6)
+                                                     for k, v in t["z"].items()},
+                    "speed_ratio": t["v_fast_mm_s"] / t["v_slow_mm_s"], "dependent": t["dependent"], "_test": t}
+        out.append(row)
+    return out
+
+
+def rate_cut(prob: Any, path: Sequence[Any]) -> tuple[int | None, dict[str, Any] | None, list[dict[str, Any]]]:
+    """The step of ``path`` (step 0 the baseline) before which the chain is cut, its finding, and every check
+    (:func:`rate_checks`): the earliest step that added a rate-dependent loop effect; (None, None, checks) when
+    every one passes or cannot be judged."""
+    checks = rate_checks(prob, path)
+    hits = [c for c in checks if c.get("dependent")]
+    first = min(hits, key=lambda c: c["step"]) if hits else None
+    finding = _finding(first["step"], first["effect"], first["_test"]) if first is not None else None
+    for c in checks:
+        c.pop("_test", None)  # the raw test: only the finding needs it
+    return (first["step"] if first is not None else None), finding, checks

@@ -197,7 +197,7 @@ def _kept_chain(prob: TimeProblem, path: list[Candidate], fwd: dict[str, Any], w
     again to the shorter chain's own minimum (:func:`chainid.gap.core.verdict.kept_path`); with its last
     candidate (None: no effect kept) and the rate finding (None: none)."""
     ok_path, _ = trusted_path(path)
-    _, rate = rate_cut(prob, ok_path)
+    _, rate, fwd["rate_checks"] = rate_cut(prob, ok_path)
     if rate is not None:
         fwd["rate_dependence"] = rate
         where.insert(0, rate)

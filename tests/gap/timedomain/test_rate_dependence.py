@@ -113,7 +113,10 @@ def test_the_loop_is_judged_beside_the_chains_other_effects():
     assert rate_test(prob, alone, "hysteresis")["dependent"]  # the case tests something
     t = rate_test(prob, both, "hysteresis")
     assert t["dependent"] == [] and all(abs(p) <= 0.1 for p in t["exponent"].values()), t
-    assert rate_cut(prob, [SimpleNamespace(names=[]), alone, both]) == (None, None)
+    step, finding, checks = rate_cut(prob, [SimpleNamespace(names=[]), alone, both])
+    assert step is None and finding is None
+    (row,) = checks  # the loop was checked, and judged rate-independent
+    assert row["effect"] == "hysteresis" and row["step"] == 1 and row["judged"] and row["dependent"] == []
 
 
 def test_speeds_too_alike_to_resolve_a_rate_are_not_judged():
@@ -133,6 +136,7 @@ def test_the_diagnosis_keeps_a_dahl_loop_and_cuts_a_relaxation(kind):
     res = diagnose(_records(kind), ["r5"], None, effects=["hysteresis"], quiet=True, uncertainty=False)
     if kind == "dahl":
         assert res["verdict"] == "hysteresis" and res["rate_dependence"] is None
+        assert [c["effect"] for c in res["rate_checks"]] == ["hysteresis"] and res["rate_checks"][0]["judged"]
         return
     rd = res["rate_dependence"]
     assert res["verdict"] == "unexplained" and res["trusted_steps"] == 1 and not res["overfitted"]
