@@ -190,7 +190,7 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
     shift = [{k: float(v) - float(c0[k]) for k, v in st.params.items() if k in c0 and math.isfinite(c0[k])
               and math.isfinite(v)} for st, c0 in ((st, hooks.refit(prob, st, ident)) for st in steps)]
     job = dict(prob=prob, hooks=hooks, cache=fwd["_cache"], base=fwd["path"][0], mult=mult, steps=list(steps),
-               max_effects=max_effects, cut=(fwd.get("rate_dependence") or {}).get("effect"))
+               max_effects=max_effects, cut=(fwd.get("rate_dependence") or {}).get("name"))
     out = fork_map(lambda i: _one(job, i), range(n), workers, min_items=POOL_MIN,
                    chunksize=max(1, n // (4 * (can_fork(workers) or 1))))
     return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed, shift)

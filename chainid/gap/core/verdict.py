@@ -52,7 +52,7 @@ def kept_path(path: list[Any], fwd: dict[str, Any]) -> tuple[list[Any], int | No
 def fallback_best(singles: list[Any], fwd: dict[str, Any]) -> Any:
     """The best single effect to report when no chain is kept (``singles`` sorted by LOTO), leaving out an effect
     the route cut as rate-dependent; None when there is none."""
-    cut = (fwd.get("rate_dependence") or {}).get("effect")
+    cut = (fwd.get("rate_dependence") or {}).get("name")
     return next((c for c in singles if cut not in c.names), None)
 
 

@@ -198,8 +198,9 @@ def rate_test(prob: Any, cand: Any, effect: str) -> dict[str, Any] | None:
             "log_ratio": L0, "exponent": p, "z": z, "dependent": dependent}
 
 
-def _finding(step: int, effect: str, t: dict[str, Any]) -> dict[str, Any]:
-    """The ``where`` finding of a rate-dependent effect added at ``step``."""
+def _finding(step: int, effect: str, name: str, t: dict[str, Any]) -> dict[str, Any]:
+    """The ``where`` finding of a rate-dependent effect added at ``step`` (``name``: as the chain names it, with
+    an operating condition's ``@cov`` where its amplitude follows one)."""
     k = max(t["dependent"], key=lambda q: t["z"][q])
     ratio, p = t["v_fast_mm_s"] / t["v_slow_mm_s"], t["exponent"][k]
     why = ("the loop grows with the speed, as a viscoelastic relaxation's does (F_h, x_h ∝ τ·|ẋ|)" if p > 0 else
@@ -211,7 +212,7 @@ def _finding(step: int, effect: str, t: dict[str, Any]) -> dict[str, Any]:
             f"{N_RANDOM} random halves its rate exponent is {p:.2f} (z {min(t['z'][k], 1e6):.1f}, the stroke's part "
             f"apart): {why}; a mechanism outside the library stands in for it, so it is not kept")
     zf = {q: None if math.isnan(x) else min(x, 1e6) for q, x in t["z"].items()}  # JSON has no inf
-    return {"kind": "rate_dependence", "finding": text, "step": step, "effect": effect, "parameter": k,
+    return {"kind": "rate_dependence", "finding": text, "step": step, "effect": effect, "name": name, "parameter": k,
             "exponent": p, "z": zf[k], "speed_ratio": ratio, "score": zf[k], "exponents": t["exponent"], "z_all": zf}
 
 
@@ -222,12 +223,13 @@ def rate_checks(prob: Any, path: Sequence[Any]) -> list[dict[str, Any]]:
     if len(path) < 2:
         return []
     final, out = path[-1], []
-    for effect in final.names:
+    for name in final.names:
+        effect = name.split("@", 1)[0]  # an effect whose amplitude follows an operating condition: its own form
         if effect not in RATE_PARAMS:
             continue
         t = rate_test(prob, final, effect)
-        row: dict[str, Any] = {"effect": effect, "step": next(i for i in range(1, len(path))
-                                                              if effect in path[i].names), "judged": t is not None}
+        row: dict[str, Any] = {"effect": effect, "name": name, "step": next(i for i in range(1, len(path))
+                                                              if name in path[i].names), "judged": t is not None}
         if t is not None:
             row |= {"exponent": t["exponent"], "z": {k: None if math.isnan(v) else min(v, 1e6)
                                                      for k, v in t["z"].items()},
@@ -243,7 +245,7 @@ def rate_cut(prob: Any, path: Sequence[Any]) -> tuple[int | None, dict[str, Any]
     checks = rate_checks(prob, path)
     hits = [c for c in checks if c.get("dependent")]
     first = min(hits, key=lambda c: c["step"]) if hits else None
-    finding = _finding(first["step"], first["effect"], first["_test"]) if first is not None else None
+    finding = _finding(first["step"], first["effect"], first["name"], first["_test"]) if first is not None else None
     for c in checks:
         c.pop("_test", None)  # the raw test: only the finding needs it
     return (first["step"] if first is not None else None), finding, checks

@@ -158,3 +158,21 @@ def test_the_resamples_cut_the_same_effect():
                    resamples=20)
     assert res["rate_dependence"] is not None
     assert res["stability"]["same_chain"] >= 0.9, res["stability"]["chains"]
+
+
+def test_a_loop_whose_amplitude_follows_an_operating_condition_is_checked_as_its_effect(monkeypatch):
+    """A chain names an effect whose amplitude follows a covariate ``hysteresis@p``: the check reads it as a
+    hysteresis, and the finding keeps the chain's name (what the resamples and the fallback leave out)."""
+    from chainid.gap.timedomain import ratecheck
+
+    seen = []
+    read = {"v_slow_mm_s": 1.0, "v_fast_mm_s": 2.0, "on_slow": {"hysteresis.F_h": 1.0},
+            "on_fast": {"hysteresis.F_h": 2.0}, "log_ratio": {"hysteresis.F_h": math.log(2.0)},
+            "exponent": {"hysteresis.F_h": 1.0}, "z": {"hysteresis.F_h": 5.0}, "dependent": ["hysteresis.F_h"]}
+    monkeypatch.setattr(ratecheck, "rate_test", lambda prob, cand, effect: seen.append(effect) or read)
+    path = [SimpleNamespace(names=[]), SimpleNamespace(names=["friction"]),
+            SimpleNamespace(names=["friction", "hysteresis@p"])]
+    step, finding, checks = rate_cut(None, path)
+    assert seen == ["hysteresis"] and step == 2
+    assert finding["effect"] == "hysteresis" and finding["name"] == "hysteresis@p"
+    assert [c["name"] for c in checks] == ["hysteresis@p"]
