@@ -37,7 +37,6 @@ from chainid.model.modelfile import model_to_dict
 from chainid.model.passivity import OperatingPoint, describe, negative_dashpots, refusal
 from chainid.model.timedamping import BOX_KEYS, Damping, dominant, record_features
 from chainid.gap.core import noise as nz
-from chainid.gap.core.verdict import trusted_path
 from chainid.gap.core.kinematics import Kinematics, estimate
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
 from chainid.gap.timedomain.data import interior
@@ -117,8 +116,7 @@ def attach_models(summary: dict[str, Any], evaluation: dict[str, Any]) -> list[s
     models = step_models(summary, {"evaluation": evaluation})
     for st, cand, m in zip(summary["steps"], summary["_path"], models):
         st.update(step_fields(prob, cand, m))  # every fitted parameter: base, law coefficients, mass, delay
-    kept = summary.get("trusted_steps", len(trusted_path(summary["_path"])[0]))
-    final = models[kept - 1]  # the verdict's chain: no over-fitted or rate-dependent step
+    final = models[summary["trusted_steps"] - 1]  # the verdict's chain (verdict.kept_path): no cut step
     summary["model"] = model_to_dict(final)  # in the model file's keys
     summary["_models"] = models
     summary["_model"] = final

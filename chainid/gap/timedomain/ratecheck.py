@@ -42,7 +42,7 @@ import numpy as np
 from chainid.gap.core.steprule import Z as STEP_Z
 
 __all__ = ["RATE_PARAMS", "MIN_BLOCKS", "MIN_SPEED_RATIO", "MIN_EXPONENT", "Z", "N_RANDOM", "MAX_CORRELATION",
-           "block_stats", "rate_exponent", "rate_test", "rate_checks", "rate_cut"]
+           "block_stats", "rate_exponent", "rate_test", "rate_cut"]
 
 #: the rate-independent loop effects and their scale parameters (a force [N] and a travel [mm])
 RATE_PARAMS = {"hysteresis": ("F_h", "x_h"), "bouc_wen": ("F_y", "x_y")}
@@ -198,28 +198,33 @@ def rate_test(prob: Any, cand: Any, effect: str) -> dict[str, Any] | None:
             "log_ratio": L0, "exponent": p, "z": z, "dependent": dependent}
 
 
+def _json_z(z: dict[str, float]) -> dict[str, float | None]:
+    """z values as JSON holds them: NaN (not computed) as None, inf (no scatter) as 1e6."""
+    return {k: None if math.isnan(v) else min(v, 1e6) for k, v in z.items()}
+
+
 def _finding(step: int, effect: str, name: str, t: dict[str, Any]) -> dict[str, Any]:
     """The ``where`` finding of a rate-dependent effect added at ``step`` (``name``: as the chain names it, with
     an operating condition's ``@cov`` where its amplitude follows one)."""
     k = max(t["dependent"], key=lambda q: t["z"][q])
-    ratio, p = t["v_fast_mm_s"] / t["v_slow_mm_s"], t["exponent"][k]
+    ratio, p, zf = t["v_fast_mm_s"] / t["v_slow_mm_s"], t["exponent"][k], _json_z(t["z"])
     why = ("the loop grows with the speed, as a viscoelastic relaxation's does (F_h, x_h ∝ τ·|ẋ|)" if p > 0 else
            "the loop shrinks with the speed (a velocity-weakening friction, or a relaxation acting as a spring "
            "where τ·|ẋ| outgrows the stroke)")
     text = (f"{effect} (step {step}) is not rate-independent as its form says: refitted on the slower and faster "
             f"halves of the training blocks (RMS speed {t['v_slow_mm_s']:.3g} vs {t['v_fast_mm_s']:.3g} mm/s, "
             f"×{ratio:.2f}), {k} goes from {t['on_slow'][k]:.4g} to {t['on_fast'][k]:.4g}; over these and "
-            f"{N_RANDOM} random halves its rate exponent is {p:.2f} (z {min(t['z'][k], 1e6):.1f}, the stroke's part "
+            f"{N_RANDOM} random halves its rate exponent is {p:.2f} (z {zf[k]:.1f}, the stroke's part "
             f"apart): {why}; a mechanism outside the library stands in for it, so it is not kept")
-    zf = {q: None if math.isnan(x) else min(x, 1e6) for q, x in t["z"].items()}  # JSON has no inf
     return {"kind": "rate_dependence", "finding": text, "step": step, "effect": effect, "name": name, "parameter": k,
             "exponent": p, "z": zf[k], "speed_ratio": ratio, "score": zf[k], "exponents": t["exponent"], "z_all": zf}
 
 
-def rate_checks(prob: Any, path: Sequence[Any]) -> list[dict[str, Any]]:
-    """The rate check of every loop effect of the chain's last fit (``path[-1]``): per effect, the step that added
-    it, whether the blocks could judge it, and where they could, its rate exponents, z values and the halves' speed
-    ratio (for the JSON's ``rate_checks``: a loop kept was checked, and this is what the check read)."""
+def _checks(prob: Any, path: Sequence[Any]) -> list[tuple[dict[str, Any], dict[str, Any] | None]]:
+    """Every loop effect of the chain's last fit (``path[-1]``) checked there: (its row for the JSON's
+    ``rate_checks`` — the step that added it, whether the blocks could judge it, and where they could, its rate
+    exponents, z values and the halves' speed ratio: a loop kept was checked, and this is what the check read —,
+    the raw :func:`rate_test` or None)."""
     if len(path) < 2:
         return []
     final, out = path[-1], []
@@ -228,24 +233,22 @@ def rate_checks(prob: Any, path: Sequence[Any]) -> list[dict[str, Any]]:
         if effect not in RATE_PARAMS:
             continue
         t = rate_test(prob, final, effect)
-        row: dict[str, Any] = {"effect": effect, "name": name, "step": next(i for i in range(1, len(path))
-                                                              if name in path[i].names), "judged": t is not None}
+        step = next(i for i in range(1, len(path)) if name in path[i].names)
+        row: dict[str, Any] = {"effect": effect, "name": name, "step": step, "judged": t is not None}
         if t is not None:
-            row |= {"exponent": t["exponent"], "z": {k: None if math.isnan(v) else min(v, 1e6)
-                                                     for k, v in t["z"].items()},
-                    "speed_ratio": t["v_fast_mm_s"] / t["v_slow_mm_s"], "dependent": t["dependent"], "_test": t}
-        out.append(row)
+            row |= {"exponent": t["exponent"], "z": _json_z(t["z"]),
+                    "speed_ratio": t["v_fast_mm_s"] / t["v_slow_mm_s"], "dependent": t["dependent"]}
+        out.append((row, t))
     return out
 
 
 def rate_cut(prob: Any, path: Sequence[Any]) -> tuple[int | None, dict[str, Any] | None, list[dict[str, Any]]]:
-    """The step of ``path`` (step 0 the baseline) before which the chain is cut, its finding, and every check
-    (:func:`rate_checks`): the earliest step that added a rate-dependent loop effect; (None, None, checks) when
-    every one passes or cannot be judged."""
-    checks = rate_checks(prob, path)
-    hits = [c for c in checks if c.get("dependent")]
-    first = min(hits, key=lambda c: c["step"]) if hits else None
-    finding = _finding(first["step"], first["effect"], first["name"], first["_test"]) if first is not None else None
-    for c in checks:
-        c.pop("_test", None)  # the raw test: only the finding needs it
-    return (first["step"] if first is not None else None), finding, checks
+    """The step of ``path`` (step 0 the baseline) before which the chain is cut, its finding, and every check's
+    row (the JSON's ``rate_checks``): the earliest step that added a rate-dependent loop effect; (None, None, rows)
+    when every one passes or cannot be judged."""
+    checks = _checks(prob, path)
+    hits = [(row, t) for row, t in checks if row.get("dependent")]
+    if not hits:
+        return None, None, [row for row, _ in checks]
+    row, t = min(hits, key=lambda h: h[0]["step"])
+    return row["step"], _finding(row["step"], row["effect"], row["name"], t), [r for r, _ in checks]
