@@ -193,13 +193,44 @@ def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remainin
 
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
-    pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.
-    Returns (chosen, tied others)."""
+    pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.  A richer effect is
+    then given up for a member it nests (:data:`NESTS`) that it does not beat by the step rule
+    (:func:`nested_simpler`).  Returns (chosen, the others it was chosen over: the near-ties and a richer rival
+    given up)."""
     cands = sorted(cands, key=lambda c: c.nrmse_loto)
     best = cands[0]
     ties = [c for c in cands if c.nrmse_loto <= (1 + TIE) * best.nrmse_loto]
     chosen = min(ties, key=lambda c: (len(c.at_bound), c.n_params, c.bic))
+    simpler = nested_simpler(chosen, cands)
+    if simpler is not None:
+        ties = ties + [chosen] if chosen not in ties else ties
+        chosen = simpler
     return chosen, [c for c in ties if c is not chosen]
+
+
+#: the library members a richer effect reduces to in a limit of its shape: Bouc–Wen is Dahl hysteresis at n = r = 1
+#: and a Jenkins friction (elastic stick, then sliding) as n → ∞ with r = ½; Stribeck friction without its static
+#: peak and direction asymmetry is Coulomb friction
+NESTS = {"bouc_wen": ("hysteresis", "friction"), "stribeck": ("friction",)}
+
+
+def nested_simpler(chosen: Candidate, cands: Sequence[Candidate]) -> Candidate | None:
+    """The simpler rival that ``chosen`` has to give way to, or None.
+
+    The chosen candidate's newest effect is richer than a member it nests (:data:`NESTS`); a candidate that differs
+    from it only by that member, with no parameter of it at a bound, is the simpler rival.  The richer shape is
+    named only where it earns its extra parameters as a step does: significant over the training units and
+    material against the simpler rival (:func:`passes` of :func:`step_test` from the rival to it).  Otherwise the
+    data do not tell the shapes apart and the simpler one, the best-fitting such rival by LOTO, is named.
+    """
+    if not chosen.names:
+        return None
+    new = chosen.names[-1]
+    rest = sorted(chosen.names[:-1])
+    rivals = [c for c in cands if c.names and c.names[-1] in NESTS.get(new, ()) and sorted(c.names[:-1]) == rest
+              and not pinned_params(c) and c.n_params < chosen.n_params]
+    rivals = [c for c in sorted(rivals, key=lambda c: c.nrmse_loto) if not passes(step_test(c, chosen))]
+    return rivals[0] if rivals else None
 
 
 def fit_cached(cache: dict[tuple[str, ...], Candidate], fit: Any, names: list[str]) -> Candidate:
@@ -256,10 +287,17 @@ def swap_acceptable(c: Any, full: Any, new: str) -> bool:
     """Whether ``c`` (``full`` with one effect swapped for ``new``, a member of its family) may replace ``full``:
     none of ``new``'s parameters at a bound of its physical range (rule 4 holds for a swap too: Dahl hysteresis with
     x_h at its floor is Coulomb friction under another name), and a LOTO lower by more than ``TIE``, or within it
-    with fewer parameters pinned at a bound or fewer parameters.  Both need ``nrmse_loto``, ``n_params`` and
-    ``at_bound``."""
+    with fewer parameters pinned at a bound or fewer parameters.  Between an effect and a member it nests
+    (:data:`NESTS`) the step rule decides, as in :func:`nested_simpler`: the richer one comes in only when it passes
+    against the simpler one, and gives way to it when it does not.  Both need ``nrmse_loto``, ``n_params``,
+    ``at_bound`` and ``loto_num``."""
     if any(k.startswith(term_prefix(new)) for k in c.at_bound):
         return False
+    old = next((n for n in full.names if n not in c.names), None)
+    if old in NESTS.get(new, ()):  # to the richer shape: it must earn its parameters
+        return passes(step_test(full, c))
+    if new in NESTS.get(old or "", ()) and c.n_params < full.n_params:  # to the simpler shape
+        return not passes(step_test(c, full))
     return c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
         c.nrmse_loto <= (1 + TIE) * full.nrmse_loto
         and (len(c.at_bound), c.n_params) < (len(full.at_bound), full.n_params))
