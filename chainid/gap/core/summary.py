@@ -168,15 +168,19 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
             why = (f"{cut['effect']} passed the step rule on the training data but did not hold on the held-out "
                    f"data (held-out NRMSE {_g(before, '.4g')} → {_g(after, '.4g')}): over-fitted, not kept")
         else:
-            why = "no library effect passed the step rule or shrinks the held-out gap by half"
+            why = ("no library effect passed the step rule or shrinks the held-out gap (or its part above the "
+                   "kinematic floor) by half")
         lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")
     else:
         lines.append(f"VERDICT: {v} — {result.get('chain_text', '')}")
         left = result.get("left_nrmse_holdout")  # absent from a result made before it was in the contract
         known = left is not None and math.isfinite(left)
         shrink = (f"{100 * (1.0 - left / b['nrmse_holdout']):.0f} %" if known and b["nrmse_holdout"] else "n/a")
+        above = (result.get("residual") or {}).get("shrinkage_above_kinematic_floor")
+        above = (f"; {100 * above:.0f} % of the gap above the kinematic floor, the part a model could close"
+                 if isinstance(above, (int, float)) and math.isfinite(above) else "")
         lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {f'{left:.4g}' if known else 'n/a'} "
-                     f"(shrinkage {shrink}); {_left(result)}")
+                     f"(shrinkage {shrink}{above}); {_left(result)}")
     for cd in result.get("covariate_dependence") or []:
         lines.append(f"  operating condition: {cd['text']}")
     ow = result.get("open_world") or {}

@@ -4,7 +4,8 @@
   effect passes, the model-free check is silent and the route reads the residual as the kinematic floor or as
   the base's damping law extrapolated: ``chainid.gap.timedomain.route.read_as_none``, passed in as
   ``consistent``);
-* the chain's effects — the chain shrinks the held-out gap by at least ``MIN_SHRINK``;
+* the chain's effects — the chain shrinks the held-out gap by at least ``MIN_SHRINK``, or (time route) closes at
+  least ``MIN_SHRINK`` of the gap above the kinematic floor, the part a model could close (:func:`floor_shrunk`);
 * ``unexplained`` — otherwise, or when what is left drifts with time by at least
   ``NONSTAT_FRACTION`` of the baseline's systematic residual (no static effect explains a drift).
 """
@@ -18,6 +19,14 @@ from typing import Any
 MIN_SHRINK = 0.5
 #: a trend whose change over the window is this large against the baseline's systematic residual: `unexplained`
 NONSTAT_FRACTION = 0.25
+
+
+def floor_shrunk(final: Any) -> bool:
+    """Whether the chain closes at least ``MIN_SHRINK`` of the held-out gap that a model could close: the gap above
+    the kinematic floor (``shrinkage_floor``, set by the time route:
+    :func:`chainid.gap.timedomain.route.floor_shrinkage`; absent or None elsewhere)."""
+    s = getattr(final, "shrinkage_floor", None)
+    return s is not None and math.isfinite(s) and s >= MIN_SHRINK
 
 
 def trusted_path(path: list[Any]) -> tuple[list[Any], int | None]:
@@ -119,7 +128,7 @@ def decide(consistent: bool, final: Any, stat: dict[str, Any], excess: float, pa
                          "score": stat["trend_change_N"]})
     if consistent:
         verdict = "none"
-    elif final is None or not (final.shrinkage >= MIN_SHRINK):
+    elif final is None or not (final.shrinkage >= MIN_SHRINK or floor_shrunk(final)):
         verdict = "unexplained"
     else:
         verdict = verdict_name(final.names)

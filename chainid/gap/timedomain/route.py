@@ -39,7 +39,7 @@ from chainid.gap.timedomain.problem import TimeProblem
 from chainid.gap.timedomain.ratecheck import rate_cut
 from chainid.gap.timedomain.where import drift, localise_time
 
-__all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any", "read_as_none"]
+__all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any", "floor_shrinkage", "read_as_none"]
 
 #: blocks per record for leave-one-block-out scoring when whole tests are held out
 LOO_BLOCKS = 4
@@ -160,6 +160,9 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     stage("model-free check")
     ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
                     chatter=chatter)
+    if final is not None:
+        final.shrinkage_floor = floor_shrinkage(prob, base_c, final, ow)  # type: ignore[attr-defined]
+        residual["shrinkage_above_kinematic_floor"] = final.shrinkage_floor  # type: ignore[attr-defined]
     reading = "noise" if consistent else (None if rate is not None else
                                           read_as_none(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn))
     consistent = reading is not None
@@ -244,6 +247,34 @@ def _left_residual(prob: TimeProblem, left: Candidate, stat: dict[str, Any], cha
             "at_noise_floor": fw.at_noise_floor(r2l, f2l, math.sqrt(f2l), prob.n_cells("hold"),
                                                 prob.floor_rel_sd("hold")),
             "chatter": bool(chatter), "where": left_where}
+
+
+def floor_shrinkage(prob: TimeProblem, base_c: Candidate, final: Candidate, ow: dict[str, Any]) -> float | None:
+    """How much of the held-out gap that a model could close the chain closes: 1 − e_after/e_before, with e the
+    held-out residual RMS above the kinematic floor K [N], e = √max(r² − K², 0).
+
+    K² is what even the true model leaves on these kinematics (:meth:`TimeProblem.kinematic_floor`: the force noise
+    and the estimated ẋ, ẍ and x errors through the base's c, m and k), averaged over the held-out samples, the
+    smaller of the baseline's and the chain's (a chain whose fitted dashpot or mass grew to stand in for a missing
+    effect cannot raise the floor it is judged against).  On a noisy resonator the inertial force of a noisy ẍ is a
+    floor no model lowers, and the plain shrinkage of the held-out NRMSE stops short of the verdict's bar however
+    right the chain is.  None (not read) when the model-free check flags a missing effect after the chain (what is
+    left is then not all floor), or when the baseline is not above the floor.
+    """
+    if ow.get("missing_effect"):
+        return None
+    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
+    n = max(sum(hold_n.values()), 1)
+
+    def floor2(c: Candidate) -> float:
+        return sum(prob.kinematic_floor(d, c.params) * hold_n[d.test] for d in prob.tdata) / n
+
+    k2 = min(floor2(base_c), floor2(final))
+    r2_base = prob.noise_db(base_c._ev, "hold")[0]  # type: ignore[attr-defined]
+    r2_final = prob.noise_db(final._ev, "hold")[0]  # type: ignore[attr-defined]
+    if not (math.isfinite(r2_base) and math.isfinite(r2_final)) or r2_base <= k2:
+        return None
+    return 1.0 - math.sqrt(max(r2_final - k2, 0.0) / (r2_base - k2))
 
 
 def _noise_method(prob: TimeProblem) -> dict[str, Any]:

@@ -36,7 +36,8 @@ def test_start_set_of_one_free_parameter_is_the_documented_one():
 
 
 @pytest.mark.parametrize("effect, params, extra", [
-    ("friction", ("F_c", "mu", "x_s"), [(a, 0.0, c) for a in (0.003, 0.03, 0.2) for c in (0.003, 0.02, 0.1, 0.4)]),
+    ("friction", ("F_c", "mu", "x_s"), [(a, 0.0, c) for a in (0.001, 0.003, 0.01, 0.03, 0.2)
+                                        for c in (0.001, 0.003, 0.01, 0.03, 0.1, 0.4)]),
     ("contact_law", ("scale", "exponent"), [(a, b) for a in (0.05, 0.18, 0.4) for b in (0.2, 0.39, 0.6)]),
     ("hysteresis", ("F_h", "x_h"), [(a, b) for a in (0.01, 0.05, 0.2) for b in (0.005, 0.01, 0.02)]),
     ("backlash", ("b", "k2"), []),

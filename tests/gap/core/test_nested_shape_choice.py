@@ -1,0 +1,84 @@
+"""Between an effect and a member it nests (Bouc–Wen over Dahl hysteresis or Jenkins friction, Stribeck over
+Coulomb friction) the step rule decides: the richer shape is named only when it beats the simpler one as a step
+would, significant over the training units (mean log error ratio > Z jack-knife SE) and material (the LOTO NRMSE
+lower by MIN_GAIN or more).  A 5 % near-tie band alone let Bouc–Wen win at 5.0 % from a friction it did not beat
+on any unit (a friction of the ODE world named bouc_wen)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from chainid.gap.core.candidate import Candidate
+from chainid.gap.core.steprule import MIN_GAIN, TIE, Z, nested_simpler, pick, swap_acceptable
+
+UNITS = [f"b{i}" for i in range(12)]
+
+
+def _cand(names: list[str], n_params: int, sse: np.ndarray, at_bound: tuple[str, ...] = ()) -> Candidate:
+    """A candidate whose LOTO NRMSE is sqrt(Σ SSE / 1200) over twelve units of variance 100 each."""
+    return Candidate("+".join(names), {}, n_params, nrmse_loto=math.sqrt(float(sse.sum()) / 1200.0),
+                     loto_num=dict(zip(UNITS, sse.tolist())), at_bound=list(at_bound))
+
+
+def _noisy(scale: float, seed: int, spread: float) -> np.ndarray:
+    return scale * np.exp(np.random.default_rng(seed).normal(0.0, spread, len(UNITS)))
+
+
+def test_a_richer_shape_that_is_not_significant_gives_way_to_the_member_it_nests():
+    fr_sse = np.full(len(UNITS), 4.0)
+    fr_sse[0] = 40.0  # one unit carries most of the pooled error
+    bw_sse = np.full(len(UNITS), 4.4)  # Bouc–Wen 10 % worse on eleven units, half the error on the big one
+    bw_sse[0] = 20.0
+    fr, bw = _cand(["friction"], 3, fr_sse), _cand(["bouc_wen"], 4, bw_sse)
+    assert bw.nrmse_loto < (1 - TIE) * fr.nrmse_loto  # 9.8 % lower pooled: outside the near-tie band, the old
+    # rule named Bouc–Wen
+    g = 0.5 * np.log(fr_sse / bw_sse)
+    assert not g.mean() > Z * g.std(ddof=1) / math.sqrt(g.size)  # not significant over the units
+    chosen, others = pick([bw, fr])
+    assert chosen is fr and bw in others
+    assert nested_simpler(bw, [bw, fr]) is fr
+
+
+def test_a_richer_shape_that_earns_its_parameters_is_named():
+    fr = _cand(["friction"], 3, _noisy(4.0, 1, 0.4))
+    bw = _cand(["bouc_wen"], 4, np.array(list(fr.loto_num.values())) * 0.5)  # half the error on every unit
+    chosen, _ = pick([fr, bw])
+    assert chosen is bw
+    assert nested_simpler(bw, [bw, fr]) is None
+
+
+def test_significant_but_not_material_is_not_enough():
+    fr = _cand(["friction"], 3, _noisy(4.0, 1, 0.4))
+    ratio = (1 - 0.5 * MIN_GAIN) ** 2  # the LOTO NRMSE 5 % lower on every unit: significant, below MIN_GAIN
+    bw = _cand(["bouc_wen"], 4, np.array(list(fr.loto_num.values())) * ratio)
+    assert pick([fr, bw])[0] is fr
+
+
+def test_only_a_member_it_nests_and_not_at_a_bound_is_a_rival():
+    sse = _noisy(4.0, 1, 0.4)
+    bw = _cand(["bouc_wen"], 4, sse * 0.93)
+    slack = _cand(["slack"], 1, sse)  # not nested in Bouc–Wen
+    pinned = _cand(["hysteresis"], 2, sse, at_bound=("hysteresis.x_h",))
+    assert nested_simpler(bw, [bw, slack, pinned]) is None
+    strib = _cand(["stribeck"], 4, sse * 0.93)
+    fr = _cand(["friction"], 3, sse)
+    assert nested_simpler(strib, [strib, fr]) is fr
+    # in a chain: the rival has the same earlier effects
+    chained = _cand(["slack", "bouc_wen"], 5, sse * 0.93)
+    other_chain = _cand(["backlash", "friction"], 4, sse)
+    same_chain = _cand(["slack", "friction"], 4, sse)
+    assert nested_simpler(chained, [chained, other_chain]) is None
+    assert nested_simpler(chained, [chained, other_chain, same_chain]) is same_chain
+
+
+def test_a_family_swap_between_nested_shapes_follows_the_same_rule():
+    sse = _noisy(4.0, 1, 0.4)
+    fr = _cand(["slack", "friction"], 4, sse)
+    bw_close = _cand(["slack", "bouc_wen"], 5, sse * 0.85)  # 7.8 % lower NRMSE on every unit: not material
+    bw_far = _cand(["slack", "bouc_wen"], 5, sse * 0.5)
+    assert not swap_acceptable(bw_close, fr, "bouc_wen")
+    assert swap_acceptable(bw_far, fr, "bouc_wen")
+    # back from the richer shape: taken when the richer one does not pass against the simpler one
+    assert swap_acceptable(fr, bw_close, "friction")
+    assert not swap_acceptable(fr, bw_far, "friction")
