@@ -168,8 +168,9 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
             why = (f"{cut['effect']} passed the step rule on the training data but did not hold on the held-out "
                    f"data (held-out NRMSE {_g(before, '.4g')} → {_g(after, '.4g')}): over-fitted, not kept")
         else:
-            why = ("no library effect passed the step rule or shrinks the held-out gap (or its part above the "
-                   "kinematic floor) by half")
+            why = "no library effect passed the step rule or shrinks the held-out gap " + (
+                "(or its part above the kinematic floor) " if result.get("route") in ("time", "mixed") else "") + \
+                "by half"
         lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")
     else:
         lines.append(f"VERDICT: {v} — {result.get('chain_text', '')}")

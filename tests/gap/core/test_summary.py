@@ -82,8 +82,8 @@ def test_summary_route_residual_and_unexplained_texts():
     assert "scored leave-one-block/test-out):" in txt
     # what is left: fit 100·(1 − 0.123456) = 87.7 %, residual 10^(1.04/20) = 1.127 × the noise floor
     assert txt.splitlines()[-1] == ("VERDICT: unexplained — no library effect passed the step rule or shrinks the "
-                                    "held-out gap by half; fit left 87.7 % (held-out NRMSE 0.1235), residual 1.13× "
-                                    "the noise floor.")
+                                    "held-out gap (or its part above the kinematic floor) by half; fit left 87.7 % "
+                                    "(held-out NRMSE 0.1235), residual 1.13× the noise floor.")
     assert "mechanism:" not in txt and "meaning:" not in txt
     assert "scored leave-one-block/test-out" in summary(_summary_result(route="mixed"))
     assert "scored leave-one-test-out" in summary(_summary_result(route="phase"))
