@@ -39,7 +39,7 @@ def starts(keys: Sequence[str], names: Sequence[str], ug: np.ndarray, fixed: np.
           a range straddling 0 (at z = −lo/(hi − lo)): z ∓ 0.002, 0.01, 0.05, 0.15; a delay (``.tau``): the
           ``DELAY_GRID`` midpoints (i + ½)/40; a scale or delay: ug × (0.5, 0.7, 0.85, 1.2, 1.5, 2, 3);
         * two or more free: the first two over ``GRID2`` × ``GRID2`` (0, 0.003, 0.03, 0.2), the others at ug;
-          a new friction (F_c, µ, x_s) also (0.001, 0.003, 0.01, 0.03, 0.2) × 0 × (0.001, 0.003, 0.01, 0.03, 0.1,
+          a new friction (F_c, µ where the base fits it, x_s), by name, also (0.001, 0.003, 0.01, 0.03, 0.2) × 0 × (0.001, 0.003, 0.01, 0.03, 0.1,
           0.4) (a stick travel of a few µm is a basin of its own: from a longer one the fit slides to pure Coulomb
           sliding, whose cost is flat in x_s, with a low F_c); a contact law (0.05, 0.18, 0.4) × (0.2, 0.39, 0.6);
           a hysteresis (0.01, 0.05, 0.2) × (0.005, 0.01, 0.02);
@@ -54,6 +54,12 @@ def starts(keys: Sequence[str], names: Sequence[str], ug: np.ndarray, fixed: np.
         u = ug.copy()
         for i, v in zip(free, vals):
             u[i] = v
+        return u
+
+    def put_named(vals: dict[str, float]) -> np.ndarray:
+        u = ug.copy()
+        for i in free:
+            u[i] = vals.get(keys[i], u[i])
         return u
 
     new_effects = {keys[i].split(".", 1)[0] for i in free}
@@ -72,9 +78,9 @@ def starts(keys: Sequence[str], names: Sequence[str], ug: np.ndarray, fixed: np.
         for a in GRID2:
             for b in GRID2:
                 out.append(put([a, b] + [ug[i] for i in free[2:]]))
-        if new_effects == {"friction"}:
-            out += [put([a, 0.0, c]) for a in (0.001, 0.003, 0.01, 0.03, 0.2)
-                    for c in (0.001, 0.003, 0.01, 0.03, 0.1, 0.4)]
+        if new_effects == {"friction"}:  # by name: a linear base does not fit µ
+            out += [put_named({"friction.F_c": a, "friction.mu": 0.0, "friction.x_s": c})
+                    for a in (0.001, 0.003, 0.01, 0.03, 0.2) for c in (0.001, 0.003, 0.01, 0.03, 0.1, 0.4)]
         if new_effects == {"contact_law"}:
             out += [put([a, b]) for a in (0.05, 0.18, 0.4) for b in (0.2, 0.39, 0.6)]
         if new_effects == {"hysteresis"}:

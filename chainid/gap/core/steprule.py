@@ -143,10 +143,9 @@ def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remainin
     extension beats the choice's best extension by more than ``TIE``.  An extension counts only when the step rule
     would take it (above the training noise floor, significant, material, its parameters inside their bounds): a
     path whose better next step the rule forbids ends where it is.  A runner-up that nests the choice or is nested
-    in it (:data:`SIMPLER`: Stribeck and Coulomb friction, Bouc–Wen and Dahl hysteresis) is not explored: its
-    extensions are the choice's with a parameter more or less, which the final chain's exchange (the richer one,
-    when it fits better) and split (the simpler one plus a second cause) decide; the best other runner-up within
-    ``LOOKAHEAD`` is.
+    in it (:data:`NESTS`: Stribeck and Coulomb friction, Bouc–Wen and Dahl hysteresis or Jenkins friction) is not
+    explored when the chain leaves room for a later split: between nested shapes the step rule decides
+    (:func:`pick`, and the final chain's exchange and split); the best other runner-up within ``LOOKAHEAD`` is.
 
     Parameters
     ----------
@@ -160,9 +159,10 @@ def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remainin
     if len(chain) + 2 > max_effects or len(remaining) < 2:
         return chosen
     new = newest(chosen, chain)
-    # a nested runner-up is left to the final chain's exchange and split, when the chain leaves them room: one more
-    # step and a split's extra effect (else it is explored here, as any runner-up)
-    nested = ({new, SIMPLER.get(new)} | {k for k, v in SIMPLER.items() if v == new}
+    # a nested runner-up is left to pick's rule and the final chain's exchange and split, when the chain leaves them
+    # room: one more step and a split's extra effect (else it is explored here, as any runner-up: its path's chain
+    # of two is then judged again by the exchange, between nested shapes by the step rule)
+    nested = ({new} | set(NESTS.get(new, ())) | {k for k, v in NESTS.items() if new in v}
               if len(chain) + 2 < max_effects else {new})
     alts = sorted((c for c in cands if c is not chosen and newest(c, chain) not in nested
                    and c.nrmse_loto <= (1 + LOOKAHEAD) * chosen.nrmse_loto), key=lambda c: c.nrmse_loto)[:1]
@@ -193,42 +193,67 @@ def look_ahead(chain: Sequence[str], chosen: Any, cands: Sequence[Any], remainin
 
 def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
-    pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.  A richer effect is
-    then given up for a member it nests (:data:`NESTS`) that it does not beat by the step rule
-    (:func:`nested_simpler`).  Returns (chosen, the others it was chosen over: the near-ties and a richer rival
-    given up)."""
+    pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.  A richer shape that
+    does not beat a member it nests by the step rule (:func:`nested_simpler`) is given up and the choice made again
+    among the others.  Returns (chosen, the others it was chosen over: the near-ties, and a richer shape given up
+    for it)."""
     cands = sorted(cands, key=lambda c: c.nrmse_loto)
-    best = cands[0]
-    ties = [c for c in cands if c.nrmse_loto <= (1 + TIE) * best.nrmse_loto]
-    chosen = min(ties, key=lambda c: (len(c.at_bound), c.n_params, c.bic))
-    simpler = nested_simpler(chosen, cands)
-    if simpler is not None:
-        ties = ties + [chosen] if chosen not in ties else ties
-        chosen = simpler
-    return chosen, [c for c in ties if c is not chosen]
+    given_up: list[Candidate] = []
+    while True:
+        best = cands[0]
+        ties = [c for c in cands if c.nrmse_loto <= (1 + TIE) * best.nrmse_loto]
+        chosen = min(ties, key=lambda c: (len(c.at_bound), c.n_params, c.bic))
+        if nested_simpler(chosen, cands) is None:
+            break
+        given_up.append(chosen)
+        cands = [c for c in cands if c is not chosen]
+    rivals = [g for g in given_up if nested_pair(g, chosen) is not None]
+    return chosen, [c for c in ties if c is not chosen] + rivals
 
 
 #: the library members a richer effect reduces to in a limit of its shape: Bouc–Wen is Dahl hysteresis at n = r = 1
-#: and a Jenkins friction (elastic stick, then sliding) as n → ∞ with r = ½; Stribeck friction without its static
-#: peak and direction asymmetry is Coulomb friction
+#: and a Jenkins friction (elastic stick, then sliding; no load-dependent part μ) as n → ∞ with r = ½; Stribeck
+#: friction without its static peak and direction asymmetry is Coulomb friction (no stick travel, no μ)
 NESTS = {"bouc_wen": ("hysteresis", "friction"), "stribeck": ("friction",)}
+#: the simpler member a richer effect is split into (:func:`chainid.gap.core.refine.split_richer`), the first of NESTS
+SIMPLER = {k: v[0] for k, v in NESTS.items()}
+#: a friction parameter at most this is read as absent when friction is compared with a shape that has no such part
+#: (μ [-]; x_s [mm]: 0.1 µm, below any stick travel a record resolves)
+NESTED_ZERO = {"friction.mu": 1e-4, "friction.x_s": 1e-4}
 
 
-def nested_simpler(chosen: Candidate, cands: Sequence[Candidate]) -> Candidate | None:
+def nested_pair(richer: Any, simpler: Any) -> tuple[str, str] | None:
+    """``(richer effect, simpler effect)`` when the two candidates differ in one effect each, the first's nests the
+    second's (:data:`NESTS`) and the simpler one's fitted parts that the richer shape lacks are absent
+    (:data:`NESTED_ZERO`: a friction's μ, and against Stribeck its stick travel x_s); else None.  Compared as sets
+    of terms: a resample's replay keeps the order in which a set was first fitted."""
+    a, b = set(richer.names) - set(simpler.names), set(simpler.names) - set(richer.names)
+    if len(a) != 1 or len(b) != 1:
+        return None
+    (r,), (m,) = a, b
+    if m not in NESTS.get(r, ()):
+        return None
+    lacks = ["friction.mu"] + (["friction.x_s"] if r == "stribeck" else [])
+    params = getattr(simpler, "params", {}) or {}
+    if m == "friction" and any(abs(params.get(k, 0.0)) > NESTED_ZERO[k] for k in lacks):
+        return None
+    return r, m
+
+
+def nested_simpler(chosen: Any, cands: Sequence[Any]) -> Any | None:
     """The simpler rival that ``chosen`` has to give way to, or None.
 
-    The chosen candidate's newest effect is richer than a member it nests (:data:`NESTS`); a candidate that differs
-    from it only by that member, with no parameter of it at a bound, is the simpler rival.  The richer shape is
+    A rival is a candidate that differs from ``chosen`` only by a member its richer effect nests
+    (:func:`nested_pair`), with no parameter of that member at a bound and fewer parameters.  The richer shape is
     named only where it earns its extra parameters as a step does: significant over the training units and
     material against the simpler rival (:func:`passes` of :func:`step_test` from the rival to it).  Otherwise the
     data do not tell the shapes apart and the simpler one, the best-fitting such rival by LOTO, is named.
     """
-    if not chosen.names:
-        return None
-    new = chosen.names[-1]
-    rest = sorted(chosen.names[:-1])
-    rivals = [c for c in cands if c.names and c.names[-1] in NESTS.get(new, ()) and sorted(c.names[:-1]) == rest
-              and not pinned_params(c) and c.n_params < chosen.n_params]
+    rivals = []
+    for c in cands:
+        pair = nested_pair(chosen, c) if c is not chosen else None
+        if pair is not None and not pinned_params(c, pair[1]) and c.n_params < chosen.n_params:
+            rivals.append(c)
     rivals = [c for c in sorted(rivals, key=lambda c: c.nrmse_loto) if not passes(step_test(c, chosen))]
     return rivals[0] if rivals else None
 
@@ -250,9 +275,6 @@ def fit_cached(cache: dict[tuple[str, ...], Candidate], fit: Any, names: list[st
 #: effects that can stand in for each other (same physical family): the exchange pass swaps within these
 FAMILIES = (("stiffness_level", "contact_law", "slack", "machine_compliance"),
             ("friction", "hysteresis", "stribeck", "bouc_wen"))
-#: the simpler member a richer effect reduces to (Stribeck friction without its static peak and asymmetry is
-#: Coulomb friction; Bouc–Wen with n = 1 is Dahl hysteresis)
-SIMPLER = {"stribeck": "friction", "bouc_wen": "hysteresis"}
 
 
 def tie_key(c: Candidate) -> tuple[int, int, float]:
@@ -293,10 +315,9 @@ def swap_acceptable(c: Any, full: Any, new: str) -> bool:
     ``at_bound`` and ``loto_num``."""
     if any(k.startswith(term_prefix(new)) for k in c.at_bound):
         return False
-    old = next((n for n in full.names if n not in c.names), None)
-    if old in NESTS.get(new, ()):  # to the richer shape: it must earn its parameters
+    if nested_pair(c, full) is not None:  # to the richer shape: it must earn its parameters
         return passes(step_test(full, c))
-    if new in NESTS.get(old or "", ()) and c.n_params < full.n_params:  # to the simpler shape
+    if nested_pair(full, c) is not None and c.n_params < full.n_params:  # to the simpler shape
         return not passes(step_test(c, full))
     return c.nrmse_loto < (1 - TIE) * full.nrmse_loto or (
         c.nrmse_loto <= (1 + TIE) * full.nrmse_loto

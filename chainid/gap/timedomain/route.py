@@ -259,9 +259,10 @@ def floor_shrinkage(prob: TimeProblem, base_c: Candidate, final: Candidate, ow: 
     effect cannot raise the floor it is judged against).  On a noisy resonator the inertial force of a noisy ẍ is a
     floor no model lowers, and the plain shrinkage of the held-out NRMSE stops short of the verdict's bar however
     right the chain is.  None (not read) when the model-free check flags a missing effect after the chain (what is
-    left is then not all floor), or when the baseline is not above the floor.
+    left is then not all floor) or did not run (too few samples), or when the baseline is at the floor by the rule
+    of :func:`kinematic_none` (then a small gain would read as all of it).
     """
-    if ow.get("missing_effect"):
+    if ow.get("missing_effect") or ow.get("predictable_share") is None:
         return None
     hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
     n = max(sum(hold_n.values()), 1)
@@ -269,10 +270,15 @@ def floor_shrinkage(prob: TimeProblem, base_c: Candidate, final: Candidate, ow: 
     def floor2(c: Candidate) -> float:
         return sum(prob.kinematic_floor(d, c.params) * hold_n[d.test] for d in prob.tdata) / n
 
-    k2 = min(floor2(base_c), floor2(final))
-    r2_base = prob.noise_db(base_c._ev, "hold")[0]  # type: ignore[attr-defined]
+    k2_base, k2_final = floor2(base_c), floor2(final)
+    r2_base, f2, _ = prob.noise_db(base_c._ev, "hold")  # type: ignore[attr-defined]
     r2_final = prob.noise_db(final._ev, "hold")[0]  # type: ignore[attr-defined]
-    if not (math.isfinite(r2_base) and math.isfinite(r2_final)) or r2_base <= k2:
+    if not all(math.isfinite(v) for v in (k2_base, k2_final, r2_base, r2_final, f2)) or f2 <= 0.0:
+        return None
+    k2 = min(k2_base, k2_final)
+    if r2_base <= k2:
+        return None
+    if fw.at_noise_floor(r2_base, k2, math.sqrt(f2), prob.n_cells("hold"), prob.floor_rel_sd("hold")):
         return None
     return 1.0 - math.sqrt(max(r2_final - k2, 0.0) / (r2_base - k2))
 

@@ -92,3 +92,15 @@ def test_fit_start_points_follow_their_documentation():
         for j, f in ((1, 0.1), (2, 0.01)):
             np.testing.assert_allclose(out[j * n + i], np.concatenate([[base[0] * f], base[1:]]), rtol=1e-12)
     assert len({tuple(np.round(v[3:], 9)) for v in out}) > 10  # a grid over the new effect's parameters
+
+
+def test_a_friction_on_a_linear_base_gets_its_stick_travel_starts_by_name():
+    """On a linear base μ is not fitted: the free parameters are (F_c, x_s) and the friction starts set x_s by name
+    (before, a positional (F_c, 0, x_s) put x_s at 0 and dropped the travel)."""
+    from chainid.gap.core.fitgrid import starts
+
+    keys = ["friction.F_c", "friction.x_s"]
+    out = starts(keys, ["friction"], np.full(2, 0.77), np.zeros(2, bool), np.zeros(2), np.ones(2))
+    got = {(round(float(u[0]), 6), round(float(u[1]), 6)) for u in out}
+    want = {(a, c) for a in (0.001, 0.003, 0.01, 0.03, 0.2) for c in (0.001, 0.003, 0.01, 0.03, 0.1, 0.4)}
+    assert want <= got

@@ -50,12 +50,13 @@ def test_a_delay_on_a_noisy_resonator_is_named_by_the_gap_above_the_floor():
 
 
 class _Prob:
-    """A held-out split of 100 samples on one record, a kinematic floor of 1 N² (baseline) or ``k2_final``."""
+    """A held-out split of 100 samples on one record: the baseline's kinematic floor ``k2_base`` [N²], the chain's
+    ``k2_final``, a force-noise floor of 0.5 N²."""
 
-    def __init__(self, r2_base: float, r2_final: float, k2_final: float = 1.0):
+    def __init__(self, r2_base: float, r2_final: float, k2_final: float = 1.0, k2_base: float = 1.0):
         self.tdata = [SimpleNamespace(test="a")]
         self._r2 = {"base": r2_base, "final": r2_final}
-        self._k2 = {"base": 1.0, "final": k2_final}
+        self._k2 = {"base": k2_base, "final": k2_final}
 
     def train_mask(self, test: str) -> np.ndarray:
         return np.zeros(100, bool)
@@ -66,26 +67,43 @@ class _Prob:
     def noise_db(self, ev, split):
         return self._r2[ev], 0.5, 0.0
 
+    def n_cells(self, split: str) -> int:
+        return 100
+
+    def floor_rel_sd(self, split: str) -> float:
+        return 0.0
+
 
 def _cand(who: str) -> SimpleNamespace:
     return SimpleNamespace(params={"who": who}, _ev=who)
 
 
+SILENT = {"missing_effect": False, "predictable_share": 0.01}  # the model-free check ran and found nothing
+
+
 def test_the_shrinkage_above_the_floor_is_one_minus_the_ratio_of_the_excesses():
-    got = floor_shrinkage(_Prob(5.0, 2.0), _cand("base"), _cand("final"), {"missing_effect": False})
+    got = floor_shrinkage(_Prob(5.0, 2.0), _cand("base"), _cand("final"), SILENT)
     assert got == pytest.approx(1.0 - math.sqrt((2.0 - 1.0) / (5.0 - 1.0)))  # 0.5
-    assert floor_shrinkage(_Prob(5.0, 0.8), _cand("base"), _cand("final"), {}) == 1.0  # below the floor: all closed
+    assert floor_shrinkage(_Prob(5.0, 0.8), _cand("base"), _cand("final"), SILENT) == 1.0  # below the floor
 
 
-def test_a_chain_cannot_raise_the_floor_it_is_judged_against():
+def test_the_smaller_of_the_two_floors_is_used():
     # the chain's fitted mass would put the floor at 3 N²: the baseline's 1 N² is used
-    got = floor_shrinkage(_Prob(5.0, 3.0, k2_final=3.0), _cand("base"), _cand("final"), {"missing_effect": False})
+    got = floor_shrinkage(_Prob(5.0, 3.0, k2_final=3.0), _cand("base"), _cand("final"), SILENT)
     assert got == pytest.approx(1.0 - math.sqrt(2.0 / 4.0))
+    # and the chain's when it is the smaller (0.5 N²)
+    got = floor_shrinkage(_Prob(5.0, 3.0, k2_final=0.5), _cand("base"), _cand("final"), SILENT)
+    assert got == pytest.approx(1.0 - math.sqrt(2.5 / 4.5))
 
 
-def test_not_read_when_a_missing_effect_is_flagged_or_the_baseline_is_at_the_floor():
-    assert floor_shrinkage(_Prob(5.0, 1.0), _cand("base"), _cand("final"), {"missing_effect": True}) is None
-    assert floor_shrinkage(_Prob(0.9, 0.8), _cand("base"), _cand("final"), {"missing_effect": False}) is None
+def test_not_read_when_a_missing_effect_is_flagged_the_check_did_not_run_or_the_baseline_is_at_the_floor():
+    base, fin = _cand("base"), _cand("final")
+    assert floor_shrinkage(_Prob(5.0, 1.0), base, fin, {"missing_effect": True, "predictable_share": 0.4}) is None
+    assert floor_shrinkage(_Prob(5.0, 1.0), base, fin, {"missing_effect": False, "predictable_share": None}) is None
+    assert floor_shrinkage(_Prob(0.9, 0.8), base, fin, SILENT) is None  # below its floor
+    # above its floor of 1 N² by less than the noise test allows (at_noise_floor: excess < ½σ with σ² = 0.5 N²)
+    assert floor_shrinkage(_Prob(1.1, 1.0), base, fin, SILENT) is None
+    assert floor_shrinkage(_Prob(5.0, 1.0, k2_final=float("nan")), base, fin, SILENT) is None
     assert not floor_shrunk(SimpleNamespace(shrinkage_floor=None))
     assert not floor_shrunk(SimpleNamespace())
     assert floor_shrunk(SimpleNamespace(shrinkage_floor=MIN_SHRINK))
