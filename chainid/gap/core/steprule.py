@@ -318,8 +318,8 @@ def swap_acceptable(c: Any, full: Any, new: str) -> bool:
     x_h at its floor is Coulomb friction under another name), and a LOTO lower by more than ``TIE``, or within it
     with fewer parameters pinned at a bound or fewer parameters.  Between an effect and a member it nests
     (:data:`NESTS`) significance decides, as in :func:`nested_simpler`: the richer one comes in only when it is
-    significantly better than the simpler one over the training units, and gives way to it when it is not.  Both need ``nrmse_loto``, ``n_params``,
-    ``at_bound`` and ``loto_num``."""
+    significantly better than the simpler one over the training units, and gives way to it when it is not.  Both
+    need ``nrmse_loto``, ``n_params``, ``at_bound`` and ``loto_num``."""
     if any(k.startswith(term_prefix(new)) for k in c.at_bound):
         return False
     if nested_pair(c, full) is not None:  # to the richer shape: the data must show its shape

@@ -145,43 +145,12 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
         lines.append(f"  confounded: {cf['pair'][0]} ~ {cf['pair'][1]}; to separate them: {cf['separate_by']}")
     lines.append("")
     v = result["verdict"]
-    steps = result.get("steps", [])
     if v == "none":
         lines.append(f"VERDICT: none — {none_text(result)}.")
     elif v == "unexplained":
-        part = result.get("partial")
-        if (result.get("residual") or {}).get("stationary") is False:
-            why = "what is left changes with time within the tests (no static effect explains that)"
-        elif part:
-            why = (f"{part['effects']} passed the step rule and holds on the held-out data (held-out NRMSE "
-                   f"{part['nrmse_holdout_before']:.4g} → {part['nrmse_holdout']:.4g}, {100 * part['shrinkage']:.0f} %), "
-                   f"but closes less than {100 * part['min_shrink']:.0f} % of the held-out gap: a part of it, not its "
-                   "cause")
-        elif (result.get("rate_dependence") or {}).get("step") == 1:
-            rd = result["rate_dependence"]
-            why = (f"{rd['effect']} passed the step rule, but its {rd['parameter']} changes with the speed (∝ v^"
-                   f"{rd['exponent']:.2f}) where its form is rate-independent: it stands in for a rate-dependent "
-                   "mechanism outside the library")
-        elif result.get("overfitted") and result.get("trusted_steps", 1) <= 1:
-            cut = result["steps"][1]
-            before, after = result["baseline"]["nrmse_holdout"], cut["nrmse_holdout"]
-            why = (f"{cut['effect']} passed the step rule on the training data but did not hold on the held-out "
-                   f"data (held-out NRMSE {_g(before, '.4g')} → {_g(after, '.4g')}): over-fitted, not kept")
-        else:
-            why = "no library effect passed the step rule or shrinks the held-out gap " + (
-                "(or its part above the kinematic floor) " if result.get("route") in ("time", "mixed") else "") + \
-                "by half"
-        lines.append(f"VERDICT: unexplained — {why}; {_left(result)}.")
+        lines.append(f"VERDICT: unexplained — {_unexplained_why(result)}; {_left(result)}.")
     else:
-        lines.append(f"VERDICT: {v} — {result.get('chain_text', '')}")
-        left = result.get("left_nrmse_holdout")  # absent from a result made before it was in the contract
-        known = left is not None and math.isfinite(left)
-        shrink = (f"{100 * (1.0 - left / b['nrmse_holdout']):.0f} %" if known and b["nrmse_holdout"] else "n/a")
-        above = (result.get("residual") or {}).get("shrinkage_above_kinematic_floor")
-        above = (f"; {100 * above:.0f} % of the gap above the kinematic floor, the part a model could close"
-                 if isinstance(above, (int, float)) and math.isfinite(above) else "")
-        lines.append(f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {f'{left:.4g}' if known else 'n/a'} "
-                     f"(shrinkage {shrink}{above}); {_left(result)}")
+        lines += _named_lines(result)
     for cd in result.get("covariate_dependence") or []:
         lines.append(f"  operating condition: {cd['text']}")
     ow = result.get("open_world") or {}
@@ -194,3 +163,43 @@ def summary(result: dict[str, Any], n_rank: int = 6) -> str:
     for w in result.get("warnings", []):
         lines.append(f"WARNING: {w}")
     return "\n".join(lines)
+
+
+def _unexplained_why(result: dict[str, Any]) -> str:
+    """Why an ``unexplained`` verdict names nothing: a drift in time, a part of the gap, a rate-dependent loop, an
+    over-fitted step, or no effect passing the rule or shrinking the gap by half."""
+    part = result.get("partial")
+    if (result.get("residual") or {}).get("stationary") is False:
+        return "what is left changes with time within the tests (no static effect explains that)"
+    if part:
+        return (f"{part['effects']} passed the step rule and holds on the held-out data (held-out NRMSE "
+                f"{part['nrmse_holdout_before']:.4g} → {part['nrmse_holdout']:.4g}, {100 * part['shrinkage']:.0f} %), "
+                f"but closes less than {100 * part['min_shrink']:.0f} % of the held-out gap: a part of it, not its "
+                "cause")
+    if (result.get("rate_dependence") or {}).get("step") == 1:
+        rd = result["rate_dependence"]
+        return (f"{rd['effect']} passed the step rule, but its {rd['parameter']} changes with the speed (∝ v^"
+                f"{rd['exponent']:.2f}) where its form is rate-independent: it stands in for a rate-dependent "
+                "mechanism outside the library")
+    if result.get("overfitted") and result.get("trusted_steps", 1) <= 1:
+        cut = result["steps"][1]
+        before, after = result["baseline"]["nrmse_holdout"], cut["nrmse_holdout"]
+        return (f"{cut['effect']} passed the step rule on the training data but did not hold on the held-out "
+                f"data (held-out NRMSE {_g(before, '.4g')} → {_g(after, '.4g')}): over-fitted, not kept")
+    floor = "(or its part above the kinematic floor) " if result.get("route") in ("time", "mixed") else ""
+    return f"no library effect passed the step rule or shrinks the held-out gap {floor}by half"
+
+
+def _named_lines(result: dict[str, Any]) -> list[str]:
+    """The verdict lines of a named chain: the chain, the held-out NRMSE before and after with the shrinkage (and,
+    on the time route, the share of the gap above the kinematic floor), what is left."""
+    b = result["baseline"]
+    left = result.get("left_nrmse_holdout")  # absent from a result made before it was in the contract
+    known = left is not None and math.isfinite(left)
+    shrink = (f"{100 * (1.0 - left / b['nrmse_holdout']):.0f} %" if known and b["nrmse_holdout"] else "n/a")
+    above = (result.get("residual") or {}).get("shrinkage_above_kinematic_floor")
+    above = (f"; {100 * above:.0f} % of the gap above the kinematic floor, the part a model could close"
+             if isinstance(above, (int, float)) and math.isfinite(above) else "")
+    return [f"VERDICT: {result['verdict']} — {result.get('chain_text', '')}",
+            f"  held-out NRMSE {b['nrmse_holdout']:.4g} → {f'{left:.4g}' if known else 'n/a'} "
+            f"(shrinkage {shrink}{above}); {_left(result)}"]

@@ -160,11 +160,8 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     stage("model-free check")
     ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
                     chatter=chatter)
-    if final is not None:
-        final.shrinkage_floor = floor_shrinkage(prob, base_c, final, ow)  # type: ignore[attr-defined]
-        residual["shrinkage_above_kinematic_floor"] = final.shrinkage_floor  # type: ignore[attr-defined]
-    reading = "noise" if consistent else (None if rate is not None else
-                                          read_as_none(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn))
+    reading = _reading(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn, residual,
+                       "noise" if consistent else None if rate is None else "rate")
     consistent = reading is not None
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
@@ -191,6 +188,20 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
                        else "none", "covariates": list(prob.covariates)}
     summary["noise"] = _noise_method(prob)
     return summary
+
+
+def _reading(prob: TimeProblem, base_c: Candidate, final: Candidate | None, floors: tuple[float, float, float],
+             ow: dict[str, Any], where: list[dict[str, Any]], warn: list[str], residual: dict[str, Any],
+             given: str | None) -> str | None:
+    """How the baseline's held-out residual is read: ``given`` ("noise": at the noise floor; "rate": a rate cut,
+    never read as none), else :func:`read_as_none`; and the chain's share of the gap above the kinematic floor
+    (:func:`floor_shrinkage`) put on ``final`` for the verdict and in ``residual``."""
+    if final is not None:
+        final.shrinkage_floor = floor_shrinkage(prob, base_c, final, ow)  # type: ignore[attr-defined]
+        residual["shrinkage_above_kinematic_floor"] = final.shrinkage_floor  # type: ignore[attr-defined]
+    if given is not None:
+        return "noise" if given == "noise" else None
+    return read_as_none(prob, base_c, final, floors, ow, where, warn)
 
 
 def _kept_chain(prob: TimeProblem, path: list[Candidate], fwd: dict[str, Any], where: list[dict[str, Any]],
