@@ -40,8 +40,9 @@ def starts(keys: Sequence[str], names: Sequence[str], ug: np.ndarray, fixed: np.
           ``DELAY_GRID`` midpoints (i + ½)/40; a scale or delay: ug × (0.5, 0.7, 0.85, 1.2, 1.5, 2, 3);
         * two or more free: the first two over ``GRID2`` × ``GRID2`` (0, 0.003, 0.03, 0.2), the others at ug;
           a new friction (F_c, µ where the base fits it, x_s), by name, also (0.001, 0.003, 0.01, 0.03, 0.2) × 0
-          × (0.001, 0.003, 0.01, 0.03, 0.1, 0.4) (a stick travel of a few µm is a basin of its own: from a longer one the fit slides to pure Coulomb
-          sliding, whose cost is flat in x_s, with a low F_c); a contact law (0.05, 0.18, 0.4) × (0.2, 0.39, 0.6);
+          × (0.001, 0.003, 0.01, 0.03, 0.1, 0.4) (a stick travel of a few µm is a basin of its own: from a longer
+          one the fit slides to pure Coulomb sliding, whose cost is flat in x_s, with a low F_c); a contact law
+          (0.05, 0.18, 0.4) × (0.2, 0.39, 0.6);
           a hysteresis (0.01, 0.05, 0.2) × (0.005, 0.01, 0.02);
         * a linear baseline (``spring.k`` first): every start above again with k × 0.1, then with k × 0.01;
 

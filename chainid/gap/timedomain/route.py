@@ -39,7 +39,7 @@ from chainid.gap.timedomain.problem import TimeProblem
 from chainid.gap.timedomain.ratecheck import rate_cut
 from chainid.gap.timedomain.where import drift, localise_time
 
-__all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any", "floor_shrinkage", "read_as_none"]
+__all__ = ["LOO_BLOCKS", "build_problem", "diagnose_any", "floor_shrinkage", "held_out_floor2", "read_as_none"]
 
 #: blocks per record for leave-one-block-out scoring when whole tests are held out
 LOO_BLOCKS = 4
@@ -160,8 +160,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     stage("model-free check")
     ow = open_world(prob.state_table(lev), bool(residual["at_noise_floor"]), keep_model=True, stat=stat,
                     chatter=chatter)
-    reading = _reading(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn, residual,
-                       "noise" if consistent else None if rate is None else "rate")
+    reading = _reading(prob, base_c, final, (r2, f2, kin_floor), ow, where, warn, residual, consistent, rate)
     consistent = reading is not None
     verdict = decide(consistent, final, stat, excess, path, fwd, where, warn, best)
     if chatter is not None:
@@ -192,16 +191,16 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
 
 def _reading(prob: TimeProblem, base_c: Candidate, final: Candidate | None, floors: tuple[float, float, float],
              ow: dict[str, Any], where: list[dict[str, Any]], warn: list[str], residual: dict[str, Any],
-             given: str | None) -> str | None:
-    """How the baseline's held-out residual is read: ``given`` ("noise": at the noise floor; "rate": a rate cut,
-    never read as none), else :func:`read_as_none`; and the chain's share of the gap above the kinematic floor
-    (:func:`floor_shrinkage`) put on ``final`` for the verdict and in ``residual``."""
+             consistent: bool, rate: dict[str, Any] | None) -> str | None:
+    """How the baseline's held-out residual is read: "noise" when it is ``consistent`` with the noise floor, never
+    as none after a ``rate`` cut, else :func:`read_as_none`; and the chain's share of the gap above the kinematic
+    floor (:func:`floor_shrinkage`) put on ``final`` for the verdict and in ``residual``."""
     if final is not None:
         final.shrinkage_floor = floor_shrinkage(prob, base_c, final, ow)  # type: ignore[attr-defined]
         residual["shrinkage_above_kinematic_floor"] = final.shrinkage_floor  # type: ignore[attr-defined]
-    if given is not None:
-        return "noise" if given == "noise" else None
-    return read_as_none(prob, base_c, final, floors, ow, where, warn)
+    if consistent:
+        return "noise"
+    return None if rate is not None else read_as_none(prob, base_c, final, floors, ow, where, warn)
 
 
 def _kept_chain(prob: TimeProblem, path: list[Candidate], fwd: dict[str, Any], where: list[dict[str, Any]],
@@ -248,9 +247,7 @@ def _left_residual(prob: TimeProblem, left: Candidate, stat: dict[str, Any], cha
     where it lies."""
     lev = left._ev  # type: ignore[attr-defined]
     r2l, f2l, dbl = prob.noise_db(lev, "hold")
-    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
-    kin_floor = math.sqrt(sum(prob.kinematic_floor(d, left.params) * hold_n[d.test] for d in prob.tdata)
-                          / max(sum(hold_n.values()), 1))
+    kin_floor = math.sqrt(held_out_floor2(prob, left.params))
     return {"db_over_noise": dbl, "nrmse_holdout": left.nrmse_holdout, "excess_rms_N": math.sqrt(max(r2l - f2l, 0.0)),
             "stationary": stat["stationary"], "trend_change_N": stat["trend_change_N"], "trend_z": stat["z"],
             "finding": stat["finding"], "noise_floor_N": math.sqrt(f2l), "kinematic_floor_N": kin_floor,
@@ -258,6 +255,13 @@ def _left_residual(prob: TimeProblem, left: Candidate, stat: dict[str, Any], cha
             "at_noise_floor": fw.at_noise_floor(r2l, f2l, math.sqrt(f2l), prob.n_cells("hold"),
                                                 prob.floor_rel_sd("hold")),
             "chatter": bool(chatter), "where": left_where}
+
+
+def held_out_floor2(prob: TimeProblem, params: dict[str, float]) -> float:
+    """The kinematic floor [N²] of the model with ``params`` (:meth:`TimeProblem.kinematic_floor`), averaged over the
+    held-out samples of every record."""
+    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
+    return sum(prob.kinematic_floor(d, params) * hold_n[d.test] for d in prob.tdata) / max(sum(hold_n.values()), 1)
 
 
 def floor_shrinkage(prob: TimeProblem, base_c: Candidate, final: Candidate, ow: dict[str, Any]) -> float | None:
@@ -275,13 +279,7 @@ def floor_shrinkage(prob: TimeProblem, base_c: Candidate, final: Candidate, ow: 
     """
     if ow.get("missing_effect") or ow.get("predictable_share") is None:
         return None
-    hold_n = {d.test: int(np.sum(~prob.train_mask(d.test))) for d in prob.tdata}
-    n = max(sum(hold_n.values()), 1)
-
-    def floor2(c: Candidate) -> float:
-        return sum(prob.kinematic_floor(d, c.params) * hold_n[d.test] for d in prob.tdata) / n
-
-    k2_base, k2_final = floor2(base_c), floor2(final)
+    k2_base, k2_final = held_out_floor2(prob, base_c.params), held_out_floor2(prob, final.params)
     r2_base, f2, _ = prob.noise_db(base_c._ev, "hold")  # type: ignore[attr-defined]
     r2_final = prob.noise_db(final._ev, "hold")[0]  # type: ignore[attr-defined]
     if not all(math.isfinite(v) for v in (k2_base, k2_final, r2_base, r2_final, f2)) or f2 <= 0.0:
