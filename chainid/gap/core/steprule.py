@@ -200,8 +200,8 @@ def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
     """Best LOTO candidate; near-ties go to the one with fewer parameters pinned at a physical bound (a
     pinned parameter means the effect's form does not fit), then fewer parameters, then BIC.  A richer shape that
     does not beat a member it nests by the step rule (:func:`nested_simpler`) is given up and the choice made again
-    among the others.  Returns (chosen, the others it was chosen over: the near-ties, and a richer shape given up
-    for it)."""
+    among the others, less the members it nests that it beats significantly (:func:`beaten_member`).  Returns
+    (chosen, the others it was chosen over: the near-ties, and a richer shape given up for it)."""
     cands = sorted(cands, key=lambda c: c.nrmse_loto)
     given_up: list[Candidate] = []
     while True:
@@ -211,7 +211,7 @@ def pick(cands: list[Candidate]) -> tuple[Candidate, list[Candidate]]:
         if nested_simpler(chosen, cands) is None:
             break
         given_up.append(chosen)
-        cands = [c for c in cands if c is not chosen]
+        cands = [c for c in cands if c is not chosen and not beaten_member(chosen, c)]
     rivals = [g for g in given_up if nested_pair(g, chosen) is not None]
     return chosen, [c for c in ties if c is not chosen] + rivals
 
@@ -263,6 +263,14 @@ def nested_simpler(chosen: Any, cands: Sequence[Any]) -> Any | None:
             rivals.append(c)
     rivals = [c for c in sorted(rivals, key=lambda c: c.nrmse_loto) if not significant(step_test(c, chosen))]
     return rivals[0] if rivals else None
+
+
+def beaten_member(given_up: Any, c: Any) -> bool:
+    """Whether ``c`` is a member nested in ``given_up`` (:func:`nested_pair`) that ``given_up`` beats significantly
+    over the training units.  A richer shape is given up for a member it does not beat; a member it does beat is
+    refuted by the same data (Bouc–Wen no better than a Jenkins friction but significantly better than Dahl
+    hysteresis names the friction, even where the hysteresis sits within the near-tie band of it)."""
+    return nested_pair(given_up, c) is not None and significant(step_test(c, given_up))
 
 
 def fit_cached(cache: dict[tuple[str, ...], Candidate], fit: Any, names: list[str]) -> Candidate:
