@@ -116,10 +116,10 @@ def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
         u[i] = us[i] + h * vh
     u[0], v[0], _ = drive_state(t1, code, p)
     dD, pk, low = segment_tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, z, dv, T, Fk,
-                                   ks, cs, kind, False)
+                                   ks, cs, kind, np.bool_(False))
     dW = _drive_work(us, vs, Ts, u, v, T, m[0])
     if tens or load_node.shape[0] > 0:
-        _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, False)
+        _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, np.bool_(False))
         for i in range(1, last + 1):
             dW += 0.5 * (fes[i] + fe[i]) * (u[i] - us[i])
     for i in range(1, N):
@@ -153,8 +153,8 @@ def _implicit_step(h, t1, c, S, X, lin, tol, max_it):
             u[i] = us[i] + h * vs[i] + 0.25 * h * h * (accs[i] + acc[i])
             v[i] = vs[i] + 0.5 * h * (accs[i] + acc[i])
         dD, pk, low = segment_tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, z, dv, T,
-                                       Fk, ks, cs, 0, True)
-        _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, True)
+                                       Fk, ks, cs, np.int64(0), np.bool_(True))
+        _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, np.bool_(True))
         rmax = 0.0
         for i in range(1, nf + 1):
             nxt = T[i] if i < N else 0.0
@@ -235,7 +235,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
         for q in range(hf.shape[1]):
             zs[j, q] = epre[j] + us[j] - us[j + 1] if (hd[j, q] == 0 or hd[j, q] == 2 or hd[j, q] == 4) else 0.0
     _, peak, low = segment_tensions(us, vs, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, X[3], dvs, Ts,
-                                    X[7], X[8], X[9], kind, False)
+                                    X[7], X[8], X[9], kind, np.bool_(False))
     _external(0.0, us, vs, res, veps, load_node, load_F, load_t, tens, Ft, kt, fes, implicit)
     if not (tens or load_node.shape[0] > 0 or implicit):
         fes[:] = 0.0
@@ -248,7 +248,8 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
     Fbase += np.sum(res)
     W = 0.0
     D = 0.0
-    _record(0, 0.0, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D, t_out, T_out, Fd_out, u_out, v_out, en_out)
+    _record(np.int64(0), 0.0, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D, t_out, T_out, Fd_out, u_out,
+            v_out, en_out)
     status = 0
     unit = 1 << levels
     hu = unit
@@ -280,11 +281,11 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
                 n_rej += 1
                 continue
             if not ok and h <= dt_explicit:  # Newton stuck at a non-smooth point: one Verlet sub-step instead
-                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, 0)
+                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, np.int64(0))
                 ok = True
                 n_fb += 1
                 if has_res:  # the implicit state's forces and acceleration include the resistance
-                    _external(t1, X[0], X[1], res, veps, load_node, load_F, load_t, tens, Ft, kt, X[5], True)
+                    _external(t1, X[0], X[1], res, veps, load_node, load_F, load_t, tens, Ft, kt, X[5], np.bool_(True))
                     for i in range(1, last + 1):
                         X[2][i] = (X[6][i - 1] - (X[6][i] if i < N else 0.0) + X[5][i]) * inv[i]
             if not ok:

@@ -226,7 +226,7 @@ def tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, ys, dvs, y, dv, T, Fk, ks, 
     (hf: slip force or F_h [N], hx: stick travel or x_h [mm])."""
     N, n_el = hf.shape
     return segment_tensions(u, v, us, epre, cl, ch, cd, hf, hx, hd, np.zeros((N, n_el, 3)), np.zeros((N, 6)),
-                            np.zeros((0, 2, 2)), False, ys, dvs, y, dv, T, Fk, ks, cs, kind, tangent)
+                            np.zeros((0, 2, 2)), np.bool_(False), ys, dvs, y, dv, T, Fk, ks, cs, kind, tangent)
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")

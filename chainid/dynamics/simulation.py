@@ -470,7 +470,7 @@ def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float
     t_out, T_out, Fd_out, u_out, v_out, en_out, stats = outs
     cost = ITERATION_COST if scheme == "implicit" else 1.0  # node-steps per counted unit of the kernel
     budget = 0.0 if max_work is None else max(float(max_work) - spent[0], 1.0) / cost
-    status, peak = run(scheme == "implicit", *args, *outs, budget=budget)
+    status, peak = run(scheme == "implicit", *args, *outs, kind=0, budget=budget)
     spent[0] += float(stats[6]) * cost
     if status == 3:
         raise ValueError(f"the run stopped at t = {stats[7] * dt:.4g} s of t_end = {t_end:g} s after about "
