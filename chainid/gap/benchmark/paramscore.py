@@ -5,7 +5,10 @@ the diagnosis estimates (``effect.param`` in the row's ``params``) is compared w
 |est − true|/|true| (none for a true value of 0), and whether the reported interval covers the truth —
 ``params_ci90`` [lo, hi] (percentile interval over resamples) when given, else est ± 1.645·``params_sd`` (a 90 %
 normal interval); no interval, no coverage.  The scores are pooled per parameter (:func:`param_table`) and per effect
-(:func:`coverage_by_effect`): the calibration table of the 90 % intervals (calibrated: 85–95 %).
+(:func:`coverage_by_effect`): the calibration table of the 90 % intervals (calibrated: 85–95 %).  The parameters of
+one case share its data, so a family's coverage is as uncertain as its number of cases says, not its number of
+intervals: its 95 % range is Wilson's score interval of the share over the cases (:func:`rate_range`), and a rate
+outside 85–95 % whose range holds 90 % is a deviation those cases cannot tell from calibration.
 
 A truth is ``{"effects": {effect: {param: value}}}``, optionally with ``covariate`` (the ODE world: a parameter
 that follows an operating condition is compared with its law at the mean condition).
@@ -19,12 +22,17 @@ from typing import Any, Iterable
 
 import numpy as np
 
-__all__ = ["CANONICAL", "Z90", "param_scores", "pool_scores", "param_table", "coverage_by_effect", "coverage_lines"]
+__all__ = ["CANONICAL", "Z90", "Z95", "param_scores", "pool_scores", "param_table", "coverage_by_effect",
+           "coverage_lines", "rate_range", "calibration_mark"]
 
 #: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
 CANONICAL = {"machine_compliance": "stiffness_level"}
 #: z of a two-sided 90 % normal interval
 Z90 = 1.6448536269514722
+#: z of a two-sided 95 % normal interval (the range of a coverage rate)
+Z95 = 1.959963984540054
+#: the nominal level of the intervals under calibration, and the band that counts as calibrated
+NOMINAL, BAND = 0.90, (0.85, 0.95)
 
 
 def _truth_value(truth: dict[str, Any], eff: str, p: str, v: float) -> float:
@@ -73,12 +81,24 @@ def param_scores(row: dict[str, Any], named: list[str]) -> list[dict[str, Any]]:
 
 
 def pool_scores(scores: Iterable[list[dict[str, Any]]]) -> dict[str, list[dict[str, Any]]]:
-    """The scores of many rows (each a :func:`param_scores` list) by parameter name, names sorted."""
+    """The scores of many rows (each a :func:`param_scores` list) by parameter name, names sorted; each score
+    carries ``case``, the position of its row."""
     ps: dict[str, list[dict[str, Any]]] = {}
-    for row_scores in scores:
+    for i, row_scores in enumerate(scores):
         for p in row_scores:
-            ps.setdefault(p["param"], []).append(p)
+            ps.setdefault(p["param"], []).append({**p, "case": i})
     return dict(sorted(ps.items()))
+
+
+def rate_range(rate: float, n: float, z: float = Z95) -> tuple[float, float]:
+    """Wilson's score interval [lo, hi] of a share ``rate`` observed over ``n`` independent trials (two-sided, at
+    the level of ``z``; ``n`` > 0; a pooled share of several parameters per case is taken over its cases)."""
+    if not n > 0 or not 0.0 <= rate <= 1.0:
+        raise ValueError(f"rate_range: rate = {rate!r} must be in [0, 1] and n = {n!r} > 0")
+    d = 1.0 + z * z / n
+    centre = (rate + z * z / (2.0 * n)) / d
+    half = z * np.sqrt(rate * (1.0 - rate) / n + z * z / (4.0 * n * n)) / d
+    return max(0.0, float(centre - half)), min(1.0, float(centre + half))
 
 
 def _median_rel(v: list[dict[str, Any]]) -> float | None:
@@ -100,16 +120,36 @@ def param_table(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
 def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
     """Per effect (the part of ``effect.param`` before the dot), every parameter of it pooled: ``n_interval``
     (scores with an interval), ``covered`` (whose 90 % interval covers the truth), ``coverage`` (the share;
-    calibrated: 0.85–0.95) and ``median_rel_error`` (over every score of the effect with a relative error)."""
+    calibrated: 0.85–0.95), ``n_cases`` (the cases those intervals come from: ``case`` of :func:`pool_scores`),
+    ``coverage_range95`` (:func:`rate_range` of the share over ``n_cases``), ``consistent`` (whether 0.90 is in
+    that range) and ``median_rel_error`` (over every score of the effect with a relative error)."""
     groups: dict[str, list[dict[str, Any]]] = {}
     for key, v in ps.items():
         groups.setdefault(key.split(".", 1)[0], []).extend(v)
     out: dict[str, Any] = {}
     for eff, v in sorted(groups.items()):
-        cov = [bool(p["covered"]) for p in v if p["covered"] is not None]
-        out[eff] = {"n_interval": len(cov), "covered": sum(cov), "coverage": sum(cov) / len(cov) if cov else None,
+        with_ci = [p for p in v if p["covered"] is not None]
+        cov = [bool(p["covered"]) for p in with_ci]
+        rate = sum(cov) / len(cov) if cov else None
+        n_cases = len({p.get("case", i) for i, p in enumerate(with_ci)})
+        rng = rate_range(rate, n_cases) if rate is not None else None
+        out[eff] = {"n_interval": len(cov), "covered": sum(cov), "coverage": rate, "n_cases": n_cases,
+                    "coverage_range95": list(rng) if rng else None,
+                    "consistent": None if rng is None else bool(rng[0] <= NOMINAL <= rng[1]),
                     "median_rel_error": _median_rel(v)}
     return out
+
+
+def calibration_mark(v: dict[str, Any]) -> str:
+    """``ok`` for a coverage inside 85–95 %; outside it ``low``/``high`` when its cases' range holds 90 % (the
+    deviation is within what that many cases show), else ``LOW``/``HIGH``; empty without a rate."""
+    r = v.get("coverage")
+    if r is None:
+        return ""
+    if BAND[0] <= r <= BAND[1]:
+        return "ok"
+    side = "low" if r < BAND[0] else "high"
+    return side if v.get("consistent") else side.upper()
 
 
 def _pct(v: float | None, digits: int = 0) -> str:
@@ -117,12 +157,15 @@ def _pct(v: float | None, digits: int = 0) -> str:
 
 
 def coverage_lines(cov: dict[str, Any], title: str) -> list[str]:
-    """Terminal table of :func:`coverage_by_effect`: one line per effect (intervals, covered, rate, median relative
-    error), the rate marked ``ok`` inside the calibrated 85–95 % and ``LOW``/``HIGH`` outside it."""
-    lines = [title, f"  {'effect':<20}{'intervals':>10}{'covered':>9}{'rate':>8}{'':>6}{'median rel. error':>19}"]
+    """Terminal table of :func:`coverage_by_effect`: one line per effect (intervals, covered, cases, rate, the
+    rate's 95 % range over the cases, :func:`calibration_mark`, median relative error)."""
+    lines = [title, f"  {'effect':<20}{'intervals':>10}{'covered':>9}{'cases':>7}{'rate':>8}{'95 % range':>14}"
+                    f"{'':>6}{'median rel. error':>19}"]
     for eff, v in cov.items():
-        r = v["coverage"]
-        mark = "" if r is None else ("ok" if 0.85 <= r <= 0.95 else ("LOW" if r < 0.85 else "HIGH"))
-        lines.append(f"  {eff:<20}{v['n_interval']:>10}{v['covered']:>9}{_pct(r):>8}{mark:>6}"
-                     f"{_pct(v['median_rel_error'], 1):>19}")
+        rng = v.get("coverage_range95")
+        shown = f"{100 * rng[0]:.0f}-{100 * rng[1]:.0f} %" if rng else "n/a"
+        lines.append(f"  {eff:<20}{v['n_interval']:>10}{v['covered']:>9}{v.get('n_cases', 0):>7}"
+                     f"{_pct(v['coverage']):>8}{shown:>14}{calibration_mark(v):>6}{_pct(v['median_rel_error'], 1):>19}")
+    lines.append("  (ok: inside 85-95 %; low/high: outside it, but 90 % is in the range its cases allow; LOW/HIGH: "
+                 "90 % is not)")
     return lines
