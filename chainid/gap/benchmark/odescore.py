@@ -152,6 +152,13 @@ def _pct(v: Any, digits: int = 0) -> str:
     return "n/a" if v is None else f"{100 * v:.{digits}f} %"
 
 
+def _range_text(v: dict[str, Any], lead: str = ", ") -> str:
+    """``lead`` + ``51-100 %`` from an effect's ``coverage_range95`` (:func:`.paramscore.coverage_by_effect`), else
+    empty."""
+    r = v.get("coverage_range95")
+    return f"{lead}{100 * r[0]:.0f}-{100 * r[1]:.0f} %" if r else ""
+
+
 def format_table(s: dict[str, Any]) -> str:
     """Terminal text: one line per family (all, strong), its breakdown by base and the parameter errors."""
     lines = [f"ODE world: {s['n_cases']} cases" + (f"; wall {s['wall_seconds']:.0f} s" if "wall_seconds" in s else ""),
@@ -173,7 +180,8 @@ def format_table(s: dict[str, Any]) -> str:
             f"{_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["params"].items()))
     if s.get("coverage_by_effect"):
         lines.append("90 % intervals cover the truth, per effect: " + "; ".join(
-            f"{k} {_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["coverage_by_effect"].items()))
+            f"{k} {_pct(v['coverage'])} of {v['n_interval']} ({v.get('n_cases', '?')} cases"
+            f"{_range_text(v)})" for k, v in s["coverage_by_effect"].items()))
     ow = s.get("open_world")
     if ow:
         lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}"
@@ -207,8 +215,10 @@ def markdown_table(s: dict[str, Any]) -> str:
             lines.append(f"| `{k}` | {v['n']} | {_pct(v['median_rel_error'], 1)} | {_pct(v['coverage'])} of "
                          f"{v['n_interval']} |")
     if s.get("coverage_by_effect"):
-        lines += ["", "| effect | intervals | 90 % interval covers the truth |", "|---|---|---|"]
-        lines += [f"| `{k}` | {v['n_interval']} | {_pct(v['coverage'])} |" for k, v in s["coverage_by_effect"].items()]
+        lines += ["", "| effect | intervals | cases | 90 % interval covers the truth | its 95 % range over the cases |",
+                  "|---|---|---|---|---|"]
+        lines += [f"| `{k}` | {v['n_interval']} | {v.get('n_cases', '?')} | {_pct(v['coverage'])} |"
+                  f"{_range_text(v, ' ') or ' n/a'} |" for k, v in s["coverage_by_effect"].items()]
     ow = s.get("open_world")
     if ow:
         lines += ["", "| model-free check | rate | cases |", "|---|---|---|",
