@@ -331,4 +331,4 @@ def explicit_core(*args, kind: int = 0, budget: float = 0.0):
 
 def implicit_core(*args, budget: float = 0.0):
     """The implicit scheme through :func:`run` (arguments as :func:`run` without ``implicit``)."""
-    return run(True, *args, budget=budget)
+    return run(True, *args, kind=0, budget=budget)

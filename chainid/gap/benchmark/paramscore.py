@@ -131,7 +131,7 @@ def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
         with_ci = [p for p in v if p["covered"] is not None]
         cov = [bool(p["covered"]) for p in with_ci]
         rate = sum(cov) / len(cov) if cov else None
-        n_cases = len({p.get("case", i) for i, p in enumerate(with_ci)})
+        n_cases = len({p.get("case", ("score", i)) for i, p in enumerate(with_ci)})  # untagged: one case each
         rng = rate_range(rate, n_cases) if rate is not None else None
         out[eff] = {"n_interval": len(cov), "covered": sum(cov), "coverage": rate, "n_cases": n_cases,
                     "coverage_range95": list(rng) if rng else None,

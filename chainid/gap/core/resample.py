@@ -54,7 +54,8 @@ def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, 
         if key not in scored:
             loto, nrmse, floor = hooks.rescore(prob, c, mult)
             scored[key] = SimpleNamespace(names=c.names, loto_num=loto, nrmse_loto=nrmse, at_floor=floor,
-                                          at_bound=c.at_bound, n_params=c.n_params, bic=c.bic)
+                                          at_bound=c.at_bound, n_params=c.n_params, bic=c.bic,
+                                          params=getattr(c, "params", {}))  # nested_pair reads a friction's μ, x_s
         return scored[key]
 
     def extend(c: Any, n: str) -> Any:

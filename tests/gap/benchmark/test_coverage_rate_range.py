@@ -61,3 +61,10 @@ def test_cases_without_an_interval_are_not_counted():
                                             "covered": None}]]
     cov = coverage_by_effect(pool_scores(rows))["deadband"]
     assert (cov["n_interval"], cov["n_cases"], cov["coverage"]) == (2, 2, 0.5)
+
+
+def test_scores_pooled_by_hand_without_a_case_count_one_case_each():
+    tagged = pool_scores(_scores([[True], [True]]))["deadband.p0"]  # cases 0 and 1
+    untagged = [{k: v for k, v in p.items() if k != "case"} for p in tagged] * 2  # four, from no known case
+    cov = coverage_by_effect({"deadband.p0": tagged + untagged})["deadband"]
+    assert (cov["n_interval"], cov["n_cases"]) == (6, 6)
