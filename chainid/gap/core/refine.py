@@ -16,8 +16,8 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 from chainid.gap.core.candidate import Candidate, Problem
-from chainid.gap.core.steprule import (FAMILIES, SIMPLER, TIE, fit_score, near_tie_first, passes, split_acceptable,
-                                      step_test, swap_acceptable, term_prefix, tie_key)
+from chainid.gap.core.steprule import (FAMILIES, SIMPLER, TIE, fit_score, near_tie_first, passes, refuted_member,
+                                      split_acceptable, step_test, swap_acceptable, term_prefix, tie_key)
 
 
 def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: float,
@@ -39,7 +39,7 @@ def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: 
                 c = fit_score(prob, names, start, base_hold)
                 if cache is not None:
                     cache.setdefault(tuple(sorted(names)), c)
-                if swap_acceptable(c, full, m):
+                if swap_acceptable(c, full, m) and not refuted_member(c, names, m, cache or {}):
                     swaps.append(f"{n} -> {m}")
                     full, improved = c, True
                     break

@@ -30,8 +30,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.core.steprule import (FAMILIES, SIMPLER, look_ahead, near_tie_first, newest, pick, split_acceptable,
-                                      step_test, swap_acceptable, takes)
+from chainid.gap.core.steprule import (FAMILIES, NESTS, SIMPLER, look_ahead, near_tie_first, newest, pick,
+                                      refuted_member, split_acceptable, step_test, swap_acceptable, takes)
 from chainid.infra.forkpool import can_fork, fork_map
 
 __all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "order_replay", "widen",
@@ -119,7 +119,10 @@ def exchange_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any
                 if m == n or m in chain or key not in cache:
                     continue
                 sc = score(cache[key])
-                if swap_acceptable(sc, cur, m):
+                names = [m if k == n else k for k in chain]
+                richer = {tuple(sorted(r if k == m else k for k in names)) for r, ms in NESTS.items() if m in ms}
+                scored = {k: score(cache[k]) for k in richer if k in cache}
+                if swap_acceptable(sc, cur, m) and not refuted_member(sc, names, m, scored):
                     chain[i], cur, improved = m, sc, True
                     break
         if not improved:
