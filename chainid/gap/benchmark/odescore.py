@@ -39,7 +39,7 @@ import numpy as np
 
 from chainid.gap.benchmark.openworldscore import by_kind_text, flagged, flags_by_kind
 from chainid.gap.benchmark.paramscore import (CANONICAL, Z90, coverage_by_effect, param_scores,  # noqa: F401  (API)
-                                              param_table, pool_scores)
+                                              param_table, pool_scores, range_text)
 
 __all__ = ["FAMILIES", "OUTSIDE_SHRINK", "SNR_MIN", "score_row", "verdict_names", "summarise", "format_table", "coverage_by_effect", "open_world_rates",
            "markdown_table"]
@@ -152,11 +152,9 @@ def _pct(v: Any, digits: int = 0) -> str:
     return "n/a" if v is None else f"{100 * v:.{digits}f} %"
 
 
-def _range_text(v: dict[str, Any], lead: str = ", ") -> str:
-    """``lead`` + ``51-100 %`` from an effect's ``coverage_range95`` (:func:`.paramscore.coverage_by_effect`), else
-    empty."""
-    r = v.get("coverage_range95")
-    return f"{lead}{100 * r[0]:.0f}-{100 * r[1]:.0f} %" if r else ""
+def _cases_text(v: dict[str, Any]) -> str:
+    """``6 cases, 10-70 %``: an effect's cases and the 95 % range of its coverage over them (the range when known)."""
+    return ", ".join(filter(None, (f"{v.get('n_cases', '?')} cases", range_text(v))))
 
 
 def format_table(s: dict[str, Any]) -> str:
@@ -180,8 +178,8 @@ def format_table(s: dict[str, Any]) -> str:
             f"{_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["params"].items()))
     if s.get("coverage_by_effect"):
         lines.append("90 % intervals cover the truth, per effect: " + "; ".join(
-            f"{k} {_pct(v['coverage'])} of {v['n_interval']} ({v.get('n_cases', '?')} cases"
-            f"{_range_text(v)})" for k, v in s["coverage_by_effect"].items()))
+            f"{k} {_pct(v['coverage'])} of {v['n_interval']} ({_cases_text(v)})"
+            for k, v in s["coverage_by_effect"].items()))
     ow = s.get("open_world")
     if ow:
         lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}"
@@ -218,7 +216,7 @@ def markdown_table(s: dict[str, Any]) -> str:
         lines += ["", "| effect | intervals | cases | 90 % interval covers the truth | its 95 % range over the cases |",
                   "|---|---|---|---|---|"]
         lines += [f"| `{k}` | {v['n_interval']} | {v.get('n_cases', '?')} | {_pct(v['coverage'])} |"
-                  f"{_range_text(v, ' ') or ' n/a'} |" for k, v in s["coverage_by_effect"].items()]
+                  f" {range_text(v) or 'n/a'} |" for k, v in s["coverage_by_effect"].items()]
     ow = s.get("open_world")
     if ow:
         lines += ["", "| model-free check | rate | cases |", "|---|---|---|",

@@ -23,7 +23,7 @@ from typing import Any, Iterable
 import numpy as np
 
 __all__ = ["CANONICAL", "Z90", "Z95", "param_scores", "pool_scores", "param_table", "coverage_by_effect",
-           "coverage_lines", "rate_range", "calibration_mark"]
+           "coverage_lines", "rate_range", "range_text", "calibration_mark"]
 
 #: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
 CANONICAL = {"machine_compliance": "stiffness_level"}
@@ -140,6 +140,12 @@ def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
     return out
 
 
+def range_text(v: dict[str, Any]) -> str:
+    """An effect's ``coverage_range95`` (:func:`coverage_by_effect`) as ``51-100 %``; empty without one."""
+    r = v.get("coverage_range95")
+    return f"{100 * r[0]:.0f}-{100 * r[1]:.0f} %" if r else ""
+
+
 def calibration_mark(v: dict[str, Any]) -> str:
     """``ok`` for a coverage inside 85–95 %; outside it ``low``/``high`` when its cases' range holds 90 % (the
     deviation is within what that many cases show), else ``LOW``/``HIGH``; empty without a rate."""
@@ -162,8 +168,7 @@ def coverage_lines(cov: dict[str, Any], title: str) -> list[str]:
     lines = [title, f"  {'effect':<20}{'intervals':>10}{'covered':>9}{'cases':>7}{'rate':>8}{'95 % range':>14}"
                     f"{'':>6}{'median rel. error':>19}"]
     for eff, v in cov.items():
-        rng = v.get("coverage_range95")
-        shown = f"{100 * rng[0]:.0f}-{100 * rng[1]:.0f} %" if rng else "n/a"
+        shown = range_text(v) or "n/a"
         lines.append(f"  {eff:<20}{v['n_interval']:>10}{v['covered']:>9}{v.get('n_cases', 0):>7}"
                      f"{_pct(v['coverage']):>8}{shown:>14}{calibration_mark(v):>6}{_pct(v['median_rel_error'], 1):>19}")
     lines.append("  (ok: inside 85-95 %; low/high: outside it, but 90 % is in the range its cases allow; LOW/HIGH: "

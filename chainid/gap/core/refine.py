@@ -39,7 +39,7 @@ def exchange(prob: Problem, full: Candidate, allowed: Sequence[str], base_hold: 
                 c = fit_score(prob, names, start, base_hold)
                 if cache is not None:
                     cache.setdefault(tuple(sorted(names)), c)
-                if swap_acceptable(c, full, m) and not refuted_member(c, names, m, cache or {}):
+                if swap_acceptable(c, full, m) and not refuted_member(c, names, m, (cache or {}).get):
                     swaps.append(f"{n} -> {m}")
                     full, improved = c, True
                     break

@@ -30,7 +30,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.core.steprule import (FAMILIES, NESTS, SIMPLER, look_ahead, near_tie_first, newest, pick,
+from chainid.gap.core.steprule import (FAMILIES, SIMPLER, look_ahead, near_tie_first, newest, pick,
                                       refuted_member, split_acceptable, step_test, swap_acceptable, takes)
 from chainid.infra.forkpool import can_fork, fork_map
 
@@ -111,18 +111,21 @@ def exchange_replay(chain: list[str], cur: Any, cache: dict[tuple[str, ...], Any
     chain = list(chain)
     if len(chain) < 2:
         return chain, cur
+
+    def fitted(key: tuple[str, ...]) -> Any:
+        """The rescored set of ``key`` (its sorted names), or None when the diagnosis did not fit it."""
+        return score(cache[key]) if key in cache else None
+
     for _ in range(2):
         improved = False
         for i, n in enumerate(list(chain)):
             for m in next((f for f in FAMILIES if n in f), ()):
-                key = tuple(sorted([m if k == n else k for k in chain]))
+                names = [m if k == n else k for k in chain]
+                key = tuple(sorted(names))
                 if m == n or m in chain or key not in cache:
                     continue
                 sc = score(cache[key])
-                names = [m if k == n else k for k in chain]
-                richer = {tuple(sorted(r if k == m else k for k in names)) for r, ms in NESTS.items() if m in ms}
-                scored = {k: score(cache[k]) for k in richer if k in cache}
-                if swap_acceptable(sc, cur, m) and not refuted_member(sc, names, m, scored):
+                if swap_acceptable(sc, cur, m) and not refuted_member(sc, names, m, fitted):
                     chain[i], cur, improved = m, sc, True
                     break
         if not improved:

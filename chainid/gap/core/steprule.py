@@ -273,16 +273,16 @@ def beaten_member(given_up: Any, c: Any) -> bool:
     return nested_pair(given_up, c) is not None and significant(step_test(c, given_up))
 
 
-def refuted_member(c: Any, names: Sequence[str], new: str, cache: dict[tuple[str, ...], Any]) -> bool:
+def refuted_member(c: Any, names: Sequence[str], new: str, fitted: Any) -> bool:
     """Whether swapping to ``new`` (``c``: ``names`` with ``new`` in) is refuted by a richer shape that nests it: the
-    set with that shape in ``new``'s place was fitted (in ``cache``), its own parameters inside their bounds, and it
-    beats ``c`` significantly (:func:`beaten_member`).  The exchange pass asks this of a family swap as ``pick``
-    does of its second choice: a Bouc–Wen given up for a friction, but significantly better than Dahl hysteresis,
-    keeps the hysteresis out."""
+    set with that shape in ``new``'s place was fitted (``fitted(key)``, its sorted names, gives its candidate, or
+    None), its own parameters inside their bounds, and it beats ``c`` significantly (:func:`beaten_member`).  The
+    exchange pass asks this of a family swap as ``pick`` does of its second choice: a Bouc–Wen given up for a
+    friction, but significantly better than Dahl hysteresis, keeps the hysteresis out."""
     for richer, members in NESTS.items():
         if new not in members or richer in names:
             continue
-        r = cache.get(tuple(sorted(richer if k == new else k for k in names)))
+        r = fitted(tuple(sorted(richer if k == new else k for k in names)))
         if r is not None and not pinned_params(r, richer) and beaten_member(r, c):
             return True
     return False

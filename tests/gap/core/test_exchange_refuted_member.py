@@ -38,13 +38,13 @@ def test_the_swap_alone_would_take_the_hysteresis():
 def test_a_swap_to_a_member_the_richer_shape_beats_is_refuted():
     w = _world()
     hy = w[("hysteresis", "stiffness_level")]
-    assert refuted_member(hy, ["stiffness_level", "hysteresis"], "hysteresis", w)
-    assert not refuted_member(w[("friction", "stiffness_level")], ["stiffness_level", "friction"], "friction", w)
+    assert refuted_member(hy, ["stiffness_level", "hysteresis"], "hysteresis", w.get)
+    assert not refuted_member(w[("friction", "stiffness_level")], ["stiffness_level", "friction"], "friction", w.get)
 
 
 def test_a_richer_shape_at_a_bound_refutes_nothing():
     w = _world(bw_bound=("bouc_wen.n",))
-    assert not refuted_member(w[("hysteresis", "stiffness_level")], ["stiffness_level", "hysteresis"], "hysteresis", w)
+    assert not refuted_member(w[("hysteresis", "stiffness_level")], ["stiffness_level", "hysteresis"], "hysteresis", w.get)
 
 
 def test_the_replay_keeps_the_friction():
