@@ -44,7 +44,8 @@ def test_a_swap_to_a_member_the_richer_shape_beats_is_refuted():
 
 def test_a_richer_shape_at_a_bound_refutes_nothing():
     w = _world(bw_bound=("bouc_wen.n",))
-    assert not refuted_member(w[("hysteresis", "stiffness_level")], ["stiffness_level", "hysteresis"], "hysteresis", w.get)
+    hy = w[("hysteresis", "stiffness_level")]
+    assert not refuted_member(hy, ["stiffness_level", "hysteresis"], "hysteresis", w.get)
 
 
 def test_the_replay_keeps_the_friction():
