@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
 # variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
-# derivation source hash: 9da5adbac9c5967a
+# derivation source hash: 00e57ba22c41b58e
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 VARIANT = "contact_power"
-SOURCE_HASH = "9da5adbac9c5967a"
+SOURCE_HASH = "00e57ba22c41b58e"
 SYMPY_VERSION = "1.14.0"
 
 
@@ -31,22 +31,33 @@ def displacement(F, c_lin, c_hertz, beta):
 
 
 @njit(cache=True)
-def force(x, c_lin, c_hertz, beta):
-    """Tension F_k [N] at elongation x [mm]."""
+def force_near(x, c_lin, c_hertz, beta, s_guess):
+    """Tension F_k [N] at elongation x [mm], Newton in s = ln F started at s_guess (NaN: none) or the upper
+    bound, whichever is lower.  From below the root one step lands above it (h is convex); every iterate is
+    kept under the bound, so from there it falls monotonically to the root."""
     if x != x:
         return math.nan
     if x <= 0.0:
         return 0.0
-    s = math.log(x / c_lin)
+    s_hi = math.log(x / c_lin)
     if c_hertz > 0.0:
-        s = min(s, math.log(x / c_hertz) / beta)
+        s_hi = min(s_hi, math.log(x / c_hertz) / beta)
+    s = s_hi
+    if s_guess < s_hi:
+        s = s_guess
     for _ in range(200):
         F = math.exp(s)
         step = (F*c_lin + F**beta*c_hertz - x)/(F*c_lin + F**beta*beta*c_hertz)
-        s -= step
+        s = min(s - step, s_hi)
         if abs(step) <= 1e-15:
             break
     return math.exp(s)
+
+
+@njit(cache=True)
+def force(x, c_lin, c_hertz, beta):
+    """Tension F_k [N] at elongation x [mm]."""
+    return force_near(x, c_lin, c_hertz, beta, math.nan)
 
 
 @njit(cache=True)
@@ -68,10 +79,14 @@ def stiffness(x, c_lin, c_hertz, beta):
 
 @njit(cache=True)
 def force_array(x, c_lin, c_hertz, beta):
-    """force() over a 1-D float64 array [mm] -> [N]."""
+    """force() over a 1-D float64 array [mm] -> [N]; each sample's Newton starts at the last positive
+    tension's ln F (a record's next sample is close)."""
     out = np.empty(x.shape[0])
+    s_last = math.nan
     for i in range(x.shape[0]):
-        out[i] = force(x[i], c_lin, c_hertz, beta)
+        out[i] = force_near(x[i], c_lin, c_hertz, beta, s_last)
+        if out[i] > 0.0:
+            s_last = math.log(out[i])
     return out
 
 
