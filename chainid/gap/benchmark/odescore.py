@@ -39,7 +39,7 @@ import numpy as np
 
 from chainid.gap.benchmark.openworldscore import by_kind_text, flagged, flags_by_kind
 from chainid.gap.benchmark.paramscore import (CANONICAL, Z90, coverage_by_effect, param_scores,  # noqa: F401  (API)
-                                              param_table, pool_scores, range_text)
+                                              param_table, pct, pool_scores, range_text)
 
 __all__ = ["FAMILIES", "OUTSIDE_SHRINK", "SNR_MIN", "score_row", "verdict_names", "summarise", "format_table", "coverage_by_effect", "open_world_rates",
            "markdown_table"]
@@ -148,10 +148,6 @@ def open_world_rates(rows: list[dict[str, Any]]) -> dict[str, Any]:
             "explained_silent": rate(explained, lambda r: not flagged(r)), "explained_n": len(explained)}
 
 
-def _pct(v: Any, digits: int = 0) -> str:
-    return "n/a" if v is None else f"{100 * v:.{digits}f} %"
-
-
 def _cases_text(v: dict[str, Any]) -> str:
     """``6 cases, 10-70 %``: an effect's cases and the 95 % range of its coverage over them (the range when known)."""
     return ", ".join(filter(None, (f"{v.get('n_cases', '?')} cases", range_text(v))))
@@ -163,8 +159,8 @@ def format_table(s: dict[str, Any]) -> str:
              f"{'family':<11}{'right (all)':>16}{'right (snr>=3)':>18}   verdicts"]
     for f, r in s["families"].items():
         v = ", ".join(f"{k} {n}" for k, n in list(r["verdicts"].items())[:6])
-        a = f"{_pct(r['rate'])} ({r['right']}/{r['n']})"
-        b = f"{_pct(r['strong']['rate'])} ({r['strong']['right']}/{r['strong']['n']})"
+        a = f"{pct(r['rate'])} ({r['right']}/{r['n']})"
+        b = f"{pct(r['strong']['rate'])} ({r['strong']['right']}/{r['strong']['n']})"
         lines.append(f"{f:<11}{a:>16}{b:>18}   {v}")
     lines.append("by base (right/n): " + "; ".join(
         f"{f}: " + ", ".join(f"{b} {x['right']}/{x['n']}" for b, x in r["by_base"].items())
@@ -174,19 +170,19 @@ def format_table(s: dict[str, Any]) -> str:
         for f, r in s["families"].items()))
     if s["params"]:
         lines.append("parameters of named true effects: " + "; ".join(
-            f"{k} n={v['n']} median rel. error {_pct(v['median_rel_error'], 1)}, 90 % interval covers "
-            f"{_pct(v['coverage'])} of {v['n_interval']}" for k, v in s["params"].items()))
+            f"{k} n={v['n']} median rel. error {pct(v['median_rel_error'], 1)}, 90 % interval covers "
+            f"{pct(v['coverage'])} of {v['n_interval']}" for k, v in s["params"].items()))
     if s.get("coverage_by_effect"):
         lines.append("90 % intervals cover the truth, per effect: " + "; ".join(
-            f"{k} {_pct(v['coverage'])} of {v['n_interval']} ({_cases_text(v)})"
+            f"{k} {pct(v['coverage'])} of {v['n_interval']} ({_cases_text(v)})"
             for k, v in s["coverage_by_effect"].items()))
     ow = s.get("open_world")
     if ow:
-        lines.append(f"model-free check: flags outside cases {_pct(ow['outside_flagged'])} of {ow['outside_n']}"
-                     f"{by_kind_text(ow.get('outside_by_kind'))} ({_pct(ow.get('outside_flagged_strong'))} of "
+        lines.append(f"model-free check: flags outside cases {pct(ow['outside_flagged'])} of {ow['outside_n']}"
+                     f"{by_kind_text(ow.get('outside_by_kind'))} ({pct(ow.get('outside_flagged_strong'))} of "
                      f"{ow.get('outside_strong_n', 0)} with residual >= {SNR_MIN:g} σ); "
-                     f"silent on controls {_pct(ow['control_silent'])} of {ow['control_n']}, on right verdicts "
-                     f"{_pct(ow['explained_silent'])} of {ow['explained_n']}")
+                     f"silent on controls {pct(ow['control_silent'])} of {ow['control_n']}, on right verdicts "
+                     f"{pct(ow['explained_silent'])} of {ow['explained_n']}")
     if s["errors"]:
         lines.append(f"{len(s['errors'])} case(s) raised an error, e.g. {s['errors'][0]['error']}")
     lines.append(f"median diagnosis {s['median_seconds']:.1f} s, median simulation {s['median_sim_seconds']:.1f} s"
@@ -200,7 +196,7 @@ def markdown_table(s: dict[str, Any]) -> str:
     lines = ["| family | right (all) | right (residual >= 3 σ) | verdicts |", "|---|---|---|---|"]
     for f, r in s["families"].items():
         v = ", ".join(f"`{k}` {n}" for k, n in r["verdicts"].items())
-        lines.append(f"| {f} | {_pct(r['rate'])} ({r['right']}/{r['n']}) | {_pct(r['strong']['rate'])} "
+        lines.append(f"| {f} | {pct(r['rate'])} ({r['right']}/{r['n']}) | {pct(r['strong']['rate'])} "
                      f"({r['strong']['right']}/{r['strong']['n']}) | {v} |")
     bases = sorted({b for r in s["families"].values() for b in r["by_base"]})
     lines += ["", "| family | " + " | ".join(bases) + " |", "|---|" + "---|" * len(bases)]
@@ -210,21 +206,21 @@ def markdown_table(s: dict[str, Any]) -> str:
     if s.get("params"):
         lines += ["", "| parameter | n | median relative error | 90 % interval covers the truth |", "|---|---|---|---|"]
         for k, v in s["params"].items():
-            lines.append(f"| `{k}` | {v['n']} | {_pct(v['median_rel_error'], 1)} | {_pct(v['coverage'])} of "
+            lines.append(f"| `{k}` | {v['n']} | {pct(v['median_rel_error'], 1)} | {pct(v['coverage'])} of "
                          f"{v['n_interval']} |")
     if s.get("coverage_by_effect"):
         lines += ["", "| effect | intervals | cases | 90 % interval covers the truth | its 95 % range over the cases |",
                   "|---|---|---|---|---|"]
-        lines += [f"| `{k}` | {v['n_interval']} | {v.get('n_cases', '?')} | {_pct(v['coverage'])} |"
+        lines += [f"| `{k}` | {v['n_interval']} | {v.get('n_cases', '?')} | {pct(v['coverage'])} |"
                   f" {range_text(v) or 'n/a'} |" for k, v in s["coverage_by_effect"].items()]
     ow = s.get("open_world")
     if ow:
         lines += ["", "| model-free check | rate | cases |", "|---|---|---|",
                   f"| flags a missing effect on `outside` cases{by_kind_text(ow.get('outside_by_kind'))} | "
-                  f"{_pct(ow['outside_flagged'])} | {ow['outside_n']} |",
+                  f"{pct(ow['outside_flagged'])} | {ow['outside_n']} |",
                   f"| ... where the baseline's residual is >= {SNR_MIN:g} σ | "
-                  f"{_pct(ow.get('outside_flagged_strong'))} | {ow.get('outside_strong_n', 0)} |",
-                  f"| silent on controls | {_pct(ow['control_silent'])} | {ow['control_n']} |",
-                  f"| silent on right verdicts (single, pair, covariate) | {_pct(ow['explained_silent'])} | "
+                  f"{pct(ow.get('outside_flagged_strong'))} | {ow.get('outside_strong_n', 0)} |",
+                  f"| silent on controls | {pct(ow['control_silent'])} | {ow['control_n']} |",
+                  f"| silent on right verdicts (single, pair, covariate) | {pct(ow['explained_silent'])} | "
                   f"{ow['explained_n']} |"]
     return "\n".join(lines)

@@ -158,7 +158,8 @@ def calibration_mark(v: dict[str, Any]) -> str:
     return side if v.get("consistent") else side.upper()
 
 
-def _pct(v: float | None, digits: int = 0) -> str:
+def pct(v: float | None, digits: int = 0) -> str:
+    """A rate as a percentage (``"91 %"``, ``digits`` decimals), ``"n/a"`` for None."""
     return "n/a" if v is None else f"{100 * v:.{digits}f} %"
 
 
@@ -170,7 +171,7 @@ def coverage_lines(cov: dict[str, Any], title: str) -> list[str]:
     for eff, v in cov.items():
         shown = range_text(v) or "n/a"
         lines.append(f"  {eff:<20}{v['n_interval']:>10}{v['covered']:>9}{v.get('n_cases', 0):>7}"
-                     f"{_pct(v['coverage']):>8}{shown:>14}{calibration_mark(v):>6}{_pct(v['median_rel_error'], 1):>19}")
+                     f"{pct(v['coverage']):>8}{shown:>14}{calibration_mark(v):>6}{pct(v['median_rel_error'], 1):>19}")
     lines.append("  (ok: inside 85-95 %; low/high: outside it, but 90 % is in the range its cases allow; LOW/HIGH: "
                  "90 % is not)")
     return lines

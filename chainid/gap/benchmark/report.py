@@ -3,6 +3,7 @@ resamples, the coverage of the 90 % intervals of the true parameters (right verd
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
@@ -10,7 +11,7 @@ import numpy as np
 from chainid.gap.benchmark.openworldscore import (by_kind_text, flagged, flags_by_kind,  # noqa: F401  (API)
                                                   open_world_row)
 from chainid.gap.benchmark.paramscore import (CANONICAL, coverage_by_effect, coverage_lines, param_scores, param_table,
-                                              pool_scores)
+                                              pct, pool_scores)
 from chainid.gap.benchmark.simtruth import nested, trusted_fields
 
 #: a case counts for the right-verdict rates when the baseline's residual is at least this many noise σ
@@ -219,13 +220,9 @@ TARGETS_NONHARMONIC = {"single_right_rate": 0.90, "compound_both_named_rate": 0.
 TARGET_TRANSFER = 0.7
 
 
-def _pct(v: Any) -> str:
-    return "n/a" if v is None else f"{100 * v:.1f} %"
-
-
 def format_nonharmonic(s: dict[str, Any]) -> list[str]:
     """Terminal lines of the non-harmonic families (one line each, then pooled with the targets) and transfer."""
-    f = _pct
+    f = functools.partial(pct, digits=1)
     lines: list[str] = []
     if "by_excitation" in s:
         lines += ["", "non-harmonic excitations (residual >= 3x noise; n in brackets):",
@@ -271,15 +268,16 @@ def format_nonharmonic(s: dict[str, Any]) -> list[str]:
 
 def open_world_line(r: dict[str, Any]) -> str:
     """The model-free check's rates of a family summary (:func:`family_rates`) in one line."""
-    return (f"model-free check: flags a missing effect on outside cases {_pct(r['open_world_outside_flagged_rate'])}"
+    return (f"model-free check: flags a missing effect on outside cases "
+            f"{pct(r['open_world_outside_flagged_rate'], 1)}"
             f"{by_kind_text(r.get('open_world_outside_by_kind'))} (target >= 90 %); silent on controls "
-            f"{_pct(r['open_world_control_silent_rate'])}, on right single/pair verdicts "
-            f"{_pct(r['open_world_explained_silent_rate'])} (targets >= 90 %)")
+            f"{pct(r['open_world_control_silent_rate'], 1)}, on right single/pair verdicts "
+            f"{pct(r['open_world_explained_silent_rate'], 1)} (targets >= 90 %)")
 
 
 def format_summary(s: dict[str, Any]) -> str:
     """Terminal text: the rates with their targets, then the confusion matrix of single effects."""
-    f = lambda v: "n/a" if v is None else f"{100 * v:.1f} %"  # noqa: E731
+    f = functools.partial(pct, digits=1)
     if s.get("harmonic_n", 1) == 0:
         tail = format_nonharmonic(s)
         if s.get("errors") or s.get("nonharmonic", {}).get("errors"):
