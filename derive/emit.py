@@ -346,6 +346,7 @@ def force_near(x, c_lin, c_hertz, beta, s_guess):
         s = s_guess
     for _ in range(200):
         F = math.exp(s)
+        G = math.exp(beta * s)
         step = {newton}
         s = min(s - step, s_hi)
         if abs(step) <= 1e-15:

@@ -18,6 +18,7 @@ __all__ = ["beta", "s_log", "displacement", "log_residual", "newton_update_log",
 beta = sp.Symbol("beta", positive=True)   # contact exponent
 s_log = sp.Symbol("s", real=True)         # ln F
 F = sp.Symbol("F", positive=True)         # tension, N
+G = sp.Symbol("G", positive=True)         # F^β, the contact term's power of the tension
 
 
 def displacement() -> sp.Expr:
@@ -31,10 +32,11 @@ def log_residual() -> sp.Expr:
 
 
 def newton_update_log() -> sp.Expr:
-    """s − h(s)/h′(s), written in F = e^s (the kernel keeps F and s together)."""
+    """The Newton step h(s)/h′(s), written in F = e^s and G = e^(βs) = F^β (the kernel computes both from s with
+    one exponential each, no power)."""
     h = log_residual()
     step = sp.simplify(h / sp.diff(h, s_log))
-    return sp.simplify(step.subs(sp.exp(s_log), F).subs(sp.exp(beta * s_log), F**beta))
+    return sp.simplify(step.subs(sp.exp(beta * s_log), G).subs(sp.exp(s_log), F))
 
 
 def stiffness() -> sp.Expr:

@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
 # variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
-# derivation source hash: 00e57ba22c41b58e
+# derivation source hash: 6ae63232cad9069f
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 VARIANT = "contact_power"
-SOURCE_HASH = "00e57ba22c41b58e"
+SOURCE_HASH = "6ae63232cad9069f"
 SYMPY_VERSION = "1.14.0"
 
 
@@ -47,7 +47,8 @@ def force_near(x, c_lin, c_hertz, beta, s_guess):
         s = s_guess
     for _ in range(200):
         F = math.exp(s)
-        step = (F*c_lin + F**beta*c_hertz - x)/(F*c_lin + F**beta*beta*c_hertz)
+        G = math.exp(beta * s)
+        step = (F*c_lin + G*c_hertz - x)/(F*c_lin + G*beta*c_hertz)
         s = min(s - step, s_hi)
         if abs(step) <= 1e-15:
             break
