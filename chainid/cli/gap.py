@@ -286,7 +286,8 @@ def _add_benchmark_parser(subparsers: Any) -> None:
                         "percentile intervals, whose coverage of the true parameters both generators report per effect")
     b.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
     b.add_argument("--force", action="store_true", help="overwrite an existing --json file")
-    b.add_argument("--summary", metavar="FILE.json", default=None,
-                   help="print the summary of an earlier --json run again from its rows (no case is run)")
+    b.add_argument("--summary", metavar="FILE.json", nargs="+", default=None,
+                   help="print the summary of an earlier --json run again from its rows (no case is run); several "
+                        "files are pooled, each generator's rows as one run's")
     b.set_defaults(func=cmd_benchmark)
 

@@ -2,7 +2,8 @@
 
 A run of the full grid with resamples takes half an hour; its rates and tables (the confusion, the calibration
 of the intervals by effect and by route) are functions of its rows, so a later version of the scoring can print
-them again from the file: ``chainid benchmark-gap --summary FILE``.  The file is the JSON a run wrote: the sim
+them again from the file: ``chainid benchmark-gap --summary FILE``; several files (runs of different excitations)
+are pooled, each generator's rows as one run's.  The file is the JSON a run wrote: the sim
 generator's (``rows`` of benchmark cases), the ODE world's (rows with ``world: "ode"``), or ``--generator
 both``'s (``sim`` and ``ode`` apart).
 """
@@ -11,9 +12,9 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
-__all__ = ["load_runs", "summary_text"]
+__all__ = ["load_runs", "pooled_runs", "summary_text"]
 
 
 def _rows(part: Any, where: str) -> list[dict[str, Any]]:
@@ -46,10 +47,34 @@ def load_runs(path: str | Path) -> dict[str, list[dict[str, Any]]]:
     return {"ode" if rows[0].get("world") == "ode" else "sim": rows}
 
 
-def summary_text(path: str | Path) -> str:
-    """The terminal summary of every generator in the file, as a run prints it (without its wall time)."""
+def pooled_runs(paths: Sequence[str | Path]) -> dict[str, list[dict[str, Any]]]:
+    """The rows of several ``benchmark-gap --json`` files, each generator's rows of every file in one list (runs of
+    different excitations, or of the grid's parts, pooled as one run of them all would have been).
+
+    Raises
+    ------
+    ValueError
+        A file is named twice (its cases would count twice), or a file is refused by :func:`load_runs`.
+    """
+    seen: dict[Path, str] = {}
+    pooled: dict[str, list[dict[str, Any]]] = {}
+    for path in paths:
+        key = Path(path).resolve()
+        if key in seen:
+            raise ValueError(f"--summary {str(path)!r}: the same file as {seen[key]!r}; each run's cases count once")
+        seen[key] = str(path)
+        for gen, rows in load_runs(path).items():
+            pooled.setdefault(gen, []).extend(rows)
+    return pooled
+
+
+def summary_text(paths: str | Path | Sequence[str | Path]) -> str:
+    """The terminal summary of every generator in the file(s), as a run prints it (without its wall time); the rows
+    of several files are pooled per generator (:func:`pooled_runs`)."""
+    paths = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    names = " + ".join(Path(p).name for p in paths)
     parts = []
-    for gen, rows in load_runs(path).items():
+    for gen, rows in pooled_runs(paths).items():
         if gen == "ode":
             from chainid.gap.benchmark.odescore import format_table, score_row, summarise as ode_summary
 
@@ -60,5 +85,5 @@ def summary_text(path: str | Path) -> str:
             from chainid.gap.benchmark.report import format_summary, summarise
 
             text = format_summary(summarise(rows))
-        parts.append(f"== generator {gen} ({len(rows)} cases, from {Path(path).name}) ==\n{text}")
+        parts.append(f"== generator {gen} ({len(rows)} cases, from {names}) ==\n{text}")
     return "\n\n".join(parts)

@@ -93,3 +93,28 @@ def test_cli_prints_the_summary_and_refuses_a_bad_file(tmp_path, capsys):
     assert main(["benchmark-gap", "--summary", str(tmp_path / "none.json")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("chainid benchmark-gap: error: --summary") and "no such file" in err
+
+
+def test_several_runs_are_pooled_as_one_run_of_them_all(tmp_path):
+    """A harmonic run and a time-route run given together: the summary is the one of a file holding both runs'
+    rows (the coverage table per route and pooled), under one header naming both files."""
+    harm = _write(tmp_path / "h.json", {"rows": copy.deepcopy(SIM[:1] + SIM[2:])})
+    time_route = _write(tmp_path / "t.json", {"rows": copy.deepcopy(SIM[1:2])})
+    text = summary_text([harm, time_route])
+    assert text.startswith("== generator sim (3 cases, from h.json + t.json) ==\n")
+    rows = copy.deepcopy(SIM[:1] + SIM[2:] + SIM[1:2])
+    assert text.split("\n", 1)[1] == format_summary(summarise(rows))
+    assert summary_text([harm]) == summary_text(harm)
+
+
+def test_a_run_named_twice_is_refused(tmp_path, capsys):
+    f = _write(tmp_path / "sim.json", {"rows": SIM})
+    with pytest.raises(ValueError, match=r"the same file as .*sim\.json'; each run's cases count once"):
+        summary_text([f, tmp_path / "." / "sim.json"])
+    other = _write(tmp_path / "ode.json", {"rows": ODE})
+    assert main(["benchmark-gap", "--summary", str(f), str(other)]) == 0
+    out = capsys.readouterr().out
+    assert "== generator sim (3 cases, from sim.json + ode.json) ==" in out
+    assert "== generator ode (4 cases, from sim.json + ode.json) ==" in out
+    assert main(["benchmark-gap", "--summary", str(f), str(f)]) == 2
+    assert "each run's cases count once" in capsys.readouterr().err
