@@ -97,15 +97,28 @@ def audit_results(results: Sequence[TestResult], model: Any = None) -> dict[str,
     fit = _fit(w, A, ce, 1.0)
     fit_col = _fit(w, A, ce, 1.0 / OMEGA_COLUMN_TO_RAD_S)
     al = fit["alpha"]
-    findings: list[dict[str, Any]] = []
+    findings = [_finding_units(g), _finding_stiffness(g, ids, model), _finding_range(w, A, al), _finding_signs(g, ids)]
+    rows, laws = _finding_laws(w, A, ce, g["x0"], model)
+    findings.append(laws)
+    return {"source": "data", "tests": [r.to_dict() for r in results], "eq28_alpha": al, "eq28": fit,
+            "eq28_column_unit": fit_col, "eq28_alpha_paper": list(EQ28_PAPER), "findings": findings,
+            "ranking": rows}
 
-    ratio = g["F_ac"] / (ce * w * A)
+
+def _finding_units(g: dict[str, np.ndarray]) -> dict[str, Any]:
+    """Finding (a): F_ac/(c_e·ω·A) per test (Eq. 27; F_ac N, c_e N·s/mm, ω rad/s, A mm), 1 when ω is in rad/s."""
+    ratio = g["F_ac"] / (g["c_e"] * g["omega"] * g["A"])
     dev = float(np.max(np.abs(ratio - 1.0)))
-    findings.append({"id": "a", "title": "c_e = F_ac/(omega A) per test (Eq. 27), omega in rad/s",
-                     "numbers": {"F_ac_over_ce_omega_A": [float(v) for v in ratio], "max_rel_deviation": dev},
-                     "summary": f"F_ac/(c_e omega A) is 1 within {dev:.2g} for every test: omega is in rad/s "
-                                f"throughout (the paper's Table 1 needs omega = (pi/10) x its column)."})
+    return {"id": "a", "title": "c_e = F_ac/(omega A) per test (Eq. 27), omega in rad/s",
+            "numbers": {"F_ac_over_ce_omega_A": [float(v) for v in ratio], "max_rel_deviation": dev},
+            "summary": f"F_ac/(c_e omega A) is 1 within {dev:.2g} for every test: omega is in rad/s "
+                       f"throughout (the paper's Table 1 needs omega = (pi/10) x its column)."}
 
+
+def _finding_stiffness(g: dict[str, np.ndarray], ids: list[str], model: Any) -> dict[str, Any]:
+    """Finding (c): the dynamic stiffness F_A/A [N/mm] against the model's k_e(x0) [N/mm] (``model`` None: not
+    compared), and the tests whose minimum force F0 − F_A [N] is < 0."""
+    A = g["A"]
     kdyn = g["FA"] / A
     fmin = g["F0"] - g["FA"]
     num_c: dict[str, Any] = {"dynamic_stiffness_FA_over_A_N_per_mm": [float(v) for v in kdyn],
@@ -119,11 +132,15 @@ def audit_results(results: Sequence[TestResult], model: Any = None) -> dict[str,
         text_c = (f"F_A/A is {float(np.min(kdyn / ke)):.3g}-{float(np.max(kdyn / ke)):.3g} x the model's k_e(x0) "
                   f"({getattr(model, 'name', 'model')}). ")
     neg = num_c["tests_with_compressive_minimum"]
-    findings.append({"id": "c", "title": "Dynamic stiffness F_A/A against the model's k_e, and the minimum force",
-                     "numbers": num_c,
-                     "summary": text_c + (f"F0 - F_A < 0 (compression) in test(s) {', '.join(neg)}." if neg else
-                                          f"F0 - F_A >= {float(fmin.min()):.4g} N > 0: no test compresses.")})
+    return {"id": "c", "title": "Dynamic stiffness F_A/A against the model's k_e, and the minimum force",
+            "numbers": num_c,
+            "summary": text_c + (f"F0 - F_A < 0 (compression) in test(s) {', '.join(neg)}." if neg else
+                                 f"F0 - F_A >= {float(fmin.min()):.4g} N > 0: no test compresses.")}
 
+
+def _finding_range(w: np.ndarray, A: np.ndarray, al: list[float]) -> dict[str, Any]:
+    """Finding (d): the tested ranges of ω [rad/s] and A [mm], the stationary points of the fitted Eq. 21 (``al``)
+    and its minimum c_e [N·s/mm] over the tested box."""
     wlo, whi, alo, ahi = float(w.min()), float(w.max()), float(A.min()), float(A.max())
     w_star = -al[1] / (2 * al[0]) if al[0] != 0 else math.inf
     a_star = -al[3] / (2 * al[2]) if al[2] != 0 else math.inf
@@ -131,35 +148,40 @@ def audit_results(results: Sequence[TestResult], model: Any = None) -> dict[str,
     cgrid = al[0] * ww ** 2 + al[1] * ww + al[2] * aa ** 2 + al[3] * aa + al[4]
     cmin = float(cgrid.min())
     inside = [n for n, v, lo, hi in (("omega", w_star, wlo, whi), ("A", a_star, alo, ahi)) if lo < v < hi]
-    findings.append({"id": "d", "title": "Range of the tests and the fitted Eq. 21 inside and outside it",
-                     "numbers": {"omega_range_rad_s": [wlo, whi], "A_range_mm": [alo, ahi],
-                                 "stationary_omega_rad_s": w_star, "stationary_A_mm": a_star,
-                                 "stationary_points_inside_range": inside, "min_c_e_fit_in_range": cmin},
-                     "summary": (f"Tests cover omega {wlo:.4g}-{whi:.4g} rad/s and A {alo:.4g}-{ahi:.4g} mm; Eq. 21 "
-                                 f"is stationary at omega = {w_star:.4g} rad/s and A = {a_star:.4g} mm"
-                                 f"{' (inside the tested range: ' + ', '.join(inside) + ')' if inside else ''}; its "
-                                 f"minimum over the tested range is {cmin:.4g} N s/mm"
-                                 f"{' <= 0: unphysical' if cmin <= 0 else ''}. Outside the range it extrapolates.")})
+    return {"id": "d", "title": "Range of the tests and the fitted Eq. 21 inside and outside it",
+            "numbers": {"omega_range_rad_s": [wlo, whi], "A_range_mm": [alo, ahi],
+                        "stationary_omega_rad_s": w_star, "stationary_A_mm": a_star,
+                        "stationary_points_inside_range": inside, "min_c_e_fit_in_range": cmin},
+            "summary": (f"Tests cover omega {wlo:.4g}-{whi:.4g} rad/s and A {alo:.4g}-{ahi:.4g} mm; Eq. 21 "
+                        f"is stationary at omega = {w_star:.4g} rad/s and A = {a_star:.4g} mm"
+                        f"{' (inside the tested range: ' + ', '.join(inside) + ')' if inside else ''}; its "
+                        f"minimum over the tested range is {cmin:.4g} N s/mm"
+                        f"{' <= 0: unphysical' if cmin <= 0 else ''}. Outside the range it extrapolates.")}
 
+
+def _finding_signs(g: dict[str, np.ndarray], ids: list[str]) -> dict[str, Any]:
+    """Finding (e): the tests whose velocity component F_ac [N] or loop energy W [N·mm] is <= 0 (energy generated)."""
     bad = [t for t, f_, e in zip(ids, g["F_ac"], g["W"]) if not (f_ > 0 and e > 0)]
-    findings.append({"id": "e", "title": "Sign of the velocity component F_ac and of the loop energy W",
-                     "numbers": {"F_ac_N": [float(v) for v in g["F_ac"]], "W_Nmm": [float(v) for v in g["W"]],
-                                 "tests_generating_energy": bad},
-                     "summary": (f"F_ac <= 0 or W <= 0 (energy generated) in test(s) {', '.join(bad)}." if bad else
-                                 "F_ac > 0 and W > 0 in every test: the loops dissipate.")})
+    return {"id": "e", "title": "Sign of the velocity component F_ac and of the loop energy W",
+            "numbers": {"F_ac_N": [float(v) for v in g["F_ac"]], "W_Nmm": [float(v) for v in g["W"]],
+                        "tests_generating_energy": bad},
+            "summary": (f"F_ac <= 0 or W <= 0 (energy generated) in test(s) {', '.join(bad)}." if bad else
+                        "F_ac > 0 and W > 0 in every test: the loops dissipate.")}
 
-    ranking = rank_laws(w, A, ce, g["x0"], model=model)
+
+def _finding_laws(w: np.ndarray, A: np.ndarray, ce: np.ndarray, x0: np.ndarray,
+                  model: Any) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """Finding (f): the damping laws ranked by leave-one-test-out error on c_e [N·s/mm] (ω rad/s, A and x0 mm):
+    (the ranking's rows without the fitted laws, the finding)."""
+    ranking = rank_laws(w, A, ce, x0, model=model)
     rows = [{k: v for k, v in r.items() if k != "fitted"} for r in ranking]
     best = rows[0]["law"] if rows else None
     poly = next((r for r in rows if r["law"] == "polynomial"), None)
-    findings.append({"id": "f", "title": "Eq. 21's form against the other laws (leave-one-test-out error)",
-                     "numbers": {"best_law": best, "polynomial_loo_rmse": poly.get("loo_rmse") if poly else None},
-                     "summary": (f"Best law by leave-one-out RMSE: {best}"
-                                 + (f"; Eq. 21 (polynomial) {poly['loo_rmse']:.4g} N s/mm against "
-                                    f"{rows[0]['loo_rmse']:.4g}." if poly and "loo_rmse" in poly else "."))})
-    return {"source": "data", "tests": [r.to_dict() for r in results], "eq28_alpha": al, "eq28": fit,
-            "eq28_column_unit": fit_col, "eq28_alpha_paper": list(EQ28_PAPER), "findings": findings,
-            "ranking": rows}
+    return rows, {"id": "f", "title": "Eq. 21's form against the other laws (leave-one-test-out error)",
+                  "numbers": {"best_law": best, "polynomial_loo_rmse": poly.get("loo_rmse") if poly else None},
+                  "summary": (f"Best law by leave-one-out RMSE: {best}"
+                              + (f"; Eq. 21 (polynomial) {poly['loo_rmse']:.4g} N s/mm against "
+                                 f"{rows[0]['loo_rmse']:.4g}." if poly and "loo_rmse" in poly else "."))}
 
 
 def format_audit_data(rep: dict[str, Any]) -> str:

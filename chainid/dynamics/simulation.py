@@ -19,6 +19,7 @@ import numpy as np
 from chainid.dynamics.drives import Drive
 from chainid.dynamics.energy import balance
 from chainid.dynamics.integrators import run
+from chainid.dynamics.resolution import MIN_STEPS_PER_PERIOD, resolution_warnings  # noqa: F401 (re-export)
 from chainid.dynamics import line_tables
 from chainid.dynamics.model import ChainLine
 
@@ -316,6 +317,20 @@ def simulate(line: ChainLine, drive: Drive, t_end: float, *, dt: float | None = 
     t_end, safety = _checked_inputs(line, drive, t_end, scheme, safety, n_out, substep_levels, refine, max_work,
                                     max_memory)
     dts = stable_step(line, peak_force)
+    dt = _first_step(dt, dts, scheme, safety, t_end, n_out, peak_force)
+    res, prev, eb = _refined_runs(line, drive, t_end, dt, dts, scheme, n_out, initial_u, initial_v, substep_levels,
+                                  max_work, max_memory, refine, peak_force)
+    msgs = _run_messages(line, drive, t_end, scheme, peak_force, refine, strict, res, prev, eb, dt)
+    for m in msgs:
+        warnings.warn(m, RuntimeWarning, stacklevel=2)
+    res.warnings = msgs
+    return res
+
+
+def _first_step(dt: float | None, dts: float, scheme: str, safety: float, t_end: float, n_out: int,
+                peak_force: float | None) -> float:
+    """The first run's step [s]: the given ``dt`` checked (> 0; explicit: at most the stable step ``dts`` [s]), or
+    the default (``safety·dts`` explicit, ``10·dts`` up to t_end/1000 implicit; at most t_end/n_out)."""
     if dt is None:
         dt = safety * dts if scheme == "explicit" else min(10.0 * dts, t_end / 1000.0)
         dt = min(dt, t_end / n_out)
@@ -325,7 +340,16 @@ def simulate(line: ChainLine, drive: Drive, t_end: float, *, dt: float | None = 
             raise _bad("dt", dt, f"0 < dt <= {dts:.6g} s (the explicit stable step at "
                        f"{'peak_force = %g N' % peak_force if peak_force else 'any load'}); "
                        "use a smaller dt or scheme='implicit'")
-    dt0 = dt
+    return dt
+
+
+def _refined_runs(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float, scheme: str, n_out: int,
+                  initial_u: np.ndarray | None, initial_v: np.ndarray | None, substep_levels: int,
+                  max_work: float | None, max_memory: float | None, refine: int,
+                  peak_force: float | None) -> tuple[SimResult, SimResult | None, dict]:
+    """Runs from step ``dt`` [s], halved while a run fails or its energy balance or (slack) peak [N] is not
+    converged, at most ``refine`` times: (the last run with its ``refinements``, the run before it or None, the
+    last run's energy balance); SimulationError when the last attempt fails."""
     prev: SimResult | None = None
     spent = [0.0]  # work done by the runs so far [node-steps] (max_work bounds them all)
     for attempt in range(refine + 1):
@@ -349,11 +373,7 @@ def simulate(line: ChainLine, drive: Drive, t_end: float, *, dt: float | None = 
         prev = res
         dt = res.dt / 2.0
     res.refinements = attempt
-    msgs = _run_messages(line, drive, t_end, scheme, peak_force, refine, strict, res, prev, eb, dt0)
-    for m in msgs:
-        warnings.warn(m, RuntimeWarning, stacklevel=2)
-    res.warnings = msgs
-    return res
+    return res, prev, eb
 
 
 def _checked_inputs(line: ChainLine, drive: Drive, t_end: float, scheme: str, safety: float, n_out: int,
@@ -412,32 +432,6 @@ def _run_messages(line: ChainLine, drive: Drive, t_end: float, scheme: str, peak
         if strict:
             raise SimulationError(f"strict: {msgs[-1]}")
     return msgs
-
-
-#: a periodic drive needs at least this many time steps per period to be followed (the Verlet/Newmark phase
-#: error per period is about (2π/N)²/12: 0.8 % at N = 20), and its output at least 2 samples per period
-MIN_STEPS_PER_PERIOD = 20
-
-
-def resolution_warnings(drive: Drive, pitch: float, dt: float, dt_out: float) -> list[str]:
-    """Warnings when the drive's period (:meth:`Drive.period` [s]) is not resolved by the time step ``dt`` [s]
-    (fewer than :data:`MIN_STEPS_PER_PERIOD` steps) or by the output interval ``dt_out`` [s] (fewer than 2 samples:
-    the stored series alias the drive)."""
-    T = drive.period(pitch)
-    if not math.isfinite(T):
-        return []
-    what = (f"the drive ({drive.law}, ω = {drive.omega:.4g} rad/s" if drive.law == "sine"
-            else f"the drive ({drive.law}, v = {drive.v:.4g} mm/s, one pitch") + f": period {T:.3g} s)"
-    out = []
-    if dt > T / MIN_STEPS_PER_PERIOD:
-        out.append(f"{what} is not resolved by the time step dt = {dt:.3g} s ({T / dt:.3g} steps per period; valid "
-                   f">= {MIN_STEPS_PER_PERIOD}): the chain does not follow the drive and the result is meaningless; "
-                   f"give dt <= {T / MIN_STEPS_PER_PERIOD:.3g} s (--dt) or a slower drive")
-    elif dt_out > T / 2:
-        out.append(f"{what} is sampled every {dt_out:.3g} s by the outputs ({T / dt_out:.3g} per period; valid >= 2): "
-                   "the stored tension series alias the drive (the peak and the energies are computed at every "
-                   "step and are not affected); use a shorter t_end for a resolved series")
-    return out
 
 
 def _run_once(line: ChainLine, drive: Drive, t_end: float, dt: float, dts: float, scheme: str, n_out: int,

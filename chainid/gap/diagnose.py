@@ -65,26 +65,12 @@ def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, stead
     return data, excluded
 
 
-def diagnose(
-    records: Sequence[Any],
-    holdout: Sequence[str],
-    model: Any | None = None,
-    *,
-    effects: Sequence[str] | None = None,
-    max_combo: int = 3,
-    n_bins: int = 64,
-    uncertainty: bool = True,
-    damping_law: str = "auto",
-    allow_compression: bool = False,
-    steady_tol: float | None = None,
-    strict: bool = False,
-    quiet: bool = False,
-    holdout_blocks: int = 0,
-    validate: Sequence[Any] | None = None,
-    mass_kg: float | None = None,
-    resamples: int = 0,
-    seed: int = 0,
-) -> dict[str, Any]:
+def diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None = None, *,
+             effects: Sequence[str] | None = None, max_combo: int = 3, n_bins: int = 64, uncertainty: bool = True,
+             damping_law: str = "auto", allow_compression: bool = False, steady_tol: float | None = None,
+             strict: bool = False, quiet: bool = False, holdout_blocks: int = 0,
+             validate: Sequence[Any] | None = None, mass_kg: float | None = None, resamples: int = 0,
+             seed: int = 0) -> dict[str, Any]:
     """Diagnose the sim-to-real gap of a test series.
 
     Parameters

@@ -78,13 +78,114 @@ def _scaled(a: float, b: float, b_lo: float) -> tuple[float, float]:  # pragma: 
     return s, e - (s - p)
 
 
+@_njit(inline="always", error_model="numpy")
+def _certified(yh: float, yl: float, thr_up: float, thr_lo: float) -> tuple[int, int]:  # pragma: no cover
+    """The fewest of 15, 16, 17 digits that round back to the value: ``y = yh + yl`` (its scaled value, in [1e16,
+    1e17)) rounded to each, the first within ``(-thr_lo, thr_up)`` of ``y`` (its half-gaps scaled alike, less the
+    margin) taken, without a branch: ``(D, tz)``, ``tz`` the trailing zeros known (2 for 15 digits, 1 for 16, else 0);
+    ``D = -1`` when none certifies."""
+    fl = math.floor(yl)
+    yfloor = np.int64(yh) + np.int64(fl)
+    frac = yl - fl
+    lo_ok = -thr_lo + _MARGIN
+    hi_ok = thr_up - _MARGIN
+    r100 = yfloor % 100
+    r10 = r100 % 10
+    d15 = yfloor - r100 + 100 * np.int64((r100 + frac) * 2.0 >= 100.0)
+    d16 = yfloor - r10 + 10 * np.int64((r10 + frac) * 2.0 >= 10.0)
+    d17 = yfloor + np.int64(frac >= 0.5)
+    x15 = float(d15 - yfloor) - frac
+    x16 = float(d16 - yfloor) - frac
+    x17 = float(d17 - yfloor) - frac
+    c15 = np.int64(x15 > lo_ok) & np.int64(x15 < hi_ok)
+    c16 = np.int64(x16 > lo_ok) & np.int64(x16 < hi_ok) & (1 - c15)
+    c17 = np.int64(x17 > lo_ok) & np.int64(x17 < hi_ok) & (1 - c15) & (1 - c16)
+    ok = c15 | c16 | c17
+    return c15 * d15 + c16 * d16 + c17 * d17 - (1 - ok), 2 * c15 + c16
+
+
+@_njit(inline="always", error_model="numpy")
+def _write_17_digits(out: np.ndarray, at: int, d: int, dig2: np.ndarray) -> None:  # pragma: no cover
+    """The 17 digits of ``d`` (< 10^17) at out[at:at+17], by two short division chains of two digits a step."""
+    hi = d // 100000000
+    lo = d - hi * 100000000
+    top = hi // 100000000  # one digit
+    mid = hi - top * 100000000
+    w = at + 15
+    for _ in range(4):
+        q = lo // 100
+        r = lo - q * 100
+        out[w] = dig2[2 * r]
+        out[w + 1] = dig2[2 * r + 1]
+        q2 = mid // 100
+        r2 = mid - q2 * 100
+        out[w - 8] = dig2[2 * r2]
+        out[w - 7] = dig2[2 * r2 + 1]
+        lo = q
+        mid = q2
+        w -= 2
+    out[at] = 48 + top
+
+
+@_njit(inline="always", error_model="numpy")
+def _write_decimal(out: np.ndarray, pos: int, d: int, k: int, tz: int, neg: bool,
+                   dig2: np.ndarray) -> int:  # pragma: no cover
+    """``d·10^-k`` (``-`` first if ``neg``) at out[pos:] in the layout of ``repr`` (trailing zeros dropped, ``tz``
+    of them known); the end position."""
+    if d == 100000000000000000:  # 10^17 after rounding up: the same value as 10^16·10^-(k-1)
+        d = 10000000000000000
+        k -= 1
+    exp10 = 16 - k  # exponent of the leading digit
+    out[pos] = 45
+    pos += np.int64(neg)
+    if -4 <= exp10 < 0:  # 0.000ddd
+        out[pos] = 48
+        out[pos + 1] = 46
+        out[pos + 2] = 48
+        out[pos + 3] = 48
+        out[pos + 4] = 48
+        at = pos + 1 - exp10  # first digit
+    else:
+        at = pos + 1  # digits at pos+1.., the integer part moved left after
+    _write_17_digits(out, at, d, dig2)
+    end = at + 17 - tz
+    while out[end - 1] == 48:
+        end -= 1
+    if exp10 < -4 or exp10 >= 16:  # d.ddde±XX (as repr)
+        out[pos] = out[pos + 1]
+        out[pos + 1] = 46
+        pos = end if end > pos + 2 else pos + 1
+        out[pos] = 101
+        out[pos + 1] = 43 + 2 * np.int64(exp10 < 0)
+        pos += 2
+        ex = abs(exp10)
+        if ex >= 100:
+            out[pos] = 48 + ex // 100
+            pos += 1
+        out[pos] = 48 + (ex // 10) % 10
+        out[pos + 1] = 48 + ex % 10
+        pos += 2
+    elif exp10 >= 0:  # ddd.ddd
+        for j in range(exp10 + 1):
+            out[pos + j] = out[pos + 1 + j]
+        dot = pos + exp10 + 1
+        out[dot] = 46
+        pos = max(end, dot + 2)  # at least one fraction digit: the 0 of 20000.0 is still there
+    else:
+        pos = end
+    return pos
+
+
 @_njit(nogil=True, error_model="numpy")
 def _format_block(cols: np.ndarray, bits: np.ndarray, prefix: np.ndarray, out: np.ndarray, pos: int, i0: int,
                   i1: int, ovr: np.ndarray, ovr_text: np.ndarray, ovr_start: np.ndarray, p_hi: np.ndarray,
                   p_lo: np.ndarray, pow2: np.ndarray, dig2: np.ndarray) -> int:  # pragma: no cover
-    """Rows i0..i1-1 at out[pos:]; the end position.  All per-value work is inline in this one loop: an array
-    handed to an inlined numba helper costs an atomic reference count per call (~40 ns a value here), and the
-    choice among the candidates is branch-free (random data would mispredict every branch)."""
+    """Rows i0..i1-1 at out[pos:]; the end position.  Per value: its scaling to [1e16, 1e17) here, the certified
+    decimal (:func:`_certified`) and its text (:func:`_write_decimal`) in helpers numba inlines into this one loop.
+    The tables are read here, not in a helper: an array handed to an inlined helper that branches costs an atomic
+    reference count per call (~40 ns a value here); the text's helpers take ``out`` and ``dig2`` at no such cost (the
+    machine code is that of the single loop).  The choice among the candidates is branch-free (random data would
+    mispredict every branch)."""
     nc = cols.shape[0]
     for i in range(i0, i1):
         for j in range(prefix.size):
@@ -124,90 +225,15 @@ def _format_block(cols: np.ndarray, bits: np.ndarray, prefix: np.ndarray, out: n
                 elif yh < 1e16 or (yh == 1e16 and yl < 0.0):
                     k += 1
                     yh, yl = _scaled(a, p_hi[k - _KMIN], p_lo[k - _KMIN])
-                fl = math.floor(yl)
-                yfloor = np.int64(yh) + np.int64(fl)
-                frac = yl - fl
                 thr_up = p_hi[k - _KMIN] * pow2[e2 - 53 + 1100]  # ulp(a)/2 · 10^k
                 thr_lo = thr_up * (0.5 if (bt & 0xFFFFFFFFFFFFF) == 0 else 1.0)  # a power of two: half gap below
-                lo_ok = -thr_lo + _MARGIN
-                hi_ok = thr_up - _MARGIN
-                r100 = yfloor % 100
-                r10 = r100 % 10
-                d15 = yfloor - r100 + 100 * np.int64((r100 + frac) * 2.0 >= 100.0)
-                d16 = yfloor - r10 + 10 * np.int64((r10 + frac) * 2.0 >= 10.0)
-                d17 = yfloor + np.int64(frac >= 0.5)
-                x15 = float(d15 - yfloor) - frac
-                x16 = float(d16 - yfloor) - frac
-                x17 = float(d17 - yfloor) - frac
-                c15 = np.int64(x15 > lo_ok) & np.int64(x15 < hi_ok)
-                c16 = np.int64(x16 > lo_ok) & np.int64(x16 < hi_ok) & (1 - c15)
-                c17 = np.int64(x17 > lo_ok) & np.int64(x17 < hi_ok) & (1 - c15) & (1 - c16)
-                ok = c15 | c16 | c17
-                d = c15 * d15 + c16 * d16 + c17 * d17 - (1 - ok)
-                tz = 2 * c15 + c16
+                d, tz = _certified(yh, yl, thr_up, thr_lo)
                 if d < 0:
                     ovr[i * nc + c] = -2  # nothing written: formatted again with repr's text
             else:
                 ovr[i * nc + c] = -2
-            if d >= 0:  # d·10^-k, written in place: 17 digits by two short division chains, then the point
-                if d == 100000000000000000:  # 10^17 after rounding up: the same value as 10^16·10^-(k-1)
-                    d = 10000000000000000
-                    k -= 1
-                exp10 = 16 - k  # exponent of the leading digit
-                out[pos] = 45
-                pos += np.int64(bt < 0)
-                if -4 <= exp10 < 0:  # 0.000ddd
-                    out[pos] = 48
-                    out[pos + 1] = 46
-                    out[pos + 2] = 48
-                    out[pos + 3] = 48
-                    out[pos + 4] = 48
-                    at = pos + 1 - exp10  # first digit
-                else:
-                    at = pos + 1  # digits at pos+1.., the integer part moved left after
-                hi = d // 100000000
-                lo = d - hi * 100000000
-                top = hi // 100000000  # one digit
-                mid = hi - top * 100000000
-                w = at + 15
-                for _ in range(4):
-                    q = lo // 100
-                    r = lo - q * 100
-                    out[w] = dig2[2 * r]
-                    out[w + 1] = dig2[2 * r + 1]
-                    q2 = mid // 100
-                    r2 = mid - q2 * 100
-                    out[w - 8] = dig2[2 * r2]
-                    out[w - 7] = dig2[2 * r2 + 1]
-                    lo = q
-                    mid = q2
-                    w -= 2
-                out[at] = 48 + top
-                end = at + 17 - tz
-                while out[end - 1] == 48:
-                    end -= 1
-                if exp10 < -4 or exp10 >= 16:  # d.ddde±XX (as repr)
-                    out[pos] = out[pos + 1]
-                    out[pos + 1] = 46
-                    pos = end if end > pos + 2 else pos + 1
-                    out[pos] = 101
-                    out[pos + 1] = 43 + 2 * np.int64(exp10 < 0)
-                    pos += 2
-                    ex = abs(exp10)
-                    if ex >= 100:
-                        out[pos] = 48 + ex // 100
-                        pos += 1
-                    out[pos] = 48 + (ex // 10) % 10
-                    out[pos + 1] = 48 + ex % 10
-                    pos += 2
-                elif exp10 >= 0:  # ddd.ddd
-                    for j in range(exp10 + 1):
-                        out[pos + j] = out[pos + 1 + j]
-                    dot = pos + exp10 + 1
-                    out[dot] = 46
-                    pos = max(end, dot + 2)  # at least one fraction digit: the 0 of 20000.0 is still there
-                else:
-                    pos = end
+            if d >= 0:  # d·10^-k, written in place
+                pos = _write_decimal(out, pos, d, k, tz, bt < 0, dig2)
         out[pos] = 10
         pos += 1
     return pos

@@ -32,22 +32,9 @@ from chainid.model.laws import DampingLaw
 from chainid.model.predict import inertia_force_N
 from chainid.records.files import Record
 
-__all__ = [
-    "TestSpec",
-    "ForceHook",
-    "PAPER_RAMP_RATE",
-    "OMEGA_COLUMN_TO_RAD_S",
-    "paper_plan",
-    "read_plan",
-    "write_plan",
-    "model_force",
-    "simulate_test",
-    "simulate",
-    "DEFAULT_MAX_MEMORY",
-    "n_samples",
-    "estimate_memory",
-    "simulate_model",
-]
+__all__ = ["TestSpec", "ForceHook", "PAPER_RAMP_RATE", "OMEGA_COLUMN_TO_RAD_S", "paper_plan", "read_plan",
+           "write_plan", "model_force", "simulate_test", "simulate", "DEFAULT_MAX_MEMORY", "n_samples",
+           "estimate_memory", "simulate_model"]
 
 #: Ramp rate of the paper's Eq. 25 [mm/s].
 PAPER_RAMP_RATE = 0.08973
@@ -214,9 +201,13 @@ def write_plan(path: str | Path, plan: Sequence[TestSpec], overwrite: bool = Fal
 
 
 def _damping(law_or_ce: DampingLaw | float, spec: TestSpec) -> float:
-    if isinstance(law_or_ce, DampingLaw):
-        return float(law_or_ce.predict(spec.omega, spec.A, spec.x0)[0])
-    return float(law_or_ce)
+    """c_e [N·s/mm] of the law at the test's (omega, A, x0), or the constant; ValueError unless finite."""
+    w, x0, A = spec.omega, spec.x0, spec.A
+    c_e = float(law_or_ce.predict(w, A, x0)[0] if isinstance(law_or_ce, DampingLaw) else law_or_ce)
+    if not math.isfinite(c_e):
+        raise ValueError(f"test {spec.test!r}: the damping law gives c_e = {c_e!r} N·s/mm at omega = {w:g} rad/s, "
+                         f"A = {A:g} mm, x0 = {x0:g} mm: valid range finite (check the law parameters)")
+    return c_e
 
 
 def model_force(
@@ -252,22 +243,53 @@ def _envelope(tau: np.ndarray, T: float, n_cycles: float, taper_cycles: float) -
     return e, de
 
 
-def simulate_test(
-    spec: TestSpec,
-    model: Any,
-    law_or_ce: DampingLaw | float,
-    *,
-    n_cycles: float = 6,
-    samples_per_cycle: int = 200,
-    ramp_rate: float | None = None,
-    taper_cycles: float = 0.0,
-    noise_x: float = 0.0,
-    noise_F: float = 0.0,
-    rng: np.random.Generator | int | None = None,
-    force_fn: ForceHook | None = None,
-    mass_kg: float | None = None,
-    allow_compression: bool | None = None,
-) -> Record:
+def _planned_motion(spec: TestSpec, n_cycles: float, samples_per_cycle: int, ramp_rate: float | None,
+                    taper_cycles: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Planned motion at dt = T / samples_per_cycle (ramp, tapered oscillation): t [s], x [mm], ẋ [mm/s], ẍ [mm/s²]."""
+    w, x0, A = spec.omega, spec.x0, spec.A
+    T = 2 * math.pi / w
+    dt = T / samples_per_cycle
+    t0 = x0 / ramp_rate if ramp_rate is not None else 0.0
+    n = int(round((t0 + n_cycles * T) / dt))
+    t = np.arange(n) * dt
+    tau = t - t0
+    e, de = _envelope(tau, T, n_cycles, taper_cycles)
+    s, c = np.sin(w * tau), np.cos(w * tau)
+    osc = tau > 0
+    x = np.where(osc, x0 + A * e * s, (ramp_rate or 0.0) * t)
+    xdot = np.where(osc, A * (e * w * c + de * s), (ramp_rate or 0.0))
+    xddot = np.where(osc, A * (-e * w * w * s + 2 * de * w * c), 0.0)
+    if ramp_rate is None:
+        x = np.where(osc, x, x0)
+    return t, x, xdot, xddot
+
+
+def _check_force(spec: TestSpec, model: Any, t: np.ndarray, x: np.ndarray, F: np.ndarray,
+                 allow_compression: bool | None) -> None:
+    """ValueError where the noise-free force F [N] (at t [s], x [mm]) is not finite, or < 0 where a chain is slack."""
+    bad = ~np.isfinite(F)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"test {spec.test!r}: the simulated force is {float(F[i])!r} N at t = {t[i]:.6g} s "
+                         f"(x = {x[i]:.6g} mm): valid range finite (check the law parameters and the effect)")
+    if allow_compression is None:
+        allow_compression = not _is_chain(model)
+    if not allow_compression and F.min() < 0:
+        # a taut chain's force can dip below zero through its damping and inertia (the spring stays in tension);
+        # where the chain is slack (F_k = 0) nothing is transmitted, so a force there is the model's artefact
+        slack = (F < 0) & (np.asarray(model.force(x), dtype=float) <= 0)
+        if slack.any():
+            i = int(np.argmin(np.where(slack, F, np.inf)))
+            raise ValueError(f"test {spec.test!r}: the force goes compressive where the chain is slack (F = "
+                             f"{F[i]:.6g} N at x = {x[i]:.6g} mm, F_k = 0; x0 = {spec.x0:g} mm, A = {spec.A:g} mm): a "
+                             f"slack chain transmits nothing, valid range A < x0 (or a linear model, --model linear)")
+
+
+def simulate_test(spec: TestSpec, model: Any, law_or_ce: DampingLaw | float, *, n_cycles: float = 6,
+                  samples_per_cycle: int = 200, ramp_rate: float | None = None, taper_cycles: float = 0.0,
+                  noise_x: float = 0.0, noise_F: float = 0.0, rng: np.random.Generator | int | None = None,
+                  force_fn: ForceHook | None = None, mass_kg: float | None = None,
+                  allow_compression: bool | None = None) -> Record:
     """Simulate one harmonic test.
 
     Parameters
@@ -314,46 +336,14 @@ def simulate_test(
     """
     _check_options(n_cycles, samples_per_cycle, ramp_rate, taper_cycles, noise_x, noise_F, mass_kg)
     gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-    w, x0, A = spec.omega, spec.x0, spec.A
-    T = 2 * math.pi / w
-    dt = T / samples_per_cycle
-    t0 = x0 / ramp_rate if ramp_rate is not None else 0.0
-    n = int(round((t0 + n_cycles * T) / dt))
-    t = np.arange(n) * dt
-    tau = t - t0
-    e, de = _envelope(tau, T, n_cycles, taper_cycles)
-    s, c = np.sin(w * tau), np.cos(w * tau)
-    osc = tau > 0
-    x = np.where(osc, x0 + A * e * s, (ramp_rate or 0.0) * t)
-    xdot = np.where(osc, A * (e * w * c + de * s), (ramp_rate or 0.0))
-    xddot = np.where(osc, A * (-e * w * w * s + 2 * de * w * c), 0.0)
-    if ramp_rate is None:
-        x = np.where(osc, x, x0)
+    t, x, xdot, xddot = _planned_motion(spec, n_cycles, samples_per_cycle, ramp_rate, taper_cycles)
     c_e = _damping(law_or_ce, spec)
-    if not math.isfinite(c_e):
-        raise ValueError(f"test {spec.test!r}: the damping law gives c_e = {c_e!r} N·s/mm at omega = {w:g} rad/s, "
-                         f"A = {A:g} mm, x0 = {x0:g} mm: valid range finite (check the law parameters)")
     F = model_force(x, xdot, xddot, model, c_e, mass_kg)
     if force_fn is not None:
         F = np.asarray(force_fn(t, x, xdot, xddot, F), dtype=float)
         if F.shape != t.shape:
             raise ValueError(f"force_fn returned shape {F.shape}; expected {t.shape}")
-    bad = ~np.isfinite(F)
-    if bad.any():
-        i = int(np.argmax(bad))
-        raise ValueError(f"test {spec.test!r}: the simulated force is {float(F[i])!r} N at t = {t[i]:.6g} s "
-                         f"(x = {x[i]:.6g} mm): valid range finite (check the law parameters and the effect)")
-    if allow_compression is None:
-        allow_compression = not _is_chain(model)
-    if not allow_compression and F.min() < 0:
-        # a taut chain's force can dip below zero through its damping and inertia (the spring stays in tension);
-        # where the chain is slack (F_k = 0) nothing is transmitted, so a force there is the model's artefact
-        slack = (F < 0) & (np.asarray(model.force(x), dtype=float) <= 0)
-        if slack.any():
-            i = int(np.argmin(np.where(slack, F, np.inf)))
-            raise ValueError(f"test {spec.test!r}: the force goes compressive where the chain is slack (F = "
-                             f"{F[i]:.6g} N at x = {x[i]:.6g} mm, F_k = 0; x0 = {x0:g} mm, A = {A:g} mm): a slack "
-                             f"chain transmits nothing, valid range A < x0 (or a linear model, --model linear)")
+    _check_force(spec, model, t, x, F, allow_compression)
     xm = x + (gen.normal(0.0, noise_x, t.size) if noise_x > 0 else 0.0)
     Fm = F + (gen.normal(0.0, noise_F, t.size) if noise_F > 0 else 0.0)
     return Record(spec.test, t, xm, Fm)

@@ -243,14 +243,23 @@ def select_steady(
         raise ValueError(f"steady tolerance rel_tol = {rel_tol!r} is invalid: must be in (0, 1) (e.g. 0.03 = 3 %)")
     stats = _cycle_stats(t, x, omega, theta)
     if rel_tol is not None:
-        win = _select_with_tol(t, stats, rel_tol, drop_first, drift_tol)
-        win.n_cycles_start = win.n_cycles
-        win.requested_tol = rel_tol
-        win.scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
-        win.reason = "tolerance given"
-        return win
-    scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
-    tol0 = steady_tolerance(scatter)
+        return _select_given(t, stats, rel_tol, drop_first, drift_tol)
+    return _select_adaptive(t, stats, drop_first, drift_tol)
+
+
+def _select_given(t: np.ndarray, stats: tuple, rel_tol: float, drop_first: bool,
+                  drift_tol: float | None) -> SteadyWindow:
+    """:func:`select_steady` at the given tolerance ``rel_tol`` (a fraction), with the record's scatter noted."""
+    win = _select_with_tol(t, stats, rel_tol, drop_first, drift_tol)
+    win.n_cycles_start = win.n_cycles
+    win.requested_tol = rel_tol
+    win.scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
+    win.reason = "tolerance given"
+    return win
+
+
+def _tolerance_reason(scatter: float, tol0: float) -> str:
+    """Why the adaptive tolerance ``tol0`` (a fraction) is what it is: the scatter's multiple, the floor or the cap."""
     why = (f"4 x cycle-to-cycle scatter {100 * scatter:.3g} %" if math.isfinite(scatter)
            else f"too few cycles to measure the scatter (< {MIN_TRIPLES + 2} on the plateau)")
     if not math.isfinite(scatter):
@@ -259,6 +268,15 @@ def select_steady(
         why = f"floor {100 * TOL_FLOOR:g} % ({why} is smaller)"
     elif tol0 >= TOL_MAX:
         why = f"cap {100 * TOL_MAX:g} % ({why})"
+    return why
+
+
+def _select_adaptive(t: np.ndarray, stats: tuple, drop_first: bool, drift_tol: float | None) -> SteadyWindow:
+    """:func:`select_steady` at the tolerance from the record's scatter (:func:`steady_tolerance`), widened by
+    factors of 1.5 up to :data:`TOL_MAX` while fewer than :data:`MIN_KEPT` cycles are kept."""
+    scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
+    tol0 = steady_tolerance(scatter)
+    why = _tolerance_reason(scatter, tol0)
     win = _select_with_tol(t, stats, tol0, drop_first, drift_tol)
     win.reason = f"tolerance from the record: {why}"
     n_start = win.n_cycles
