@@ -31,6 +31,7 @@ __all__ = ["audit_records", "audit_results", "format_audit_data"]
 
 
 def _fit(omega: np.ndarray, A: np.ndarray, ce: np.ndarray, scale: float) -> dict[str, Any]:
+    """The polynomial law c_e(ω·scale, A) [N·s/mm] (Eq. 21) fitted to the tests, as the audit's JSON rows."""
     f = fit_law(PolynomialLaw(), omega * scale, A, ce)
     return {"omega_scale": scale, "alpha": [float(v) for v in f.params],
             "alpha_normal_equations": [float(v) for v in f.params_normal], "stderr": [float(v) for v in f.stderr],

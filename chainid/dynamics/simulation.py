@@ -61,6 +61,7 @@ def _number(name: str, value: object, valid: str, positive: bool = True) -> floa
 
 
 def _bad(name: str, value: object, valid: str) -> ValueError:
+    """The error for an invalid input: its name, its value and the valid range."""
     return ValueError(f"{name} = {value!r} is invalid: valid range {valid}")
 
 

@@ -45,6 +45,8 @@ def fit_linear_model(records: Sequence[Any], holdout: Sequence[str], mass_kg: fl
 
 def _prepare(records: Sequence[Any], n_bins: int, allow_compression: bool, steady_tol: float | None,
              strict: bool) -> tuple[list[Any], list[dict[str, str]]]:
+    """The harmonic tests prepared for the phase-bin route (``prepare_test``) and the records left out, each with
+    its reason: a broadband record (its data checked) or an unusable test (an error with ``strict``)."""
     from chainid.gap.core.noise import is_broadband
 
     data, excluded = [], []

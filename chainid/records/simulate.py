@@ -145,6 +145,7 @@ MAX_PLAN_TESTS = 10_000
 
 
 def _too_many(n: int, where: str) -> ValueError:
+    """The error for a plan of ``n`` tests, above the bound of one series."""
     return ValueError(f"{where}: the plan has {n} tests: valid range <= {MAX_PLAN_TESTS} tests in one series; split "
                       "the plan into several series")
 
@@ -433,6 +434,7 @@ def _check_options(n_cycles: Any, samples_per_cycle: Any, ramp_rate: Any, taper_
 
 
 def _is_chain(model: Any) -> bool:
+    """Whether ``model`` is a chain (its force is tension only)."""
     from chainid.model.base import ChainModel
 
     return isinstance(model, ChainModel)
