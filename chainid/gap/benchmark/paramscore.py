@@ -7,8 +7,8 @@ the diagnosis estimates (``effect.param`` in the row's ``params``) is compared w
 normal interval); no interval, no coverage.  The scores are pooled per parameter (:func:`param_table`) and per effect
 (:func:`coverage_by_effect`): the calibration table of the 90 % intervals (calibrated: 85–95 %).  The parameters of
 one case share its data, so a family's coverage is as uncertain as its number of cases says, not its number of
-intervals: its 95 % range is Wilson's score interval of the share over the cases (:func:`rate_range`), and a rate
-outside 85–95 % whose range holds 90 % is a deviation those cases cannot tell from calibration.
+intervals: its 95 % range is the exact (Clopper–Pearson) interval of the share over the cases (:func:`rate_range`),
+and a rate outside 85–95 % whose range holds 90 % is a deviation those cases cannot tell from calibration.
 
 A truth is ``{"effects": {effect: {param: value}}}``, optionally with ``covariate`` (the ODE world: a parameter
 that follows an operating condition is compared with its law at the mean condition).
@@ -22,15 +22,13 @@ from typing import Any, Iterable
 
 import numpy as np
 
-__all__ = ["CANONICAL", "Z90", "Z95", "param_scores", "pool_scores", "param_table", "coverage_by_effect",
+__all__ = ["CANONICAL", "Z90", "param_scores", "pool_scores", "param_table", "coverage_by_effect",
            "coverage_lines", "rate_range", "range_text", "calibration_mark"]
 
 #: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
 CANONICAL = {"machine_compliance": "stiffness_level"}
 #: z of a two-sided 90 % normal interval
 Z90 = 1.6448536269514722
-#: z of a two-sided 95 % normal interval (the range of a coverage rate)
-Z95 = 1.959963984540054
 #: the nominal level of the intervals under calibration, and the band that counts as calibrated
 NOMINAL, BAND = 0.90, (0.85, 0.95)
 
@@ -90,15 +88,27 @@ def pool_scores(scores: Iterable[list[dict[str, Any]]]) -> dict[str, list[dict[s
     return dict(sorted(ps.items()))
 
 
-def rate_range(rate: float, n: float, z: float = Z95) -> tuple[float, float]:
-    """Wilson's score interval [lo, hi] of a share ``rate`` observed over ``n`` independent trials (two-sided, at
-    the level of ``z``; ``n`` > 0; a pooled share of several parameters per case is taken over its cases)."""
-    if not n > 0 or not 0.0 <= rate <= 1.0:
-        raise ValueError(f"rate_range: rate = {rate!r} must be in [0, 1] and n = {n!r} > 0")
-    d = 1.0 + z * z / n
-    centre = (rate + z * z / (2.0 * n)) / d
-    half = z * np.sqrt(rate * (1.0 - rate) / n + z * z / (4.0 * n * n)) / d
-    return max(0.0, float(centre - half)), min(1.0, float(centre + half))
+def rate_range(rate: float, n: float, level: float = 0.95) -> tuple[float, float]:
+    """The exact (Clopper–Pearson) two-sided interval [lo, hi] at ``level`` of a share ``rate`` observed over ``n``
+    independent trials: the Beta quantiles lo = B⁻¹((1−level)/2; k, n−k+1), hi = B⁻¹((1+level)/2; k+1, n−k) with
+    k = rate·n (lo = 0 at k = 0, hi = 1 at k = n; a pooled share of several parameters per case gives a k that need
+    not be whole).  It never claims more than the trials show, also for a handful of cases, where the normal-theory
+    (Wald, Wilson) intervals are too narrow at the ends: 0 of 1 gives 0–97.5 %, not Wilson's 0–79 %.
+
+    Raises
+    ------
+    ValueError
+        ``rate`` outside [0, 1], ``n`` not > 0, or ``level`` outside (0, 1).
+    """
+    from scipy.stats import beta
+
+    if not n > 0 or not 0.0 <= rate <= 1.0 or not 0.0 < level < 1.0:
+        raise ValueError(f"rate_range: rate = {rate!r} must be in [0, 1] and n = {n!r} > 0 (level = {level!r} in "
+                         "(0, 1))")
+    k, tail = rate * n, (1.0 - level) / 2.0
+    lo = 0.0 if k <= 0.0 else float(beta.ppf(tail, k, n - k + 1.0))
+    hi = 1.0 if k >= n else float(beta.ppf(1.0 - tail, k + 1.0, n - k))
+    return lo, hi
 
 
 def _median_rel(v: list[dict[str, Any]]) -> float | None:

@@ -1,6 +1,6 @@
-"""A family's interval coverage is as uncertain as its number of cases: Wilson's score interval of the share over
-the cases (the parameters of one case share its data), and the calibration mark that says whether a rate outside
-85–95 % is a deviation those cases can show."""
+"""A family's interval coverage is as uncertain as its number of cases: the exact (Clopper–Pearson) interval of
+the share over the cases (the parameters of one case share its data), and the calibration mark that says whether
+a rate outside 85–95 % is a deviation those cases can show."""
 from __future__ import annotations
 
 import math
@@ -10,25 +10,40 @@ import pytest
 from chainid.gap.benchmark.paramscore import calibration_mark, coverage_by_effect, pool_scores, rate_range
 
 
-def test_wilson_interval_matches_the_textbook_values():
-    # Wilson (1927) / Newcombe (1998), 95 %: 8 of 10 -> 0.4902-0.9433; 0 of 10 -> 0-0.2775; 81 of 263 -> 0.2553-0.3662
-    assert rate_range(0.8, 10) == pytest.approx((0.4902, 0.9433), abs=1e-4)
-    assert rate_range(0.0, 10) == pytest.approx((0.0, 0.2775), abs=1e-4)
-    assert rate_range(81 / 263, 263) == pytest.approx((0.2553, 0.3662), abs=1e-4)
+def test_exact_interval_matches_the_textbook_values():
+    # Clopper & Pearson (1934), 95 %: 8 of 10 -> 0.4439-0.9748, the Beta quantiles B(0.025; 8, 3), B(0.975; 9, 2)
+    assert rate_range(0.8, 10) == pytest.approx((0.4439, 0.9748), abs=1e-4)
+    # another implementation: scipy's exact binomial test
+    from scipy.stats import binomtest
+
+    for k, n in ((81, 263), (3, 7), (29, 32)):
+        ci = binomtest(k, n).proportion_ci(confidence_level=0.95, method="exact")
+        assert rate_range(k / n, n) == pytest.approx((ci.low, ci.high), rel=1e-9)
 
 
-def test_the_range_is_the_closed_form_at_another_level():
-    z = 1.6448536269514722  # 90 %
-    p, n = 0.75, 12.0
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z / (1 + z * z / n) * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
-    assert rate_range(p, n, z) == pytest.approx((centre - half, centre + half), rel=1e-12)
+@pytest.mark.parametrize("n", [1, 4, 10, 60])
+def test_all_or_none_of_the_cases_have_the_closed_form(n):
+    """k = n: lo = (α/2)^(1/n), hi = 1; k = 0: lo = 0, hi = 1 − (α/2)^(1/n); at 95 % and at 90 %."""
+    for level in (0.95, 0.90):
+        a2 = (1 - level) / 2
+        assert rate_range(1.0, n, level) == pytest.approx((a2 ** (1 / n), 1.0), rel=1e-9)
+        assert rate_range(0.0, n, level) == pytest.approx((0.0, 1 - a2 ** (1 / n)), rel=1e-9)
 
 
-@pytest.mark.parametrize("rate, n", [(1.2, 10), (-0.1, 10), (0.5, 0), (math.nan, 5)])
-def test_a_rate_out_of_range_or_no_trial_is_refused(rate, n):
-    with pytest.raises(ValueError, match=r"rate_range: rate = .* must be in \[0, 1\] and n = .* > 0"):
-        rate_range(rate, n)
+def test_one_missed_case_does_not_refute_ninety_percent():
+    """0 of 1 happens one time in ten for a calibrated interval: its range reaches 97.5 % and the mark is
+    ``low``, not ``LOW`` (Wilson's 0–79 % would have called it refuted)."""
+    lo, hi = rate_range(0.0, 1)
+    assert (lo, hi) == pytest.approx((0.0, 0.975), abs=1e-12)
+    cov = coverage_by_effect(pool_scores(_scores([[False]])))["deadband"]
+    assert cov["consistent"] is True and calibration_mark(cov) == "low"
+
+
+@pytest.mark.parametrize("rate, n, level", [(1.2, 10, 0.95), (-0.1, 10, 0.95), (0.5, 0, 0.95), (math.nan, 5, 0.95),
+                                           (0.5, 10, 1.0), (0.5, 10, 0.0)])
+def test_a_rate_out_of_range_or_no_trial_is_refused(rate, n, level):
+    with pytest.raises(ValueError, match=r"rate_range: rate = .* must be in \[0, 1\] and n = .* > 0 \(level"):
+        rate_range(rate, n, level)
 
 
 def _scores(case_cover: list[list[bool]]) -> list[list[dict]]:
@@ -40,14 +55,13 @@ def _scores(case_cover: list[list[bool]]) -> list[list[dict]]:
 def test_parameters_of_one_case_count_once():
     cov = coverage_by_effect(pool_scores(_scores([[True] * 4] * 4)))["deadband"]
     assert (cov["n_interval"], cov["covered"], cov["n_cases"]) == (16, 16, 4)
-    # 100 % on 4 cases: Wilson's range reaches down to 51 %, so 90 % is consistent with it
-    assert cov["coverage_range95"] == pytest.approx(list(rate_range(1.0, 4)), rel=1e-12)
-    assert cov["coverage_range95"][0] == pytest.approx(0.5101, abs=1e-4)
+    # 100 % on 4 cases: the exact range reaches down to 0.025^(1/4) = 39.8 %, so 90 % is consistent with it
+    assert cov["coverage_range95"] == pytest.approx([0.025 ** 0.25, 1.0], rel=1e-9)
     assert cov["consistent"] is True and calibration_mark(cov) == "high"
 
 
 def test_a_rate_many_cases_refute_is_marked_in_capitals():
-    cov = coverage_by_effect(pool_scores(_scores([[True]] * 60)))["deadband"]  # 60 of 60: 94-100 %
+    cov = coverage_by_effect(pool_scores(_scores([[True]] * 60)))["deadband"]  # 60 of 60: 94.0-100 %
     assert cov["consistent"] is False and calibration_mark(cov) == "HIGH"
     low = coverage_by_effect(pool_scores(_scores([[True]] * 30 + [[False]] * 30)))["deadband"]
     assert calibration_mark(low) == "LOW"

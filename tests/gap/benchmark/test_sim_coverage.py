@@ -176,13 +176,15 @@ def test_summary_text_and_json_carry_the_coverage_table():
     assert "90 % intervals (50 resamples)" in text
     table = text.split("90 % intervals (50 resamples)", 1)[1].splitlines()
     line = next(ln for ln in table if ln.strip().startswith("friction"))
-    # intervals, covered, cases, rate; 1 of 3 cases: Wilson's range 6-79 % does not hold 90 %
-    assert line.split()[:5] == ["friction", "3", "1", "3", "33"] and "6-79 %" in line and "LOW" in line
+    # intervals, covered, cases, rate; 1 of 3 cases: the exact range B(0.025; 1, 3)-B(0.975; 2, 2) = 0.8-90.6 %
+    # still holds 90 % (three cases cannot refute it), so the rate is low, not refuted
+    assert line.split()[:5] == ["friction", "3", "1", "3", "33"] and "1-91 %" in line
+    assert line.split("1-91 %", 1)[1].split()[0] == "low"
     assert "20.0 %" in line
     line = next(ln for ln in table if ln.strip().startswith("stiffness_level "))
-    # 1 of 1 case: its range (21-100 %) holds 90 %, so the rate is outside the band but not refuted
-    assert line.split()[:5] == ["stiffness_level", "1", "1", "1", "100"] and "21-100 %" in line
-    assert line.split("21-100 %", 1)[1].split()[0] == "high"
+    # 1 of 1 case: its range (0.025^1 = 2.5 % to 100 %, printed 3-100 %) holds 90 %: outside the band, not refuted
+    assert line.split()[:5] == ["stiffness_level", "1", "1", "1", "100"] and "3-100 %" in line
+    assert line.split("3-100 %", 1)[1].split()[0] == "high"
 
 
 @pytest.mark.slow
