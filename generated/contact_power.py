@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
 # variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
-# derivation source hash: 6ae63232cad9069f
+# derivation source hash: b8c5f78c1b5fa634
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 VARIANT = "contact_power"
-SOURCE_HASH = "6ae63232cad9069f"
+SOURCE_HASH = "b8c5f78c1b5fa634"
 SYMPY_VERSION = "1.14.0"
 
 
@@ -34,7 +34,8 @@ def displacement(F, c_lin, c_hertz, beta):
 def force_near(x, c_lin, c_hertz, beta, s_guess):
     """Tension F_k [N] at elongation x [mm], Newton in s = ln F started at s_guess (NaN: none) or the upper
     bound, whichever is lower.  From below the root one step lands above it (h is convex); every iterate is
-    kept under the bound, so from there it falls monotonically to the root."""
+    kept under the bound, so from there it falls monotonically to the root.  It stops at a step of a few ulp of
+    s (relative, not absolute: at |s| > 4 an absolute 1e-15 is below one ulp and the rounding kept it going)."""
     if x != x:
         return math.nan
     if x <= 0.0:
@@ -50,7 +51,7 @@ def force_near(x, c_lin, c_hertz, beta, s_guess):
         G = math.exp(beta * s)
         step = (F*c_lin + G*c_hertz - x)/(F*c_lin + G*beta*c_hertz)
         s = min(s - step, s_hi)
-        if abs(step) <= 1e-15:
+        if abs(step) <= 1e-15 * max(1.0, abs(s)):  # a few ulp of s: F to ~1e-15 relative
             break
     return math.exp(s)
 
