@@ -334,7 +334,8 @@ def force_near(x, c_lin, c_hertz, beta, s_guess):
     """Tension F_k [N] at elongation x [mm], Newton in s = ln F started at s_guess (NaN: none) or the upper
     bound, whichever is lower.  From below the root one step lands above it (h is convex); every iterate is
     kept under the bound, so from there it falls monotonically to the root.  It stops at a step of a few ulp of
-    s (relative, not absolute: at |s| > 4 an absolute 1e-15 is below one ulp and the rounding kept it going)."""
+    s (relative, not absolute: an absolute 1e-15 is one ulp of s at 4 <= |s| < 8 and below one beyond, so the
+    rounding kept it going)."""
     if x != x:
         return math.nan
     if x <= 0.0:

@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
 # variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
-# derivation source hash: b8c5f78c1b5fa634
+# derivation source hash: a46d068e7c4b88a7
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 VARIANT = "contact_power"
-SOURCE_HASH = "b8c5f78c1b5fa634"
+SOURCE_HASH = "a46d068e7c4b88a7"
 SYMPY_VERSION = "1.14.0"
 
 
@@ -35,7 +35,8 @@ def force_near(x, c_lin, c_hertz, beta, s_guess):
     """Tension F_k [N] at elongation x [mm], Newton in s = ln F started at s_guess (NaN: none) or the upper
     bound, whichever is lower.  From below the root one step lands above it (h is convex); every iterate is
     kept under the bound, so from there it falls monotonically to the root.  It stops at a step of a few ulp of
-    s (relative, not absolute: at |s| > 4 an absolute 1e-15 is below one ulp and the rounding kept it going)."""
+    s (relative, not absolute: an absolute 1e-15 is one ulp of s at 4 <= |s| < 8 and below one beyond, so the
+    rounding kept it going)."""
     if x != x:
         return math.nan
     if x <= 0.0:
