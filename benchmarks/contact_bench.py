@@ -69,13 +69,15 @@ def newton_steps(x: np.ndarray, c_lin: float, c_hertz: float, beta: float, warm:
             continue
         s_hi = min(math.log(x[i] / c_lin), math.log(x[i] / c_hertz) / beta)
         s = s_last if warm and s_last < s_hi else s_hi
+        tol, last = 8.9e-16 * (abs(s_hi) + 2.0 / beta), math.inf
         for _ in range(200):
             step = ((math.exp(s) * c_lin + math.exp(beta * s) * c_hertz - x[i])
                     / (math.exp(s) * c_lin + math.exp(beta * s) * beta * c_hertz))
             s = min(s - step, s_hi)
             total += 1
-            if abs(step) <= 1e-15 * max(1.0, abs(s)):
+            if abs(step) <= tol or (abs(step) >= last and abs(step) <= 1e3 * tol):
                 break
+            last = abs(step)
         s_last, count = s, count + 1
     return total / max(count, 1)
 

@@ -333,26 +333,31 @@ def displacement(F, c_lin, c_hertz, beta):
 def force_near(x, c_lin, c_hertz, beta, s_guess):
     """Tension F_k [N] at elongation x [mm], Newton in s = ln F started at s_guess (NaN: none) or the upper
     bound, whichever is lower.  From below the root one step lands above it (h is convex); every iterate is
-    kept under the bound, so from there it falls monotonically to the root.  It stops at a step of a few ulp of
-    s (relative, not absolute: an absolute 1e-15 is one ulp of s at 4 <= |s| < 8 and below one beyond, so the
-    rounding kept it going)."""
+    kept under the bound, so from there it falls monotonically to the root, each step shorter than the last.
+    It stops at a step within the rounding of s and of the residual (a few ulp of s plus ~eps/beta), or at a
+    step no shorter than the one before (the rounding, not the root, moves it): F to a few ulp of ln F."""
     if x != x:
         return math.nan
     if x <= 0.0:
         return 0.0
+    if x == math.inf:
+        return math.inf
     s_hi = math.log(x / c_lin)
     if c_hertz > 0.0:
         s_hi = min(s_hi, math.log(x / c_hertz) / beta)
     s = s_hi
     if s_guess < s_hi:
         s = s_guess
+    tol = 8.9e-16 * (abs(s_hi) + 2.0 / beta)
+    last = math.inf
     for _ in range(200):
         F = math.exp(s)
         G = math.exp(beta * s)
         step = {newton}
         s = min(s - step, s_hi)
-        if abs(step) <= 1e-15 * max(1.0, abs(s)):  # a few ulp of s: F to ~1e-15 relative
+        if abs(step) <= tol or (abs(step) >= last and abs(step) <= 1e3 * tol):
             break
+        last = abs(step)
     return math.exp(s)
 
 

@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/).
 # variant: shear - shear energy form factor 10/9 of a solid circle
-# derivation source hash: a46d068e7c4b88a7
+# derivation source hash: 29e4ad3dec994e53
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of the chain stiffness, variant ``shear`` (shear energy form factor 10/9 of a solid circle).
@@ -25,7 +25,7 @@ from numba import njit, prange, types
 from numba.extending import intrinsic
 
 VARIANT = "shear"
-SOURCE_HASH = "a46d068e7c4b88a7"
+SOURCE_HASH = "29e4ad3dec994e53"
 SYMPY_VERSION = "1.14.0"
 CONTACT = "outer"
 SHEAR_FACTOR = 1.1111111111111112

@@ -222,12 +222,14 @@ def test_contact_power_round_trip_and_derivative(log_x, beta):
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.lists(st.one_of(st.floats(-9, 3).map(lambda v: 10.0**v), st.sampled_from([-1.0, 0.0, math.nan])),
-                min_size=1, max_size=40), st.floats(0.3, 1.4))
+@given(st.lists(st.one_of(st.floats(-9, 3).map(lambda v: 10.0**v),
+                          st.sampled_from([-1.0, 0.0, math.nan, math.inf])), min_size=1, max_size=40),
+       st.floats(0.3, 1.4))
 def test_contact_power_array_solves_every_sample_in_any_order(xs, beta):
     """force_array starts each sample's Newton at the last sample's root (from below it, from above, across
-    12 decades, after a zero or a NaN): every tension is still the root, its closed-form displacement (Eq. 15,
-    free exponent) back to x within 1e-12, and the same as the sample solved alone."""
+    12 decades, after a zero, a NaN or an infinite x): every tension is still the root, its closed-form
+    displacement (Eq. 15, free exponent) back to x within 1e-12, and the same as the sample solved alone
+    (x = inf: F = inf, alone or in an array)."""
     m = ChainModel(contact_exponent=beta)
     mod = kernels.power_module()
     x = np.array(xs)
@@ -235,6 +237,8 @@ def test_contact_power_array_solves_every_sample_in_any_order(xs, beta):
     for xi, Fi in zip(x, F):
         if math.isnan(xi):
             assert math.isnan(Fi)
+        elif math.isinf(xi):
+            assert Fi == math.inf and mod.force(xi, *m.coefficients) == math.inf
         elif xi <= 0.0:
             assert Fi == 0.0
         else:

@@ -47,34 +47,54 @@ def load_runs(path: str | Path) -> dict[str, list[dict[str, Any]]]:
     return {"ode" if rows[0].get("world") == "ode" else "sim": rows}
 
 
-def pooled_runs(paths: Sequence[str | Path]) -> dict[str, list[dict[str, Any]]]:
+#: the fields that name a benchmark case (its family, truth, conditions and seed): a case in two files counts once
+CASE_KEYS = ("world", "excitation", "family", "truth", "effects", "levels", "chain", "base", "plan", "noise", "seed",
+             "label", "direction", "hold")
+
+
+def _case_key(row: dict[str, Any]) -> str:
+    return json.dumps({k: row.get(k) for k in CASE_KEYS}, sort_keys=True, default=str)
+
+
+def pooled_runs(paths: Sequence[str | Path]) -> tuple[dict[str, list[dict[str, Any]]], dict[str, list[str]]]:
     """The rows of several ``benchmark-gap --json`` files, each generator's rows of every file in one list (runs of
-    different excitations, or of the grid's parts, pooled as one run of them all would have been).
+    different excitations, or of the grid's parts, pooled as one run of them all would have been), and for each
+    generator the files its rows came from.
 
     Raises
     ------
     ValueError
-        A file is named twice (its cases would count twice), or a file is refused by :func:`load_runs`.
+        A file is named twice, or one case (:data:`CASE_KEYS`) is in two files (a copy of a run): its intervals
+        would count twice; or a file is refused by :func:`load_runs`.
     """
     seen: dict[Path, str] = {}
+    owner: dict[str, str] = {}
     pooled: dict[str, list[dict[str, Any]]] = {}
+    sources: dict[str, list[str]] = {}
     for path in paths:
         key = Path(path).resolve()
         if key in seen:
             raise ValueError(f"--summary {str(path)!r}: the same file as {seen[key]!r}; each run's cases count once")
         seen[key] = str(path)
         for gen, rows in load_runs(path).items():
+            for r in rows:
+                ck = f"{gen}:{_case_key(r)}"
+                if owner.setdefault(ck, str(path)) != str(path):
+                    raise ValueError(f"--summary {str(path)!r}: its case {_case_key(r)} is also in {owner[ck]!r}; "
+                                     "each case counts once (is one file a copy of the other?)")
             pooled.setdefault(gen, []).extend(rows)
-    return pooled
+            sources.setdefault(gen, []).append(Path(path).name)
+    return pooled, sources
 
 
 def summary_text(paths: str | Path | Sequence[str | Path]) -> str:
     """The terminal summary of every generator in the file(s), as a run prints it (without its wall time); the rows
     of several files are pooled per generator (:func:`pooled_runs`)."""
     paths = [paths] if isinstance(paths, (str, Path)) else list(paths)
-    names = " + ".join(Path(p).name for p in paths)
+    pooled, sources = pooled_runs(paths)
     parts = []
-    for gen, rows in pooled_runs(paths).items():
+    for gen, rows in pooled.items():
+        names = " + ".join(sources[gen])
         if gen == "ode":
             from chainid.gap.benchmark.odescore import format_table, score_row, summarise as ode_summary
 

@@ -114,7 +114,18 @@ def test_a_run_named_twice_is_refused(tmp_path, capsys):
     other = _write(tmp_path / "ode.json", {"rows": ODE})
     assert main(["benchmark-gap", "--summary", str(f), str(other)]) == 0
     out = capsys.readouterr().out
-    assert "== generator sim (3 cases, from sim.json + ode.json) ==" in out
-    assert "== generator ode (4 cases, from sim.json + ode.json) ==" in out
+    assert "== generator sim (3 cases, from sim.json) ==" in out  # each generator names the files of its rows
+    assert "== generator ode (4 cases, from ode.json) ==" in out
     assert main(["benchmark-gap", "--summary", str(f), str(f)]) == 2
     assert "each run's cases count once" in capsys.readouterr().err
+
+
+def test_a_copy_of_a_run_under_another_name_is_refused(tmp_path):
+    """The same case (family, truth, conditions, seed) in two files: a copy, whose intervals would count twice."""
+    f = _write(tmp_path / "sim.json", {"rows": SIM})
+    copy_of_f = _write(tmp_path / "copy.json", {"rows": SIM[1:2]})
+    with pytest.raises(ValueError, match=r"--summary '.*copy\.json': its case .*\"seed\": 1.* is also in "
+                                         r"'.*sim\.json'; each case counts once"):
+        summary_text([f, copy_of_f])
+    other_seed = _write(tmp_path / "other.json", {"rows": [SIM[1] | {"seed": 2}]})
+    assert summary_text([f, other_seed]).startswith("== generator sim (4 cases, from sim.json + other.json) ==")

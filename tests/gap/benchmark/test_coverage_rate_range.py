@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from chainid.gap.benchmark.paramscore import calibration_mark, coverage_by_effect, pool_scores, rate_range
@@ -28,6 +29,19 @@ def test_all_or_none_of_the_cases_have_the_closed_form(n):
         a2 = (1 - level) / 2
         assert rate_range(1.0, n, level) == pytest.approx((a2 ** (1 / n), 1.0), rel=1e-9)
         assert rate_range(0.0, n, level) == pytest.approx((0.0, 1 - a2 ** (1 / n)), rel=1e-9)
+
+
+def test_a_share_pooled_over_cases_moves_the_range_continuously():
+    """A family's share of intervals over its cases gives a k that need not be whole (bouc_wen: 17 of 20 intervals
+    over 5 cases, k = 4.25): both ends rise with k, and meet the whole-k values at the integers."""
+    n = 5
+    ks = np.linspace(0.0, n, 501)
+    lo, hi = np.array([rate_range(k / n, n) for k in ks]).T
+    assert np.all(np.diff(lo) >= 0) and np.all(np.diff(hi) >= 0)
+    for k in range(n + 1):
+        for eps in (1e-9, -1e-9):
+            if 0 <= k + eps <= n:
+                assert rate_range((k + eps) / n, n) == pytest.approx(rate_range(k / n, n), abs=1e-6)
 
 
 def test_one_missed_case_does_not_refute_ninety_percent():
