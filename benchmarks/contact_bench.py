@@ -2,7 +2,7 @@
 
 ``force_array`` starts each sample's Newton in s = ln F at the last sample's root (under the upper bound) and
 computes F^β as e^(βs); it stops at a step of a few ulp of s.  Baselines, measured in the same run: ``cold``, the same kernel started at the upper bound
-for every sample (``force_near`` with no guess); ``before``, the kernel as it was generated before (cold starts,
+for every sample (``log_force`` with no guess); ``before``, the kernel as it was generated before (cold starts,
 F^β as a power, an absolute stop at 1e-15 in s).  Two inputs of 10^5 elongations [mm]: a record (a 1 Hz sine
 around 0.5 mm at 400 Hz with 1 % noise, the gap diagnosis' case) and log-uniform samples in random order
 (1e-9 to 1e3 mm, no neighbour close: the warm start's worst case).  Medians of 15 repetitions, single thread.
@@ -28,7 +28,7 @@ from chainid.model.base import ChainModel  # noqa: E402
 from chainid.model.kernels import power_module  # noqa: E402
 
 _mod = power_module()
-_near = _mod.force_near
+_log_force = _mod.log_force
 
 
 @njit
@@ -36,7 +36,7 @@ def cold_array(x: np.ndarray, c_lin: float, c_hertz: float, beta: float) -> np.n
     """Every sample's Newton from the upper bound (the baseline)."""
     out = np.empty(x.shape[0])
     for i in range(x.shape[0]):
-        out[i] = _near(x[i], c_lin, c_hertz, beta, math.nan)
+        out[i] = math.exp(_log_force(x[i], c_lin, c_hertz, beta, math.nan))
     return out
 
 

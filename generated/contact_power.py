@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/power.py).
 # variant: contact_power - chain with a free contact exponent, x = c_lin*F + c_hertz*F**beta
-# derivation source hash: 29e4ad3dec994e53
+# derivation source hash: 57811e3a2443dd06
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of a chain with a generalised contact law delta = c_hertz*F**beta (beta = 2/3: Hertz).
@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 VARIANT = "contact_power"
-SOURCE_HASH = "29e4ad3dec994e53"
+SOURCE_HASH = "57811e3a2443dd06"
 SYMPY_VERSION = "1.14.0"
 
 
@@ -31,16 +31,17 @@ def displacement(F, c_lin, c_hertz, beta):
 
 
 @njit(cache=True)
-def force_near(x, c_lin, c_hertz, beta, s_guess):
-    """Tension F_k [N] at elongation x [mm], Newton in s = ln F started at s_guess (NaN: none) or the upper
-    bound, whichever is lower.  From below the root one step lands above it (h is convex); every iterate is
-    kept under the bound, so from there it falls monotonically to the root, each step shorter than the last.
-    It stops at a step within the rounding of s and of the residual (a few ulp of s plus ~eps/beta), or at a
-    step no shorter than the one before (the rounding, not the root, moves it): F to a few ulp of ln F."""
+def log_force(x, c_lin, c_hertz, beta, s_guess):
+    """ln F_k [ln N] at elongation x [mm] (-inf at x <= 0, inf at x = inf, NaN for NaN), Newton in s = ln F
+    started at s_guess (NaN: none) or the upper bound, whichever is lower.  From below the root one step lands
+    above it (h is convex); every iterate is kept under the bound, so from there it falls monotonically to the
+    root, each step shorter than the last.  It stops at a step within the rounding of s and of the residual (a
+    few ulp of s plus ~eps/beta), or at a step no shorter than the one before (the rounding, not the root, moves
+    it): ln F to a few ulp."""
     if x != x:
         return math.nan
     if x <= 0.0:
-        return 0.0
+        return -math.inf
     if x == math.inf:
         return math.inf
     s_hi = math.log(x / c_lin)
@@ -59,13 +60,13 @@ def force_near(x, c_lin, c_hertz, beta, s_guess):
         if abs(step) <= tol or (abs(step) >= last and abs(step) <= 1e3 * tol):
             break
         last = abs(step)
-    return math.exp(s)
+    return s
 
 
 @njit(cache=True)
 def force(x, c_lin, c_hertz, beta):
     """Tension F_k [N] at elongation x [mm]."""
-    return force_near(x, c_lin, c_hertz, beta, math.nan)
+    return math.exp(log_force(x, c_lin, c_hertz, beta, math.nan))
 
 
 @njit(cache=True)
@@ -87,14 +88,15 @@ def stiffness(x, c_lin, c_hertz, beta):
 
 @njit(cache=True)
 def force_array(x, c_lin, c_hertz, beta):
-    """force() over a 1-D float64 array [mm] -> [N]; each sample's Newton starts at the last positive
-    tension's ln F (a record's next sample is close)."""
+    """force() over a 1-D float64 array [mm] -> [N]; each sample's Newton starts at the last finite ln F (a
+    record's next sample is close)."""
     out = np.empty(x.shape[0])
     s_last = math.nan
     for i in range(x.shape[0]):
-        out[i] = force_near(x[i], c_lin, c_hertz, beta, s_last)
-        if out[i] > 0.0:
-            s_last = math.log(out[i])
+        s = log_force(x[i], c_lin, c_hertz, beta, s_last)
+        out[i] = math.exp(s)
+        if math.isfinite(s):
+            s_last = s
     return out
 
 

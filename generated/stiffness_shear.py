@@ -1,7 +1,7 @@
 # GENERATED FILE - DO NOT EDIT.
 # Written by `chainid generate` from chainid.derive (the repository's derive/).
 # variant: shear - shear energy form factor 10/9 of a solid circle
-# derivation source hash: 29e4ad3dec994e53
+# derivation source hash: 57811e3a2443dd06
 # generator: SymPy 1.14.0
 # To change the model, edit derive/ and run `chainid generate`; `chainid generate --check` fails when this is stale.
 """Kernels of the chain stiffness, variant ``shear`` (shear energy form factor 10/9 of a solid circle).
@@ -25,7 +25,7 @@ from numba import njit, prange, types
 from numba.extending import intrinsic
 
 VARIANT = "shear"
-SOURCE_HASH = "29e4ad3dec994e53"
+SOURCE_HASH = "57811e3a2443dd06"
 SYMPY_VERSION = "1.14.0"
 CONTACT = "outer"
 SHEAR_FACTOR = 1.1111111111111112
