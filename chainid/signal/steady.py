@@ -242,18 +242,19 @@ def select_steady(
     if rel_tol is not None and not (0.0 < rel_tol < 1.0):
         raise ValueError(f"steady tolerance rel_tol = {rel_tol!r} is invalid: must be in (0, 1) (e.g. 0.03 = 3 %)")
     stats = _cycle_stats(t, x, omega, theta)
+    scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
     if rel_tol is not None:
-        return _select_given(t, stats, rel_tol, drop_first, drift_tol)
-    return _select_adaptive(t, stats, drop_first, drift_tol)
+        return _select_given(t, stats, scatter, rel_tol, drop_first, drift_tol)
+    return _select_adaptive(t, stats, scatter, drop_first, drift_tol)
 
 
-def _select_given(t: np.ndarray, stats: tuple, rel_tol: float, drop_first: bool,
+def _select_given(t: np.ndarray, stats: tuple, scatter: float, rel_tol: float, drop_first: bool,
                   drift_tol: float | None) -> SteadyWindow:
-    """:func:`select_steady` at the given tolerance ``rel_tol`` (a fraction), with the record's scatter noted."""
+    """:func:`select_steady` at the given tolerance ``rel_tol`` (a fraction), with the record's ``scatter`` noted."""
     win = _select_with_tol(t, stats, rel_tol, drop_first, drift_tol)
     win.n_cycles_start = win.n_cycles
     win.requested_tol = rel_tol
-    win.scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
+    win.scatter = scatter
     win.reason = "tolerance given"
     return win
 
@@ -271,10 +272,10 @@ def _tolerance_reason(scatter: float, tol0: float) -> str:
     return why
 
 
-def _select_adaptive(t: np.ndarray, stats: tuple, drop_first: bool, drift_tol: float | None) -> SteadyWindow:
-    """:func:`select_steady` at the tolerance from the record's scatter (:func:`steady_tolerance`), widened by
+def _select_adaptive(t: np.ndarray, stats: tuple, scatter: float, drop_first: bool,
+                     drift_tol: float | None) -> SteadyWindow:
+    """:func:`select_steady` at the tolerance from the record's ``scatter`` (:func:`steady_tolerance`), widened by
     factors of 1.5 up to :data:`TOL_MAX` while fewer than :data:`MIN_KEPT` cycles are kept."""
-    scatter = _scatter(stats[1], stats[2], _amp_floor(stats[4], stats[5]))
     tol0 = steady_tolerance(scatter)
     why = _tolerance_reason(scatter, tol0)
     win = _select_with_tol(t, stats, tol0, drop_first, drift_tol)
