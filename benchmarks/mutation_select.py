@@ -31,7 +31,7 @@ It writes the same table and survivors JSON as ``mutation.py``, the selection st
 Usage (from the repository root; needs ``pip install ".[mutation]"``, which brings coverage.py)::
 
     python benchmarks/mutation_select.py --sample 30 --seed 29 --workers 2 --out F.md --survivors F.json
-    python benchmarks/mutation_select.py --packages model gap --coverage /tmp/covmap   # reuse a coverage map
+    python benchmarks/mutation_select.py --packages model gap --coverage /tmp/covmap   # made there once, then reused
 """
 from __future__ import annotations
 
@@ -280,7 +280,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=29)
     ap.add_argument("--workers", type=int, default=2, help="repository copies run at once")
     ap.add_argument("--budget", type=float, default=180.0, help="minutes for the mutants (the coverage run apart)")
-    ap.add_argument("--coverage", metavar="DIR", help="a coverage map written by an earlier run (else one is made)")
+    ap.add_argument("--coverage", metavar="DIR",
+                    help="the coverage map's folder: reused when it holds one, else the map is made there and kept "
+                         "(without this option it is made in the temporary folder and dropped)")
     ap.add_argument("--out", default=str(REPO / "benchmarks" / "MUTATION.md"))
     ap.add_argument("--survivors", default=str(REPO / "benchmarks" / "mutation_survivors.json"))
     args = ap.parse_args(argv)
@@ -299,7 +301,9 @@ def main(argv: list[str] | None = None) -> int:
             (Path(tmp) / "shared").symlink_to(shared)
         pristine = Path(tmp) / "pristine"
         mutation.copy_repo(pristine)
-        cov = Path(args.coverage) if args.coverage else coverage_map(pristine, Path(tmp) / "coverage")
+        cov = Path(args.coverage) if args.coverage else Path(tmp) / "coverage"
+        if not (cov / ".coverage").is_file():
+            coverage_map(pristine, cov)
         sel = Selector(cov, pristine)
         info, jobs = {}, []
         for pkg in args.packages:
