@@ -94,9 +94,28 @@ def test_cases_runs_only_the_labels_that_contain_it(monkeypatch, capsys):
     assert sum(lbl.startswith("pair/") for lbl in seen) == 1
 
 
+def test_cases_chooses_the_sim_grids_cases_by_excitation_family_and_effects(monkeypatch):
+    from chainid.gap.benchmark import grid as gridmod
+
+    seen = []
+    monkeypatch.setattr("chainid.infra.parallel.run_cases", lambda fn, cases, **kw: seen.extend(cases) or [])
+    monkeypatch.setattr("chainid.gap.benchmark.report.summarise", lambda rows: {})
+    monkeypatch.setattr("chainid.gap.benchmark.report.format_summary", lambda s: "")
+    assert main(["benchmark-gap", "--excitations", "random,sweep", "--cases", "sensor_delay", "--no-progress"]) == 0
+    every = gridmod.grid(False, 0, ("random", "sweep"))
+    want = [c for c in every if "sensor_delay" in c["effects"]]  # singles, pairs and the mismatch+ ones
+    assert len(seen) == len(want) >= 6
+    assert [(c["excitation"], c["family"], c["effects"], c["seed"]) for c in seen] == \
+        [(c["excitation"], c["family"], c["effects"], c["seed"]) for c in want]
+    assert {c["label"] for c in seen} >= {"random/single/sensor_delay", "sweep/pair/friction+sensor_delay"}
+    seen.clear()
+    assert main(["benchmark-gap", "--excitations", "random", "--cases", "random/control/", "--no-progress"]) == 0
+    assert seen and all(c["family"] == "control" and c["label"] == "random/control/none" for c in seen)
+
+
 @pytest.mark.parametrize("argv, msg", [
     (["--generator", "ode", "--cases", "nothing-like-this"], "--cases 'nothing-like-this' matches no case label"),
-    (["--cases", "~table1"], "--cases chooses the ODE world's cases by label; it needs --generator ode")])
-def test_cases_that_match_nothing_or_without_the_ode_world_are_refused(argv, msg, capsys):
+    (["--cases", "~table1"], "--cases '~table1' matches no case label of the sim grid")])
+def test_cases_that_match_no_label_of_the_chosen_world_are_refused(argv, msg, capsys):
     assert main(["benchmark-gap", "--no-progress", *argv]) == 2
     assert msg in capsys.readouterr().err

@@ -208,10 +208,16 @@ def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
     return cases
 
 
+def case_label(case: dict[str, Any]) -> str:
+    """A sim case's label, ``excitation/family/effects`` (effects joined by ``+``, ``none`` for a control), e.g.
+    ``harmonic/pair/friction+sensor_delay``: what ``benchmark-gap --cases`` matches."""
+    return f"{case['excitation']}/{case['family']}/{'+'.join(case.get('effects') or []) or 'none'}"
+
+
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   scheduler: str | None = None, n_workers: int | None = None,
                   progress: bool = True, excitations: Any = ALL_EXCITATIONS, chain: Any = None,
-                  resamples: int = 0) -> dict[str, Any]:
+                  resamples: int = 0, only: str | None = None) -> dict[str, Any]:
     """Run the grid in parallel, print the summary, optionally write JSON (atomically).
 
     Parameters
@@ -227,6 +233,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
     chain : a :class:`~chainid.ChainSpec` to run every case on (default: the built-in 14×50 and 10×35 chains);
         its displacements are scaled to the same nominal stress (:mod:`chainid.gap.benchmark.chain`)
     resamples : resamples of every diagnosis (0: none): each step's stability and percentile intervals
+    only : run only the cases whose :func:`case_label` contains this text (ValueError when none does)
     """
     from chainid.infra.parallel import run_cases
     from chainid.infra.fileio import check_output_file, write_json
@@ -234,7 +241,11 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
 
     if json_path:  # check the target before the long work
         check_output_file(json_path, force=overwrite, what="--json")
-    cases = [c | {"resamples": int(resamples)} for c in grid(small, seed, excitations, chain)]
+    cases = [c | {"resamples": int(resamples), "label": case_label(c)} for c in grid(small, seed, excitations, chain)
+             if only is None or only in case_label(c)]
+    if not cases:
+        raise ValueError(f"--cases {only!r} matches no case label of the {'small ' if small else ''}sim grid (labels "
+                         f"read excitation/family/effects, e.g. 'random/pair/friction+sensor_delay')")
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=n_workers, progress=progress,
                      desc="benchmark-gap")

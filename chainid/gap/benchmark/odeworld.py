@@ -30,6 +30,7 @@ import numpy as np
 from chainid.gap.benchmark import odecases as oc
 from chainid.gap.benchmark.odedevice import Device, run_displacement, run_force
 from chainid.gap.benchmark.odemeasure import Logger, measure
+from chainid.gap.benchmark.simtruth import interval_parts
 from chainid.gap.benchmark.odescore import FAMILIES, score_row
 
 __all__ = ["build", "run_case", "world_cases", "run_world", "FAMILIES"]
@@ -192,7 +193,7 @@ def _result_row(res: dict[str, Any]) -> dict[str, Any]:
             "shrinkage": last.get("shrinkage") if len(steps) > 1 else (res.get("best") or {}).get("shrinkage"),
             "steps": [s["effect"] for s in steps[1:]], "params": last.get("params") or {},
             "params_sd": last.get("params_sd") or {}, "params_ci90": last.get("params_ci90") or {},
-            "route": res.get("route", "harmonic"), "base_law": b.get("damping_law"),
+            "params_ci90_parts": interval_parts(last), "route": res.get("route", "harmonic"), "base_law": b.get("damping_law"),
             "excluded": [e["test"] for e in res.get("excluded", [])],
             "open_world": open_world_row(res)}
 

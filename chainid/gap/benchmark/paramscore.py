@@ -22,7 +22,7 @@ from typing import Any, Iterable
 
 import numpy as np
 
-__all__ = ["CANONICAL", "Z90", "param_scores", "pool_scores", "param_table", "coverage_by_effect",
+__all__ = ["CANONICAL", "Z90", "ERR_HW_CALIBRATED", "param_scores", "pool_scores", "param_table", "coverage_by_effect",
            "coverage_lines", "rate_range", "range_text", "calibration_mark"]
 
 #: effects that are the same physics for the diagnosis (the canonical name is what a right verdict says)
@@ -31,6 +31,9 @@ CANONICAL = {"machine_compliance": "stiffness_level"}
 Z90 = 1.6448536269514722
 #: the nominal level of the intervals under calibration, and the band that counts as calibrated
 NOMINAL, BAND = 0.90, (0.85, 0.95)
+#: the median of |estimate − truth| / half-width for a calibrated 90 % interval of a normal error: z₇₅ / z₉₅
+#: (0.6745 / 1.6449); a median well below it says the intervals are too wide, above it too narrow
+ERR_HW_CALIBRATED = 0.4100606516861704
 
 
 def _truth_value(truth: dict[str, Any], eff: str, p: str, v: float) -> float:
@@ -52,8 +55,10 @@ def param_scores(row: dict[str, Any], named: list[str]) -> list[dict[str, Any]]:
     Returns
     -------
     list of dict
-        Per parameter: ``param`` (``effect.param``), ``truth``, ``estimate``, ``rel_error`` (None for a true 0) and
-        ``covered`` (None without an interval).
+        Per parameter: ``param`` (``effect.param``), ``truth``, ``estimate``, ``rel_error`` (None for a true 0),
+        ``covered`` (None without an interval), ``err_halfwidth`` (|est − truth| over the interval's half-width on
+        the truth's side) and ``parts`` (the same two numbers for each part of the interval the row keeps apart in
+        ``params_ci90_parts``: ``resampled``, ``profile``).
     """
     truth = row.get("truth") or {}
     out = []
@@ -68,14 +73,22 @@ def param_scores(row: dict[str, Any], named: list[str]) -> list[dict[str, Any]]:
             tv = _truth_value(truth, eff, p, v)
             rel = abs(est - tv) / abs(tv) if tv != 0 else None
             ci, sd = (row.get("params_ci90") or {}).get(key), (row.get("params_sd") or {}).get(key)
-            if ci is not None:
-                cover: bool | None = bool(ci[0] <= tv <= ci[1])
-            elif sd is not None and sd > 0:
-                cover = bool(abs(est - tv) <= Z90 * sd)
-            else:
-                cover = None
-            out.append({"param": key, "truth": tv, "estimate": float(est), "rel_error": rel, "covered": cover})
+            if ci is None and sd is not None and sd > 0:
+                ci = [est - Z90 * sd, est + Z90 * sd]
+            parts = {name: _cover(part[key], est, tv) for name, part in (row.get("params_ci90_parts") or {}).items()
+                     if key in part}
+            out.append({"param": key, "truth": tv, "estimate": float(est), "rel_error": rel,
+                        **_cover(ci, est, tv), "parts": parts})
     return out
+
+
+def _cover(ci: Any, est: float, tv: float) -> dict[str, Any]:
+    """``covered`` (whether [lo, hi] holds the truth ``tv``; None without an interval) and ``err_halfwidth``
+    (|est − tv| over the interval's half-width on the truth's side; None without one or for a zero half-width)."""
+    if ci is None:
+        return {"covered": None, "err_halfwidth": None}
+    hw = (ci[1] - est) if tv >= est else (est - ci[0])
+    return {"covered": bool(ci[0] <= tv <= ci[1]), "err_halfwidth": abs(est - tv) / hw if hw > 0 else None}
 
 
 def pool_scores(scores: Iterable[list[dict[str, Any]]]) -> dict[str, list[dict[str, Any]]]:
@@ -132,7 +145,9 @@ def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
     (scores with an interval), ``covered`` (whose 90 % interval covers the truth), ``coverage`` (the share;
     calibrated: 0.85–0.95), ``n_cases`` (the cases those intervals come from: ``case`` of :func:`pool_scores`),
     ``coverage_range95`` (:func:`rate_range` of the share over ``n_cases``), ``consistent`` (whether 0.90 is in
-    that range) and ``median_rel_error`` (over every score of the effect with a relative error)."""
+    that range), ``median_rel_error`` (over every score of the effect with a relative error),
+    ``median_err_halfwidth`` (the median |error| / half-width, :data:`ERR_HW_CALIBRATED` when calibrated) and
+    ``parts`` (coverage and that median for each part of the intervals alone, :func:`_parts`)."""
     groups: dict[str, list[dict[str, Any]]] = {}
     for key, v in ps.items():
         groups.setdefault(key.split(".", 1)[0], []).extend(v)
@@ -146,7 +161,25 @@ def coverage_by_effect(ps: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
         out[eff] = {"n_interval": len(cov), "covered": sum(cov), "coverage": rate, "n_cases": n_cases,
                     "coverage_range95": list(rng) if rng else None,
                     "consistent": None if rng is None else bool(rng[0] <= NOMINAL <= rng[1]),
-                    "median_rel_error": _median_rel(v)}
+                    "median_rel_error": _median_rel(v), "median_err_halfwidth": _median_ratio(with_ci),
+                    "parts": _parts(v)}
+    return out
+
+
+def _median_ratio(v: list[dict[str, Any]]) -> float | None:
+    r = [p["err_halfwidth"] for p in v if p.get("err_halfwidth") is not None]
+    return float(np.median(r)) if r else None
+
+
+def _parts(v: list[dict[str, Any]]) -> dict[str, Any]:
+    """Per part of the intervals (``resampled``, ``profile``: :func:`chainid.gap.benchmark.simtruth.interval_parts`)
+    the share of its intervals that cover the truth and their median |error| / half-width (to compare with
+    :data:`ERR_HW_CALIBRATED`)."""
+    out = {}
+    for name in sorted({k for p in v for k in p.get("parts", {})}):
+        got = [p["parts"][name] for p in v if name in p.get("parts", {})]
+        out[name] = {"n_interval": len(got), "coverage": sum(g["covered"] for g in got) / len(got),
+                     "median_err_halfwidth": _median_ratio(got)}
     return out
 
 
@@ -177,11 +210,20 @@ def coverage_lines(cov: dict[str, Any], title: str) -> list[str]:
     """Terminal table of :func:`coverage_by_effect`: one line per effect (intervals, covered, cases, rate, the
     rate's 95 % range over the cases, :func:`calibration_mark`, median relative error)."""
     lines = [title, f"  {'effect':<20}{'intervals':>10}{'covered':>9}{'cases':>7}{'rate':>8}{'95 % range':>14}"
-                    f"{'':>6}{'median rel. error':>19}"]
+                    f"{'':>6}{'median rel. error':>19}{'|err|/hw':>10}"]
     for eff, v in cov.items():
         shown = range_text(v) or "n/a"
         lines.append(f"  {eff:<20}{v['n_interval']:>10}{v['covered']:>9}{v.get('n_cases', 0):>7}"
-                     f"{pct(v['coverage']):>8}{shown:>14}{calibration_mark(v):>6}{pct(v['median_rel_error'], 1):>19}")
+                     f"{pct(v['coverage']):>8}{shown:>14}{calibration_mark(v):>6}{pct(v['median_rel_error'], 1):>19}"
+                     f"{_ratio(v.get('median_err_halfwidth')):>10}")
     lines.append("  (ok: inside 85-95 %; low/high: outside it, but 90 % is in the range its cases allow; LOW/HIGH: "
-                 "90 % is not)")
+                 f"90 % is not; |err|/hw: median |error| / half-width, {ERR_HW_CALIBRATED:.2f} when calibrated)")
+    parts = [f"{eff} {name} {pct(q['coverage'])} ({_ratio(q['median_err_halfwidth'])})"
+             for eff, v in cov.items() for name, q in (v.get("parts") or {}).items()]
+    if parts:
+        lines.append("  each part alone, coverage (|err|/hw): " + "; ".join(parts))
     return lines
+
+
+def _ratio(v: float | None) -> str:
+    return "n/a" if v is None else f"{v:.2f}"

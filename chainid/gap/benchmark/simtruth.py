@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
-__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields"]
+__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields", "interval_parts"]
 
 
 def spec_truth(spec: str) -> dict[str, float]:
@@ -76,9 +76,23 @@ def nested(true_params: dict[str, float]) -> dict[str, Any]:
 def trusted_fields(res: dict[str, Any]) -> dict[str, Any]:
     """The diagnosis' numbers of its last trusted step (the verdict's chain, ``res["trusted_steps"]``; steps after
     the held-out minimum are over-fitted and never in the verdict): ``params`` and ``params_ci90`` (the 90 %
-    percentile intervals over resamples; {} without resamples), each keyed ``effect.param``."""
+    intervals, the union of the resampling's and the profile's; {} without resamples) and ``params_ci90_parts``
+    (:func:`interval_parts`), each keyed ``effect.param``."""
     steps = res.get("steps") or []
     if not steps:
-        return {"params": None, "params_ci90": {}}
+        return {"params": None, "params_ci90": {}, "params_ci90_parts": {}}
     last = steps[max(1, min(int(res.get("trusted_steps", len(steps))), len(steps))) - 1]
-    return {"params": last.get("params"), "params_ci90": last.get("params_ci90") or {}}
+    return {"params": last.get("params"), "params_ci90": last.get("params_ci90") or {},
+            "params_ci90_parts": interval_parts(last)}
+
+
+def interval_parts(step: dict[str, Any]) -> dict[str, dict[str, list[float]]]:
+    """The two parts of a step's reported 90 % intervals (:func:`chainid.gap.core.profile.merge`), kept apart so
+    the benchmark can score each: ``resampled`` (the percentile intervals over resamples) and ``profile`` (the
+    profile-likelihood intervals), each ``{effect.param: [lo, hi]}``; a part the step lacks is left out."""
+    out: dict[str, dict[str, list[float]]] = {}
+    if step.get("params_ci90_resampled"):
+        out["resampled"] = {k: list(v) for k, v in step["params_ci90_resampled"].items()}
+    if step.get("params_ci90_profile"):
+        out["profile"] = {k: list(v["ci90"]) for k, v in step["params_ci90_profile"].items()}
+    return out

@@ -8,7 +8,7 @@ import pytest
 
 from chainid.gap.benchmark.nonharmonic import effect_spec
 from chainid.gap.benchmark.report import param_coverage, row_param_scores, summarise, format_summary
-from chainid.gap.benchmark.simtruth import case_truth, spec_truth, trusted_fields
+from chainid.gap.benchmark.simtruth import case_truth, interval_parts, spec_truth, trusted_fields
 
 # the scales of effect_spec: S [N], k [N/mm], Amin [mm], wmax [rad/s], x_mid [mm]
 SCALES = (1000.0, 5000.0, 0.1, 4.0, 2.0)
@@ -87,10 +87,21 @@ def test_trusted_fields_are_the_last_trusted_steps():
              {"effect": "friction", "params": {"friction.F_c": 9.0}, "params_ci90": {"friction.F_c": [8.0, 10.0]}},
              {"effect": "slack", "params": {"friction.F_c": 7.0, "slack.s": 0.1}}]
     assert trusted_fields({"steps": steps, "trusted_steps": 2}) == {
-        "params": {"friction.F_c": 9.0}, "params_ci90": {"friction.F_c": [8.0, 10.0]}}
+        "params": {"friction.F_c": 9.0}, "params_ci90": {"friction.F_c": [8.0, 10.0]}, "params_ci90_parts": {}}
     assert trusted_fields({"steps": steps, "trusted_steps": 3})["params"] == {"friction.F_c": 7.0, "slack.s": 0.1}
     assert trusted_fields({"steps": steps, "trusted_steps": 3})["params_ci90"] == {}
-    assert trusted_fields({"steps": []}) == {"params": None, "params_ci90": {}}
+    assert trusted_fields({"steps": []}) == {"params": None, "params_ci90": {}, "params_ci90_parts": {}}
+
+
+def test_interval_parts_keep_the_resampling_and_the_profile_apart():
+    step = {"params_ci90": {"friction.F_c": [80.0, 110.0]},
+            "params_ci90_resampled": {"friction.F_c": [90.0, 110.0]},
+            "params_ci90_profile": {"friction.F_c": {"ci90": [80.0, 105.0], "chi2_min": 3.0, "level": 2.7}}}
+    assert interval_parts(step) == {"resampled": {"friction.F_c": [90.0, 110.0]},
+                                    "profile": {"friction.F_c": [80.0, 105.0]}}
+    assert interval_parts({"params_ci90": {"friction.F_c": [1.0, 2.0]}}) == {}
+    row = trusted_fields({"steps": [{"effect": "baseline"}, step], "trusted_steps": 2})
+    assert row["params_ci90_parts"]["profile"] == {"friction.F_c": [80.0, 105.0]}
 
 
 def _row(verdict, truth, true_params, params, ci, excitation="harmonic", family="single", resamples=50):
@@ -160,6 +171,40 @@ def test_coverage_table_of_hand_made_rows():
     assert (st["n_interval"], st["covered"], st["coverage"]) == (1, 1, 1.0)
     assert set(cov["by_effect"]) == {"friction", "backlash", "stiffness_level"}
     assert cov["params"]["friction.F_c"]["n"] == 3
+
+
+def test_each_part_of_an_interval_is_scored_alone_with_its_error_over_half_width():
+    # estimate 100, truth 93 (below it): the union [90, 110] and the profile [90, 110] hold it, 7/10 of the lower
+    # half-width; the resampling's [95, 105] misses it, 7/5 of its lower half-width
+    r = _row("friction", ["friction"], {"friction.F_c": 93.0}, {"friction.F_c": 100.0}, {"friction.F_c": [90.0, 110.0]})
+    r["params_ci90_parts"] = {"resampled": {"friction.F_c": [95.0, 105.0]}, "profile": {"friction.F_c": [90.0, 110.0]}}
+    (p,) = row_param_scores(r)
+    assert p["covered"] is True and p["err_halfwidth"] == pytest.approx(0.7, rel=1e-12)
+    assert p["parts"]["resampled"] == {"covered": False, "err_halfwidth": pytest.approx(1.4, rel=1e-12)}
+    assert p["parts"]["profile"] == {"covered": True, "err_halfwidth": pytest.approx(0.7, rel=1e-12)}
+    # truth above the estimate: the upper half-width counts (an asymmetric interval, 100 in [99, 104], truth 102)
+    (q,) = row_param_scores(r | {"true_params": {"friction.F_c": 102.0}, "params_ci90": {"friction.F_c": [99.0, 104.0]}})
+    assert q["err_halfwidth"] == pytest.approx(0.5, rel=1e-12)
+    fr = param_coverage([r, r | {"params_ci90_parts": {}}])["by_effect"]["friction"]
+    assert fr["parts"] == {"profile": {"n_interval": 1, "coverage": 1.0, "median_err_halfwidth": pytest.approx(0.7)},
+                           "resampled": {"n_interval": 1, "coverage": 0.0, "median_err_halfwidth": pytest.approx(1.4)}}
+    assert fr["median_err_halfwidth"] == pytest.approx(0.7, rel=1e-12)
+
+
+def test_calibrated_error_over_half_width_is_the_normal_quartile_ratio():
+    from scipy.stats import norm
+
+    from chainid.gap.benchmark.paramscore import ERR_HW_CALIBRATED
+
+    assert ERR_HW_CALIBRATED == pytest.approx(norm.ppf(0.75) / norm.ppf(0.95), rel=1e-12)
+    # exact 90 % intervals of normal errors (sigma 2) reach that median and cover 90 %, within sampling error
+    rng = np.random.default_rng(7)
+    err = rng.normal(0.0, 2.0, 4000)
+    rows = [_row("friction", ["friction"], {"friction.F_c": 100.0 + e}, {"friction.F_c": 100.0},
+                 {"friction.F_c": [100.0 - 2.0 * norm.ppf(0.95), 100.0 + 2.0 * norm.ppf(0.95)]}) for e in err]
+    fr = param_coverage(rows)["by_effect"]["friction"]
+    assert fr["median_err_halfwidth"] == pytest.approx(ERR_HW_CALIBRATED, abs=0.03)  # ~4 s.e. of a median of 4000
+    assert fr["coverage"] == pytest.approx(0.90, abs=0.02)
 
 
 def test_no_coverage_without_resamples():
