@@ -141,6 +141,26 @@ def test_run_case_reads_the_diagnosis_result_and_scores_it(monkeypatch):
     assert p["rel_error"] == pytest.approx(abs(1.0 - F_c) / F_c)
 
 
+def test_run_case_scores_the_verdicts_chain_not_a_step_after_the_held_out_minimum(monkeypatch):
+    """A third step whose held-out error grew is out of the verdict (``trusted_steps`` = 2): the row's parameters and
+    intervals are the friction step's, fitted without the over-fitted slack."""
+    dg = importlib.import_module("chainid.gap.diagnose")
+    steps = [{"effect": "baseline", "params": {}, "shrinkage": 0.0},
+             {"effect": "friction", "params": {"friction.F_c": 1.0}, "params_ci90": {"friction.F_c": [0.9, 1.1]},
+              "params_ci90_resampled": {"friction.F_c": [0.95, 1.05]}, "shrinkage": 0.75},
+             {"effect": "slack", "params": {"friction.F_c": 5.0, "slack.s": 0.1},
+              "params_ci90": {"friction.F_c": [4.0, 6.0]}, "shrinkage": 0.70}]
+    monkeypatch.setattr(dg, "diagnose", lambda *a, **kw: {
+        "verdict": "friction", "baseline": {"excess_rms_N": 30.0, "noise_sigma_N": 3.0}, "steps": steps,
+        "trusted_steps": 2, "route": "time", "excluded": []})
+    case = {"family": "single", "base": "damper", "excitation": "chirp", "effects": {"friction": 1.0},
+            "outside": {}, "covariate": None, "sign": 1.0, "seed": 3, "label": "t"}
+    row = ow.run_case(case)
+    assert row["params"] == {"friction.F_c": 1.0} and row["params_ci90"] == {"friction.F_c": [0.9, 1.1]}
+    assert row["params_ci90_parts"] == {"resampled": {"friction.F_c": [0.95, 1.05]}}
+    assert row["steps"] == ["friction", "slack"] and row["shrinkage"] == 0.70  # the chain as run is still shown
+
+
 def test_run_case_gives_a_chain_its_chain_model_and_turns_a_crash_into_an_error_row(monkeypatch):
     dg = importlib.import_module("chainid.gap.diagnose")  # the package binds the name to the function
     from chainid.model.base import ChainModel

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
-__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields", "interval_parts"]
+__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields", "trusted_step", "interval_parts"]
 
 
 def spec_truth(spec: str) -> dict[str, float]:
@@ -78,12 +78,20 @@ def trusted_fields(res: dict[str, Any]) -> dict[str, Any]:
     the held-out minimum are over-fitted and never in the verdict): ``params`` and ``params_ci90`` (the 90 %
     intervals, the union of the resampling's and the profile's; {} without resamples) and ``params_ci90_parts``
     (:func:`interval_parts`), each keyed ``effect.param``."""
-    steps = res.get("steps") or []
-    if not steps:
+    last = trusted_step(res)
+    if last is None:
         return {"params": None, "params_ci90": {}, "params_ci90_parts": {}}
-    last = steps[max(1, min(int(res.get("trusted_steps", len(steps))), len(steps))) - 1]
     return {"params": last.get("params"), "params_ci90": last.get("params_ci90") or {},
             "params_ci90_parts": interval_parts(last)}
+
+
+def trusted_step(res: dict[str, Any]) -> dict[str, Any] | None:
+    """The last step of a diagnosis' trusted chain (``res["trusted_steps"]`` steps, the baseline counted; all of
+    them when it is absent); None without steps."""
+    steps = res.get("steps") or []
+    if not steps:
+        return None
+    return steps[max(1, min(int(res.get("trusted_steps", len(steps))), len(steps))) - 1]
 
 
 def interval_parts(step: dict[str, Any]) -> dict[str, dict[str, list[float]]]:
