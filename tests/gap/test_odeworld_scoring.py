@@ -147,12 +147,14 @@ def test_run_case_scores_the_verdicts_chain_not_a_step_after_the_held_out_minimu
     dg = importlib.import_module("chainid.gap.diagnose")
     steps = [{"effect": "baseline", "params": {}, "shrinkage": 0.0},
              {"effect": "friction", "params": {"friction.F_c": 1.0}, "params_ci90": {"friction.F_c": [0.9, 1.1]},
-              "params_ci90_resampled": {"friction.F_c": [0.95, 1.05]}, "shrinkage": 0.75},
+              "shrinkage": 0.75},
              {"effect": "slack", "params": {"friction.F_c": 5.0, "slack.s": 0.1},
               "params_ci90": {"friction.F_c": [4.0, 6.0]}, "shrinkage": 0.70}]
     monkeypatch.setattr(dg, "diagnose", lambda *a, **kw: {
         "verdict": "friction", "baseline": {"excess_rms_N": 30.0, "noise_sigma_N": 3.0}, "steps": steps,
-        "trusted_steps": 2, "route": "time", "excluded": []})
+        "trusted_steps": 2, "route": "time", "excluded": [],
+        "stability": {"steps": [{}, {"params_ci90_resampled": {"friction.F_c": [0.95, 1.05]}},
+                                {"params_ci90_resampled": {"friction.F_c": [4.5, 5.5]}}]}})
     case = {"family": "single", "base": "damper", "excitation": "chirp", "effects": {"friction": 1.0},
             "outside": {}, "covariate": None, "sign": 1.0, "seed": 3, "label": "t"}
     row = ow.run_case(case)

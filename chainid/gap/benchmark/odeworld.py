@@ -30,7 +30,7 @@ import numpy as np
 from chainid.gap.benchmark import odecases as oc
 from chainid.gap.benchmark.odedevice import Device, run_displacement, run_force
 from chainid.gap.benchmark.odemeasure import Logger, measure
-from chainid.gap.benchmark.simtruth import interval_parts, trusted_step
+from chainid.gap.benchmark.simtruth import interval_parts, trusted_index
 from chainid.gap.benchmark.odescore import FAMILIES, score_row
 
 __all__ = ["build", "run_case", "world_cases", "run_world", "FAMILIES"]
@@ -188,13 +188,14 @@ def _result_row(res: dict[str, Any]) -> dict[str, Any]:
 
     steps = res.get("steps") or []
     last = steps[-1] if steps else {}
-    kept = trusted_step(res) or {}  # the verdict's chain: a step after the held-out minimum is not in it
+    i = trusted_index(res)  # the verdict's chain: a step after the held-out minimum is not in it
+    kept = steps[i] if i is not None else {}
     b = res["baseline"]
     return {"verdict": res["verdict"], "snr": b["excess_rms_N"] / max(b["noise_sigma_N"], 1e-300),
             "shrinkage": last.get("shrinkage") if len(steps) > 1 else (res.get("best") or {}).get("shrinkage"),
             "steps": [s["effect"] for s in steps[1:]], "params": kept.get("params") or {},
             "params_sd": kept.get("params_sd") or {}, "params_ci90": kept.get("params_ci90") or {},
-            "params_ci90_parts": interval_parts(kept), "route": res.get("route", "harmonic"), "base_law": b.get("damping_law"),
+            "params_ci90_parts": interval_parts(res, i) if i is not None else {}, "route": res.get("route", "harmonic"), "base_law": b.get("damping_law"),
             "excluded": [e["test"] for e in res.get("excluded", [])],
             "open_world": open_world_row(res)}
 

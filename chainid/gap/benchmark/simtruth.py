@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
-__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields", "trusted_step", "interval_parts"]
+__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields", "trusted_index", "trusted_step", "PARTS", "interval_parts"]
 
 
 def spec_truth(spec: str) -> dict[str, float]:
@@ -78,29 +78,47 @@ def trusted_fields(res: dict[str, Any]) -> dict[str, Any]:
     the held-out minimum are over-fitted and never in the verdict): ``params`` and ``params_ci90`` (the 90 %
     intervals, the union of the resampling's and the profile's; {} without resamples) and ``params_ci90_parts``
     (:func:`interval_parts`), each keyed ``effect.param``."""
-    last = trusted_step(res)
-    if last is None:
+    i = trusted_index(res)
+    if i is None:
         return {"params": None, "params_ci90": {}, "params_ci90_parts": {}}
+    last = res["steps"][i]
     return {"params": last.get("params"), "params_ci90": last.get("params_ci90") or {},
-            "params_ci90_parts": interval_parts(last)}
+            "params_ci90_parts": interval_parts(res, i)}
 
 
-def trusted_step(res: dict[str, Any]) -> dict[str, Any] | None:
-    """The last step of a diagnosis' trusted chain (``res["trusted_steps"]`` steps, the baseline counted; all of
-    them when it is absent); None without steps."""
+def trusted_index(res: dict[str, Any]) -> int | None:
+    """The position in ``res["steps"]`` of the last step of a diagnosis' trusted chain (``res["trusted_steps"]``
+    steps, the baseline counted; all of them when it is absent); None without steps."""
     steps = res.get("steps") or []
     if not steps:
         return None
-    return steps[max(1, min(int(res.get("trusted_steps", len(steps))), len(steps))) - 1]
+    return max(1, min(int(res.get("trusted_steps", len(steps))), len(steps))) - 1
 
 
-def interval_parts(step: dict[str, Any]) -> dict[str, dict[str, list[float]]]:
-    """The two parts of a step's reported 90 % intervals (:func:`chainid.gap.core.profile.merge`), kept apart so
-    the benchmark can score each: ``resampled`` (the percentile intervals over resamples) and ``profile`` (the
-    profile-likelihood intervals), each ``{effect.param: [lo, hi]}``; a part the step lacks is left out."""
+def trusted_step(res: dict[str, Any]) -> dict[str, Any] | None:
+    """The last step of a diagnosis' trusted chain (:func:`trusted_index`); None without steps."""
+    i = trusted_index(res)
+    return None if i is None else res["steps"][i]
+
+
+#: the parts of a reported 90 % interval, by the key of the resampling's step row that holds each
+PARTS = {"percentile": "params_ci90_percentile", "resampled": "params_ci90_resampled",
+         "profile": "params_ci90_profile"}
+
+
+def interval_parts(res: dict[str, Any], i: int) -> dict[str, dict[str, list[float]]]:
+    """The parts of step ``i``'s reported 90 % intervals, kept apart so the benchmark can score each, from the
+    resampling's numbers (``res["stability"]["steps"][i]``): ``percentile`` (the percentiles of the resamples'
+    refits, recentred; the time route alone keeps it apart, before :func:`chainid.gap.core.resample.widen`),
+    ``resampled`` (those widened by the time sampling's bias; the percentiles themselves on the harmonic route) and
+    ``profile`` (the profile-likelihood intervals); the reported interval is the union of the last two
+    (:func:`chainid.gap.core.profile.merge`).  Each part is ``{effect.param: [lo, hi]}``; a part the step lacks is
+    left out ({} without a resampling)."""
+    rows = (res.get("stability") or {}).get("steps") or []
+    if i >= len(rows):
+        return {}
     out: dict[str, dict[str, list[float]]] = {}
-    if step.get("params_ci90_resampled"):
-        out["resampled"] = {k: list(v) for k, v in step["params_ci90_resampled"].items()}
-    if step.get("params_ci90_profile"):
-        out["profile"] = {k: list(v["ci90"]) for k, v in step["params_ci90_profile"].items()}
+    for name, key in PARTS.items():
+        for k, v in (rows[i].get(key) or {}).items():
+            out.setdefault(name, {})[k] = list(v["ci90"] if isinstance(v, dict) else v)
     return out

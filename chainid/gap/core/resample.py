@@ -239,10 +239,11 @@ def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], reason: str 
     ``shifts[k][param]`` is the estimated bias of step k's parameter [its unit]
     (:mod:`chainid.gap.timedomain.discretisation`); the interval [lo, hi] becomes the union of itself and
     [lo − bias, hi − bias], so a bias within the resampling spread changes little and a larger one is taken in.
-    The biases are kept per step (``bias_dt``) and ``stab["discretisation"]`` says how they were estimated (or
-    ``reason`` why not)."""
+    The biases are kept per step (``bias_dt``), the intervals before widening too (``params_ci90_percentile``), and
+    ``stab["discretisation"]`` says how the biases were estimated (or ``reason`` why not)."""
     for row, sh in zip(stab["steps"], shifts):
         row["bias_dt"] = dict(sh)
+        row["params_ci90_percentile"] = {k: list(v) for k, v in row["params_ci90"].items()}
         for key, (lo, hi) in list(row["params_ci90"].items()):
             b = sh.get(key)
             if b is not None and math.isfinite(b):

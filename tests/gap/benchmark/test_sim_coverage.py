@@ -93,15 +93,19 @@ def test_trusted_fields_are_the_last_trusted_steps():
     assert trusted_fields({"steps": []}) == {"params": None, "params_ci90": {}, "params_ci90_parts": {}}
 
 
-def test_interval_parts_keep_the_resampling_and_the_profile_apart():
-    step = {"params_ci90": {"friction.F_c": [80.0, 110.0]},
-            "params_ci90_resampled": {"friction.F_c": [90.0, 110.0]},
-            "params_ci90_profile": {"friction.F_c": {"ci90": [80.0, 105.0], "chi2_min": 3.0, "level": 2.7}}}
-    assert interval_parts(step) == {"resampled": {"friction.F_c": [90.0, 110.0]},
-                                    "profile": {"friction.F_c": [80.0, 105.0]}}
-    assert interval_parts({"params_ci90": {"friction.F_c": [1.0, 2.0]}}) == {}
-    row = trusted_fields({"steps": [{"effect": "baseline"}, step], "trusted_steps": 2})
-    assert row["params_ci90_parts"]["profile"] == {"friction.F_c": [80.0, 105.0]}
+def test_interval_parts_are_read_from_the_resamplings_row_of_the_trusted_step():
+    stab_row = {"params_ci90": {"friction.F_c": [80.0, 110.0]},
+                "params_ci90_percentile": {"friction.F_c": [92.0, 108.0]},
+                "params_ci90_resampled": {"friction.F_c": [90.0, 110.0]},
+                "params_ci90_profile": {"friction.F_c": {"ci90": [80.0, 105.0], "chi2_min": 3.0, "level": 2.7}}}
+    res = {"steps": [{"effect": "baseline"}, {"effect": "friction", "params": {"friction.F_c": 100.0},
+                                              "params_ci90": {"friction.F_c": [80.0, 110.0]}}],
+           "trusted_steps": 2, "stability": {"steps": [{}, stab_row]}}
+    want = {"percentile": {"friction.F_c": [92.0, 108.0]}, "resampled": {"friction.F_c": [90.0, 110.0]},
+            "profile": {"friction.F_c": [80.0, 105.0]}}
+    assert interval_parts(res, 1) == want and trusted_fields(res)["params_ci90_parts"] == want
+    assert interval_parts(res | {"stability": {"steps": [{}]}}, 1) == {}  # the resampling stopped short of it
+    assert interval_parts({k: v for k, v in res.items() if k != "stability"}, 1) == {}  # no resampling
 
 
 def _row(verdict, truth, true_params, params, ci, excitation="harmonic", family="single", resamples=50):
@@ -256,6 +260,11 @@ def test_one_real_friction_case_with_20_resamples_brackets_the_truth():
     assert 0.1 * S == pytest.approx(est, rel=0.10)
     (sc,) = row_param_scores(row)
     assert sc["param"] == "friction.F_c" and sc["covered"] is (lo <= row["true_params"]["friction.F_c"] <= hi)
+    parts = row["params_ci90_parts"]  # the harmonic route: percentiles and profile, the reported one their union
+    assert set(parts) == {"resampled", "profile"}
+    (rlo, rhi), (plo, phi) = parts["resampled"]["friction.F_c"], parts["profile"]["friction.F_c"]
+    assert (lo, hi) == (min(rlo, plo), max(rhi, phi))
+    assert set(sc["parts"]) == {"resampled", "profile"}
 
 
 def test_coverage_split_by_route_follows_the_excitation():
