@@ -108,3 +108,26 @@ def test_cycle_parts_total_mass_closed_form():
     Fn, v = m.cycle_parts(d)
     np.testing.assert_allclose(Fn, 100.0 * (x - 1.0) + 3.0 * xdd * 1e-3, rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(v, xd, rtol=1e-12)
+
+
+def test_covariate_terms_move_each_parameter_by_slope_times_condition_change():
+    """p + slope·(cov − ref) (module docstring) on the three kinds of target: the damping's c, the spring's k and an
+    effect's parameter.  ``machine_compliance.c`` shares the name ``c`` with the damping and must move only the
+    compliance; by hand at i = 1.5 A (ref 0.5 A): c 2 + 3·1 = 5 N·s/mm, k 100 − 10·1 = 90 N/mm, compliance
+    1e-4 + 2e-5·1 = 1.2e-4 mm/N, F_c 30 + 4·1 = 34 N."""
+    model = AugmentedModel(LinearModel(100.0, 0.0), [("friction", {"F_c": 30.0, "x_s": 0.05}),
+                                                      ("machine_compliance", {"c": 1e-4})],
+                           Damping("viscous", {"c": 2.0}),
+                           covariate_terms={"damping.c@i": 3.0, "spring.k@i": -10.0, "friction.F_c@i": 4.0,
+                                            "machine_compliance.c@i": 2e-5},
+                           covariate_refs={"i": 0.5})
+    at = model.at_conditions({"i": 1.5})
+    assert at.damping.params["c"] == pytest.approx(5.0, rel=1e-12)
+    assert at.base.k == pytest.approx(90.0, rel=1e-12)
+    got = dict(at.effects)
+    assert got["friction"]["F_c"] == pytest.approx(34.0, rel=1e-12)
+    assert got["machine_compliance"]["c"] == pytest.approx(1.2e-4, rel=1e-12)
+    assert at.covariate_terms == {}
+    assert model.damping.params["c"] == 2.0 and dict(model.effects)["friction"]["F_c"] == 30.0  # the model unchanged
+    with pytest.raises(ValueError, match="covariate 'i'"):
+        model.at_conditions({"p": 1.0})

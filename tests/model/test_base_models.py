@@ -97,3 +97,12 @@ def test_chain_model_fields_ranges_inclusive_and_named(field, ok, bad, msg):
     for v in bad:
         with pytest.raises(ValueError, match=rf"ChainModel\.{field} = .* is invalid: {msg}"):
             ChainModel(**{field: v})
+
+
+def test_both_base_models_are_stiffness_models_at_run_time_and_a_bare_object_is_not():
+    """``StiffnessModel`` is a public, run-time checkable protocol: user code may ask ``isinstance`` of a model."""
+    from chainid.model.base import StiffnessModel
+
+    assert isinstance(ChainModel(default_chain()), StiffnessModel)
+    assert isinstance(LinearModel(100.0, 0.0), StiffnessModel)
+    assert not isinstance(object(), StiffnessModel)
