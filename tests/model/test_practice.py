@@ -308,3 +308,19 @@ def test_practice_refusals_name_the_field_value_and_valid_values():
         with pytest.raises(ValueError) as exc:
             call()
         assert str(exc.value) == msg
+
+
+def test_explain_ratio_narrows_the_inner_width_by_one_and_by_two_millimetres():
+    """``width_minus_1mm`` / ``width_minus_2mm`` (docstring): the model EA of the chain with its inner width w − 1
+    and w − 2 mm over the catalogue EA.  A narrower link has a smaller bend radius, so less bending compliance:
+    the ratio grows as the width shrinks (1 mm less, then 2 mm less)."""
+    from chainid.model.practice import chain_practice, explain_ratio, model_ea_N
+
+    c = presets.chain("studless:50")
+    e = explain_ratio(c)
+    cat = chain_practice(c)["EA_catalogue_orcaflex_N"]
+    assert {k for k in e if k.startswith("width_minus_")} == {"width_minus_1mm", "width_minus_2mm"}
+    for dw in (1.0, 2.0):
+        assert e[f"width_minus_{dw:g}mm"] == pytest.approx(model_ea_N(c.replace(width=c.width - dw)) / cat,
+                                                           rel=1e-12)
+    assert e["ratio"] < e["width_minus_1mm"] < e["width_minus_2mm"]
