@@ -149,3 +149,35 @@ def test_a_feature_law_is_held_at_its_box(w, A, c):
 def test_a_feature_laws_box_needs_both_ends_in_order(box, key):
     with pytest.raises(ValueError, match=f"{key} <= "):
         Damping("feature", FEATURE | box)
+
+
+def test_each_laws_coefficient_count_is_its_design_matrix_columns_in_the_law_module():
+    """``LAWS`` (the count a model file's law must carry) against the other place the laws live, the design
+    matrices of :mod:`chainid.model.laws` (Table 1 / Eq. 21 forms: polynomial 5, each simple term 1, a sum the sum).
+    A law with that count is accepted, with one more refused."""
+    from chainid.model.laws import law_from_dict
+    from chainid.model.timedamping import LAWS
+
+    w, a, x0 = np.array([2.0, 5.0]), np.array([0.5, 0.25]), np.array([3.0, 3.0])
+    for name, n in LAWS.items():
+        law = law_from_dict({"name": name, "params": None}, MODEL)
+        assert law.design(w, a, x0).shape == (2, n), name
+        Damping("law", law=name, coefficients=[1.0] * n)
+        with pytest.raises(ValueError, match=f"has {n} coefficient"):
+            Damping("law", law=name, coefficients=[1.0] * (n + 1))
+
+
+def test_a_form_without_its_optional_parameters_adds_no_force_of_them():
+    """Defaults of the forms (a hand-edited model file may leave keys out): viscous without ``c`` is no force;
+    hysteretic without ``k_comp`` / ``x_c`` is the bare Iwan element, no compensating spring."""
+    from chainid.model import operators as ops
+
+    t = np.linspace(0.0, 1.0, 401)
+    x, xd = 0.3 * np.sin(2 * math.pi * t), 0.6 * math.pi * np.cos(2 * math.pi * t)
+    F, dE = Damping("viscous", {}).force(x, xd)
+    assert np.all(F == 0.0) and np.all(dE == 0.0)
+    F, _ = Damping("hysteretic", {"eta_k": 40.0, "x_max": 0.3, "n": 8}).force(x, xd)
+    Fc, xs = ops.iwan_for_loss(40.0, 0.3, 8)
+    bare, _ = ops.iwan(x, Fc, xs, periodic=False)
+    np.testing.assert_allclose(F, bare, rtol=0, atol=1e-12 * np.max(np.abs(bare)))
+    assert np.max(np.abs(bare)) > 1.0  # a real force, so a spring k_comp·(x − x_c) would show

@@ -142,8 +142,8 @@ SPECS: dict[str, EffectSpec] = {s.name: s for s in (
         "nonlinear spring of a non-chain base: k3·(x − x_ref)³ + k2·(x − x_ref)² about the training data's mean "
         "displacement x_ref (k3 > 0 hardening, < 0 softening; k2 an asymmetry)", ("linear",)),
     EffectSpec("machine_compliance", "stiffness", (
-        _P("c", "mm/N", lambda s: (0.0, 1e-2), lambda s: 1e-6, 0.0),),
-        "series compliance c of test machine / fixture", ("chain",)),
+        _P("c", "mm/N", lambda s: (0.0, 100.0 * s.x / s.F), lambda s: 0.01 * s.x / s.F, 0.0),),
+        "series compliance c of test machine / fixture (searched up to 100 times the data's own x/F)", ("chain",)),
     EffectSpec("fixture_mass", "mass", (
         _P("m_f", "kg", lambda s: (0.0, 10.0 * s.F * 1e3 / max(s.x * s.omega ** 2, 1e-9)),
            lambda s: 0.0, 0.0, amplitude=True),),
