@@ -153,3 +153,23 @@ def test_bad_friction_parameters_are_refused_with_the_field():
         Device("linear", k=1.0, effects={"backlash": {"b": 0.0}})
     with pytest.raises(ValueError, match=r"stribeck.F_s = 1.0 is out of range; valid range >= F_c = 2.0 N"):
         Device("linear", k=1.0, effects={"stribeck": {"F_c": 2.0, "F_s": 1.0, "v_s": 1.0, "v_e": 0.01}})
+
+
+@pytest.mark.parametrize("f_hi, fs", [(20.0, 1000.0), (60.0, 1000.0)])
+def test_outside_mechanisms_by_hand(f_hi, fs):
+    """The ODE world's chatter is a stick-slip contact on a structure of stiffness k tuned 3–5 times above the band
+    top (at most fs/5), 2 % damped: ω_s² = k_s/m_s (N/mm → N/m: ×1e3) and ζ = c_s/(2√(k_s·m_s)) (c_s N·s/mm);
+    static friction twice the sliding one, F_c = 0.05·level·S; relaxation k_m = 0.2·level·k; drift 0.1·level·S."""
+    from chainid.gap.benchmark.odecases import outside_params
+
+    sc = {"S": 400.0, "k": 2000.0, "v": 30.0, "f_hi": f_hi, "fs": fs}
+    p = outside_params("chatter", 1.5, sc, np.random.default_rng(4))
+    assert min(3.0 * f_hi, fs / 5.0) <= p["f_s"] <= min(5.0 * f_hi, fs / 5.0)
+    assert math.sqrt(p["k_s"] * 1e3 / p["m_s"]) == pytest.approx(2 * math.pi * p["f_s"], rel=1e-12)
+    assert p["c_s"] * 1e3 / (2 * math.sqrt(p["k_s"] * 1e3 * p["m_s"])) == pytest.approx(0.02, rel=1e-12)
+    assert p["F_c"] == pytest.approx(0.05 * 1.5 * 400.0) and p["F_s"] == pytest.approx(2 * p["F_c"])
+    assert p["v_s"] == pytest.approx(0.2 * 30.0) and p["v_e"] == pytest.approx(p["v_s"] / 50.0)
+    assert outside_params("relaxation", 0.5, sc, np.random.default_rng(0))["k_m"] == pytest.approx(200.0)
+    assert outside_params("drift", 2.0, sc, np.random.default_rng(0)) == {"total": pytest.approx(80.0)}
+    with pytest.raises(ValueError, match="valid: relaxation, drift, chatter"):
+        outside_params("creep", 1.0, sc, np.random.default_rng(0))

@@ -102,6 +102,32 @@ def test_adc_steps_and_noise_level_are_as_stated():
     # noise 2 N plus uniform rounding of variance q²/12; 6000 samples: the sample σ within 3 %
     assert float(err.std()) == pytest.approx(math.sqrt(4.0 + q * q / 12), rel=0.03)
     assert float((rec.x - tr.x[s.record_index]).std()) == pytest.approx(1e-3, rel=0.03)
+    # zero-mean noise: the means within 4 standard errors of 0 (6000 samples)
+    assert abs(float(err.mean())) < 4 * math.sqrt(4.0 + q * q / 12) / math.sqrt(6000)
+    assert abs(float((rec.x - tr.x[s.record_index]).mean())) < 4 * 1e-3 / math.sqrt(6000)
+
+
+def test_a_lag_before_the_fine_grid_holds_its_first_value_and_inside_follows_the_spline():
+    from chainid.gap.benchmark.odemeasure import lagged
+
+    t_fine = np.linspace(0.0, 1.0, 1001)
+    y = np.sin(2 * math.pi * t_fine) + 2.0
+    t = np.array([0.0, 0.005, 0.5, 1.0])
+    got = lagged(t_fine, y, t, 0.01)  # y(t − 0.01): the first two fall before the grid
+    assert got[0] == got[1] == 2.0
+    assert got[2] == pytest.approx(math.sin(2 * math.pi * 0.49) + 2.0, abs=1e-9)  # a smooth spline: 1e-9
+    assert lagged(t_fine, y, np.array([0.995]), -0.01)[0] == pytest.approx(y[-1], abs=1e-15)  # after its end
+
+
+@pytest.mark.parametrize("f_hi, taper, ok", [(100.0, 1.5, True), (100.01, 1.5, False), (50.0, 1.5001, False)])
+def test_filtered_noise_admits_a_band_up_to_a_tenth_of_the_rate_and_a_taper_up_to_a_quarter(f_hi, taper, ok):
+    """fs = 1000 Hz, 6000 samples (T = 6 s): the band top may reach fs/10 = 100 Hz, the taper T/4 = 1.5 s."""
+    rng = np.random.default_rng(3)
+    if ok:
+        assert sh.filtered_noise(1000.0, 6000, 2.0, f_hi, taper, rng).y.size > 0
+    else:
+        with pytest.raises(ValueError, match="fs/10 = 100 Hz and 0 < taper <= T/4 = 1.5 s"):
+            sh.filtered_noise(1000.0, 6000, 2.0, f_hi, taper, rng)
 
 
 def test_damping_law_gives_each_record_its_c_within_one_percent():

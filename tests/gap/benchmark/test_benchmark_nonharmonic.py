@@ -462,3 +462,23 @@ def test_quake_records_half_with_a_near_fault_pulse(monkeypatch):
     assert pulses[pulses > 0].min() >= 0.5 and pulses.max() <= 1.5
     offs = np.array([k["offset"] for k in seen])
     assert 0 < np.count_nonzero(offs) < 400 and np.abs(offs).max() <= 0.3
+
+
+def test_chatter_case_slides_with_coulomb_friction_a_tenth_of_the_force_scale_and_a_tone_on_it():
+    """The non-harmonic chatter case (outside the library): while the contact slides fast, the hook adds
+    F_c·sgn(ẋ) with F_c = 0.1·S, plus a tone of 0.3–0.8 F_c at max(12 Hz, fs/20) (nonharmonic._outside).  Over
+    whole periods of the tone the added force averages F_c; its extremes lie within F_c·(1 ± 0.8)."""
+    from chainid.gap.benchmark.nonharmonic import records, time_grid
+
+    case = next(c for c in time_grid(0, False, ("random",)) if c["effects"] == ["chatter"])
+    _, dev = records(case)
+    F_c = 0.1 * dev["S"]
+    t = np.arange(2000) / 1000.0  # 2 s at 1 kHz: the tone at 50 Hz, 100 whole periods
+    fast = np.full(t.size, 100.0)  # mm/s, sliding everywhere
+    z = np.zeros(t.size)
+    up = dev["hooks"][0](t, z, fast, z, z)
+    down = dev["hooks"][0](t, z, -fast, z, z)
+    assert float(up.mean()) == pytest.approx(F_c, rel=1e-9)
+    assert float(down.mean()) == pytest.approx(-F_c, rel=1e-9)
+    swing = 0.5 * float(up.max() - up.min())
+    assert 0.3 * F_c * 0.99 <= swing <= 0.8 * F_c
