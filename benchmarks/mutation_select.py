@@ -14,8 +14,9 @@ script asks instead, for every mutant, which tests of the **whole suite** execut
 
    - ``line``: the tests that execute the mutated line;
    - ``function``: the tests that execute any line of the function around it (a default value, a decorator);
-   - ``module``: the tests that execute any line of its module (a line run only at import, or a body compiled by
-     numba, which coverage cannot trace);
+   - ``package``: in a module that compiles code with numba (whose bodies coverage cannot trace), the tests that
+     execute any line of its package (the callers of the compiled code are plain Python);
+   - ``module``: the tests that execute any line of its module (a line run only at import);
    - ``targets``: the package's ``TARGETS`` of ``mutation.py``.
 
    A test that does not execute a mutant's code cannot fail because of it, so the selection loses no kill that
@@ -55,7 +56,7 @@ from mutation_targets import TARGETS
 
 REPO = mutation.REPO
 PACKAGES = tuple(TARGETS)
-RULES = ("line", "function", "module", "targets")
+RULES = ("line", "package", "function", "module", "targets")
 
 
 def coverage_map(copy: Path, out: Path) -> Path:
@@ -130,6 +131,11 @@ class Selector:
         tests = self.by_file.get(rel, {}).get(line, set())
         if tests:
             return "line", self.fastest_first(tests)
+        if holds_numba(self.root / rel):  # compiled bodies are never traced: every test that runs the package
+            pkg_dir = rel.rsplit("/", 1)[0] + "/"
+            tests = set().union(*[self._union(f, 1, 10 ** 9) for f in self.by_file if f.startswith(pkg_dir)])
+            if tests:
+                return "package", self.fastest_first(tests)
         span = enclosing_function(self.root / rel, line)
         if span is not None:
             tests = self._union(rel, *span)
@@ -250,6 +256,72 @@ def run_all(jobs: list[tuple[str, dict]], copies: list[Path], pristine: Path, se
         return [r for r in ex.map(one, jobs) if r is not None]
 
 
+def _changed(diff: str) -> list[str]:
+    """The removed and added lines of a unified diff (its headers and line numbers left out)."""
+    return [ln for ln in diff.splitlines() if ln[:1] in "-+" and not ln.startswith(("---", "+++"))]
+
+
+def find_occurrence(mut: dict, copy: Path, pristine: Path, most: int = 400) -> int | None:
+    """The occurrence of ``mut``'s operator in its file (as the file is now) that makes the same change as the
+    stored ``mut["diff"]``: the stored occurrence first, then every other until cosmic-ray has no more; None when
+    none does (the mutated code is gone).  Each try is put back."""
+    want = _changed(mut["diff"])
+    order = [mut["occurrence"], *(i for i in range(most) if i != mut["occurrence"])]
+    env = mutation.run_env(copy)
+    for occ in order:
+        ap = subprocess.run(["cosmic-ray", "apply", mut["file"], mut["operator"], str(occ)], cwd=copy, env=env,
+                            capture_output=True, text=True)
+        try:
+            if ap.returncode != 0:
+                if occ > mut["occurrence"]:
+                    return None
+                continue
+            if _changed(_diff(pristine / mut["file"], copy / mut["file"], mut["file"])) == want:
+                return occ
+        finally:
+            shutil.copy2(pristine / mut["file"], copy / mut["file"])
+    return None
+
+
+def rerun_jobs(prev: list[dict], pkgs: list[str], copy: Path, pristine: Path) -> tuple[list[tuple[str, dict]], dict]:
+    """The survivors of an earlier run (its survivors JSON) as jobs on today's code, each at the occurrence that
+    makes its stored change; per package the earlier counts and the survivors whose code is gone (``gone``)."""
+    jobs, info = [], {}
+    for r in prev:
+        if r["package"] not in pkgs:
+            continue
+        gone = []
+        for sv in r.get("survivors", []):
+            occ = find_occurrence(sv, copy, pristine)
+            if occ is None:
+                gone.append(sv)
+            else:
+                jobs.append((r["package"], {k: sv[k] for k in ("file", "line", "operator")} | {"occurrence": occ}))
+        info[r["package"]] = {"sampled": r["sampled"], "killed_before": r["killed"], "survived_before": r["survived"],
+                              "incompetent_before": r["incompetent"], "gone": gone}
+    return jobs, info
+
+
+def rerun_rows(info: dict, results: list[dict]) -> list[dict]:
+    """Per package: the earlier run's kills, plus its survivors killed by today's tests; survivors whose code is gone
+    count neither way."""
+    rows = []
+    for pkg, i in info.items():
+        res = [r for r in results if r["package"] == pkg]
+        now_k = sum(r["outcome"] == "killed" for r in res)
+        surv = [r for r in res if r["outcome"] == "survived"]
+        killed = i["killed_before"] + now_k
+        rows.append({"package": pkg, "tests": "coverage-selected (rerun of the survivors)",
+                     "mutants_total": None, "annotation_mutants": None, "sampled": i["sampled"],
+                     "run": i["killed_before"] + i["survived_before"] + i["incompetent_before"], "killed": killed,
+                     "survived": len(surv), "incompetent": i["incompetent_before"],
+                     "kill_rate": killed / (killed + len(surv)) if killed + len(surv) else None, "budget_hit": False,
+                     "killed_now": now_k, "gone": i["gone"], "rules": {k: sum(r["rule"] == k for r in res)
+                                                                        for k in RULES},
+                     "mutants": res, "survivors": surv})
+    return rows
+
+
 def package_rows(pkgs: list[str], info: dict, results: list[dict], budget_hit: bool) -> list[dict]:
     """One row per package in ``mutation.py``'s format (its table writer reads them)."""
     rows = []
@@ -283,6 +355,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--coverage", metavar="DIR",
                     help="the coverage map's folder: reused when it holds one, else the map is made there and kept "
                          "(without this option it is made in the temporary folder and dropped)")
+    ap.add_argument("--rerun", metavar="SURVIVORS.json",
+                    help="run only the survivors of an earlier run (its --survivors file) against today's tests, each "
+                         "at the occurrence that makes its stored change; the kill rate counts the earlier kills")
     ap.add_argument("--out", default=str(REPO / "benchmarks" / "MUTATION.md"))
     ap.add_argument("--survivors", default=str(REPO / "benchmarks" / "mutation_survivors.json"))
     args = ap.parse_args(argv)
@@ -306,13 +381,16 @@ def main(argv: list[str] | None = None) -> int:
             coverage_map(pristine, cov)
         sel = Selector(cov, pristine)
         info, jobs = {}, []
-        for pkg in args.packages:
-            work = Path(tmp) / f"init_{pkg}"
-            shutil.copytree(pristine, work, symlinks=True)
+        work = Path(tmp) / "init"
+        shutil.copytree(pristine, work, symlinks=True)
+        if args.rerun:
+            jobs, info = rerun_jobs(json.loads(Path(args.rerun).read_text(encoding="utf-8")), args.packages, work,
+                                    pristine)
+        for pkg in ([] if args.rerun else args.packages):
             muts, n_all, n_ann = sampled_mutants(pkg, work, args.sample, args.seed)
             info[pkg] = (n_all, n_ann, len(muts))
             jobs += [(pkg, m) for m in muts]
-            shutil.rmtree(work)
+        shutil.rmtree(work)
         copies = []
         for i in range(args.workers):
             copies.append(Path(tmp) / f"worker_{i}")
@@ -320,7 +398,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         results = run_all(jobs, copies, pristine, sel, args.budget * 60.0)
         hit = time.perf_counter() - t0 > args.budget * 60.0
-    rows = package_rows(args.packages, info, results, hit)
+    rows = rerun_rows(info, results) if args.rerun else package_rows(args.packages, info, results, hit)
     cmd = " ".join(["python benchmarks/mutation_select.py", *(argv if argv is not None else sys.argv[1:])])
     for r in rows:
         r["run_started_utc"], r["command"] = started, cmd

@@ -59,7 +59,6 @@ import math
 from pathlib import Path
 from typing import Any
 
-from chainid.model import kernels
 from chainid.model.effects import check_params, modify_model
 from chainid.model.effects.library import STIFFNESS_SIDE
 from chainid.model.modelfile import load_model
@@ -181,10 +180,7 @@ def _x0_ke(base: Any, pretension_N: float) -> tuple[float, float]:
     """The specimen's elongation x0 [mm] at the pretension and its tangent k_e [N/mm] there (the modified kernel)."""
     if pretension_N <= 0:
         x0 = float(base.slack)
-    elif all(getattr(base, k) == v for k, v in (("ea_scale", 1.0), ("hertz_scale", 1.0), ("contact_exponent", None),
-                                                ("compliance", 0.0), ("slack", 0.0))):
-        x0 = float(kernels.displacement(pretension_N, base.chain, base.variant))
-    else:
+    else:  # Eq. 15 with the modifiers' coefficients (the unmodified chain's are the kernel's, to rounding)
         c = base.coefficients
         beta = c[2] if len(c) == 3 else 2.0 / 3.0
         x0 = float(base.slack + c[0] * pretension_N + c[1] * pretension_N ** beta)

@@ -177,3 +177,23 @@ class _nothing:
 
     def __exit__(self, *a):
         return False
+
+
+@pytest.mark.parametrize("pretension", [0.0, 500.0, 2e4])
+def test_the_operating_elongation_is_the_chains_own_at_the_pretension(pretension):
+    """x0 solves F_k(x0) = pretension on the unmodified chain (brentq on the force kernel, an independent inversion
+    of the displacement form the segment uses); the tangent k_e there is the kernel's stiffness.  No pretension: the
+    slack (0 mm)."""
+    from scipy.optimize import brentq
+
+    from chainid.chain.spec import default_chain
+    from chainid.dynamics.segment_model import _x0_ke
+    from chainid.model import kernels
+    from chainid.model.base import ChainModel
+
+    base = ChainModel(default_chain())
+    x0, ke = _x0_ke(base, pretension)
+    want = 0.0 if pretension == 0 else brentq(lambda x: kernels.force(x, base.chain) - pretension, 1e-9, 100.0,
+                                              xtol=1e-15, rtol=1e-14)
+    assert x0 == pytest.approx(want, rel=1e-12, abs=1e-15)
+    assert ke == pytest.approx(float(kernels.stiffness(max(want, 1e-6), base.chain)), rel=1e-9)

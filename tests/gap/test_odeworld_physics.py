@@ -173,3 +173,28 @@ def test_outside_mechanisms_by_hand(f_hi, fs):
     assert outside_params("drift", 2.0, sc, np.random.default_rng(0)) == {"total": pytest.approx(80.0)}
     with pytest.raises(ValueError, match="valid: relaxation, drift, chatter"):
         outside_params("creep", 1.0, sc, np.random.default_rng(0))
+
+
+def test_relaxation_is_a_maxwell_element_whose_loop_area_is_its_loss_modulus():
+    """Outside mechanism ``relaxation``: a spring k_m in series with a dashpot of time constant τ_m (Maxwell:
+    Ḟ = k_m·ẋ − F/τ_m).  Under x = A·sin ωt its steady stiffness is k_m·iωτ/(1 + iωτ), so one cycle takes
+    π·A²·k_m·ωτ/(1 + (ωτ)²) from the drive and the force peaks at A·k_m·ωτ/√(1 + (ωτ)²)."""
+    k_m, tau = 50.0, 0.3
+    s = sh.harmonic(500.0, 5000, F_SINE)
+    dev = Device("linear", k=0.0, m=0.0, c=0.0, outside={"relaxation": {"k_m": k_m, "tau_m": tau}})
+    tr = run_displacement(dev, s.t, A * s.y, A * s.yd, A * s.ydd, 1.0 / s.fs)
+    per = int(round(s.fs * s.over / F_SINE))
+    x, F = tr.x[-per - 1:], tr.F[-per - 1:]
+    wt = 2 * math.pi * F_SINE * tau
+    assert _area(x, F) == pytest.approx(math.pi * A * A * k_m * wt / (1 + wt * wt), rel=1e-4)
+    assert F.max() == pytest.approx(A * k_m * wt / math.sqrt(1 + wt * wt), rel=1e-4)
+
+
+def test_every_state_and_parameter_slot_of_a_device_is_its_own():
+    """The device's parameter vector holds each effect's numbers and each state's index in its own slot: two names
+    on one slot would make one effect's state the other's."""
+    from chainid.gap.benchmark import odedevice as od
+
+    names = [n for n in dir(od) if n.isupper() and isinstance(getattr(od, n), int) and n != "N_P"]
+    slots = sorted(getattr(od, n) for n in names)
+    assert slots == list(range(od.N_P)), sorted(zip(slots, names))  # every slot once, none past the vector

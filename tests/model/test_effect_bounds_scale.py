@@ -59,3 +59,22 @@ def test_every_unit_of_the_library_is_read():
     for u in units:
         powers(u)  # a unit the table does not know raises KeyError
     assert {e for e, _ in FITTED} == set(SPECS)  # every effect has parameters under the check
+
+
+@pytest.mark.parametrize("scales", [Scales(F=1000.0, x=0.5, omega=6.0, v=3.0, x_mid=2.0),
+                                    Scales(F=5e6, x=20.0, omega=300.0, v=6000.0, x_mid=-50.0)],
+                         ids=["rig", "large-chain"])
+def test_the_fit_searches_only_physically_valid_values_and_starts_inside_its_bounds(scales):
+    """A fitted value can be written to a model file and read back: every fit bound lies in the parameter's valid
+    range of :mod:`chainid.model.ranges` (an open end not reached), and the start lies within the fit bounds."""
+    from chainid.model.ranges import EFFECT_RANGES
+
+    for spec in SPECS.values():
+        for p in spec.params:
+            if not p.fitted:
+                continue
+            r, (lo, hi), g = EFFECT_RANGES[spec.name][p.name], p.bounds(scales), p.guess(scales)
+            key = f"{spec.name}.{p.name}"
+            assert r.lo <= lo and hi <= r.hi, (key, (lo, hi), (r.lo, r.hi))
+            assert not (r.lo_open and lo == r.lo) and not (r.hi_open and hi == r.hi), key
+            assert lo <= g <= hi, (key, g, (lo, hi))

@@ -181,3 +181,5 @@ def test_a_form_without_its_optional_parameters_adds_no_force_of_them():
     bare, _ = ops.iwan(x, Fc, xs, periodic=False)
     np.testing.assert_allclose(F, bare, rtol=0, atol=1e-12 * np.max(np.abs(bare)))
     assert np.max(np.abs(bare)) > 1.0  # a real force, so a spring k_comp·(x − x_c) would show
+    F, _ = Damping("hysteretic", {"eta_k": 40.0, "x_max": 0.3, "n": 8, "k_comp": 25.0}).force(x, xd)
+    np.testing.assert_allclose(F, bare - 25.0 * x, rtol=0, atol=1e-12 * np.max(np.abs(bare)))  # x_c = 0 mm

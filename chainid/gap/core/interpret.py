@@ -46,13 +46,16 @@ RICHER_SHAPE = {"stribeck": "tests that slide slowly (speeds near the Stribeck v
 
 def separating_test(a: str, b: str) -> str:
     """A test that would separate two near-tied explanations: two effects, or an effect and a pair (a richer
-    effect against its simpler member plus a second cause, ``stribeck`` ~ ``friction+slack``)."""
+    effect against its simpler member plus a second cause, ``stribeck`` ~ ``friction+slack``; two chains that differ
+    by one effect each, ``friction+slack`` ~ ``hysteresis+slack``, by what separates those two)."""
     if "+" in a or "+" in b:
         diff = set(a.split("+")) ^ set(b.split("+"))
         rich = next((n for n in sorted(diff) if n in RICHER_SHAPE), None)
         if rich is not None:
             rest = sorted(diff - {rich, SIMPLER[rich]})
             return RICHER_SHAPE[rich] + (f"; then {separating_test(rich, rest[0])} for {rest[0]}" if rest else "")
+        if len(diff) == 2:  # two chains that differ by one effect each: what separates those two
+            return separating_test(*sorted(diff))
     s = {a, b}
     if s == {"friction", "hysteresis"}:
         return ("a small-amplitude test (A comparable to the hysteresis travel x_h) separates sliding from smooth "

@@ -128,3 +128,27 @@ def test_mechanism_names_and_separating_tests():
     assert "frequency range" in interpret.separating_test("sensor_delay", "friction")
     assert "amplitude range" in interpret.separating_test("damping_law", "slack")
     assert "mean-load range" in interpret.separating_test("slack", "stiffness_level")
+
+
+def test_separating_test_of_a_richer_effect_against_its_member_and_a_second_cause():
+    """``stribeck`` ~ ``friction+slack``: the Stribeck shape that Coulomb friction lacks, then what separates
+    Stribeck from the second cause (slack: a stiffness-side effect, by the mean load); ``bouc_wen`` ~
+    ``hysteresis+friction``: the Bouc–Wen loop, then friction's amplitude test."""
+    from chainid.gap.core.interpret import RICHER_SHAPE, separating_test
+
+    assert separating_test("stribeck", "friction+slack") == (
+        RICHER_SHAPE["stribeck"] + "; then tests over a wider mean-load range x0 (stiffness-side effects scale "
+        "differently with load) for slack")
+    assert separating_test("hysteresis+friction", "bouc_wen") == (
+        RICHER_SHAPE["bouc_wen"] + "; then tests over a wider amplitude range at fixed ω (Coulomb ∝ 1/A, viscous ∝ 1) "
+        "for friction")
+
+
+def test_separating_test_of_two_chains_that_differ_by_one_effect_each_is_that_pairs():
+    """``friction+slack`` ~ ``hysteresis+slack`` differ only in friction against hysteresis: the small-amplitude
+    test separates them, as it does the two effects alone."""
+    from chainid.gap.core.interpret import separating_test
+
+    assert separating_test("friction+slack", "hysteresis+slack") == separating_test("friction", "hysteresis")
+    assert separating_test("friction+slack", "hysteresis+slack").startswith("a small-amplitude test")
+    assert separating_test("sensor_delay+backlash", "friction+backlash").startswith("tests over a wider frequency")
