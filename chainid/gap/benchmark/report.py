@@ -183,11 +183,12 @@ def row_param_scores(r: dict[str, Any]) -> list[dict[str, Any]]:
 
 def param_coverage(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
     """The calibration of the 90 % intervals over every row with a right verdict (:func:`row_param_scores`):
-    ``by_effect`` (intervals, covered, coverage, median relative error per effect), ``params`` (the same per
-    parameter) and ``by_route`` (``by_effect`` of the harmonic plans and of the other excitations, the time route);
+    ``resamples`` (the largest count of the rows') and ``resample_counts`` (every count, when runs pooled from
+    several files differ), ``by_effect`` (intervals, covered, coverage, median relative error per effect),
+    ``params`` (the same per parameter) and ``by_route`` (``by_effect`` of the harmonic plans and of the other excitations, the time route);
     None when no row was diagnosed with resamples."""
-    n = max((int(r.get("resamples") or 0) for r in rows), default=0)
-    if n <= 0:
+    counts = sorted({int(r.get("resamples") or 0) for r in rows} - {0})
+    if not counts:
         return None
     scores = [row_param_scores(r) for r in rows]
     ps = pool_scores(scores)
@@ -195,7 +196,8 @@ def param_coverage(rows: list[dict[str, Any]]) -> dict[str, Any] | None:
     for r, sc in zip(rows, scores):  # a harmonic plan runs the harmonic route, every other excitation the time route
         routes.setdefault("harmonic" if r.get("excitation", "harmonic") == "harmonic" else "time", []).append(sc)
     by_route = {k: coverage_by_effect(pool_scores(v)) for k, v in sorted(routes.items())}
-    return {"resamples": n, "by_effect": coverage_by_effect(ps), "params": param_table(ps),
+    return {"resamples": counts[-1], "resample_counts": counts, "by_effect": coverage_by_effect(ps),
+            "params": param_table(ps),
             "by_route": {k: v for k, v in by_route.items() if v}}
 
 
@@ -204,7 +206,9 @@ def coverage_text(s: dict[str, Any]) -> list[str]:
     cov = s.get("param_coverage")
     if not cov:
         return []
-    title = (f"\n90 % intervals ({cov['resamples']} resamples) covering the true parameter, per effect (right "
+    counts = cov.get("resample_counts") or [cov["resamples"]]
+    n = f"{counts[0]}" if len(counts) == 1 else f"{', '.join(map(str, counts[:-1]))} or {counts[-1]}"
+    title = (f"\n90 % intervals ({n} resamples) covering the true parameter, per effect (right "
              f"verdicts only; calibrated: 85-95 %):")
     if not cov["by_effect"]:
         return [title, "  no parameter scored"]

@@ -278,3 +278,12 @@ def test_coverage_split_by_route_follows_the_excitation():
     h = cov["by_route"]["harmonic"]
     assert (h["friction"]["covered"], h["stiffness_level"]["covered"]) == (0, 1)
     assert "of which on the time route:" in format_summary(summarise(rows))
+
+
+def test_pooled_rows_with_different_resample_counts_say_every_count():
+    rows = [ROWS[0], ROWS[1] | {"resamples": 200}, ROWS[2] | {"resamples": 0}]
+    cov = param_coverage(rows)
+    assert cov["resamples"] == 200 and cov["resample_counts"] == [50, 200]
+    text = "\n".join(format_summary(summarise(rows)).splitlines())
+    assert "(50 or 200 resamples)" in text
+    assert "(50 resamples)" in format_summary(summarise(ROWS[:2]))
