@@ -272,11 +272,12 @@ def find_occurrence(mut: dict, copy: Path, pristine: Path, most: int = 400) -> i
         ap = subprocess.run(["cosmic-ray", "apply", mut["file"], mut["operator"], str(occ)], cwd=copy, env=env,
                             capture_output=True, text=True)
         try:
-            if ap.returncode != 0:
+            changed = _changed(_diff(pristine / mut["file"], copy / mut["file"], mut["file"]))
+            if ap.returncode != 0 or not changed:  # past the last occurrence (cosmic-ray may change nothing)
                 if occ > mut["occurrence"]:
                     return None
                 continue
-            if _changed(_diff(pristine / mut["file"], copy / mut["file"], mut["file"])) == want:
+            if changed == want:
                 return occ
         finally:
             shutil.copy2(pristine / mut["file"], copy / mut["file"])
