@@ -298,7 +298,8 @@ def rerun_jobs(prev: list[dict], pkgs: list[str], copy: Path, pristine: Path) ->
                 gone.append(sv)
             else:
                 jobs.append((r["package"], {k: sv[k] for k in ("file", "line", "operator")} | {"occurrence": occ}))
-        info[r["package"]] = {"sampled": r["sampled"], "killed_before": r["killed"], "survived_before": r["survived"],
+        info[r["package"]] = {"mutants_total": r.get("mutants_total"), "annotation_mutants": r.get("annotation_mutants"),
+                              "sampled": r["sampled"], "killed_before": r["killed"], "survived_before": r["survived"],
                               "incompetent_before": r["incompetent"], "gone": gone}
     return jobs, info
 
@@ -313,7 +314,8 @@ def rerun_rows(info: dict, results: list[dict]) -> list[dict]:
         surv = [r for r in res if r["outcome"] == "survived"]
         killed = i["killed_before"] + now_k
         rows.append({"package": pkg, "tests": "coverage-selected (rerun of the survivors)",
-                     "mutants_total": None, "annotation_mutants": None, "sampled": i["sampled"],
+                     "mutants_total": i["mutants_total"], "annotation_mutants": i["annotation_mutants"],
+                     "sampled": i["sampled"],
                      "run": i["killed_before"] + i["survived_before"] + i["incompetent_before"], "killed": killed,
                      "survived": len(surv), "incompetent": i["incompetent_before"],
                      "kill_rate": killed / (killed + len(surv)) if killed + len(surv) else None, "budget_hit": False,

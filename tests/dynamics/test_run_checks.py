@@ -219,3 +219,14 @@ def test_unconverged_peak_warning_quotes_the_run_at_twice_the_step():
     assert p1 == pytest.approx(res.peak_tension, rel=1e-5) and h == pytest.approx(res.dt, rel=1e-2)
     assert p0 == pytest.approx(coarse.peak_tension, rel=1e-5) and abs(p0 - p1) > 0.02 * p1
     assert pct == pytest.approx(100 * abs(coarse.peak_tension - res.peak_tension) / res.peak_tension, rel=1e-2)
+
+
+@pytest.mark.parametrize("scheme", ["explicit", "implicit"])
+def test_a_pretensioned_line_with_no_drive_stays_at_rest(scheme):
+    """Equilibrium: every segment at the pretension, the tensioner pulling the free last node with the same force,
+    no drive: no node moves and every tension stays the pretension (a force of even 1 N left over at the free end
+    at t = 0 would move its node by ~h·t/2·F/m)."""
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=1000.0, far_end="tensioner")
+    res = simulate(line, Drive("none"), 0.2, scheme=scheme)
+    assert np.max(np.abs(res.u)) < 1e-9  # mm
+    np.testing.assert_allclose(res.tension, 1000.0, rtol=1e-9)
