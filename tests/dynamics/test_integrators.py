@@ -92,3 +92,43 @@ def test_implicit_newton_on_the_exact_tangent_needs_a_few_iterations_and_no_halv
     with pytest.warns(RuntimeWarning, match=r"not resolved .* \(17\.8 steps per period; valid >= 20\)"):
         res = simulate(line, drive, 400 * dt, dt=dt, scheme="implicit", n_out=100)
     assert res.rejected == 0 and res.substeps == res.n_steps
+
+
+def test_implicit_steps_that_all_fall_back_to_the_explicit_scheme_follow_the_explicit_run_with_resistance():
+    """Newton allowed one iteration at a tolerance it cannot meet, no halving, and every sub-step short enough for
+    the explicit scheme: every step of the implicit run is the explicit fallback, whose accelerations (with the
+    strand's resistance, 300 N) are recomputed for the next step.  The run then follows the explicit scheme's at the
+    same step: the drive end's travel within 5 % of its peak (they differ in how the resistance at standstill is
+    evaluated, the implicit state's smooth branch against the explicit clip)."""
+    from chainid.dynamics import stable_step
+    from chainid.dynamics.integrators import run
+    from chainid.dynamics.simulation import core_arguments
+
+    line = ChainLine(n_links=40, n_masses=8, pretension_N=2000.0, resistance_N=300.0)
+    drive = Drive("ramp", v=500.0, t_ramp=0.05)
+    dt = 0.5 * stable_step(line)
+    a1, o1 = core_arguments(line, drive, dt, 400, 4)
+    a2, o2 = core_arguments(line, drive, dt, 400, 4, levels=0, tol_abs=1e-12, tol_rel=1e-15, max_it=1,
+                            dt_explicit=dt)
+    assert run(False, *a1, *o1)[0] == 0 and run(True, *a2, *o2)[0] == 0
+    assert o2[-1][4] == 400  # every step fell back
+    u1, u2 = o1[3], o2[3]
+    assert np.max(np.abs(u2 - u1)) <= 0.05 * np.max(np.abs(u1))
+
+
+def test_a_halved_implicit_sub_step_grows_back_so_every_step_is_tried_whole_again():
+    """The taut chain of the Newton test at 20 × the stable step, Newton limited to 3 iterations: near-quadratic
+    convergence needs about 4 on a whole step and 3 on a half.  After a halving the sub-step doubles back once
+    accepted, so each step is tried whole again: nearly every step is rejected once and done in two halves, which
+    makes the accepted sub-steps exactly the steps plus the rejections.  (A sub-step that stayed halved would be
+    rejected once in the whole run.)"""
+    from chainid.dynamics import stable_step
+    from chainid.dynamics.integrators import run
+    from chainid.dynamics.simulation import core_arguments
+
+    line = ChainLine(n_links=40, n_masses=8, pretension_N=5_000.0, tensioner_stiffness=200.0)
+    dt = 20 * stable_step(line)
+    args, outs = core_arguments(line, Drive("sine", A=0.02, omega=2 * math.pi * 20), dt, 400, 4, max_it=3)
+    assert run(True, *args, *outs)[0] == 0
+    accepted, rejected, _, shortest = outs[-1][:4]
+    assert rejected >= 0.9 * 400 and accepted == 400 + rejected and shortest == 0.5
