@@ -131,7 +131,7 @@ class Selector:
         tests = self.by_file.get(rel, {}).get(line, set())
         if tests:
             return "line", self.fastest_first(tests)
-        if holds_numba(self.root / rel):  # compiled bodies are never traced: every test that runs the package
+        if in_compiled(self.root / rel, line):  # compiled bodies are never traced: every test that runs the package
             pkg_dir = rel.rsplit("/", 1)[0] + "/"
             tests = set().union(*[self._union(f, 1, 10 ** 9) for f in self.by_file if f.startswith(pkg_dir)])
             if tests:
@@ -171,6 +171,17 @@ def enclosing_function(path: Path, line: int) -> tuple[int, int] | None:
             if best is None or node.lineno >= best[0]:
                 best = (node.lineno, node.end_lineno)
     return best
+
+
+def in_compiled(path: Path, line: int) -> bool:
+    """Whether *line* lies in a function that numba compiles (a decorator that names ``jit``, as ``@njit`` or
+    ``@numba.jit(...)``): coverage.py never traces such a body."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.lineno <= line <= node.end_lineno:
+            if any("jit" in ast.unparse(d) for d in node.decorator_list):
+                return True
+    return False
 
 
 def holds_numba(path: Path) -> bool:
@@ -261,11 +272,19 @@ def _changed(diff: str) -> list[str]:
     return [ln for ln in diff.splitlines() if ln[:1] in "-+" and not ln.startswith(("---", "+++"))]
 
 
-def find_occurrence(mut: dict, copy: Path, pristine: Path, most: int = 400) -> int | None:
+def _first_changed_line(before: Path, after: Path) -> int:
+    """The 1-based number of the first line where two versions of a file differ."""
+    a = before.read_text(encoding="utf-8").splitlines()
+    b = after.read_text(encoding="utf-8").splitlines()
+    return next((i + 1 for i, (x, y) in enumerate(zip(a, b)) if x != y), min(len(a), len(b)) + 1)
+
+
+def find_occurrence(mut: dict, copy: Path, pristine: Path) -> tuple[int, int] | None:
     """The occurrence of ``mut``'s operator in its file (as the file is now) that makes the same change as the
-    stored ``mut["diff"]``: the stored occurrence first, then every other until cosmic-ray has no more; None when
-    none does (the mutated code is gone).  Each try is put back."""
+    stored ``mut["diff"]``, and the line it changes now: the stored occurrence first, then every other (up to 200
+    past it) until cosmic-ray has no more; None when none does (the mutated code is gone).  Each try is put back."""
     want = _changed(mut["diff"])
+    most = mut["occurrence"] + 200
     order = [mut["occurrence"], *(i for i in range(most) if i != mut["occurrence"])]
     env = mutation.run_env(copy)
     for occ in order:
@@ -278,7 +297,7 @@ def find_occurrence(mut: dict, copy: Path, pristine: Path, most: int = 400) -> i
                     return None
                 continue
             if changed == want:
-                return occ
+                return occ, _first_changed_line(pristine / mut["file"], copy / mut["file"])
         finally:
             shutil.copy2(pristine / mut["file"], copy / mut["file"])
     return None
@@ -293,12 +312,14 @@ def rerun_jobs(prev: list[dict], pkgs: list[str], copy: Path, pristine: Path) ->
             continue
         gone = []
         for sv in r.get("survivors", []):
-            occ = find_occurrence(sv, copy, pristine)
-            if occ is None:
+            found = find_occurrence(sv, copy, pristine)
+            if found is None:
                 gone.append(sv)
             else:
-                jobs.append((r["package"], {k: sv[k] for k in ("file", "line", "operator")} | {"occurrence": occ}))
-        info[r["package"]] = {"mutants_total": r.get("mutants_total"), "annotation_mutants": r.get("annotation_mutants"),
+                jobs.append((r["package"], {"file": sv["file"], "operator": sv["operator"], "occurrence": found[0],
+                                            "line": found[1]}))
+        info[r["package"]] = {"jobs": sum(j[0] == r["package"] for j in jobs),
+                              "mutants_total": r.get("mutants_total"), "annotation_mutants": r.get("annotation_mutants"),
                               "sampled": r["sampled"], "killed_before": r["killed"], "survived_before": r["survived"],
                               "incompetent_before": r["incompetent"], "gone": gone}
     return jobs, info
@@ -313,12 +334,14 @@ def rerun_rows(info: dict, results: list[dict]) -> list[dict]:
         now_k = sum(r["outcome"] == "killed" for r in res)
         surv = [r for r in res if r["outcome"] == "survived"]
         killed = i["killed_before"] + now_k
+        now_inc = sum(r["outcome"] == "incompetent" for r in res)
         rows.append({"package": pkg, "tests": "coverage-selected (rerun of the survivors)",
                      "mutants_total": i["mutants_total"], "annotation_mutants": i["annotation_mutants"],
                      "sampled": i["sampled"],
                      "run": i["killed_before"] + i["survived_before"] + i["incompetent_before"], "killed": killed,
-                     "survived": len(surv), "incompetent": i["incompetent_before"],
-                     "kill_rate": killed / (killed + len(surv)) if killed + len(surv) else None, "budget_hit": False,
+                     "survived": len(surv), "incompetent": i["incompetent_before"] + now_inc,
+                     "kill_rate": killed / (killed + len(surv)) if killed + len(surv) else None,
+                     "budget_hit": len(res) < i["jobs"],  # survivors the budget left out: neither way, and said
                      "killed_now": now_k, "gone": i["gone"], "rules": {k: sum(r["rule"] == k for r in res)
                                                                         for k in RULES},
                      "mutants": res, "survivors": surv})
@@ -344,7 +367,8 @@ def package_rows(pkgs: list[str], info: dict, results: list[dict], budget_hit: b
 
 
 HOW = ("each run against the tests of the whole suite that execute its line (coverage.py's per-test contexts; "
-       "else its function's lines, else its module's, else the package's `TARGETS`: "
+       "in a numba-compiled body, every test that runs its package; else its function's lines, else its module's, "
+       "else the package's `TARGETS`: "
        "`benchmarks/mutation_select.py`)")
 
 

@@ -138,6 +138,26 @@ def _check_generator(args: argparse.Namespace) -> None:
         raise ValueError(f"--seed = {args.seed} is out of range; valid range >= 0")
 
 
+def _check_cases(args: argparse.Namespace, exc: tuple[str, ...]) -> None:
+    """``--cases TEXT`` must match a case label of every world that runs (both: each), before any case runs."""
+    if args.cases is None:
+        return
+    from chainid.gap.benchmark.grid import case_label, grid
+
+    worlds = []
+    if args.generator in ("sim", "both"):
+        worlds.append(("sim grid", [case_label(c) for c in grid(args.small, args.seed, exc)]))
+    if args.generator in ("ode", "both"):
+        from chainid.gap.benchmark.odeworld import world_cases
+
+        worlds.append(("ODE world", [c["label"] for c in world_cases(args.small, args.seed)]))
+    for name, labels in worlds:
+        if not any(args.cases in lbl for lbl in labels):
+            raise ValueError(f"--cases {args.cases!r} matches no case label of the {'small ' if args.small else ''}"
+                             f"{name} (sim labels read excitation/family/effects, e.g. 'random/pair/'; ODE labels "
+                             f"family/base/excitation/effects@levels, e.g. '~table1')")
+
+
 def cmd_benchmark(args: argparse.Namespace) -> int:
     from chainid.gap.benchmark.grid import run_benchmark
 
@@ -163,6 +183,7 @@ def cmd_benchmark(args: argparse.Namespace) -> int:
         from chainid.gap.benchmark.grid import grid
 
         grid(True, 0, exc)  # an unknown excitation is refused before the run
+        _check_cases(args, exc)
         chain = None
         if args.chain:
             from chainid.chain.spec import load_chain

@@ -115,7 +115,9 @@ def test_cases_chooses_the_sim_grids_cases_by_excitation_family_and_effects(monk
 
 @pytest.mark.parametrize("argv, msg", [
     (["--generator", "ode", "--cases", "nothing-like-this"], "--cases 'nothing-like-this' matches no case label"),
-    (["--cases", "~table1"], "--cases '~table1' matches no case label of the sim grid")])
+    (["--cases", "~table1"], "--cases '~table1' matches no case label of the sim grid"),
+    (["--generator", "both", "--cases", "random/pair/"], "--cases 'random/pair/' matches no case label of the ODE world"),
+    (["--generator", "both", "--cases", "~table1"], "--cases '~table1' matches no case label of the sim grid")])
 def test_cases_that_match_no_label_of_the_chosen_world_are_refused(argv, msg, capsys):
     assert main(["benchmark-gap", "--no-progress", *argv]) == 2
     assert msg in capsys.readouterr().err

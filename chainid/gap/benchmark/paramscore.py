@@ -31,9 +31,6 @@ CANONICAL = {"machine_compliance": "stiffness_level"}
 Z90 = 1.6448536269514722
 #: the nominal level of the intervals under calibration, and the band that counts as calibrated
 NOMINAL, BAND = 0.90, (0.85, 0.95)
-#: the parts of an interval in the order they are built (the resampling's percentiles, those widened by the time
-#: sampling's bias, the profile likelihood's; the reported interval is the union of the last two)
-PART_ORDER = ("percentile", "resampled", "profile")
 #: the median of |estimate − truth| / half-width for a calibrated 90 % interval of a normal error: z₇₅ / z₉₅
 #: (0.6745 / 1.6449); a median well below it says the intervals are too wide, above it too narrow
 ERR_HW_CALIBRATED = 0.4100606516861704
@@ -179,8 +176,11 @@ def _parts(v: list[dict[str, Any]]) -> dict[str, Any]:
     the share of its intervals that cover the truth and their median |error| / half-width (to compare with
     :data:`ERR_HW_CALIBRATED`)."""
     out = {}
+    from chainid.gap.benchmark.simtruth import PARTS  # the parts in the order they are built
+
+    order = list(PARTS)
     names = {k for p in v for k in p.get("parts", {})}
-    for name in sorted(names, key=lambda n: (PART_ORDER.index(n) if n in PART_ORDER else len(PART_ORDER), n)):
+    for name in sorted(names, key=lambda n: (order.index(n) if n in order else len(order), n)):
         got = [p["parts"][name] for p in v if name in p.get("parts", {})]
         out[name] = {"n_interval": len(got), "coverage": sum(g["covered"] for g in got) / len(got),
                      "median_err_halfwidth": _median_ratio(got)}

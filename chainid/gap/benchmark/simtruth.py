@@ -30,7 +30,8 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
-__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields", "trusted_index", "trusted_step", "PARTS", "interval_parts"]
+__all__ = ["spec_truth", "case_truth", "nested", "trusted_fields", "trusted_index", "PARTS",
+           "interval_parts"]
 
 
 def spec_truth(spec: str) -> dict[str, float]:
@@ -93,12 +94,6 @@ def trusted_index(res: dict[str, Any]) -> int | None:
     if not steps:
         return None
     return max(1, min(int(res.get("trusted_steps", len(steps))), len(steps))) - 1
-
-
-def trusted_step(res: dict[str, Any]) -> dict[str, Any] | None:
-    """The last step of a diagnosis' trusted chain (:func:`trusted_index`); None without steps."""
-    i = trusted_index(res)
-    return None if i is None else res["steps"][i]
 
 
 #: the parts of a reported 90 % interval, by the key of the resampling's step row that holds each

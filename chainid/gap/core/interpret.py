@@ -54,7 +54,8 @@ def separating_test(a: str, b: str) -> str:
         if rich is not None:
             rest = sorted(diff - {rich, SIMPLER[rich]})
             return RICHER_SHAPE[rich] + (f"; then {separating_test(rich, rest[0])} for {rest[0]}" if rest else "")
-        if len(diff) == 2:  # two chains that differ by one effect each: what separates those two
+        one_each = all(len(set(c.split("+")) & diff) == 1 for c in (a, b))
+        if len(diff) == 2 and one_each:  # two chains that differ by one effect each: what separates those two
             return separating_test(*sorted(diff))
     s = {a, b}
     if s == {"friction", "hysteresis"}:

@@ -152,3 +152,12 @@ def test_separating_test_of_two_chains_that_differ_by_one_effect_each_is_that_pa
     assert separating_test("friction+slack", "hysteresis+slack") == separating_test("friction", "hysteresis")
     assert separating_test("friction+slack", "hysteresis+slack").startswith("a small-amplitude test")
     assert separating_test("sensor_delay+backlash", "friction+backlash").startswith("tests over a wider frequency")
+
+
+def test_two_chains_whose_difference_lies_on_one_side_get_no_pair_advice():
+    """``friction+hysteresis+slack`` ~ ``slack``: the difference (friction, hysteresis) is all on one side, so it is
+    not a contest of friction against hysteresis; the general advice (the mean-load range) is given."""
+    from chainid.gap.core.interpret import separating_test
+
+    got = separating_test("friction+hysteresis+slack", "slack")
+    assert not got.startswith("a small-amplitude test") and got.startswith("tests over a wider mean-load range")
