@@ -214,6 +214,24 @@ def case_label(case: dict[str, Any]) -> str:
     return f"{case['excitation']}/{case['family']}/{'+'.join(case.get('effects') or []) or 'none'}"
 
 
+def selected_cases(small: bool = False, seed: int = 0, excitations: Any = ALL_EXCITATIONS, chain: Any = None,
+                   only: str | None = None) -> list[dict[str, Any]]:
+    """The grid's cases (:func:`grid`), each with its ``label`` (:func:`case_label`), and only those whose label
+    contains ``only`` (None: all).
+
+    Raises
+    ------
+    ValueError
+        ``only`` matches no case label.
+    """
+    cases = [c | {"label": case_label(c)} for c in grid(small, seed, excitations, chain)]
+    cases = [c for c in cases if only is None or only in c["label"]]
+    if not cases:
+        raise ValueError(f"--cases {only!r} matches no case label of the {'small ' if small else ''}sim grid (labels "
+                         f"read excitation/family/effects, e.g. 'random/pair/friction+sensor_delay')")
+    return cases
+
+
 def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: bool = False, seed: int = 0,
                   scheduler: str | None = None, n_workers: int | None = None,
                   progress: bool = True, excitations: Any = ALL_EXCITATIONS, chain: Any = None,
@@ -241,11 +259,7 @@ def run_benchmark(small: bool = False, json_path: str | None = None, overwrite: 
 
     if json_path:  # check the target before the long work
         check_output_file(json_path, force=overwrite, what="--json")
-    cases = [c | {"resamples": int(resamples), "label": case_label(c)} for c in grid(small, seed, excitations, chain)
-             if only is None or only in case_label(c)]
-    if not cases:
-        raise ValueError(f"--cases {only!r} matches no case label of the {'small ' if small else ''}sim grid (labels "
-                         f"read excitation/family/effects, e.g. 'random/pair/friction+sensor_delay')")
+    cases = [c | {"resamples": int(resamples)} for c in selected_cases(small, seed, excitations, chain, only)]
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=n_workers, progress=progress,
                      desc="benchmark-gap")

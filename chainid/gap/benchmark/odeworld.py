@@ -33,7 +33,7 @@ from chainid.gap.benchmark.odemeasure import Logger, measure
 from chainid.gap.benchmark.simtruth import interval_parts, trusted_index
 from chainid.gap.benchmark.odescore import FAMILIES, score_row
 
-__all__ = ["build", "run_case", "world_cases", "run_world", "FAMILIES"]
+__all__ = ["build", "run_case", "world_cases", "selected_world_cases", "run_world", "FAMILIES"]
 
 
 #: how a case's dashpot varies over its records (``law_form`` of a case): ``linear`` in the record features, or
@@ -233,6 +233,22 @@ def world_cases(small: bool = False, seed: int = 0) -> list[dict[str, Any]]:
     return cases(small, seed)
 
 
+def selected_world_cases(small: bool = False, seed: int = 0, only: str | None = None) -> list[dict[str, Any]]:
+    """The ODE world's cases (:func:`world_cases`) whose label contains ``only`` (None: all).
+
+    Raises
+    ------
+    ValueError
+        ``only`` matches no case label.
+    """
+    cases = [c for c in world_cases(small, seed) if only is None or only in c["label"]]
+    if not cases:
+        raise ValueError(f"--cases {only!r} matches no case label of the {'small ' if small else ''}ODE world "
+                         f"(labels read family/base/excitation/effects@levels, e.g. 'single/damper/multisine/"
+                         f"friction@1')")
+    return cases
+
+
 def run_world(small: bool = False, seed: int = 0, jobs: int | None = None, json_path: str | None = None,
               overwrite: bool = False, scheduler: str | None = None, progress: bool = True,
               resamples: int = 0, only: str | None = None) -> dict[str, Any]:
@@ -272,12 +288,7 @@ def run_world(small: bool = False, seed: int = 0, jobs: int | None = None, json_
 
     if json_path:
         check_output_file(json_path, force=overwrite, what="--json")
-    cases = [c | {"resamples": int(resamples)} for c in world_cases(small, seed)
-             if only is None or only in c["label"]]
-    if not cases:
-        raise ValueError(f"--cases {only!r} matches no case label of the {'small ' if small else ''}ODE world "
-                         f"(labels read family/base/excitation/effects@levels, e.g. 'single/damper/multisine/"
-                         f"friction@1')")
+    cases = [c | {"resamples": int(resamples)} for c in selected_world_cases(small, seed, only)]
     t0 = time.perf_counter()
     rows = run_cases(run_case, cases, scheduler=scheduler, n_workers=jobs, progress=progress,
                      desc="benchmark-gap (ode)")

@@ -175,13 +175,13 @@ def _parts(v: list[dict[str, Any]]) -> dict[str, Any]:
     """Per part of the intervals (``resampled``, ``profile``: :func:`chainid.gap.benchmark.simtruth.interval_parts`)
     the share of its intervals that cover the truth and their median |error| / half-width (to compare with
     :data:`ERR_HW_CALIBRATED`)."""
-    out = {}
     from chainid.gap.benchmark.simtruth import PARTS  # the parts in the order they are built
 
-    order = list(PARTS)
-    names = {k for p in v for k in p.get("parts", {})}
-    for name in sorted(names, key=lambda n: (order.index(n) if n in order else len(order), n)):
+    out = {}
+    for name in PARTS:
         got = [p["parts"][name] for p in v if name in p.get("parts", {})]
+        if not got:
+            continue
         out[name] = {"n_interval": len(got), "coverage": sum(g["covered"] for g in got) / len(got),
                      "median_err_halfwidth": _median_ratio(got)}
     return out
