@@ -61,6 +61,20 @@ def _external(t, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, w
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
+def _without_resistance(v, acc, res, veps, inv, last):
+    """Take the moving resistance −R·clip(v/ε, −1, 1) out of the accelerations of nodes 1..last [mm/s²].
+
+    The implicit state's accelerations include it; the Verlet step applies it itself (``_resist``), so a fallback
+    Verlet step from an implicit state must start from the accelerations without it, or its first half-kick
+    applies the resistance a second time (every step a fallback: 1.5 × the resistance's impulse)."""
+    for i in range(1, last + 1):
+        r = v[i] / veps
+        r = r if r < 1.0 else 1.0
+        r = r if r > -1.0 else -1.0
+        acc[i] += res[i] * r * inv[i]
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
 def _resist(v, m, res, veps, dt, last):
     """Backward-Euler velocity update of the moving resistance f = -R·clip(v/ε, -1, 1) on nodes 1..last.
 
@@ -281,6 +295,8 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
                 n_rej += 1
                 continue
             if not ok and h <= dt_explicit:  # Newton stuck at a non-smooth point: one Verlet sub-step instead
+                if has_res:
+                    _without_resistance(S[1], S[2], res, veps, inv, last)
                 dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, np.int64(0))
                 ok = True
                 n_fb += 1
