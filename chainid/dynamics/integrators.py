@@ -213,6 +213,85 @@ def _record(k, t, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D, t_out,
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
+def _initial_state(u, v, c, kind, implicit):
+    """The state at t = 0 from the node displacements ``u`` [mm] and speeds ``v`` [mm/s]: the drive node at its
+    law, the hysteretic elements unstressed, the tensions, external forces and accelerations of the free nodes
+    (with the resistance for the implicit scheme, whose state includes it); returns (S, X, the Thomas solve's
+    work arrays, 1e3/m per node, the largest tension [N])."""
+    (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
+     last) = c
+    nn = u.shape[0]
+    N = nn - 1
+    S = (u.copy(), v.copy(), np.zeros(nn), np.zeros(hf.shape), np.zeros(N), np.zeros(nn), np.zeros(N))
+    X = (u.copy(), v.copy(), np.zeros(nn), np.zeros(hf.shape), np.zeros(N), np.zeros(nn), np.zeros(N),
+         np.zeros(N), np.zeros(N), np.zeros(N))
+    nb = max(last, 1)
+    lin = (np.zeros(nb), np.zeros(nb), np.zeros(nb), np.zeros(nb), np.zeros(nb))
+    inv = np.zeros(nn)
+    for i in range(1, last + 1):
+        inv[i] = 1e3 / m[i]
+    us, vs, accs, zs, dvs, fes, Ts = S
+    us[0], vs[0], _ = drive_state(0.0, code, p)
+    X[0][0] = us[0]
+    X[1][0] = vs[0]
+    for j in range(N):  # elements unstressed at t = 0 (sliders and play output at e, Dahl and Bouc–Wen at 0)
+        for q in range(hf.shape[1]):
+            zs[j, q] = epre[j] + us[j] - us[j + 1] if (hd[j, q] == 0 or hd[j, q] == 2 or hd[j, q] == 4) else 0.0
+    _, peak, _ = segment_tensions(us, vs, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, X[3], dvs, Ts,
+                                  X[7], X[8], X[9], kind, np.bool_(False))
+    _external(0.0, us, vs, res, veps, load_node, load_F, load_t, tens, Ft, kt, fes, implicit)
+    if not (tens or load_node.shape[0] > 0 or implicit):
+        fes[:] = 0.0
+    for i in range(1, last + 1):
+        nxt = Ts[i] if i < N else 0.0
+        accs[i] = (Ts[i - 1] - nxt + fes[i]) * inv[i]
+    return S, X, lin, inv, peak
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def _fallback_step(h, t1, c, S, X, inv, has_res):
+    """One Verlet sub-step of length h [s] in place of an implicit one whose Newton iteration failed; returns
+    (dW, dD, peak, lowest tension) as :func:`_explicit_step`.  The implicit state's accelerations include the moving
+    resistance, which the Verlet step applies itself: it is taken out before the step, and put into the new
+    state's forces and accelerations after it, for the implicit step that follows."""
+    (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
+     last) = c
+    if has_res:
+        _without_resistance(S[1], S[2], res, veps, inv, last)
+    out = _explicit_step(h, t1, c, S, X, inv, has_res, np.int64(0))
+    if has_res:
+        N = X[6].shape[0]
+        _external(t1, X[0], X[1], res, veps, load_node, load_F, load_t, tens, Ft, kt, X[5], np.bool_(True))
+        for i in range(1, last + 1):
+            X[2][i] = (X[6][i - 1] - (X[6][i] if i < N else 0.0) + X[5][i]) * inv[i]
+    return out
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def _try_step(implicit, h, t1, c, S, X, lin, inv, has_res, kind, tol, max_it):
+    """One sub-step of length h [s] by the run's scheme; returns (converged, dW, dD, peak, lowest tension,
+    iterations): Newton's for the implicit scheme (force tolerance ``tol`` [N]), 1 for a Verlet step."""
+    if implicit:
+        return _implicit_step(h, t1, c, S, X, lin, tol, max_it)
+    dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, kind)
+    return True, dW, dD, pk, low, 1
+
+
+@njit(cache=True)
+def _store_stats(stats, n_acc, n_rej, it_max, hu_min, n_fb, n_slack, work, n_done):
+    """The run's counts into ``stats`` (see :func:`run`; the last two only when it has room for 8)."""
+    stats[0] = n_acc
+    stats[1] = n_rej
+    stats[2] = it_max
+    stats[3] = hu_min
+    stats[4] = n_fb
+    stats[5] = n_slack
+    if stats.shape[0] > 7:
+        stats[6] = work
+        stats[7] = n_done
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
 def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens,
         Ft, kt, code, p, dt, n_steps, out_every, levels, tol_abs, tol_rel, max_it, dt_explicit, t_out, T_out, Fd_out,
         u_out, v_out, en_out, stats, kind=0, budget=0.0):
@@ -227,39 +306,13 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
     explicit fallback sub-steps, sub-steps ending with a segment that carries nothing (slack or clipped),
     work done [node-steps], whole steps done].
     """
-    nn = u.shape[0]
-    N = nn - 1
+    N = u.shape[0] - 1
     last = N if tens else N - 1  # last free node
-    S = (u.copy(), v.copy(), np.zeros(nn), np.zeros(hf.shape), np.zeros(N), np.zeros(nn), np.zeros(N))
-    X = (u.copy(), v.copy(), np.zeros(nn), np.zeros(hf.shape), np.zeros(N), np.zeros(nn), np.zeros(N),
-         np.zeros(N), np.zeros(N), np.zeros(N))
-    nb = max(last, 1)
-    lin = (np.zeros(nb), np.zeros(nb), np.zeros(nb), np.zeros(nb), np.zeros(nb))
-    has_res = np.any(res > 0.0)
-    inv = np.zeros(nn)
-    for i in range(1, last + 1):
-        inv[i] = 1e3 / m[i]
     c = (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
          last)
-    us, vs, accs, zs, dvs, fes, Ts = S
-    us[0], vs[0], _ = drive_state(0.0, code, p)
-    X[0][0] = us[0]
-    X[1][0] = vs[0]
-    for j in range(N):  # elements unstressed at t = 0 (sliders and play output at e, Dahl and Bouc–Wen at 0)
-        for q in range(hf.shape[1]):
-            zs[j, q] = epre[j] + us[j] - us[j + 1] if (hd[j, q] == 0 or hd[j, q] == 2 or hd[j, q] == 4) else 0.0
-    _, peak, low = segment_tensions(us, vs, us, epre, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, zs, dvs, X[3], dvs, Ts,
-                                    X[7], X[8], X[9], kind, np.bool_(False))
-    _external(0.0, us, vs, res, veps, load_node, load_F, load_t, tens, Ft, kt, fes, implicit)
-    if not (tens or load_node.shape[0] > 0 or implicit):
-        fes[:] = 0.0
-    for i in range(1, last + 1):
-        nxt = Ts[i] if i < N else 0.0
-        accs[i] = (Ts[i - 1] - nxt + fes[i]) * inv[i]
-    Fbase = max(1.0, Ft)
-    for k in range(load_F.shape[0]):
-        Fbase += abs(load_F[k])
-    Fbase += np.sum(res)
+    S, X, lin, inv, peak = _initial_state(u, v, c, kind, implicit)
+    has_res = np.any(res > 0.0)
+    Fbase = max(1.0, Ft) + np.sum(np.abs(load_F)) + np.sum(res)  # the step's reference force [N] (with the tensions)
     W = 0.0
     D = 0.0
     _record(np.int64(0), 0.0, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D, t_out, T_out, Fd_out, u_out,
@@ -276,17 +329,10 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
             hu = min(hu, unit - done)
             h = hu * dt / unit
             t1 = (n + (done + hu) / unit) * dt
-            if implicit:
-                Fref = Fbase
-                for j in range(N):
-                    Fref = max(Fref, S[6][j])
-                ok, dW, dD, pk, low, its = _implicit_step(h, t1, c, S, X, lin, tol_abs + tol_rel * Fref, max_it)
-                it_max = max(it_max, its)
-                work += its * max(last, 1)
-            else:
-                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, kind)
-                ok = True
-                work += max(last, 1)
+            tol = tol_abs + tol_rel * max(Fbase, np.max(S[6])) if implicit else 0.0  # F_ref: never the iterate's
+            ok, dW, dD, pk, low, its = _try_step(implicit, h, t1, c, S, X, lin, inv, has_res, kind, tol, max_it)
+            it_max = max(it_max, its) if implicit else 0
+            work += its * max(last, 1)
             if budget > 0.0 and work > budget:
                 status = 3
                 break
@@ -295,15 +341,9 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
                 n_rej += 1
                 continue
             if not ok and h <= dt_explicit:  # Newton stuck at a non-smooth point: one Verlet sub-step instead
-                if has_res:
-                    _without_resistance(S[1], S[2], res, veps, inv, last)
-                dW, dD, pk, low = _explicit_step(h, t1, c, S, X, inv, has_res, np.int64(0))
+                dW, dD, pk, low = _fallback_step(h, t1, c, S, X, inv, has_res)
                 ok = True
                 n_fb += 1
-                if has_res:  # the implicit state's forces and acceleration include the resistance
-                    _external(t1, X[0], X[1], res, veps, load_node, load_F, load_t, tens, Ft, kt, X[5], np.bool_(True))
-                    for i in range(1, last + 1):
-                        X[2][i] = (X[6][i - 1] - (X[6][i] if i < N else 0.0) + X[5][i]) * inv[i]
             if not ok:
                 status = 2
                 break
@@ -328,15 +368,7 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
                 break
             _record((n + 1) // out_every, (n + 1) * dt, S, m, epre, cl, ch, hf, hx, hd, sp, ext, code, p, W, D,
                     t_out, T_out, Fd_out, u_out, v_out, en_out)
-    stats[0] = n_acc
-    stats[1] = n_rej
-    stats[2] = it_max
-    stats[3] = hu_min / unit
-    stats[4] = n_fb
-    stats[5] = n_slack
-    if stats.shape[0] > 7:
-        stats[6] = work
-        stats[7] = n_done
+    _store_stats(stats, n_acc, n_rej, it_max, hu_min / unit, n_fb, n_slack, work, n_done)
     return status, peak
 
 
