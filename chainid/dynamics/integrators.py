@@ -12,9 +12,13 @@ N and m in kg):
 ``"implicit"``  Newmark's average acceleration (trapezoidal rule: unconditionally stable for a linear chain,
                 no numerical damping), solved by Newton's method on the tangent (chain kernel k_e + Jenkins
                 springs, dampers) with a tridiagonal (Thomas) solve.  Convergence: the largest force residual
-                below tol_abs + tol_rel·F_ref [N], F_ref fixed for the step (the largest of the tensions at
-                its start, the pretension, the loads and the resistance; never the iterate's own forces),
-                within ``max_it`` iterations; otherwise the sub-step is rejected and halved.
+                below tol_abs + tol_rel·F_ref [N], F_ref fixed for the sub-step (the larger of the largest
+                tension at its start and max(1, tensioner force) + Σ|loads| + Σ resistances; never the
+                iterate's own forces), within ``max_it`` iterations; otherwise the sub-step is rejected and
+                halved.  At the shortest sub-step, when that is no longer than ``dt_explicit`` (the explicit
+                stable step: Newton cannot converge where a damper's force jumps as its segment goes taut),
+                one Verlet sub-step is taken instead (``_fallback_step``); the resistance, which the implicit
+                state's forces and accelerations include, is taken out of them for it and put back after.
 
 Snap loads (slack ↔ taut).  A segment that starts or stops carrying load switches its stiffness between 0
 and k_e within a step; Verlet is then only first-order accurate at that step and, near dt_stable, the
@@ -26,7 +30,7 @@ Verlet keeps its time-reversible (symplectic) character.  The loop can still spl
 (down to dt/2^levels): the implicit scheme does so when Newton's method fails.
 
 Energy: work in (drive: trapezoidal T_1 work + the exact change of the drive node's kinetic energy; external
-forces trapezoidal; resistance exact in the explicit scheme), dissipation (:func:`.segments.tensions`),
+forces trapezoidal; resistance exact in a Verlet sub-step, trapezoidal in a Newmark one), dissipation (:func:`.segments.tensions`),
 kinetic and stored energy, accumulated per sub-step (:mod:`.energy`).
 """
 from __future__ import annotations
@@ -61,16 +65,19 @@ def _external(t, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, w
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
-def _without_resistance(v, acc, res, veps, inv, last):
-    """Take the moving resistance −R·clip(v/ε, −1, 1) out of the accelerations of nodes 1..last [mm/s²].
+def _without_resistance(v, acc, fe, res, veps, inv, last):
+    """Take the moving resistance −R·clip(v/ε, −1, 1) out of the external forces [N] and the accelerations
+    [mm/s²] of nodes 1..last.
 
-    The implicit state's accelerations include it; the Verlet step applies it itself (``_resist``), so a fallback
-    Verlet step from an implicit state must start from the accelerations without it, or its first half-kick
-    applies the resistance a second time (every step a fallback: 1.5 × the resistance's impulse)."""
+    The implicit state's forces and accelerations include it; the Verlet step applies it itself (``_resist``, with
+    its exact work), so a fallback Verlet step from an implicit state must start from the state without it, or its
+    first half-kick applies the resistance a second time (every step a fallback: 1.5 × the resistance's impulse)
+    and its work is counted half again."""
     for i in range(1, last + 1):
         r = v[i] / veps
         r = r if r < 1.0 else 1.0
         r = r if r > -1.0 else -1.0
+        fe[i] += res[i] * r
         acc[i] += res[i] * r * inv[i]
 
 
@@ -253,11 +260,15 @@ def _fallback_step(h, t1, c, S, X, inv, has_res):
     """One Verlet sub-step of length h [s] in place of an implicit one whose Newton iteration failed; returns
     (dW, dD, peak, lowest tension) as :func:`_explicit_step`.  The implicit state's accelerations include the moving
     resistance, which the Verlet step applies itself: it is taken out before the step, and put into the new
-    state's forces and accelerations after it, for the implicit step that follows."""
+    state's forces and accelerations after it, for the implicit step that follows.  Without a tensioner or a load
+    step the Verlet step leaves the new external forces as they are, so they are cleared first (the failed Newton
+    attempt left its own there)."""
     (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
      last) = c
     if has_res:
-        _without_resistance(S[1], S[2], res, veps, inv, last)
+        _without_resistance(S[1], S[2], S[5], res, veps, inv, last)
+    if not (tens or load_node.shape[0] > 0):
+        X[5][:] = 0.0
     out = _explicit_step(h, t1, c, S, X, inv, has_res, np.int64(0))
     if has_res:
         N = X[6].shape[0]
@@ -308,8 +319,8 @@ def run(implicit, u, v, m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res,
     """
     N = u.shape[0] - 1
     last = N if tens else N - 1  # last free node
-    c = (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code, p,
-         last)
+    c = (m, cl, ch, cd, hf, hx, hd, hq, sp, tabs, ext, epre, res, veps, load_node, load_F, load_t, tens, Ft, kt, code,
+         p, last)
     S, X, lin, inv, peak = _initial_state(u, v, c, kind, implicit)
     has_res = np.any(res > 0.0)
     Fbase = max(1.0, Ft) + np.sum(np.abs(load_F)) + np.sum(res)  # the step's reference force [N] (with the tensions)
