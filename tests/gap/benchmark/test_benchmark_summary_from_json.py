@@ -129,3 +129,18 @@ def test_a_copy_of_a_run_under_another_name_is_refused(tmp_path):
         summary_text([f, copy_of_f])
     other_seed = _write(tmp_path / "other.json", {"rows": [SIM[1] | {"seed": 2}]})
     assert summary_text([f, other_seed]).startswith("== generator sim (4 cases, from sim.json + other.json) ==")
+
+
+def test_a_case_that_raised_counts_as_a_miss_as_in_the_run(tmp_path):
+    """A case that raised is a row with snr inf (a miss, whatever its strength); JSON has no infinity, so the run's
+    file holds null there (as a real run's did).  The summary from the file is the run's own: the error row counts
+    as a non-harmonic single case missed (1 of 2 right: 50 %), not a traceback."""
+    err = {**_sim_row("error: ValueError: boom", ["deadband"], {}, None, {}, excitation="startup"), "snr": None}
+    rows = copy.deepcopy(SIM) + [err]
+    f = _write(tmp_path / "sim.json", {"rows": rows})
+    text = summary_text(f)
+    in_run = copy.deepcopy(rows)
+    in_run[-1]["snr"] = float("inf")
+    assert text.split("\n", 1)[1] == format_summary(summarise(in_run))
+    nh = summarise(copy.deepcopy(in_run))["nonharmonic"]
+    assert nh["single_right_rate"] == pytest.approx(0.5) and nh["errors"]
