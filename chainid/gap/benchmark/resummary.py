@@ -60,42 +60,46 @@ def _case_key(row: dict[str, Any]) -> str:
     return json.dumps({k: row.get(k) for k in CASE_KEYS}, sort_keys=True, default=str)
 
 
-def pooled_runs(paths: Sequence[str | Path]) -> tuple[dict[str, list[dict[str, Any]]], dict[str, list[str]]]:
+def pooled_runs(paths: Sequence[str | Path]) -> tuple[dict[str, list[dict[str, Any]]], dict[str, list[str]],
+                                                     dict[str, int]]:
     """The rows of several ``benchmark-gap --json`` files, each generator's rows of every file in one list (runs of
-    different excitations, or of the grid's parts, pooled as one run of them all would have been), and for each
-    generator the files its rows came from.
+    different excitations, or seeds, or of the grid's parts, pooled as one run of them all would have been), for
+    each generator the files its rows came from, and how many of its rows were left out as repeats.
+
+    A case (:data:`CASE_KEYS`: family, truth, conditions and seed) in more than one file is one simulation run
+    twice: runs at neighbouring ``--seed`` share the cases whose seed and conditions coincide (a control without
+    effects), and a copy of a run shares them all.  It counts once, with the first file's row, so its intervals
+    and verdict are not counted twice.
 
     Raises
     ------
     ValueError
-        A file is named twice, or one case (:data:`CASE_KEYS`) is in two files (a copy of a run): its intervals
-        would count twice; or a file is refused by :func:`load_runs`.
+        A file is named twice, or a file is refused by :func:`load_runs`.
     """
     seen: dict[Path, str] = {}
-    owner: dict[str, str] = {}
+    owner: set[str] = set()
     pooled: dict[str, list[dict[str, Any]]] = {}
     sources: dict[str, list[str]] = {}
+    repeats: dict[str, int] = {}
     for path in paths:
         key = Path(path).resolve()
         if key in seen:
             raise ValueError(f"--summary {str(path)!r}: the same file as {seen[key]!r}; each run's cases count once")
         seen[key] = str(path)
         for gen, rows in load_runs(path).items():
-            for r in rows:
-                ck = f"{gen}:{_case_key(r)}"
-                if owner.setdefault(ck, str(path)) != str(path):
-                    raise ValueError(f"--summary {str(path)!r}: its case {_case_key(r)} is also in {owner[ck]!r}; "
-                                     "each case counts once (is one file a copy of the other?)")
-            pooled.setdefault(gen, []).extend(rows)
+            new = [r for r in rows if f"{gen}:{_case_key(r)}" not in owner]
+            owner.update(f"{gen}:{_case_key(r)}" for r in rows)
+            repeats[gen] = repeats.get(gen, 0) + len(rows) - len(new)
+            pooled.setdefault(gen, []).extend(new)
             sources.setdefault(gen, []).append(Path(path).name)
-    return pooled, sources
+    return pooled, sources, repeats
 
 
 def summary_text(paths: str | Path | Sequence[str | Path]) -> str:
     """The terminal summary of every generator in the file(s), as a run prints it (without its wall time); the rows
     of several files are pooled per generator (:func:`pooled_runs`)."""
     paths = [paths] if isinstance(paths, (str, Path)) else list(paths)
-    pooled, sources = pooled_runs(paths)
+    pooled, sources, repeats = pooled_runs(paths)
     parts = []
     for gen, rows in pooled.items():
         names = " + ".join(sources[gen])
@@ -109,5 +113,6 @@ def summary_text(paths: str | Path | Sequence[str | Path]) -> str:
             from chainid.gap.benchmark.report import format_summary, summarise
 
             text = format_summary(summarise(rows))
-        parts.append(f"== generator {gen} ({len(rows)} cases, from {names}) ==\n{text}")
+        again = f"; {repeats[gen]} repeated case(s) counted once" if repeats.get(gen) else ""
+        parts.append(f"== generator {gen} ({len(rows)} cases, from {names}{again}) ==\n{text}")
     return "\n\n".join(parts)
