@@ -114,6 +114,26 @@ def test_envelope_rests_before_the_lead_and_tapers_to_the_mean():
     np.testing.assert_allclose(tap.xd[mid], base.xd[mid], atol=1e-12)
 
 
+def test_the_taper_is_the_quintic_step_in_from_the_first_sample_and_out_to_the_last():
+    """Taper τ = 2 s on a 20 s sweep: x − x̄ = s(t/τ)·s((T − t)/τ)·(x_base − x̄), s(u) = 10u³ − 15u⁴ + 6u⁵ on
+    [0, 1] by hand and T the last sample's time, at every sample (to 1e-12 mm, rounding of x ~ 2 mm): the taper
+    ends on the last sample, so the one before it keeps s(Δt/τ) of its swing (3e-10 mm here), not 0."""
+    from chainid.records.excitation import sweep, with_envelope
+
+    base = sweep(8000, 400.0, 0.5, 2.0, 0.2, 2.0)
+    tap = with_envelope(base, taper=2.0)
+    xm = float(np.mean(base.x))
+
+    def s(u):
+        u = np.clip(u, 0.0, 1.0)
+        return 10 * u**3 - 15 * u**4 + 6 * u**5
+
+    t, T = base.t, base.t[-1]
+    want = s(t / 2.0) * s((T - t) / 2.0)
+    np.testing.assert_allclose(tap.x - xm, want * (base.x - xm), rtol=0, atol=1e-12)
+    assert abs(want[-2] * (base.x[-2] - xm)) > 1e-10
+
+
 def test_a_non_finite_motion_force_is_named_as_a_plain_number():
     """``simulate_motion`` with a hook that returns inf from sample 3: "the simulated force is inf N at t = 0.03 s"
     (a plain number, not numpy's ``np.float64(inf)`` repr)."""
@@ -291,6 +311,8 @@ def test_startup_ramp_must_end_inside_the_record():
         startup_steps(n, fs, [1.0], 10.0, 1.0, 1.0, 0.5)
     m = startup_steps(n, fs, [1.0], 9.5, 1.0, 1.0, 0.5)
     assert m.t.size == n
+    with pytest.raises(ValueError, match=r"t_ramp = 0.0 s, .* valid range 0 < t_ramp"):  # no ramp: refused too
+        startup_steps(n, fs, [1.0], 0.0, 1.0, 1.0, 0.5)
 
 
 def test_band_random_lines_fill_the_band_flat_and_scale_to_the_rms():
