@@ -86,3 +86,16 @@ def test_balance_scale_index_and_a_run_where_nothing_happens():
     z = np.zeros(3)
     still = balance(z, z + 7.0, z + 3.0, z, np.array([0.0, 1.0, 2.0]))
     assert still["relative_error"] == 0.0 and still["scale"] == 0.0 and still["finite"] is True
+
+
+def test_balance_reports_the_final_energies_and_the_worst_residual():
+    """W = 0, 50, 100, 130; E_kin = 0, 40, 90, 125; E_el = 0, 5, 6, 3; D = 0, 1, 2, 4 [N·mm]: the residual
+    W − ΔE_kin − ΔE_el − D is 0, 4, 2, −2 (by hand), so the balance gives the last values 130, 125, 3, 4, the last
+    residual −2 and the worst 4 at sample 1, relative to the largest energy exchanged, 130."""
+    from chainid.dynamics.energy import balance
+
+    eb = balance(np.array([0.0, 50.0, 100.0, 130.0]), np.array([0.0, 40.0, 90.0, 125.0]),
+                 np.array([0.0, 5.0, 6.0, 3.0]), np.array([0.0, 1.0, 2.0, 4.0]))
+    assert (eb["work_in"], eb["kinetic"], eb["elastic"], eb["dissipated"]) == (130.0, 125.0, 3.0, 4.0)
+    assert (eb["residual"], eb["worst_residual"], eb["worst_t_s"]) == (-2.0, 4.0, 1.0)
+    assert eb["relative_error"] == pytest.approx(4.0 / 130.0, rel=1e-15)

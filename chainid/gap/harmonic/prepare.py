@@ -206,8 +206,7 @@ def cycle_stats(t: np.ndarray, F: np.ndarray, omega: float, theta: float,
     # whole cycles only: not the first or last (partial unless the window is phase-aligned), full sample count
     full = np.zeros(n, bool)
     full[1:-1] = True
-    med = np.median(cnt[1:-1]) if n > 2 else 0.0
-    full &= cnt >= 0.9 * med
+    full &= cnt >= 0.9 * np.median(cnt[1:-1])
     if not np.any(full):
         return empty
     xx = x if x is not None else np.zeros_like(t)

@@ -116,6 +116,21 @@ def test_cycle_stats_whole_cycles_by_hand():
     np.testing.assert_allclose(cy["b"], 0.5, atol=1e-9)
 
 
+def test_a_cycle_with_a_gap_in_its_samples_is_not_whole():
+    """10 cycles of ψ = 2πt at 100 samples each, half of cycle 4's samples missing (a drop-out in the record):
+    the whole cycles are 1..8 less cycle 4 (50 samples, under 0.9 × the median 100), mid times 1.5, 2.5, 3.5,
+    5.5, 6.5, 7.5, 8.5 s (by hand)."""
+    from chainid.gap.harmonic.prepare import cycle_stats
+
+    w = 2 * math.pi
+    t = np.arange(1000) / 100.0
+    keep = ~((t >= 4.0) & (t < 4.5))
+    t = t[keep]
+    cy = cycle_stats(t, 3 + 2 * np.sin(w * t), w, 0.0)
+    np.testing.assert_allclose(cy["t"], [1.495, 2.495, 3.495, 5.495, 6.495, 7.495, 8.495], atol=1e-9)
+    assert cy["n"].tolist() == [100.0] * 7
+
+
 def test_prepared_time_is_from_the_records_first_sample():
     """``TestData.t`` is the time from the record's first sample and ``t + t_origin`` the record's own time
     (the docstring): a sine stamped from t = 1000 s gives t_origin = 1000 s, t inside [0, T], and
