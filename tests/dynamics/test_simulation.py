@@ -391,3 +391,19 @@ def test_an_explicit_step_above_the_stable_one_names_the_load_it_was_computed_at
         with pytest.raises(ValueError, match=rf"0 < dt <= {dts:.6g} s \(the explicit stable step at {text}\); use a "
                                              r"smaller dt or scheme='implicit'"):
             simulate(line, Drive("none"), 1.0, dt=2.0 * dts, scheme="explicit", peak_force=peak)
+
+
+def test_stable_step_with_a_contact_exponent_and_a_take_up_spring_by_hand():
+    """Two segments, contact exponent β = 1.4 (x = c_lin·F + c_h·F^β, the last segment one contact short), peak
+    force 2 kN, tensioner end with a take-up spring k_t = 5 N/mm, no damping: each segment's tangent
+    k_j = 1/(c_lin,j + β·c_h,j·F^(β−1)), and Gershgorin over the free nodes gives
+    ω² = max(2e3·(k_0 + k_1)/m_1, 2e3·(k_1 + k_t/2)/m_2) [1/s²] (m in kg, k in N/mm), dt = 2/ω."""
+    for tail in (0.0, 1e-3):  # with a 1 g tail mass the last row, with half the take-up spring, is the larger
+        line = ChainLine(n_links=10, n_masses=2, pretension_N=500.0, contact_exponent=1.4, tensioner_stiffness=5.0,
+                         tail_mass_kg=tail)
+        c_lin, c_h = line.segment_coefficients()
+        k = 1.0 / (c_lin + 1.4 * c_h * 2000.0 ** 0.4)
+        m = line.node_masses()
+        rows = [2e3 * (k[0] + k[1]) / m[1], 2e3 * (k[1] + 2.5) / m[2]]
+        assert rows[1] > rows[0] if tail else True
+        assert stable_step(line, peak_force=2000.0) == pytest.approx(2.0 / math.sqrt(max(rows)), rel=1e-12)
