@@ -335,3 +335,14 @@ def test_real_friction_damper_prefers_coulomb():
     loo = {r["law"]: r["loo_rmse"] for r in rows}
     assert "coulomb" in rows[0]["law"]
     assert loo["coulomb"] < 0.5 * loo["viscous"]
+
+
+def test_identify_records_takes_the_records_and_model_by_name_and_its_options_by_keyword_only():
+    """The call style of the docs: ``identify_records(records, model, side=..., mass_kg=...)``; the records and
+    the model may be named, and an option given by position is refused (TypeError), not read as another."""
+    recs = simulate([TestSpec(str(i), w, 1.2, 0.1) for i, w in enumerate((10.0, 20.0), 1)], Lin(), 50.0,
+                    n_cycles=6, samples_per_cycle=128)
+    by_name = identify_records(records=recs, model=Lin())
+    assert [r.c_e for r in by_name] == pytest.approx([50.0, 50.0], rel=1e-6)
+    with pytest.raises(TypeError):
+        identify_records(recs, Lin(), None)
