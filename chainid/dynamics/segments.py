@@ -31,7 +31,7 @@ play output at e, Dahl and Bouc–Wen at 0).
 When the segment is slack or its tension would be negative (the dampers cannot push), it carries nothing and its
 elements are released (sliders at e, z = 0; the play keeps its output; the energy the elements stored at the
 start of the step counts as dissipated: the contacts open).  Energy bookkeeping: stored energy = U(a) of the
-spring + the dead band's potential + the elements' stored energies (:func:`stored_energy`); dissipation =
+spring + the dead band's potential + the elements' stored energies (:func:`segment_energy`); dissipation =
 trapezoidal work of the viscous part over the step + the elements' losses + released energy + the play's loss
 F_s(a)·(Δe − Δoutput) (the spring's force moves with e while the play holds its argument: the library's play
 operator is not passive, this term is < 0 where it returns energy) (:func:`segment_tensions`).
@@ -49,7 +49,7 @@ from chainid.generated.stiffness_paper import force as _force
 from chainid.generated.stiffness_paper import stiffness as _stiffness
 from chainid.model.operators import bouc_wen_step, dahl_step, jenkins_step, play_step, stribeck_step
 
-__all__ = ["tensions", "segment_tensions", "stored_energy", "segment_energy", "PLAY", "ELEMENT_KINDS"]
+__all__ = ["tensions", "segment_tensions", "segment_energy", "PLAY", "ELEMENT_KINDS"]
 
 _FM = {"contract", "arcp", "nsz"}
 #: element kinds (``hd``)
@@ -249,10 +249,3 @@ def segment_energy(u, epre, cl, ch, hf, hx, hd, sp, ext, y):
         for q in range(hf.shape[1]):
             s += _element_energy(hd[j, q], e[j], y[j, q], hf[j, q], hx[j, q])
     return s
-
-
-@njit(cache=True, fastmath=_FM, error_model="numpy")
-def stored_energy(u, epre, cl, ch, hf, hx, hd, y):
-    """:func:`segment_energy` for the plain generated kernel: Σ U(e_j) + Σ k·(e_j − y_jq)²/2 of the Jenkins springs
-    (k = f/x_s) + Σ z²/(2k₀) of the Dahl elements (k₀ = F_h/x_h)."""
-    return segment_energy(u, epre, cl, ch, hf, hx, hd, np.zeros((cl.shape[0], 6)), False, y)

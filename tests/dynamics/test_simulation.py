@@ -407,3 +407,20 @@ def test_stable_step_with_a_contact_exponent_and_a_take_up_spring_by_hand():
         rows = [2e3 * (k[0] + k[1]) / m[1], 2e3 * (k[1] + 2.5) / m[2]]
         assert rows[1] > rows[0] if tail else True
         assert stable_step(line, peak_force=2000.0) == pytest.approx(2.0 / math.sqrt(max(rows)), rel=1e-12)
+
+
+def test_stable_step_of_a_damped_line_by_hand():
+    """Two segments of 6 and 5 links with dampers c_j = c_e·n_ref/n_s = 2.3125·16/6 and 2.3125·16/5 N·s/mm (6.17 and
+    7.4), node masses 1.1 and 0.8 kg (a 0.3 kg tail), tensioner end:
+    Gershgorin on the damping as on the stiffness, λ_c = max(2e3·(c_0 + c_1)/m_1, 2e3·c_1/m_2) [1/s] (the take-up
+    spring has no damper), ζ = λ_c/(2ω), dt = (2/ω)(√(1 + ζ²) − ζ) with ω from the load-independent bound
+    k = 1/c_lin."""
+    line = ChainLine(n_links=11, n_masses=2, pretension_N=500.0, damping=2.3125, tail_mass_kg=0.3)
+    c = line.segment_damping()
+    assert c.tolist() == pytest.approx([2.3125 * 16 / 6, 7.4])
+    k = 1.0 / line.segment_coefficients()[0]
+    m = line.node_masses()
+    w = math.sqrt(max(2e3 * (k[0] + k[1]) / m[1], 2e3 * k[1] / m[2]))
+    zeta = max(2e3 * (c[0] + c[1]) / m[1], 2e3 * c[1] / m[2]) / (2.0 * w)
+    assert zeta > 1e-3  # the damping shortens the step measurably
+    assert stable_step(line) == pytest.approx((2.0 / w) * (math.sqrt(1.0 + zeta**2) - zeta), rel=1e-9)
