@@ -43,3 +43,24 @@ def test_weights_of_the_wrong_length_are_refused_and_the_problem_is_left_as_it_w
     with pytest.raises(ValueError, match="weights: 2 given for 5 tests"):
         prob.fit(full.names, start=full.params, polish_only=True, weights=[1.0, 2.0])
     assert prob.train == before
+
+
+def test_a_resample_is_at_the_noise_floor_when_its_residual_is_the_noise():
+    """Records of the chain with friction F_c = 20 N and noise σ = 20 N per sample: on the resample of every test
+    once, the friction model's leave-one-test-out residual is the noise (at the floor: Σ r² of the phase bins
+    against Σ σ²/n), the baseline's is not (it leaves the friction).  The floor is the noise variance of a bin's
+    mean, σ²/n [N²]; read as σ³/n it would call the baseline's residual noise too."""
+    from chainid.gap.harmonic.resampling import rescore
+
+    model = ChainModel()
+    plan = grid_plan((1.0, 2.0, 4.0), (0.1, 0.2), 2.0)
+    recs = simulate(plan, model, PolynomialLaw([0.0, 0.0, 0.0, 0.0, 40.0]), n_cycles=6, samples_per_cycle=128,
+                    noise_F=20.0, seed=5, force_fn=parse_effect("friction:F_c=20", model))
+    prob = Problem([prepare_test(r) for r in recs], model, [recs[-1].test], "auto")
+    mult = np.ones(len(prob.train))
+    flags = {}
+    for names in ([], ["friction"]):
+        cand = prob.fit(names)
+        prob.score(cand, names, 1.0)
+        flags[tuple(names)] = rescore(prob, cand, mult)[2]
+    assert flags == {(): False, ("friction",): True}
