@@ -115,12 +115,10 @@ def check_data(rec: Record, *, allow_compression: bool = False) -> None:
     *measured* force can: F = m·ẍ + F_k(x) + c·ẋ, and the damping, the inertia or the fixture can take it below
     zero while the spring force stays positive throughout (a damped test at a low pretension).  So a force that
     dips below zero is a :class:`RecordWarning`, and the record is analysed on the chain's spring-force model
-    as any other.  The damping and inertia forces swing both ways about zero while the spring force never goes
-    below it, so a chain's force is a tension most of the time: a record that goes below zero with a *median*
-    force under :data:`MIN_MEDIAN_TENSION` of its largest |F| is no chain in tension and is refused (its sign is
-    flipped, or the part pushes: ``--model linear`` / ``--allow-compression``).  Not the mean: over a transient
-    (a start, a stop, a shock) the inertia force does not average out (its mean is m·Δv/T), and a few large
-    swings can take the mean below zero while the chain is in tension for most of the record.  A record whose x stays below
+    as any other.  Over whole cycles the damping and inertia terms average out, so the *mean* force is the
+    spring's: a record that goes below zero with a mean force under :data:`MIN_MEAN_TENSION` of its largest
+    |F| is no chain in tension and is refused (its sign is flipped, or the part pushes: ``--model linear`` /
+    ``--allow-compression``).  A record whose x stays below
     zero while the mean force is a tension is a warning too: a chain at x <= 0 is slack (F_k = 0), so the
     elongation's zero is offset (the ``slack`` effect) or its sign flipped.  ``allow_compression``: none of
     these (a part whose force changes sign, a linear spring).
@@ -148,9 +146,9 @@ def _check(rec: Record, allow_compression: bool, warn: bool) -> None:
         _check_chain_signs(rec, warn)
 
 
-#: a chain record whose force goes below zero must keep a median tension of at least this share of max |F| (a
-#: median about zero with a force swinging both ways is a part that pushes, not a chain in tension)
-MIN_MEDIAN_TENSION = 0.01
+#: a chain record whose force goes below zero must keep a mean tension of at least this share of max |F| (a mean
+#: about zero with a force swinging both ways is a part that pushes, not a chain in tension)
+MIN_MEAN_TENSION = 0.01
 
 
 def _check_chain_signs(rec: Record, warn: bool = True) -> None:
@@ -166,14 +164,13 @@ def _check_chain_signs(rec: Record, warn: bool = True) -> None:
     if np.any(F < 0):
         i = int(np.argmin(F))
         where = f"min F = {F[i]:.6g} N at t = {rec.t[i]:.6g} s"
-        median = float(np.median(F))
-        if median < MIN_MEDIAN_TENSION * scale:
+        if mean < MIN_MEAN_TENSION * scale:
             raise ValueError(
-                f"test {name!r}: force goes compressive ({where}) and its median is no tension (median F = "
-                f"{median:.6g} N, max |F| = {scale:.6g} N): a chain's spring cannot push, and its damping and "
-                f"inertia forces swing both ways, so a chain's force is a tension most of the time; valid: median F "
-                f">= {100 * MIN_MEDIAN_TENSION:g} % of max |F| with a chain model. Is F's sign flipped (--scale "
-                f"F=-1)? For a part whose force changes sign: --model linear or --allow-compression "
+                f"test {name!r}: force goes compressive ({where}) and its mean is no tension (mean F = "
+                f"{mean:.6g} N, max |F| = {scale:.6g} N): a chain's mean force is its spring's (damping and inertia "
+                f"average out over whole cycles) and its spring cannot push; valid: mean F >= "
+                f"{100 * MIN_MEAN_TENSION:g} % of max |F| with a chain model. Is F's sign flipped (--scale F=-1)? "
+                f"For a part whose force changes sign: --model linear or --allow-compression "
                 f"(allow_compression=True)")
         if warn:
             warnings.warn(

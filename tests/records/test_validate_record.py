@@ -37,12 +37,12 @@ def test_check_data_names_the_first_bad_sample():
     t2[4] = t2[3]  # a repeated time: not strictly increasing at sample 4
     with pytest.raises(ValueError, match=r"test 'r': t is not strictly increasing at sample 4 \(t = 0\.3 s then 0\.3 s\)"):
         check_data(Record("r", t2, np.ones(6), np.ones(6)))
-    F = np.array([5.0, -1.0, 2.0, -3.0, 1.0, 0.0])  # dips below zero, median 0.5 N: a warning (a damped chain can)
+    F = np.array([5.0, -1.0, 2.0, -3.0, 1.0, 0.0])  # dips below zero, mean 0.67 N: a warning (a damped chain can)
     from chainid.records.validate import RecordWarning
 
     with pytest.warns(RecordWarning, match=r"test 'c': the measured force dips below zero \(min F = -3 N at t = 0\.3 s"):
         check_data(Record("c", t, np.ones(6), F))
-    Fm = np.array([1.0, -1.0, 2.0, -3.0, -1.0, 0.0])  # median -0.5 N: no tension most of the time, refused
+    Fm = np.array([1.0, -1.0, 2.0, -3.0, 1.0, 0.0])  # mean -0.0 N: no tension on average, refused
     with pytest.raises(ValueError, match=r"test 'c': force goes compressive \(min F = -3 N at t = 0\.3 s\)"):
         check_data(Record("c", t, np.ones(6), Fm))
     check_data(Record("c", t, np.ones(6), F), allow_compression=True)
@@ -160,7 +160,7 @@ def test_compressive_force_names_the_minimum_and_its_time():
     """F goes below 0: the message names the smallest force and its time; allow_compression accepts it; F = 0 N
     is not compressive."""
     t = np.arange(6) * 0.5
-    F = np.array([1.0, 0.0, -2.0, -5.0, 3.0, -1.0])  # median -0.5 N: refused
+    F = np.array([1.0, 0.0, -2.0, -5.0, 3.0, 1.0])
     with pytest.raises(ValueError, match=r"test 'c': force goes compressive \(min F = -5 N at t = 1\.5 s\)"):
         check_data(Record("c", t, np.ones(6), F))
     check_data(Record("c", t, np.ones(6), F), allow_compression=True)
