@@ -304,6 +304,6 @@ def _add_benchmark_parser(subparsers: Any) -> None:
     b.add_argument("--summary", metavar="FILE.json", nargs="+", default=None,
                    help="print the summary of an earlier --json run again from its rows (no case is run); several "
                         "files are pooled, each generator's rows as one run's (a case in more than one file "
-                        "counts once)")
+                        "with the same result counts once)")
     b.set_defaults(func=cmd_benchmark)
 

@@ -51,13 +51,20 @@ def load_runs(path: str | Path) -> dict[str, list[dict[str, Any]]]:
     return {"ode" if rows[0].get("world") == "ode" else "sim": rows}
 
 
-#: the fields that name a benchmark case (its family, truth, conditions and seed): a case in two files counts once
+#: the fields that name a benchmark case (its family, truth, conditions, seed and true parameters): a case in two
+#: files counts once
 CASE_KEYS = ("world", "excitation", "family", "truth", "effects", "levels", "chain", "base", "plan", "noise", "seed",
-             "label", "direction", "hold")
+             "label", "direction", "hold", "ea_scale", "hertz_scale", "true_params")
+#: the fields of a row that are its result: one case's rows in two files must agree in them
+RESULT_KEYS = ("verdict", "steps", "params", "params_ci90", "shrinkage")
 
 
 def _case_key(row: dict[str, Any]) -> str:
     return json.dumps({k: row.get(k) for k in CASE_KEYS}, sort_keys=True, default=str)
+
+
+def _result(row: dict[str, Any]) -> str:
+    return json.dumps({k: row.get(k) for k in RESULT_KEYS}, sort_keys=True, default=str)
 
 
 def pooled_runs(paths: Sequence[str | Path]) -> tuple[dict[str, list[dict[str, Any]]], dict[str, list[str]],
@@ -66,18 +73,19 @@ def pooled_runs(paths: Sequence[str | Path]) -> tuple[dict[str, list[dict[str, A
     different excitations, or seeds, or of the grid's parts, pooled as one run of them all would have been), for
     each generator the files its rows came from, and how many of its rows were left out as repeats.
 
-    A case (:data:`CASE_KEYS`: family, truth, conditions and seed) in more than one file is one simulation run
-    twice: runs at neighbouring ``--seed`` share the cases whose seed and conditions coincide (a control without
-    effects), and a copy of a run shares them all.  It counts once, with the first file's row, so its intervals
-    and verdict are not counted twice.
+    A case (:data:`CASE_KEYS`: family, truth, conditions, seed and true parameters) in more than one file with the
+    same result (:data:`RESULT_KEYS`) is one simulation run twice: runs at neighbouring ``--seed`` share the cases
+    whose seed and conditions coincide (a control without effects), and a copy of a run shares them all.  It counts
+    once, so its intervals and verdict are not counted twice.
 
     Raises
     ------
     ValueError
-        A file is named twice, or a file is refused by :func:`load_runs`.
+        A file is named twice; one case has different results in two files (runs of two versions: pool runs of
+        one); or a file is refused by :func:`load_runs`.
     """
     seen: dict[Path, str] = {}
-    owner: set[str] = set()
+    owner: dict[str, tuple[str, str]] = {}
     pooled: dict[str, list[dict[str, Any]]] = {}
     sources: dict[str, list[str]] = {}
     repeats: dict[str, int] = {}
@@ -87,8 +95,15 @@ def pooled_runs(paths: Sequence[str | Path]) -> tuple[dict[str, list[dict[str, A
             raise ValueError(f"--summary {str(path)!r}: the same file as {seen[key]!r}; each run's cases count once")
         seen[key] = str(path)
         for gen, rows in load_runs(path).items():
-            new = [r for r in rows if f"{gen}:{_case_key(r)}" not in owner]
-            owner.update(f"{gen}:{_case_key(r)}" for r in rows)
+            new = []
+            for r in rows:
+                ck, res = f"{gen}:{_case_key(r)}", _result(r)
+                if owner.setdefault(ck, (str(path), res))[0] == str(path):  # a file's own rows all count
+                    new.append(r)
+                elif owner[ck][1] != res:
+                    raise ValueError(f"--summary {str(path)!r}: its case {_case_key(r)} is also in {owner[ck][0]!r} "
+                                     "with another result (verdict, parameters or intervals): runs of two versions "
+                                     "of the code? Pool the runs of one")
             repeats[gen] = repeats.get(gen, 0) + len(rows) - len(new)
             pooled.setdefault(gen, []).extend(new)
             sources.setdefault(gen, []).append(Path(path).name)

@@ -120,19 +120,23 @@ def test_a_run_named_twice_is_refused(tmp_path, capsys):
     assert "each run's cases count once" in capsys.readouterr().err
 
 
-def test_a_case_in_two_files_counts_once(tmp_path):
-    """The same case (family, truth, conditions, seed) in two files is one simulation run twice (runs at
-    neighbouring --seed share their controls; a copy shares everything): it counts once, with the first file's
-    row, and the header says how many were repeats.  The pooled summary is the summary of the distinct rows."""
+def test_a_case_in_two_files_counts_once_and_a_different_result_is_refused(tmp_path):
+    """The same case (family, truth, conditions, seed, true parameters) with the same result in two files is one
+    simulation run twice (runs at neighbouring --seed share their controls; a copy shares everything): it counts
+    once and the header says how many were repeats.  The same case with another result is runs of two versions:
+    refused, naming both files.  Another true parameter (a mismatch case's scale) is another case."""
     f = _write(tmp_path / "sim.json", {"rows": SIM})
-    repeat = {**SIM[1], "verdict": "slack"}  # the same case, a different row: the first file's counts
-    copy_of_f = _write(tmp_path / "copy.json", {"rows": [repeat, SIM[0] | {"seed": 2}]})
+    copy_of_f = _write(tmp_path / "copy.json", {"rows": [SIM[1], SIM[0] | {"seed": 2}]})
     text = summary_text([f, copy_of_f])
     assert text.startswith("== generator sim (4 cases, from sim.json + copy.json; 1 repeated case(s) counted "
                            "once) ==\n")
     assert text.split("\n", 1)[1] == format_summary(summarise(copy.deepcopy(SIM + [SIM[0] | {"seed": 2}])))
-    other_seed = _write(tmp_path / "other.json", {"rows": [SIM[1] | {"seed": 2}]})
-    assert summary_text([f, other_seed]).startswith("== generator sim (4 cases, from sim.json + other.json) ==\n")
+    other = _write(tmp_path / "other.json", {"rows": [SIM[1] | {"verdict": "slack"}]})
+    with pytest.raises(ValueError, match=r"--summary '.*other\.json': its case .* is also in '.*sim\.json' with "
+                                         r"another result"):
+        summary_text([f, other])
+    scaled = _write(tmp_path / "scaled.json", {"rows": [SIM[1] | {"true_params": {"friction.F_c": 70.0}}]})
+    assert summary_text([f, scaled]).startswith("== generator sim (4 cases, from sim.json + scaled.json) ==\n")
 
 
 def test_a_case_that_raised_counts_as_a_miss_as_in_the_run(tmp_path):
