@@ -115,3 +115,12 @@ def test_strict_makes_implausible_records_one_error_line(tmp_path, capsys):
     assert rc == 2 and len(err) == 1, err
     assert err[0].startswith("chainid identify: error: --strict: implausible records: test 'u': x spans 500 mm")
     assert "; test 'u': " in err[0]  # the second warning, joined on the same line
+
+
+def test_simulating_a_linear_spring_needs_its_stiffness(tmp_path, capsys):
+    """``simulate --model linear`` without ``--k``: refused before any work, naming the missing option and its unit;
+    nothing written."""
+    rc, err = _err(capsys, ["simulate", str(tmp_path / "s.csv"), "--model", "linear"])
+    assert rc == 2
+    assert err[-1].endswith("error: --model linear needs --k [N/mm] (and --x-ref [mm]) for simulation"), err
+    assert not list(tmp_path.iterdir())
