@@ -118,8 +118,8 @@ def test_cycle_stats_whole_cycles_by_hand():
 
 def test_a_cycle_with_a_gap_in_its_samples_is_not_whole():
     """10 cycles of ψ = 2πt at 100 samples each, half of cycle 4's samples missing (a drop-out in the record):
-    the whole cycles are 1..8 less cycle 4 (50 samples, under 0.9 × the median 100), mid times 1.5, 2.5, 3.5,
-    5.5, 6.5, 7.5, 8.5 s (by hand)."""
+    the whole cycles are 1..8 less cycle 4 (50 samples, under 0.9 × the median 100), their mean sample times
+    1.495, 2.495, 3.495, 5.495, 6.495, 7.495, 8.495 s (by hand)."""
     from chainid.gap.harmonic.prepare import cycle_stats
 
     w = 2 * math.pi
