@@ -49,14 +49,29 @@ _FM = {"contract", "arcp", "nsz"}
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
+def _resistance(R, v, veps):
+    """The moving resistance of a node [N]: −R·clip(v/ε, −1, 1) (Coulomb, regularised below |v| = ε)."""
+    r = v / veps
+    r = r if r < 1.0 else 1.0
+    r = r if r > -1.0 else -1.0
+    return -R * r
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
+def _accelerations(T, fe, inv, acc, last):
+    """The free nodes' accelerations [mm/s²] into ``acc``: (T_{i−1} − T_i + f_e,i)·1e3/m_i for nodes 1..last, no
+    segment beyond the last node."""
+    N = T.shape[0]
+    for i in range(1, last + 1):
+        acc[i] = (T[i - 1] - (T[i] if i < N else 0.0) + fe[i]) * inv[i]
+
+
+@njit(cache=True, fastmath=_FM, error_model="numpy")
 def _external(t, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, with_res):
     """External forces on the nodes [N]: resistance (unless with_res is False), load steps, tensioner (into fe)."""
     nn = u.shape[0]
     for i in range(nn):
-        r = v[i] / veps
-        r = r if r < 1.0 else 1.0
-        r = r if r > -1.0 else -1.0
-        fe[i] = -res[i] * r if with_res else 0.0
+        fe[i] = _resistance(res[i], v[i], veps) if with_res else 0.0
     for k in range(load_node.shape[0]):
         if t >= load_t[k]:
             fe[load_node[k]] -= load_F[k]
@@ -74,11 +89,9 @@ def _without_resistance(v, acc, fe, res, veps, inv, last):
     first half-kick applies the resistance a second time (every step a fallback: 1.5 × the resistance's impulse)
     and its work is counted half again."""
     for i in range(1, last + 1):
-        r = v[i] / veps
-        r = r if r < 1.0 else 1.0
-        r = r if r > -1.0 else -1.0
-        fe[i] += res[i] * r
-        acc[i] += res[i] * r * inv[i]
+        f = _resistance(res[i], v[i], veps)
+        fe[i] -= f
+        acc[i] -= f * inv[i]
 
 
 @njit(cache=True, fastmath=_FM, error_model="numpy")
@@ -130,7 +143,6 @@ def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
      last) = c
     us, vs, accs, zs, dvs, fes, Ts = S
     u, v, acc, z, dv, fe, T, Fk, ks, cs = X
-    N = T.shape[0]
     for i in range(1, last + 1):
         vh = vs[i] + 0.5 * h * accs[i]
         v[i] = vh
@@ -143,10 +155,7 @@ def _explicit_step(h, t1, c, S, X, inv, has_res, kind):
         _external(t1, u, v, res, veps, load_node, load_F, load_t, tens, Ft, kt, fe, np.bool_(False))
         for i in range(1, last + 1):
             dW += 0.5 * (fes[i] + fe[i]) * (u[i] - us[i])
-    for i in range(1, N):
-        acc[i] = (T[i - 1] - T[i] + fe[i]) * inv[i]
-    if tens:
-        acc[N] = (T[N - 1] + fe[N]) * inv[N]
+    _accelerations(T, fe, inv, acc, last)
     for i in range(1, last + 1):
         v[i] += 0.5 * h * acc[i]
     if has_res:
@@ -249,9 +258,7 @@ def _initial_state(u, v, c, kind, implicit):
     _external(0.0, us, vs, res, veps, load_node, load_F, load_t, tens, Ft, kt, fes, implicit)
     if not (tens or load_node.shape[0] > 0 or implicit):
         fes[:] = 0.0
-    for i in range(1, last + 1):
-        nxt = Ts[i] if i < N else 0.0
-        accs[i] = (Ts[i - 1] - nxt + fes[i]) * inv[i]
+    _accelerations(Ts, fes, inv, accs, last)
     return S, X, lin, inv, peak
 
 
@@ -271,10 +278,8 @@ def _fallback_step(h, t1, c, S, X, inv, has_res):
         X[5][:] = 0.0
     out = _explicit_step(h, t1, c, S, X, inv, has_res, np.int64(0))
     if has_res:
-        N = X[6].shape[0]
         _external(t1, X[0], X[1], res, veps, load_node, load_F, load_t, tens, Ft, kt, X[5], np.bool_(True))
-        for i in range(1, last + 1):
-            X[2][i] = (X[6][i - 1] - (X[6][i] if i < N else 0.0) + X[5][i]) * inv[i]
+        _accelerations(X[6], X[5], inv, X[2], last)
     return out
 
 
