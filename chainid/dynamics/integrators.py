@@ -30,8 +30,8 @@ Verlet keeps its time-reversible (symplectic) character.  The loop can still spl
 (down to dt/2^levels): the implicit scheme does so when Newton's method fails.
 
 Energy: work in (drive: trapezoidal T_1 work + the exact change of the drive node's kinetic energy; external
-forces trapezoidal; resistance exact in a Verlet sub-step, trapezoidal in a Newmark one), dissipation (:func:`.segments.tensions`),
-kinetic and stored energy, accumulated per sub-step (:mod:`.energy`).
+forces trapezoidal; resistance exact in a Verlet sub-step, trapezoidal in a Newmark one), dissipation
+(:func:`.segments.tensions`), kinetic and stored energy, accumulated per sub-step (:mod:`.energy`).
 """
 from __future__ import annotations
 
