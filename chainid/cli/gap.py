@@ -274,7 +274,8 @@ def _add_benchmark_parser(subparsers: Any) -> None:
     b.add_argument("--small", action="store_true", help="a small, fast grid")
     b.add_argument("--json", metavar="FILE", help="write the JSON summary")
     b.add_argument("--seed", type=int, default=0,
-                   help="seed of the benchmark's random effects, noise and plans (default 0, the README's runs)")
+                   help="seed of the benchmark's random effects, noise and plans (default 0, the README's runs); runs "
+                        "at different seeds draw disjoint streams: independent replicates")
     b.add_argument("--generator", default="sim", choices=GENERATORS,
                    help="which simulated world: sim (the project's simulator, default), ode (an independently "
                         "written world: effects as ODE states integrated with LSODA, multisine/filtered-noise/chirp/"

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.benchmark.report import CANONICAL, canon, case_row, open_world_row  # noqa: F401  (part of the API)
+from chainid.gap.benchmark.seeds import run_base
 from chainid.gap.benchmark.chain import case_chain, on_chain, x_scale
 from chainid.gap.benchmark.nonharmonic import effect_spec  # noqa: F401  (part of the benchmark API)
 from chainid.gap.benchmark.simtruth import case_truth
@@ -152,7 +153,7 @@ def grid(small: bool = False, seed: int = 0, excitations: Any = ALL_EXCITATIONS,
 
 def _harmonic_grid(small: bool, seed: int) -> list[dict[str, Any]]:
     cases: list[dict[str, Any]] = []
-    s = seed
+    s = run_base(seed)
 
     def add(family: str, truth: list[str], effects: list[str], levels: list[float], noise: float, chain: str,
             plan: str, **kw: Any) -> None:

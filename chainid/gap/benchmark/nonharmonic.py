@@ -38,6 +38,7 @@ import numpy as np
 
 from chainid.gap.benchmark.chain import case_chain, scale_motion, x_scale
 from chainid.gap.benchmark.report import case_row
+from chainid.gap.benchmark.seeds import run_base
 from chainid.gap.benchmark.simtruth import case_truth
 from chainid.model.effects import EFFECT_NAMES, compose_hooks, parse_effect
 
@@ -378,15 +379,17 @@ def run_case_transfer(case: dict[str, Any]) -> dict[str, Any]:
 def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] = EXCITATIONS + ("transfer",)
               ) -> list[dict[str, Any]]:
     """The non-harmonic and transfer cases (``small``: one single-effect case per family, one control, one
-    transfer).  Case seeds are ``seed + 100000 + 1000·k + i`` (k the excitation's place in
-    :data:`EXCITATIONS` + transfer, i the case's place in it); everything else is drawn from them."""
+    transfer).  At ``seed`` S the case seeds are ``S·10⁷ + 100000 + 1000·k + i`` (k the excitation's place in
+    :data:`EXCITATIONS` + transfer, i the case's place in it; :mod:`chainid.gap.benchmark.seeds`); everything else
+    is drawn from them."""
     cases: list[dict[str, Any]] = []
+    first = run_base(seed)
     order = EXCITATIONS + ("transfer",)
     count = {e: 0 for e in order}
 
     def add(exc: str, family: str, truth: list[str], effects: list[str], levels: list[float], **kw: Any) -> None:
         # seeds in a block per excitation: a case is the same whichever excitations run
-        s = seed + 100000 + 1000 * order.index(exc) + count[exc]
+        s = first + 100000 + 1000 * order.index(exc) + count[exc]
         count[exc] += 1
         r = np.random.default_rng(s)
         cases.append({"excitation": exc, "family": family, "truth": truth, "effects": effects, "levels": levels,
@@ -394,7 +397,7 @@ def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] =
                       "chain": str(r.choice(["14x50", "small"])), "plan": exc, "seed": s,
                       "hold": f"r{int(r.integers(1, N_RECORDS + 1))}", **kw})
 
-    rng = np.random.default_rng(seed + 99)
+    rng = np.random.default_rng(first + 99)
     lv = lambda: float(np.exp(rng.uniform(math.log(0.5), math.log(3.0))))  # noqa: E731
     fams = [e for e in EXCITATIONS if e in excitations]
     if small:
@@ -406,7 +409,7 @@ def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] =
             add("transfer", "transfer", ["hysteresis"], ["hysteresis"], [1.5], direction="harmonic>random")
         return cases
     for e in fams:
-        rng = np.random.default_rng(seed + 99 + order.index(e))
+        rng = np.random.default_rng(first + 99 + order.index(e))
         for eff in TIME_EFFECTS:
             for _ in range(2):
                 add(e, "single", [eff], [eff], [lv()])
@@ -433,7 +436,7 @@ def time_grid(seed: int = 0, small: bool = False, excitations: tuple[str, ...] =
                 for eff in DEVICE_EFFECTS if base == "resonant" else ("friction", "hysteresis", "bouc_wen"):
                     add(e, "single", [eff], [eff], [lv()], base=base)
     if "transfer" in excitations:
-        rng = np.random.default_rng(seed + 99 + order.index("transfer"))
+        rng = np.random.default_rng(first + 99 + order.index("transfer"))
         for eff in ("friction", "hysteresis", "backlash", "stiffness_level", "slack", "sensor_delay"):
             for d in ("harmonic>random", "random>harmonic"):
                 add("transfer", "transfer", [eff], [eff], [lv()], direction=d)

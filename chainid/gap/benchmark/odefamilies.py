@@ -17,15 +17,17 @@ strengths each case has.
   coil current i, hysteresis F_h in a temperature T, stribeck F_c in a pressure p); the records carry no
   covariate (:class:`chainid.records.record.Record` has none), the truth does.
 
-The excitation of a case cycles through the shapes its base runs; every case's seed is ``seed + 200000 + crc32(label)
-mod 10⁶`` (its label names family, base, excitation, effects and levels), so a case of the small set is the same case
-in the full one.  ``small``: 12 cases, one or two per family, under ~3 minutes on 2 cores.
+The excitation of a case cycles through the shapes its base runs; at ``--seed S`` every case's seed is
+``S·10⁷ + 200000 + crc32(label) mod 10⁶`` (:mod:`chainid.gap.benchmark.seeds`; its label names family, base,
+excitation, effects and levels), so a case of the small set is the same case in the full one.  ``small``: 12 cases, one or two per family, under ~3 minutes on 2 cores.
 """
 
 from __future__ import annotations
 
 import zlib
 from typing import Any
+
+from chainid.gap.benchmark.seeds import run_base
 
 __all__ = ["world_cases", "SINGLE_EFFECTS"]
 
@@ -151,7 +153,6 @@ def world_cases(small: bool = False, seed: int = 0) -> list[dict[str, Any]]:
     list of dict
         Cases for :func:`chainid.gap.benchmark.odeworld.run_case`.
     """
-    if int(seed) < 0:
-        raise ValueError(f"seed = {seed!r} is out of range; valid range >= 0")
+    base = run_base(seed)
     cases = _small() if small else _full()
-    return [{**c, "seed": int(seed) + 200000 + zlib.crc32(c["label"].encode()) % 1_000_000} for c in cases]
+    return [{**c, "seed": base + 200000 + zlib.crc32(c["label"].encode()) % 1_000_000} for c in cases]

@@ -74,8 +74,9 @@ def pooled_runs(paths: Sequence[str | Path]) -> tuple[dict[str, list[dict[str, A
     each generator the files its rows came from, and how many of its rows were left out as repeats.
 
     A case (:data:`CASE_KEYS`: family, truth, conditions, seed and true parameters) in more than one file with the
-    same result (:data:`RESULT_KEYS`) is one simulation run twice: runs at neighbouring ``--seed`` share the cases
-    whose seed and conditions coincide (a control without effects), and a copy of a run shares them all.  It counts
+    same result (:data:`RESULT_KEYS`) is one simulation run twice: a copy of a run shares them all, and so do runs
+    of two overlapping parts of the grid.  (Runs at different ``--seed`` share no case:
+    :mod:`chainid.gap.benchmark.seeds`.)  It counts
     once, so its intervals and verdict are not counted twice.
 
     Raises

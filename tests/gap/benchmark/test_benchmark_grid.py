@@ -76,7 +76,8 @@ def test_benchmark_grid_is_the_documented_one():
     every first-release effect alone at 3 strengths × 2 noise levels × 2 chains × 2 plans, the second release's four
     (stribeck, bouc_wen, deadband, fixture_mass) at 2 strengths × 2 chains, appended; 24 controls; mismatch
     EA × 0.7–1.4, Hertz compliance × 0.5–2; non-harmonic strengths log-uniform 0.5–3×, noise 0.5–3 %; transfer
-    both directions, six effects; case seeds seed + 100000 + 1000·k + i (module docstring of time_grid)."""
+    both directions, six effects; at seed S the case seeds are S·10⁷ + 1, + 2, … (harmonic) and
+    S·10⁷ + 100000 + 1000·k + i (module docstrings of time_grid and seeds)."""
     from chainid.gap.benchmark.grid import ALL_EXCITATIONS, GRID_EFFECTS, NEW_GRID_EFFECTS, grid
     from chainid.gap.benchmark.nonharmonic import EXCITATIONS
 
@@ -99,11 +100,11 @@ def test_benchmark_grid_is_the_documented_one():
     ea = sorted({c["ea_scale"] for c in mism if "ea_scale" in c})
     hz = sorted({c["hertz_scale"] for c in mism if "hertz_scale" in c})
     assert (ea[0], ea[-1], hz[0], hz[-1]) == (0.7, 1.4, 0.5, 2.0)
-    assert [c["seed"] for c in harm] == list(range(4, 4 + 344))  # seed + 1, + 2, …: one per case
+    assert [c["seed"] for c in harm] == list(range(30_000_001, 30_000_001 + 344))  # 3·10⁷ + 1, + 2, …: one per case
     order = EXCITATIONS + ("transfer",)
     for e in order:
         mine = [c for c in g if c["excitation"] == e]
-        assert [c["seed"] for c in mine] == [3 + 100000 + 1000 * order.index(e) + i for i in range(len(mine))]
+        assert [c["seed"] for c in mine] == [30_000_000 + 100000 + 1000 * order.index(e) + i for i in range(len(mine))]
     timed = [c for c in g if c["excitation"] in EXCITATIONS]
     assert all(0.5 <= lv <= 3.0 for c in timed for lv in c["levels"])
     assert all(0.005 <= c["noise"] <= 0.03 for c in timed)
