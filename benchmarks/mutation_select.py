@@ -6,8 +6,12 @@ script asks instead, for every mutant, which tests of the **whole suite** execut
 
 1. a snapshot of the repository in a temporary folder (as ``mutation.py``: the working tree is never touched), with
    a sibling ``shared`` linked to ``../shared`` for the real-data tests;
-2. the whole suite once under coverage.py with one context per test function (``dynamic_context =
-   test_function``) and a JUnit file for each test's time (``--coverage DIR`` reuses an earlier map);
+2. the whole suite once under coverage.py with one context per test and phase (pytest-cov's ``--cov-context=test``:
+   ``node id|setup``, ``|run``, ``|teardown``) and a JUnit file for each test's time (``--coverage DIR`` reuses an
+   earlier map).  A line run while a test's fixtures are set up is mapped to every test of that test's file: a
+   module-scoped fixture runs once, in the setup of its file's first test, and serves all of them.  (coverage.py's
+   own ``dynamic_context = test_function`` leaves fixture code with the empty context, so a mutant in code that only
+   a shared fixture runs got no test that reads its output, and survived; the report's Eq. 26 figure was one.);
 3. per package, ``cosmic-ray init`` and the same seeded sample as ``mutation.py`` (mutants inside unevaluated
    annotations dropped first);
 4. for each mutant the tests are chosen by the first rule that gives any (the rule is recorded per mutant):
@@ -65,11 +69,11 @@ def coverage_map(copy: Path, out: Path) -> Path:
     the data file and a JUnit file of the tests' times go to *out*.  Returns *out*."""
     out.mkdir(parents=True, exist_ok=True)
     rc = out / "coveragerc"
-    rc.write_text(f"[run]\nsource = chainid\ndynamic_context = test_function\nparallel = true\npatch = subprocess\n"
+    rc.write_text(f"[run]\nsource = chainid\nparallel = true\npatch = subprocess\n"
                   f"data_file = {out / '.coverage'}\n", encoding="utf-8")
     env = mutation.run_env(copy)
-    cmd = [sys.executable, "-m", "coverage", "run", f"--rcfile={rc}", "-m", "pytest", "-q", "-p", "no:cacheprovider",
-           f"--junitxml={out / 'junit.xml'}"]
+    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--cov=chainid", f"--cov-config={rc}",
+           "--cov-context=test", "--cov-report=", f"--junitxml={out / 'junit.xml'}"]
     proc = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True)
     (out / "pytest.log").write_text(proc.stdout + proc.stderr, encoding="utf-8")
     subprocess.run([sys.executable, "-m", "coverage", "combine", f"--rcfile={rc}"], cwd=copy, env=env,
@@ -85,12 +89,29 @@ def node_ids(root: Path) -> dict[str, str]:
 
 
 def test_id(context: str, modules: dict[str, str]) -> str | None:
-    """A pytest node id from a ``test_function`` context (``module.function`` or ``module.Class.function``);
-    None for the empty context (import time) or a module that is not a test file."""
+    """A pytest node id without parameters from a context: pytest-cov's ``path::name[params]|phase`` (``phase``
+    setup, run or teardown), or coverage.py's ``module.function`` / ``module.Class.function`` of an older map; None
+    for the empty context (import time) or a module that is not a test file."""
+    if "::" in context:
+        return context.rsplit("|", 1)[0].split("[", 1)[0]
     parts = context.split(".")
     if len(parts) < 2 or parts[0] not in modules:
         return None
     return "::".join([modules[parts[0]], *parts[1:]])
+
+
+def line_tests(contexts: list[str], modules: dict[str, str], by_file: dict[str, set[str]]) -> set[str]:
+    """The tests that reach a line from its contexts: each context's test (:func:`test_id`), and for a context of a
+    fixture's set-up (``…|setup``) every test of that test's file (``by_file``: test file → its node ids), which
+    the fixture may serve."""
+    tests: set[str] = set()
+    for c in contexts:
+        t = test_id(c, modules)
+        if t:
+            tests.add(t)
+            if c.endswith("|setup"):
+                tests |= by_file.get(t.split("::", 1)[0], set())
+    return tests
 
 
 def test_times(junit: Path) -> dict[str, float]:
@@ -115,12 +136,15 @@ class Selector:
         data.read()
         modules = node_ids(root)
         self.root = root
+        self.times = test_times(cov_dir / "junit.xml") if (cov_dir / "junit.xml").is_file() else {}
+        in_file: dict[str, set[str]] = {}
+        for t in self.times:
+            in_file.setdefault(t.split("::", 1)[0], set()).add(t)
         self.by_file: dict[str, dict[int, set[str]]] = {}
         for f in data.measured_files():
             rel = _package_path(f)
             lines = data.contexts_by_lineno(f)
-            self.by_file[rel] = {ln: {t for t in (test_id(c, modules) for c in cs) if t} for ln, cs in lines.items()}
-        self.times = test_times(cov_dir / "junit.xml") if (cov_dir / "junit.xml").is_file() else {}
+            self.by_file[rel] = {ln: line_tests(cs, modules, in_file) for ln, cs in lines.items()}
 
     def _union(self, rel: str, lo: int, hi: int) -> set[str]:
         lines = self.by_file.get(rel, {})

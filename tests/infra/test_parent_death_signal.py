@@ -54,3 +54,37 @@ def test_the_kernel_ends_an_armed_child_when_its_parent_is_killed(arm, tmp_path)
             launcher.kill()
         if child is not None and alive(child):
             os.kill(child, signal.SIGKILL)
+
+
+class _LibcWithout:
+    """A C library without ``prctl`` (a libc that does not export it: the attribute lookup fails)."""
+
+    def __getattr__(self, name):
+        raise AttributeError(name)
+
+
+class _LibcFailing:
+    """A C library whose ``prctl`` refuses the request (returns -1, as the kernel does for a bad option)."""
+
+    @staticmethod
+    def prctl(*args):
+        return -1
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the prctl route is Linux's")
+@pytest.mark.parametrize("libc, why", [(_LibcWithout(), "no prctl symbol"), (None, "no C library to load"),
+                                       (_LibcFailing(), "prctl refused")])
+def test_without_a_working_prctl_the_signal_is_not_armed_and_nothing_raises(libc, why, monkeypatch):
+    """The watchdog thread is then the only guard (``_parent_death_signal`` returns False); a libc without the
+    symbol or a CDLL that cannot load is an expected platform, not an error."""
+    import ctypes
+
+    from chainid.infra import parallel
+
+    def cdll(*a, **k):
+        if libc is None:
+            raise OSError("cannot load the C library")
+        return libc
+
+    monkeypatch.setattr(ctypes, "CDLL", cdll)
+    assert parallel._parent_death_signal() is False, why

@@ -225,6 +225,9 @@ def test_practice_section_text(tmp_path):
         if f"width_minus_{dw}mm" in e:
             assert f"{e[f'width_minus_{dw}mm']:.3f} with the inner width {dw} mm smaller" in md
     assert "width_minus_1mm" in e
+    din = [r["ratio_model_catalogue"] for r in sec["table"] if r["family"] == "din22252"]
+    assert len(din) >= 3 and min(din) < max(din)
+    assert f"Over the presets the ratio is {min(din):.2f}–{max(din):.2f} for DIN 22252 and" in md
     assert md.startswith("## 2b. The model against practice")
     assert (tmp_path / "figures" / "practice_ea.png").stat().st_size > 5000
     # the EA figure: the catalogue formulas as labelled, EA = 0.854e8 d² and 1.01e8 d² kN (d in m) = 85 400 d²

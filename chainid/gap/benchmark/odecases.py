@@ -8,8 +8,8 @@ Bases (every property drawn from its range with the case's seed; units mm, N, s,
 * ``chain18`` — the DIN 22252 18×64 preset, the same plans with every displacement × its length scale (the same
   nominal stress, :func:`chainid.gap.benchmark.chain.length_scale`);
 * ``resonant`` — a linear mass–spring–damper driven by a force (a shaker): m 1–5 kg, f_n 20–60 Hz (k = m·(2π
-  f_n)²·1e-3), damping ratio 0.02–0.08, preload 0.5–2 mm of spring travel, displacement RMS 0.2–1 mm, band
-  0.5–2 f_n, fs 2000/5000 Hz;
+  f_n)²·1e-3), damping ratio 0.02–0.08, the spring's rest position x_ref −1–1 mm, preload 0.5–2 mm of spring
+  travel, displacement RMS 0.2–1 mm, band 0.5–2 f_n, fs 2000/5000 Hz;
 * ``damper`` — a damping-dominated device (a damper on a servo-hydraulic machine): k 2–10 N/mm, band 4–20 Hz,
   c with c·2π·f_lo >= 6 k (the viscous force is more than 5× the spring's dynamic force), RMS stroke 1–4 mm,
   fs 500/1000/2000 Hz;
