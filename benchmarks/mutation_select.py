@@ -76,11 +76,24 @@ def coverage_map(copy: Path, out: Path) -> Path:
            "--cov-context=test", "--cov-report=", f"--junitxml={out / 'junit.xml'}"]
     proc = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True)
     (out / "pytest.log").write_text(proc.stdout + proc.stderr, encoding="utf-8")
-    subprocess.run([sys.executable, "-m", "coverage", "combine", f"--rcfile={rc}"], cwd=copy, env=env,
+    # pytest-cov has combined its workers into the data file; fold in what subprocesses wrote beside it (--append:
+    # a plain combine replaces the file, and one empty file of a subprocess that died at start erased the map)
+    subprocess.run([sys.executable, "-m", "coverage", "combine", "--append", f"--rcfile={rc}"], cwd=copy, env=env,
                    capture_output=True)
-    if not (out / ".coverage").is_file():
-        raise SystemExit(f"mutation_select.py: the coverage run wrote no data (see {out / 'pytest.log'})")
+    if not _has_contexts(out / ".coverage"):
+        raise SystemExit(f"mutation_select.py: the coverage run wrote no per-test data (see {out / 'pytest.log'})")
     return out
+
+
+def _has_contexts(path: Path) -> bool:
+    """Whether a coverage data file exists and holds lines measured under a test's context."""
+    from coverage import CoverageData
+
+    if not path.is_file():
+        return False
+    data = CoverageData(basename=str(path))
+    data.read()
+    return any(c for c in data.measured_contexts())
 
 
 def node_ids(root: Path) -> dict[str, str]:
@@ -428,7 +441,7 @@ def main(argv: list[str] | None = None) -> int:
         pristine = Path(tmp) / "pristine"
         mutation.copy_repo(pristine)
         cov = Path(args.coverage) if args.coverage else Path(tmp) / "coverage"
-        if not (cov / ".coverage").is_file():
+        if not _has_contexts(cov / ".coverage"):  # a map made before is reused
             coverage_map(pristine, cov)
         sel = Selector(cov, pristine)
         info, jobs = {}, []
