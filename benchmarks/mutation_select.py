@@ -64,8 +64,8 @@ RULES = ("line", "package", "function", "module", "targets")
 
 
 def coverage_map(copy: Path, out: Path) -> Path:
-    """Run the whole suite in *copy* under coverage.py with one dynamic context per test function
-    (``dynamic_context = test_function``; the xdist workers measured through ``patch = subprocess``, then combined);
+    """Run the whole suite in *copy* under pytest-cov with one context per test and phase (``--cov-context=test``;
+    the xdist workers combined by pytest-cov, subprocesses measured through ``patch = subprocess`` and appended);
     the data file and a JUnit file of the tests' times go to *out*.  Returns *out*."""
     out.mkdir(parents=True, exist_ok=True)
     rc = out / "coveragerc"
@@ -89,11 +89,16 @@ def _has_contexts(path: Path) -> bool:
     """Whether a coverage data file exists and holds lines measured under a test's context."""
     from coverage import CoverageData
 
+    from coverage.exceptions import DataError
+
     if not path.is_file():
         return False
-    data = CoverageData(basename=str(path))
-    data.read()
-    return any(c for c in data.measured_contexts())
+    try:
+        data = CoverageData(basename=str(path))
+        data.read()
+        return any(c for c in data.measured_contexts())
+    except DataError:  # not a coverage file, or a damaged one: make the map anew
+        return False
 
 
 def node_ids(root: Path) -> dict[str, str]:

@@ -54,3 +54,18 @@ def test_a_coverage_file_without_per_test_contexts_is_not_a_map(ms, tmp_path):
     full.add_lines({str(tmp_path / "m.py"): [1, 2]})
     full.write()
     assert ms._has_contexts(tmp_path / "full") is True
+
+
+def test_junit_times_are_keyed_by_the_node_ids_pytest_cov_names(ms, tmp_path):
+    """The JUnit file's class names are dotted paths (with a test class after the module): each test's time, its
+    parameters summed, under the node id that :func:`test_id` gives for the same test."""
+    (tmp_path / "j.xml").write_text(
+        '<testsuites><testsuite name="pytest">'
+        '<testcase classname="tests.report.test_steps" name="test_fig[a|b]" time="1.5"/>'
+        '<testcase classname="tests.report.test_steps" name="test_fig[c]" time="0.5"/>'
+        '<testcase classname="tests.x.test_a.TestK" name="test_k" time="2.0"/>'
+        "</testsuite></testsuites>", encoding="utf-8")
+    times = ms.test_times(tmp_path / "j.xml")
+    assert times == {"tests/report/test_steps.py::test_fig": 2.0, "tests/x/test_a.py::TestK::test_k": 2.0}
+    assert set(times) == {ms.test_id("tests/report/test_steps.py::test_fig[a|b]|run", {}),
+                          ms.test_id("tests/x/test_a.py::TestK::test_k|setup", {})}

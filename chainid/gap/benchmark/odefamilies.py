@@ -19,7 +19,8 @@ strengths each case has.
 
 The excitation of a case cycles through the shapes its base runs; at ``--seed S`` every case's seed is
 ``S·10⁷ + 200000 + crc32(label) mod 10⁶`` (:mod:`chainid.gap.benchmark.seeds`; its label names family, base,
-excitation, effects and levels), so a case of the small set is the same case in the full one.  ``small``: 12 cases, one or two per family, under ~3 minutes on 2 cores.
+excitation, effects and levels), so a case of the small set is the same case in the full one.  ``small``: 12
+cases, one or two per family, under ~3 minutes on 2 cores.
 """
 
 from __future__ import annotations
