@@ -9,7 +9,9 @@ script asks instead, for every mutant, which tests of the **whole suite** execut
 2. the whole suite once under coverage.py with one context per test and phase (pytest-cov's ``--cov-context=test``:
    ``node id|setup``, ``|run``, ``|teardown``) and a JUnit file for each test's time (``--coverage DIR`` reuses an
    earlier map).  A line run while a test's fixtures are set up is mapped to every test of that test's file: a
-   module-scoped fixture runs once, in the setup of its file's first test, and serves all of them.  (coverage.py's
+   module-scoped fixture runs once, in the setup of its file's first test, and serves all of them (a session-scoped
+   one serves other files too, which this mapping misses: the suite has three, in the derivation's and the CLI's
+   conftest files).  (coverage.py's
    own ``dynamic_context = test_function`` leaves fixture code with the empty context, so a mutant in code that only
    a shared fixture runs got no test that reads its output, and survived; the report's Eq. 26 figure was one.);
 3. per package, ``cosmic-ray init`` and the same seeded sample as ``mutation.py`` (mutants inside unevaluated
