@@ -107,3 +107,13 @@ def test_the_end_profile_is_the_rms_error_over_records_of_one_spectrum(kind, mul
                 pred[side, i] += prof[side, i + 1, :8] ** 2
     ratio = np.sqrt(act.sum(axis=2) / pred.sum(axis=2))
     assert np.all((ratio > 0.8) & (ratio < 1.25)), ratio
+
+
+def test_the_derivative_of_a_quadratic_is_exact_at_every_sample():
+    """Five-point stencil inside, np.gradient's second-order formulas at the two samples of each end: all exact for a
+    quadratic y = 3 + 2t − 5t² on a uniform grid (dy/dt = 2 − 10t)."""
+    from chainid.gap.core.lowpass import derivative
+
+    t = 0.01 * np.arange(40)
+    d = derivative(3.0 + 2.0 * t - 5.0 * t**2, t)
+    np.testing.assert_allclose(d, 2.0 - 10.0 * t, rtol=0, atol=1e-10)
