@@ -11,7 +11,8 @@
 * **Ringing after reversals (stick-slip chatter).** The residual high-passed above the
   band while the contact slides (after breakaway, until it turns: |ẋ| above ``SLIDE`` of
   its 99th percentile) against the rest of the record (at rest, turning).  Ringing is a
-  narrow spectral peak (``PEAK`` times the median power within ± one octave; a step
+  narrow spectral peak (``PEAK`` times the median power within ± one octave, and times the
+  record's force-noise density 2σ²/fs, which the band-limited residual no longer shows; a step
   or a sloped spectrum gives 1–3) above 1.5× the cut, with ``RING_RATIO`` times the mean
   square elsewhere (a sensor resonance or mains hum is not tied to reversals).
   No library effect covers chatter: it is reported as such, never as an effect name.
@@ -111,10 +112,10 @@ def spectrum_outside(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> di
             "ratio_to_noise": ratio, "score": 0.0}
 
 
-def _local_peak(f: np.ndarray, P: np.ndarray, fmin: float) -> tuple[float, float]:
+def _local_peak(f: np.ndarray, P: np.ndarray, fmin: float, floor: float = 0.0) -> tuple[float, float]:
     """Frequency [Hz] and height of the strongest narrow peak above fmin: power over the median power within
-    ± one octave (a smooth or sloped spectrum gives ~1–3).  ``f`` ascending; bins whose octave holds fewer than 5
-    bins are skipped; the first of equal heights wins."""
+    ± one octave (a smooth or sloped spectrum gives ~1–3), or over ``floor`` [P's unit] where that is larger.
+    ``f`` ascending; bins whose octave holds fewer than 5 bins are skipped; the first of equal heights wins."""
     f = np.asarray(f, float)
     P = np.asarray(P, float)
     ks = np.flatnonzero(f >= fmin)
@@ -124,7 +125,7 @@ def _local_peak(f: np.ndarray, P: np.ndarray, fmin: float) -> tuple[float, float
     ks, lo, hi = ks[keep], lo[keep], hi[keep]
     if not ks.size:
         return (float("nan"), 0.0)
-    r = P[ks] / np.maximum(sliding_median(P, lo, hi), 1e-300)
+    r = P[ks] / np.maximum(np.maximum(sliding_median(P, lo, hi), floor), 1e-300)
     r = np.where(np.isnan(r), 0.0, r)  # a bin or window with NaN power is no peak (the old loop's comparison)
     j = int(np.argmax(r))
     return (float(f[ks[j]]), float(r[j])) if r[j] > 0.0 else (float("nan"), 0.0)
@@ -176,8 +177,8 @@ def ringing(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, A
 
     Per record: the residual high-passed above ``CUT_FACTOR``·band; sliding samples (|ẋ| >= ``SLIDE``× its
     99th percentile) against the rest (at rest, turning).  Ringing = a narrow peak (``PEAK``× the local
-    median) of the sliding residual's spectrum above 1.5× the cut, with its mean square ``RING_RATIO``× the
-    rest's.
+    median, and × the force noise's density 2σ²/fs over the sliding share of the samples) of the sliding
+    residual's spectrum above 1.5× the cut, with its mean square ``RING_RATIO``× the rest's.
     """
     from scipy.signal import welch
 
@@ -197,7 +198,10 @@ def ringing(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, A
         rest = float(np.mean(hp[~inwin] ** 2))
         nper = int(min(hp.size, 2 ** int(math.ceil(math.log2(16 * d.fs / fc)))))
         f, P = welch(np.where(inwin, hp, 0.0), d.fs, nperseg=nper)
-        fk, peak = _local_peak(f, P, 1.5 * fc)
+        # the neighbourhood a peak must stand out of includes the record's own force noise (white, σ² over fs/2,
+        # present in the sliding share of the samples): the residual is of the band-limited force, and a ring
+        # below the noise the raw record carries at its frequency cannot be told from the processing's own
+        fk, peak = _local_peak(f, P, 1.5 * fc, floor=float(np.mean(inwin)) * 2.0 * d.sigma**2 / d.fs)
         ratio = post / rest if rest > 0 else float("inf")
         row = {"test": d.test, "frequency_Hz": fk, "peak_ratio": peak, "ratio": ratio, "rms_N": math.sqrt(post),
                "chatter": bool(peak >= PEAK and ratio >= RING_RATIO)}

@@ -194,7 +194,7 @@ def _ring(name, s2, amp=5.0, n=8000, fs=1000.0):
     xd = 2 * math.pi * np.cos(2 * math.pi * t)  # x = sin(2π t)
     sliding = np.abs(xd) >= 0.2 * np.quantile(np.abs(xd), 0.99)
     res = amp * np.sin(2 * math.pi * 60.0 * t) * np.where(sliding, 1.0, math.sqrt(s2))
-    return SimpleNamespace(test=name, f_band=2.0, fs=fs, xd=xd), res
+    return SimpleNamespace(test=name, f_band=2.0, fs=fs, xd=xd, sigma=0.05), res
 
 
 def test_ringing_ratio_threshold_choice_and_texts():
@@ -220,19 +220,19 @@ def test_ringing_ratio_threshold_choice_and_texts():
     assert both["test"] == "A" and both["kind"] == "chatter" and both["score"] == both["rms_N"]
     assert ringing([d2, _ring("C", 1 / 1.9, amp=30.0)[0]], {"B": r2, "C": _ring("C", 1 / 1.9, amp=30.0)[1]})[
         "test"] == "C"  # no chatter anywhere: the loudest record
-    still = SimpleNamespace(test="S", f_band=2.0, fs=1000.0, xd=np.full(8000, 3.0))
+    still = SimpleNamespace(test="S", f_band=2.0, fs=1000.0, xd=np.full(8000, 3.0), sigma=0.05)
     assert ringing([still], {"S": r1}) == {}
 
 
 # ---------------------------------------------------------------- where_time.ringing
-def _ring_case(burst_everywhere: bool):
+def _ring_case(burst_everywhere: bool, sigma: float = 0.05):
     fs, n = 1000.0, 8000
     t = np.arange(n) / fs
     xd = 2 * math.pi * np.cos(2 * math.pi * 1.0 * t)  # x = sin(2π t): 1 Hz motion
     sliding = np.abs(xd) >= 0.2 * np.quantile(np.abs(xd), 0.99)
     hum = 5.0 * np.sin(2 * math.pi * 60.0 * t)  # 60 Hz, far above the cut 4 × 2 Hz
     res = hum if burst_everywhere else np.where(sliding, hum, 0.0) + 0.05 * np.random.default_rng(1).normal(size=n)
-    d = SimpleNamespace(test="R", f_band=2.0, fs=fs, xd=xd)
+    d = SimpleNamespace(test="R", f_band=2.0, fs=fs, xd=xd, sigma=sigma)
     return ringing([d], {"R": res}), sliding
 
 
@@ -251,6 +251,19 @@ def test_ringing_needs_the_sliding_residual_above_the_rest():
     assert chat["rms_N"] == pytest.approx(5.0 / math.sqrt(2), rel=0.05)  # RMS of the 5 N tone while sliding
 
 
+def test_a_ring_below_the_records_own_force_noise_is_not_chatter():
+    """The residual is of the band-limited force: a ring tied to sliding but far below the noise the raw record
+    carries is not measurable as chatter.  The 5 N tone while sliding (mean square 12.5 N² in about one Hann-window
+    bin of fs/2048 = 0.49 Hz, ENBW 1.5 bins: ≈ 17 N²/Hz) against a white force noise of density 2σ²/fs: with σ = 2 N
+    (0.008 N²/Hz) the peak is 2000× it, chatter; with σ = 100 N (20 N²/Hz) it is under it, ringing only.  (Seed 1 of
+    the time grid: quake records gave 0.2–0.8 N "chatter" under 6–20 N of noise, a filter's artefact.)"""
+    loud, _ = _ring_case(False, sigma=2.0)
+    assert loud["chatter"] is True and loud["peak_ratio"] >= PEAK
+    buried, _ = _ring_case(False, sigma=100.0)
+    assert buried["chatter"] is False and buried["kind"] == "ringing" and buried["peak_ratio"] < 1.5
+    assert buried["ratio"] == pytest.approx(loud["ratio"])  # the sliding/rest contrast itself is unchanged
+
+
 def test_ringing_is_not_looked_for_when_the_band_reaches_the_sampling():
     """The ringing check needs room above the band: a record whose cut 4·f_band is at or above 0.2·fs (here
     4·6 = 24 Hz ≥ 20 Hz at fs = 100 Hz) is skipped, so one such record gives no finding at all."""
@@ -258,8 +271,8 @@ def test_ringing_is_not_looked_for_when_the_band_reaches_the_sampling():
     t = np.arange(4000) / fs
     xd = np.cos(2 * math.pi * t)
     res = np.where(np.abs(xd) > 0.2, 5.0 * np.sin(2 * math.pi * 40.0 * t), 0.0)
-    assert ringing([SimpleNamespace(test="R", f_band=6.0, fs=fs, xd=xd)], {"R": res}) == {}
-    assert ringing([SimpleNamespace(test="R", f_band=4.9, fs=fs, xd=xd)], {"R": res}) != {}  # 19.6 Hz < 20 Hz
+    assert ringing([SimpleNamespace(test="R", f_band=6.0, fs=fs, xd=xd, sigma=0.05)], {"R": res}) == {}
+    assert ringing([SimpleNamespace(test="R", f_band=4.9, fs=fs, xd=xd, sigma=0.05)], {"R": res}) != {}  # 19.6 Hz < 20 Hz
 
 
 def test_state_maps_skip_a_variable_with_two_levels_and_go_on():
