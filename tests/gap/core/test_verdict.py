@@ -91,6 +91,9 @@ def test_verdict_a_drift_of_a_quarter_of_the_residual_is_unexplained():
         if want == "unexplained":
             msg += " (trend change 2 N over the window vs systematic residual 8 N: no confident name)"
         assert warn == [msg]
+    # the rule is relative: a small device's 0.08 N residual with a 0.02 N drift is the same case scaled by 1/100
+    for change, want in ((0.02, "unexplained"), (0.0199, "friction")):
+        assert vd.decide(False, final, _nonstat(change), 0.08, [None, final], {"stop": "S"}, [], []) == want
     # no chain: the drift is all there is
     warn = []
     assert vd.decide(False, None, _nonstat(0.1), 8.0, [None], {"stop": "S"}, [], warn) == "unexplained"
