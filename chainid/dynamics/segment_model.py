@@ -62,7 +62,7 @@ from typing import Any
 from chainid.model.effects import check_params, modify_model
 from chainid.model.effects.library import STIFFNESS_SIDE
 from chainid.model.modelfile import load_model
-from chainid.model.operators import iwan_for_loss
+from chainid.model.timedamping import iwan_elements
 
 __all__ = ["segment_kwargs"]
 
@@ -213,7 +213,7 @@ def _damping(d: Any, out: dict[str, Any], els: list, src: str, k_link: float, at
     if d.form == "viscous":
         out["damping"] = float(p.get("c", 0.0))
     elif d.form == "hysteretic":
-        F_c, x_s = iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", 32)))
+        F_c, x_s = iwan_elements(p)
         els += [(float(f) / float(x), float(f)) for f, x in zip(F_c, x_s) if f > 0]
         if p.get("k_comp", 0.0):
             notes.append(f"the hysteretic rule's compensating spring k_comp = {p['k_comp']:.6g} N/mm is not carried "

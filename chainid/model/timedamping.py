@@ -68,6 +68,13 @@ RULES = ("viscous", "hysteretic")
 IWAN_N = 32
 
 
+def iwan_elements(params: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:
+    """The Iwan elements (slip forces F_c,i [N], stick travels x_s,i [mm]) of a ``hysteretic`` damping's params:
+    :func:`chainid.model.operators.iwan_for_loss` with ``eta_k`` [N/mm] (default 0), ``x_max`` [mm] (default 1 mm)
+    and ``n`` (default :data:`IWAN_N`); the model's own force and the dynamics segments both read them here."""
+    return ops.iwan_for_loss(params.get("eta_k", 0.0), params.get("x_max", 1.0), int(params.get("n", IWAN_N)))
+
+
 def _iwan_in_phase() -> float:
     """In-phase first-harmonic stiffness of :func:`chainid.operators.iwan_for_loss` (η·k = 1, x_max = A = 1) on its
     steady cycle, [N/mm per N/mm]: the rule's compensating spring removes it (computed once, 4000 steps)."""
@@ -275,7 +282,7 @@ class Damping:
         if self.form == "viscous":
             return p.get("c", 0.0) * np.asarray(xd, float), z
         if self.form == "hysteretic":
-            Fc, xs = ops.iwan_for_loss(p.get("eta_k", 0.0), p.get("x_max", 1.0), int(p.get("n", IWAN_N)))
+            Fc, xs = iwan_elements(p)
             F, dE = ops.iwan(x, Fc, xs, periodic=periodic)
             return F - p.get("k_comp", 0.0) * (np.asarray(x, float) - p.get("x_c", 0.0)), dE
         if self.form == "dahl":

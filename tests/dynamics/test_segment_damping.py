@@ -135,6 +135,20 @@ def test_segment_model_hysteretic_loop_is_the_structural_damping_energy(tmp_path
     assert res.dissipated[-1] - res.dissipated[i1] == pytest.approx(2 * math.pi * eta_k * Amp ** 2, rel=1e-6)
 
 
+def test_a_hysteretic_model_without_x_max_or_n_gets_the_documented_defaults(tmp_path):
+    """x_max = 1 mm and n = 32 when the file gives neither: by hand, n Jenkins elements of slip force
+    F_c = (π/2)·η·k·x_max/n and stick travel x_s,i = (i − ½)·x_max/n (uniform density, midpoint rule), stiffness
+    F_c/x_s,i, the same elements the model's own force uses (chainid.model.timedamping.iwan_elements)."""
+    from chainid.dynamics.segment_model import segment_kwargs
+
+    eta_k = 300.0
+    kw, _ = segment_kwargs(_model_file(tmp_path, "hysteretic", f"eta_k = {eta_k}"))
+    Fc = 0.5 * math.pi * eta_k / 32
+    xs = (np.arange(32) + 0.5) / 32
+    np.testing.assert_allclose(np.array(kw["hysteresis"], float), np.column_stack([Fc / xs, np.full(32, Fc)]),
+                               rtol=1e-12)
+
+
 def test_cli_segment_model(tmp_path, capsys):
     import json
 

@@ -182,6 +182,10 @@ def test_damping_surface_is_eq28_over_its_grid(damping_step):
     c_max = _eq28(0.5, A_max)  # 5690.2
     assert cs.zmin == pytest.approx(c_min, abs=2.0)
     assert cs.zmax == pytest.approx(c_max, abs=2.0)
+    # the Table 1 points are coloured on the surface's own scale (a point's colour reads off the colour bar)
+    pts = next(c for c in ax.collections if c.get_label() == "Table 1 tests")
+    assert (pts.norm.vmin, pts.norm.vmax) == pytest.approx(cs.get_clim(), rel=1e-12)
+    assert pts.norm.vmin < pts.norm.vmax
     assert msgs == ["damping: Table 1 audit", "damping: validation case"]
     assert "(paper: [28.02, −651.57, −8386.50, 7394.84, 4378.89])" in md
 
