@@ -65,3 +65,20 @@ def test_on_a_long_uniform_chain_the_bound_is_nearly_the_true_limit():
     line = ChainLine(n_links=400, n_masses=200, pretension_N=1_000.0)
     ratio = stable_step(line) * _omega_max(line, None) / 2.0
     assert ratio == pytest.approx(1.0, abs=1e-3) and ratio <= 1.0
+
+
+def test_the_dead_bands_tangent_at_a_force_is_the_derivative_where_it_carries_that_force():
+    """The stable step's dead-band term: where the band carries F = k_d·pen^p, its tangent is dF/dpen; by a central
+    difference of the force at pen = (F/k_d)^(1/p) (segment values, n_ref = 16 links against 8-link segments:
+    k_d·2^p), for p = 1.5 and 3, F = 2 kN."""
+    from chainid.dynamics.line_tables import deadband_stiffness
+
+    F = 2_000.0
+    for p in (1.5, 3.0):
+        line = ChainLine(n_links=16, n_masses=2, pretension_N=1_000.0, deadband=(400.0, 0.05, p, 0.0),
+                         damping_ref_links=16)
+        kd_seg = 400.0 * 2.0**p  # the specimen's 16 links over a segment of 8
+        pen = (F / kd_seg) ** (1.0 / p)
+        h = 1e-6 * pen
+        want = (kd_seg * (pen + h) ** p - kd_seg * (pen - h) ** p) / (2 * h)
+        np.testing.assert_allclose(deadband_stiffness(line, F), want, rtol=1e-7)

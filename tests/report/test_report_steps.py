@@ -309,6 +309,10 @@ def test_table1_figure_fits_and_reference_slopes(eq26):
             assert g[0] * math.log(gx) + g[1] == pytest.approx(math.log(gw), abs=1e-9)
         xx = lines[0].get_xdata()
         assert xx.min() == pytest.approx(0.85 * xs.min()) and xx.max() == pytest.approx(1.15 * xs.max())
+    for ax in (axA, axw):  # log axes: the minor ticks at 2, 3, 5 and 7 times a decade are labelled, no others
+        fmt = ax.yaxis.get_minor_formatter()
+        assert [fmt(v, 0) for v in (200.0, 300.0, 500.0, 700.0, 3000.0)] == ["200", "300", "500", "700", "3000"]
+        assert [fmt(v, 0) for v in (400.0, 600.0, 800.0, 900.0)] == ["", "", "", ""]
     rows = {t["test"]: t for t in t1["tests"]}
     w1 = rows[1]["omega_rad_s"]
     printed, implied = axw.lines[-2], axw.lines[-1]
