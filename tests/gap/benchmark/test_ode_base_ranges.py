@@ -53,3 +53,19 @@ def test_the_damper_and_the_stiff_mount_span_their_documented_ranges():
     assert _spans([b["k"] for b in s], 50.0, 500.0) and {b["x0"] for b in s} == {5.0}
     assert _spans([b["c"] * 2 * math.pi * 8.0 / b["k"] for b in s], 0.02, 0.06)
     assert {b["fs"] for b in s} == {500.0, 1000.0}
+
+
+def test_the_sine_tests_of_a_displacement_driven_base_have_its_rms_amplitude():
+    """The harmonic plan of the damper and the stiff mount: 6–8 sine tests whose RMS A_sine/√2 is the base's RMS
+    amplitude A times 0.6–1.4 (a sine of amplitude a has RMS a/√2), over 40 plans."""
+    from chainid.gap.benchmark.odecases import draw_plan
+
+    rng = np.random.default_rng(41)
+    ratios = []
+    for base in ("damper", "stiff"):
+        for _ in range(20):
+            b = draw_base(base, rng)
+            plan = draw_plan(base, b, "harmonic", rng)
+            assert 6 <= len(plan) <= 8
+            ratios += [p["amp"] / math.sqrt(2) / b["A"] for p in plan]
+    assert _spans(ratios, 0.6, 1.4)
