@@ -212,11 +212,11 @@ def ringing(data: Sequence[TimeData], res: dict[str, np.ndarray]) -> dict[str, A
     if best["chatter"]:
         txt = (f"ringing while sliding after reversals at {best['frequency_Hz']:.3g} Hz in test {best['test']} (RMS "
                f"{best['rms_N']:.3g} N, {best['ratio']:.1f}× the mean square elsewhere, narrow spectral peak "
-               f"{best['peak_ratio']:.0f}× its neighbourhood): stick-slip chatter — no library effect covers it, so "
-               "it is reported, not named")
+               f"{best['peak_ratio']:.0f}× its neighbourhood and the force noise): stick-slip chatter — no library "
+               "effect covers it, so it is reported, not named")
     else:
         txt = (f"no ringing after reversals (sliding high-frequency residual {best['ratio']:.2f}× elsewhere, "
-               f"largest narrow peak {best['peak_ratio']:.1f}× its neighbourhood)")
+               f"largest narrow peak {best['peak_ratio']:.1f}× its neighbourhood and the force noise)")
     return best | {"finding": txt, "kind": "chatter" if best["chatter"] else "ringing",
                    "score": best["rms_N"] if best["chatter"] else 0.0}
 
