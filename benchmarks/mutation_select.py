@@ -11,9 +11,9 @@ script asks instead, for every mutant, which tests of the **whole suite** execut
    earlier map).  A line run while a test's fixtures are set up is mapped to every test of that test's file: a
    module-scoped fixture runs once, in the setup of its file's first test, and serves all of them (a session-scoped
    one serves other files too, which this mapping misses: the suite has three, in the derivation's and the CLI's
-   conftest files).  (coverage.py's
-   own ``dynamic_context = test_function`` leaves fixture code with the empty context, so a mutant in code that only
-   a shared fixture runs got no test that reads its output, and survived; the report's Eq. 26 figure was one.);
+   conftest files).  (coverage.py's own ``dynamic_context = test_function`` leaves fixture code with the empty
+   context, so a mutant in code that only a shared fixture runs got no test that reads its output, and survived;
+   the report's Eq. 26 figure was one.);
 3. per package, ``cosmic-ray init`` and the same seeded sample as ``mutation.py`` (mutants inside unevaluated
    annotations dropped first);
 4. for each mutant the tests are chosen by the first rule that gives any (the rule is recorded per mutant):
@@ -90,7 +90,6 @@ def coverage_map(copy: Path, out: Path) -> Path:
 def _has_contexts(path: Path) -> bool:
     """Whether a coverage data file exists and holds lines measured under a test's context."""
     from coverage import CoverageData
-
     from coverage.exceptions import DataError
 
     if not path.is_file():

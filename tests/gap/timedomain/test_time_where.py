@@ -189,12 +189,17 @@ def test_local_peak_over_the_octave_median():
     assert h2 == pytest.approx(1.0, rel=1e-12)  # the flat parts' ratio 1 is the best anywhere
 
 
+def _ring_record(name, xd, f_band=2.0, fs=1000.0, sigma=0.05):
+    """What ``ringing`` reads of a record: id, band [Hz], sampling rate [Hz], velocity [mm/s], force noise σ [N]."""
+    return SimpleNamespace(test=name, f_band=f_band, fs=fs, xd=xd, sigma=sigma)
+
+
 def _ring(name, s2, amp=5.0, n=8000, fs=1000.0):
     t = np.arange(n) / fs
     xd = 2 * math.pi * np.cos(2 * math.pi * t)  # x = sin(2π t)
     sliding = np.abs(xd) >= 0.2 * np.quantile(np.abs(xd), 0.99)
     res = amp * np.sin(2 * math.pi * 60.0 * t) * np.where(sliding, 1.0, math.sqrt(s2))
-    return SimpleNamespace(test=name, f_band=2.0, fs=fs, xd=xd, sigma=0.05), res
+    return _ring_record(name, xd, fs=fs), res
 
 
 def test_ringing_ratio_threshold_choice_and_texts():
@@ -221,7 +226,7 @@ def test_ringing_ratio_threshold_choice_and_texts():
     assert both["test"] == "A" and both["kind"] == "chatter" and both["score"] == both["rms_N"]
     assert ringing([d2, _ring("C", 1 / 1.9, amp=30.0)[0]], {"B": r2, "C": _ring("C", 1 / 1.9, amp=30.0)[1]})[
         "test"] == "C"  # no chatter anywhere: the loudest record
-    still = SimpleNamespace(test="S", f_band=2.0, fs=1000.0, xd=np.full(8000, 3.0), sigma=0.05)
+    still = _ring_record("S", np.full(8000, 3.0))
     assert ringing([still], {"S": r1}) == {}
 
 
@@ -233,7 +238,7 @@ def _ring_case(burst_everywhere: bool, sigma: float = 0.05):
     sliding = np.abs(xd) >= 0.2 * np.quantile(np.abs(xd), 0.99)
     hum = 5.0 * np.sin(2 * math.pi * 60.0 * t)  # 60 Hz, far above the cut 4 × 2 Hz
     res = hum if burst_everywhere else np.where(sliding, hum, 0.0) + 0.05 * np.random.default_rng(1).normal(size=n)
-    d = SimpleNamespace(test="R", f_band=2.0, fs=fs, xd=xd, sigma=sigma)
+    d = _ring_record("R", xd, fs=fs, sigma=sigma)
     return ringing([d], {"R": res}), sliding
 
 
@@ -273,8 +278,8 @@ def test_ringing_is_not_looked_for_when_the_band_reaches_the_sampling():
     t = np.arange(4000) / fs
     xd = np.cos(2 * math.pi * t)
     res = np.where(np.abs(xd) > 0.2, 5.0 * np.sin(2 * math.pi * 40.0 * t), 0.0)
-    assert ringing([SimpleNamespace(test="R", f_band=6.0, fs=fs, xd=xd, sigma=0.05)], {"R": res}) == {}
-    assert ringing([SimpleNamespace(test="R", f_band=4.9, fs=fs, xd=xd, sigma=0.05)], {"R": res}) != {}  # 19.6 Hz < 20 Hz
+    assert ringing([_ring_record("R", xd, f_band=6.0, fs=fs)], {"R": res}) == {}
+    assert ringing([_ring_record("R", xd, f_band=4.9, fs=fs)], {"R": res}) != {}  # 19.6 Hz < 20 Hz
 
 
 def test_state_maps_skip_a_variable_with_two_levels_and_go_on():
