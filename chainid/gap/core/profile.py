@@ -15,10 +15,14 @@ both (:func:`merge`).
 
 The scan walks out from the estimate on each side, doubling its step (the first is the resampling interval's
 half-width, at least 10⁻⁴ of the bounds' span, or of the estimate where a bound is infinite) until χ²_p exceeds
-the level or the bound is reached, then bisects the crossing :data:`BISECT` times.  A lower χ² met on the way (the
-fit had stopped short of the optimum) lowers χ²_min, and the crossing is read from every point scanned.  Each
-refit starts from the last point inside the level.  The intervals of a candidate are finally read from every
-point of all its parameters' profiles (:func:`project`).
+the level or the bound is reached, then bisects the bracket [last point inside, first point outside] at least
+:data:`BISECT` times, and on until it is no wider than its inside end's distance from the estimate (at most
+:data:`BISECT_MAX` times), so a first step far wider than the interval still finds it.  The edge is the crossing
+interpolated in that bracket on √(χ²_p − χ²_min), which is linear in the parameter where the profile is quadratic
+(:func:`crossing`): the interval is not cut short to the last point scanned inside it.  A lower χ² met on the way
+(the fit had stopped short of the optimum) lowers χ²_min, and the edges are read at the end against the least χ²
+seen.  Each refit starts from the last point inside the level.  The intervals of a candidate are finally the union
+of each parameter's own edges and the points of all its parameters' profiles inside the level (:func:`project`).
 
 What it cannot see: an optimum in another basin that no scan reaches (the fit's search decides that), and a
 residual correlated over more samples than the route counts as independent (the resampling's blocks see that).
@@ -33,13 +37,15 @@ from typing import Any, Callable, Sequence
 
 from chainid.infra.forkpool import fork_map
 
-__all__ = ["Q90", "BISECT", "MAX_DOUBLINGS", "level", "scan_side", "profile_interval", "project", "merge",
-           "problem_hooks", "attach_profiles"]
+__all__ = ["Q90", "BISECT", "BISECT_MAX", "MAX_DOUBLINGS", "level", "crossing", "scan_side", "profile_interval",
+           "project", "merge", "problem_hooks", "attach_profiles"]
 
 #: the 90 % point of χ² with one degree of freedom (scipy.stats.chi2.ppf(0.9, 1))
 Q90 = 2.705543454095404
-#: bisections of a crossing
+#: least bisections of a crossing's bracket
 BISECT = 4
+#: most bisections of a crossing's bracket (a first step 2¹⁰ times wider than the interval still resolves it)
+BISECT_MAX = 10
 #: most doublings of the step on one side before the scan gives up (the interval then reaches the last point)
 MAX_DOUBLINGS = 14
 
@@ -54,13 +60,31 @@ def level(chi2_min: float, n: int, p: int) -> float:
     return Q90 * max(1.0, chi2_min / (n - p))
 
 
-def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: Chi2, refit: Refit,
-              lev: Callable[[], float], pts: list[tuple[float, float, dict[str, float]]]) -> None:
-    """Walk from ``est[key]`` towards ``bound`` until χ²_p passes ``lev()`` above the least χ² seen, then bisect.
+def crossing(bracket: tuple[float, float, float, float], chi2_min: float, lev: float) -> float | None:
+    """Where χ²_p − χ²_min crosses ``lev`` inside a bracket (v_in, χ²_in, v_out, χ²_out) [the parameter's unit]:
+    interpolated linearly in √(χ²_p − χ²_min), exact for a quadratic profile (√ of a square is linear in the
+    parameter); None when the inside end is no longer inside the level (χ²_min fell since) or the outside end is
+    not outside it."""
+    v_in, c_in, v_out, c_out = bracket
+    d_in, d_out = max(c_in - chi2_min, 0.0), c_out - chi2_min
+    if d_in > lev or d_out <= lev:
+        return None
+    r_in, r_out, r_lev = math.sqrt(d_in), math.sqrt(d_out), math.sqrt(lev)
+    return v_in + (v_out - v_in) * (r_lev - r_in) / (r_out - r_in)
 
-    Every point scanned is appended to ``pts`` as (value, χ²_p, parameters)."""
+
+def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: Chi2, refit: Refit,
+              lev: Callable[[], float], pts: list[tuple[float, float, dict[str, float]]]
+              ) -> tuple[float, float, float, float] | None:
+    """Walk from ``est[key]`` towards ``bound`` until χ²_p passes ``lev()`` above the least χ² seen, then bisect
+    the bracket (at least :data:`BISECT` times, on while it is wider than its inside end's distance from the start,
+    at most :data:`BISECT_MAX`).
+
+    Every point scanned is appended to ``pts`` as (value, χ²_p, parameters).  Returns the final bracket
+    (v_in, χ²_in, v_out, χ²_out) for :func:`crossing`; None when the scan reached the bound inside the level or
+    never left it."""
     v0 = est[key]
-    inside, p_in = v0, est
+    inside, p_in, c_in = v0, est, pts[0][1]
     sign = 1.0 if bound >= v0 else -1.0
     h = abs(step)
     out = None
@@ -72,23 +96,26 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
         c = chi2(p)
         pts.append((v, c, p))
         if c - min(q[1] for q in pts) > lev():
-            out = v
+            out, c_out = v, c
             break
-        inside, p_in = v, p
+        inside, p_in, c_in = v, p, c
         if v == bound:
-            return
+            return None
         h *= 2.0
     if out is None:
-        return
-    for _ in range(BISECT):
+        return None
+    for k in range(BISECT_MAX):
+        if k >= BISECT and abs(out - inside) <= abs(inside - v0):
+            break
         v = 0.5 * (inside + out)
         p = refit(key, v, p_in)
         c = chi2(p)
         pts.append((v, c, p))
         if c - min(q[1] for q in pts) > lev():
-            out = v
+            out, c_out = v, c
         else:
-            inside, p_in = v, p
+            inside, p_in, c_in = v, p, c
+    return inside, c_in, out, c_out
 
 
 def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float], step: float, chi2: Chi2,
@@ -116,12 +143,11 @@ def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float
     lev = lambda: level(min(q[1] for q in pts), n, p)  # noqa: E731
     span = bounds[1] - bounds[0]
     step = max(abs(step), 1e-4 * (span if math.isfinite(span) else max(abs(est[key]), 1e-12)))
-    for b in bounds:
-        if b != est[key]:
-            scan_side(key, est, b, step, chi2, refit, lev, pts)
+    brackets = [scan_side(key, est, b, step, chi2, refit, lev, pts) for b in bounds if b != est[key]]
     cmin = min(q[1] for q in pts)
-    ok = [v for v, c, _ in pts if c - cmin <= lev()]
-    lo, hi = min(ok), max(ok)
+    edges = [v for v, c, _ in pts if c - cmin <= lev()]
+    edges += [v for v in (crossing(b, cmin, lev()) for b in brackets if b is not None) if v is not None]
+    lo, hi = min(edges), max(edges)
     return {"ci90": [float(lo), float(hi)], "chi2_min": float(cmin), "level": float(lev()), "refits": len(pts) - 1,
             "to_bound": [s for s, b, v in (("low", bounds[0], lo), ("high", bounds[1], hi)) if v == b],
             "points": [(float(c), q) for _, c, q in pts]}
@@ -168,6 +194,11 @@ def problem_hooks(prob: Any, cand: Any) -> dict[str, Any]:
     return {"chi2": chi2, "refit": refit_held, "bounds": prob.param_bounds(names), "n": n, "p": p}
 
 
+def _hull(a: list[float] | None, b: list[float]) -> list[float]:
+    """The least interval holding both ``a`` (None: none) and ``b``."""
+    return list(b) if a is None else [min(a[0], b[0]), max(a[1], b[1])]
+
+
 def _steps(ci: dict[str, list[float]]) -> dict[str, float]:
     """First scan steps: the resampling intervals' half-widths [their units]."""
     return {k: 0.5 * (hi - lo) for k, (lo, hi) in ci.items() if math.isfinite(hi - lo)}
@@ -198,7 +229,7 @@ def attach_profiles(stab: dict[str, Any], steps: Sequence[Any], hooks_for: Calla
         row["params_ci90_resampled"] = dict(row["params_ci90"])
         pts = [pt for _, r in mine for pt in r.pop("points")]
         proj = project(pts, [k for k, _ in mine], hooks[i]["n"], hooks[i]["p"]) if pts else {}
-        row["params_ci90_profile"] = {k: r | {"ci90": proj.get(k, r["ci90"])} for k, r in mine}
+        row["params_ci90_profile"] = {k: r | {"ci90": _hull(proj.get(k), r["ci90"])} for k, r in mine}
         row["params_ci90"] = merge(row["params_ci90_resampled"], row["params_ci90_profile"])
     stab["profile"] = {"method": "profile likelihood: χ²_p(v) − χ²_min ≤ 2.7055·max(1, χ²_min/(n − p)), the others "
                                  "refitted; the reported interval is the union with the resampling's",

@@ -32,17 +32,31 @@ def _line(seed: int, n: int = 50, sigma_true: float = 0.5, sigma_told: float = 0
     return {"a": float(a), "b": float(b)}, cov, chi2, refit, n
 
 
-def test_linear_model_interval_is_the_closed_form_within_the_bisection_bracket():
+@pytest.mark.parametrize("first_step", [1.0, 1e-3, 300.0], ids=["step_se", "step_se_over_1000", "step_300_se"])
+def test_linear_model_interval_is_the_closed_form_whatever_the_first_step(first_step):
+    # a linear model's profile is exactly quadratic, so the edge interpolated on √Δχ² is the closed form
+    # est ± √q₉₀·se·s to rounding, whether the first step is the standard error, far smaller (the doublings reach
+    # the crossing) or 300 times wider (the bisections, up to BISECT_MAX, bring an inside point in)
     est, cov, chi2, refit, n = _line(1)
     se = math.sqrt(cov[1, 1])
-    r = P.profile_interval("b", est, (-100.0, 100.0), se, chi2, refit, n, 2)
+    r = P.profile_interval("b", est, (-100.0, 100.0), first_step * se, chi2, refit, n, 2)
     half = math.sqrt(P.Q90) * se * max(1.0, math.sqrt(chi2(est) / (n - 2)))  # 1.645·se (·s when χ² > n − p)
-    # the first step is se, the crossing is bracketed in [se, 2·se] and bisected 4 times: the edge is the last
-    # point inside, at most se/16 short of the closed form
     for edge, exact in ((r["ci90"][0], est["b"] - half), (r["ci90"][1], est["b"] + half)):
-        assert abs(edge - exact) <= se / 16 + 1e-12
-    assert r["ci90"][0] < est["b"] < r["ci90"][1]
+        assert edge == pytest.approx(exact, abs=1e-9 * se)
     assert not r["to_bound"]
+
+
+def test_crossing_is_exact_on_a_quadratic_and_stays_in_its_bracket():
+    # Δχ² = (v/2)²: Δ = 1 at v = 2, Δ = 9 at v = 6; the level 4 is crossed at v = 4
+    assert P.crossing((2.0, 1.0, 6.0, 9.0), 0.0, 4.0) == pytest.approx(4.0, rel=1e-15)
+    # on the negative side too, and from the estimate itself (Δ_in = 0)
+    assert P.crossing((0.0, 0.0, -6.0, 9.0), 0.0, 4.0) == pytest.approx(-4.0, rel=1e-15)
+    # a profile steeper than quadratic beyond the bracket's inside end: the edge still lies inside the bracket
+    v = P.crossing((1.0, 0.25, 2.0, 100.0), 0.0, 4.0)
+    assert 1.0 < v < 2.0
+    # χ²_min fell below the inside end's level, or the outside end is not outside: no crossing
+    assert P.crossing((2.0, 1.0, 6.0, 9.0), -4.0, 4.0) is None
+    assert P.crossing((2.0, 1.0, 6.0, 3.0), 0.0, 4.0) is None
 
 
 def test_quantile_is_chi2_one_dof_90_percent():
