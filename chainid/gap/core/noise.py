@@ -183,30 +183,51 @@ def lowpass(y: np.ndarray, fs: float, f_cut: float) -> np.ndarray:
     return y.copy() if sos is None else sosfiltfilt(sos, y)
 
 
+def _noise_share(f: np.ndarray, g: np.ndarray, fs: float) -> float:
+    """(2/fs)·∫₀^{fs/2} g df by trapezoids: the share of a white noise's variance passed by a power gain g(f)."""
+    return 2.0 / fs * float(np.sum(0.5 * (g[1:] + g[:-1]) * np.diff(f)))
+
+
+def _smoothing_gain(fs: float, f_cut: float, n: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """Frequencies [Hz] and power gain |H|² of the zero-phase low-pass :func:`lowpass` (None: no smoothing)."""
+    from scipy.signal import sosfreqz
+
+    sos = lowpass_sos(fs, f_cut, n)
+    if sos is None:
+        return None
+    f, h = sosfreqz(sos, worN=8192, fs=fs)
+    return f, np.abs(h) ** 2
+
+
+def displacement_noise(x: np.ndarray, xs: np.ndarray, fs: float, f_cut: float) -> float:
+    """Standard deviation σ_x [mm] of the white displacement noise of a record, from what the low-pass removed.
+
+    x − xs = (1 − |H|²)·x (:func:`lowpass`, cut ``f_cut`` [Hz]) holds the noise above the band; its robust scale
+    1.4826·MAD (an edge of the motion does not count) over the square root of the noise variance's share that
+    passes 1 − |H|², (2/fs)·∫₀^{fs/2} (1 − |H(f)|²)² df, is σ_x.  0 when the record is not smoothed (cut at or
+    above 0.45·fs) or has no displacement noise."""
+    gain = _smoothing_gain(fs, f_cut, np.asarray(x).size)
+    if gain is None:
+        return 0.0
+    f, h2 = gain
+    r = np.asarray(x, float) - np.asarray(xs, float)
+    return 1.4826 * float(np.median(np.abs(r - np.median(r)))) / math.sqrt(_noise_share(f, (1.0 - h2) ** 2, fs))
+
+
 def velocity_noise(x: np.ndarray, xs: np.ndarray, fs: float, f_cut: float) -> float:
     """Standard deviation [mm/s] of the noise the displacement noise leaves in the smooth velocity.
 
-    The displacement noise σ_x (white) is measured on what the low-pass removed, x − xs = (1 − |H|²)·x
-    (a robust 1.4826·MAD, so an edge of the motion does not count), whose share of the noise variance is
-    (2/fs)·∫₀^{fs/2} (1 − |H(f)|²)² df.  The in-band part passes the zero-phase Butterworth (gain |H|²,
-    :func:`lowpass`) and the central difference (gain fs·sin(2πf/fs)), so
+    The displacement noise σ_x (white, :func:`displacement_noise`) passes, in band, the zero-phase Butterworth
+    (gain |H|², :func:`lowpass`) and the central difference (gain fs·sin(2πf/fs)), so
     σ_v² = σ_x²·(2/fs)·∫₀^{fs/2} fs²·sin²(2πf/fs)·|H(f)|⁴ df.
     0 when the record is not smoothed (cut at or above 0.45·fs) or has no displacement noise.
     """
-    from scipy.signal import sosfreqz
-
-    r = np.asarray(x, float) - np.asarray(xs, float)
-    sos = lowpass_sos(fs, f_cut, r.size)
-    if sos is None:
+    gain = _smoothing_gain(fs, f_cut, np.asarray(x).size)
+    if gain is None:
         return 0.0
-    f, h = sosfreqz(sos, worN=8192, fs=fs)
-    h2 = np.abs(h) ** 2
-
-    def share(g: np.ndarray) -> float:  # (2/fs)·∫ g df, trapezoids
-        return 2.0 / fs * float(np.sum(0.5 * (g[1:] + g[:-1]) * np.diff(f)))
-
-    sig_x = 1.4826 * float(np.median(np.abs(r - np.median(r)))) / math.sqrt(share((1.0 - h2) ** 2))
-    return sig_x * math.sqrt(share((fs * np.sin(2 * np.pi * f / fs)) ** 2 * h2 ** 2))
+    f, h2 = gain
+    sig_x = displacement_noise(x, xs, fs, f_cut)
+    return sig_x * math.sqrt(_noise_share(f, (fs * np.sin(2 * np.pi * f / fs)) ** 2 * h2 ** 2, fs))
 
 
 #: a smooth speed within this many noise standard deviations of zero is no resolvable motion (a 4σ test)

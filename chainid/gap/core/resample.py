@@ -232,24 +232,22 @@ def _summarise(chains: list[list[str]], params: list[list[dict[str, float]]], st
             "chains": [{"chain": k, "share": v / n} for k, v in top], "same_chain": same}
 
 
-def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], reason: str | None = None,
-          order: int = 2) -> None:
-    """Widen each step's 90 % interval by a bias that resampling cannot see (the same sampling in every resample).
+def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], key: str = "bias_dt") -> None:
+    """Widen each step's 90 % interval by a bias that resampling cannot see (the same in every resample).
 
-    ``shifts[k][param]`` is the estimated bias of step k's parameter [its unit]
-    (:mod:`chainid.gap.timedomain.discretisation`); the interval [lo, hi] becomes the union of itself and
-    [lo − bias, hi − bias], so a bias within the resampling spread changes little and a larger one is taken in.
-    The biases are kept per step (``bias_dt``), the intervals before widening too (``params_ci90_percentile``), and
-    ``stab["discretisation"]`` says how the biases were estimated (or ``reason`` why not)."""
+    ``shifts[k][param]`` is the estimated bias of step k's parameter [its unit] (the time sampling's,
+    :mod:`chainid.gap.timedomain.discretisation`; the displacement noise's, :mod:`chainid.gap.timedomain.simex`);
+    the interval [lo, hi] becomes the union of itself and [lo − bias, hi − bias], so a bias within the resampling
+    spread changes little and a larger one is taken in.  Widening by two biases in turn takes in their sum where
+    they share a sign and each alone where they do not.  The biases are kept per step under ``key``, and the
+    intervals before any widening under ``params_ci90_percentile``."""
     for row, sh in zip(stab["steps"], shifts):
-        row["bias_dt"] = dict(sh)
-        row["params_ci90_percentile"] = {k: list(v) for k, v in row["params_ci90"].items()}
-        for key, (lo, hi) in list(row["params_ci90"].items()):
-            b = sh.get(key)
+        row[key] = dict(sh)
+        row.setdefault("params_ci90_percentile", {k: list(v) for k, v in row["params_ci90"].items()})
+        for name, (lo, hi) in list(row["params_ci90"].items()):
+            b = sh.get(name)
             if b is not None and math.isfinite(b):
-                row["params_ci90"][key] = [min(lo, lo - b), max(hi, hi - b)]
-    stab["discretisation"] = {"method": "Richardson extrapolation in the sampling interval (records decimated by 2), "
-                                        f"bias order {order}", "skipped": reason}
+                row["params_ci90"][name] = [min(lo, lo - b), max(hi, hi - b)]
 
 
 def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:

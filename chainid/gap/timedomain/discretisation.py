@@ -31,12 +31,14 @@ from typing import Any, Sequence
 
 import numpy as np
 
-__all__ = ["ORDER", "MIN_PER_PERIOD", "decimated", "richardson_shifts"]
+__all__ = ["ORDER", "MIN_PER_PERIOD", "METHOD", "decimated", "richardson_shifts"]
 
 #: the assumed order of the discretisation bias in Δt
 ORDER = 2
 #: the fewest samples per period of a record's band top after decimation
 MIN_PER_PERIOD = 8
+#: how the bias is estimated (``stability.discretisation.method`` of a result)
+METHOD = f"Richardson extrapolation in the sampling interval (records decimated by 2), bias order {ORDER}"
 
 
 def decimated(records: Sequence[Any], q: int = 2) -> list[Any]:

@@ -226,15 +226,20 @@ def _trust(prob: TimeProblem, records: Sequence[Any], rebuild: Any, fwd: dict[st
            resamples: int, seed: int, max_effects: int) -> dict[str, Any]:
     """The chain's stability and its parameters' intervals: ``resamples`` resamples of the training blocks
     (:func:`chainid.gap.core.resample.resample`), widened by the time sampling's bias (the records decimated by 2 and
-    rebuilt by ``rebuild``: :mod:`.discretisation`), with the profile-likelihood intervals beside them."""
+    rebuilt by ``rebuild``: :mod:`.discretisation`) and by the displacement noise's (:mod:`.simex`), with the
+    profile-likelihood intervals beside them."""
     stage("resampling", f"{resamples} resamples")
-    from chainid.gap.timedomain import resampling
-    from chainid.gap.timedomain.discretisation import ORDER, richardson_shifts
+    from chainid.gap.timedomain import discretisation, resampling, simex
 
     stab = resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=max_effects)
     stage("discretisation bias", "records decimated by 2")
-    shifts, why = richardson_shifts(records, prob, ok_path, rebuild)
-    widen(stab, shifts, why, ORDER)
+    shifts, why = discretisation.richardson_shifts(records, prob, ok_path, rebuild)
+    widen(stab, shifts, "bias_dt")
+    stab["discretisation"] = {"method": discretisation.METHOD, "skipped": why}
+    stage("displacement-noise bias", f"SIMEX, {simex.DRAWS} draws")
+    shifts, why = simex.simex_shifts(records, ok_path, rebuild, seed)
+    widen(stab, shifts, "bias_x")
+    stab["displacement_noise"] = {"method": simex.METHOD, "skipped": why}
     stage("profile likelihood")
     attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))
     return stab

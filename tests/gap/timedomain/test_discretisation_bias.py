@@ -97,18 +97,31 @@ def test_widening_takes_in_the_shifted_interval_and_nothing_more():
     stab = {"steps": [{"effect": "baseline", "params_ci90": {"spring.k": [9.0, 11.0]}},
                       {"effect": "friction", "params_ci90": {"friction.F_c": [1.99, 2.01], "damping.c": [0.1, 0.3]}}]}
     shifts = [{"spring.k": 0.5}, {"friction.F_c": -0.03, "damping.c": 0.01}]
-    widen(stab, shifts, None)
+    widen(stab, shifts)
     # spring.k: [9, 11] ∪ [8.5, 10.5] = [8.5, 11]; F_c: [1.99, 2.01] ∪ [2.02, 2.04] = [1.99, 2.04];
     # c: [0.1, 0.3] ∪ [0.09, 0.29] = [0.09, 0.3]
     assert stab["steps"][0]["params_ci90"]["spring.k"] == pytest.approx([8.5, 11.0])
     assert stab["steps"][1]["params_ci90"]["friction.F_c"] == pytest.approx([1.99, 2.04])
     assert stab["steps"][1]["params_ci90"]["damping.c"] == pytest.approx([0.09, 0.3])
     assert stab["steps"][1]["bias_dt"] == {"friction.F_c": -0.03, "damping.c": 0.01}
-    assert stab["discretisation"]["skipped"] is None
+    assert stab["steps"][1]["params_ci90_percentile"]["friction.F_c"] == [1.99, 2.01]
 
 
-def test_widening_without_a_bias_leaves_the_interval_and_says_why():
+def test_widening_without_a_bias_leaves_the_interval():
     stab = {"steps": [{"effect": "baseline", "params_ci90": {"spring.k": [9.0, 11.0]}}]}
-    widen(stab, [{}], "test a: too coarse")
+    widen(stab, [{}])
     assert stab["steps"][0]["params_ci90"]["spring.k"] == [9.0, 11.0]
-    assert stab["discretisation"]["skipped"] == "test a: too coarse"
+
+
+def test_two_widenings_take_in_the_sum_of_biases_of_one_sign_and_each_of_opposite_signs():
+    # same sign: [1, 2] shifted by −0.5 then by −0.25 reaches 2 + 0.75 (the biases add); the percentile interval is
+    # the one before the first widening
+    stab = {"steps": [{"params_ci90": {"a": [1.0, 2.0], "b": [1.0, 2.0]}}]}
+    widen(stab, [{"a": -0.5, "b": -0.5}], "bias_dt")
+    widen(stab, [{"a": -0.25, "b": 0.25}], "bias_x")
+    row = stab["steps"][0]
+    assert row["params_ci90"]["a"] == pytest.approx([1.0, 2.75])
+    # opposite signs: [1, 2.5] after the first, then [0.75, 2.5]: each bias alone is taken in
+    assert row["params_ci90"]["b"] == pytest.approx([0.75, 2.5])
+    assert row["params_ci90_percentile"] == {"a": [1.0, 2.0], "b": [1.0, 2.0]}
+    assert row["bias_dt"] == {"a": -0.5, "b": -0.5} and row["bias_x"] == {"a": -0.25, "b": 0.25}
