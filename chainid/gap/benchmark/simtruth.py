@@ -105,7 +105,8 @@ def interval_parts(res: dict[str, Any], i: int) -> dict[str, dict[str, list[floa
     """The parts of step ``i``'s reported 90 % intervals, kept apart so the benchmark can score each, from the
     resampling's numbers (``res["stability"]["steps"][i]``): ``percentile`` (the percentiles of the resamples'
     refits, recentred; the time route alone keeps it apart, before :func:`chainid.gap.core.resample.widen`),
-    ``resampled`` (those widened by the time sampling's bias; the percentiles themselves on the harmonic route) and
+    ``resampled`` (those widened by the time sampling's and the displacement noise's biases; the percentiles
+    themselves on the harmonic route) and
     ``profile`` (the profile-likelihood intervals); the reported interval is the union of the last two
     (:func:`chainid.gap.core.profile.merge`).  Each part is ``{effect.param: [lo, hi]}``; a part the step lacks is
     left out ({} without a resampling)."""
