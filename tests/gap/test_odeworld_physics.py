@@ -198,3 +198,21 @@ def test_every_state_and_parameter_slot_of_a_device_is_its_own():
     names = [n for n in dir(od) if n.isupper() and isinstance(getattr(od, n), int) and n != "N_P"]
     slots = sorted(getattr(od, n) for n in names)
     assert slots == list(range(od.N_P)), sorted(zip(slots, names))  # every slot once, none past the vector
+
+
+def test_internal_force_reads_each_state_from_its_own_slot_with_chatter_after_friction():
+    """With friction and a chatter slider on one device, the slider's states follow the friction's (slots 0 | 1, 2);
+    the internal force is z + k_s·(x − y_s) + c_s·(ẋ − ẏ_s) + c·ẋ by hand, on the state vector alone (offset 0) and
+    after x, ẋ (offset 2), with distinct numbers in every slot so a state read from another slot shows."""
+    from chainid.gap.benchmark import odedevice as od
+
+    ch = {"k_s": 50.0, "c_s": 0.3, "m_s": 0.1, "F_c": 5.0, "F_s": 6.0, "v_s": 1.0, "v_e": 0.01}
+    dev = Device("linear", k=10.0, m=0.0, c=0.2, effects={"friction": {"F_c": 4.0, "x_s": 0.01}},
+                 outside={"chatter": ch})
+    P = dev.P
+    assert (P[od.I_ZF], P[od.I_YS]) == (0, 1)
+    x, v, z, ys, vs = 0.7, 3.0, 1.5, 0.2, -4.0
+    want = z + 50.0 * (x - ys) + 0.3 * (v - vs) + 0.2 * v
+    F, _ = od._forces(np.array([x]), np.array([v]), np.array([[z, ys, vs]]), 0, P)
+    assert F[0] == pytest.approx(want, rel=1e-12)
+    assert od._internal(x, v, np.array([x, v, z, ys, vs]), 2, P) == pytest.approx(want, rel=1e-12)
