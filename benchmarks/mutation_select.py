@@ -48,6 +48,7 @@ import datetime as _dt
 import json
 import queue
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -477,5 +478,12 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def terminate(signum: int, frame: object) -> None:
+    """SIGTERM as SystemExit(128 + signum): the run unwinds, so its temporary folder (the repository copies, the
+    coverage map made without --coverage) is removed once the mutants in flight end, as after Ctrl-C."""
+    raise SystemExit(128 + signum)
+
+
 if __name__ == "__main__":
+    signal.signal(signal.SIGTERM, terminate)
     sys.exit(main())

@@ -1,6 +1,6 @@
 """How benchmarks/mutation_select.py maps coverage contexts to the tests a mutant gets: pytest-cov's per-test,
 per-phase contexts, a fixture's set-up line mapped to every test of its file, and a coverage file that holds no
-per-test data refused instead of read as "no test reaches this line"."""
+per-test data refused instead of read as "no test reaches this line"; and SIGTERM unwinding the run like Ctrl-C."""
 from __future__ import annotations
 
 import sys
@@ -69,3 +69,11 @@ def test_junit_times_are_keyed_by_the_node_ids_pytest_cov_names(ms, tmp_path):
     assert times == {"tests/report/test_steps.py::test_fig": 2.0, "tests/x/test_a.py::TestK::test_k": 2.0}
     assert set(times) == {ms.test_id("tests/report/test_steps.py::test_fig[a|b]|run", {}),
                           ms.test_id("tests/x/test_a.py::TestK::test_k|setup", {})}
+
+
+def test_sigterm_unwinds_the_run_as_an_exit_with_128_plus_the_signal(ms):
+    import signal
+
+    with pytest.raises(SystemExit) as e:
+        ms.terminate(signal.SIGTERM, None)
+    assert e.value.code == 128 + 15
