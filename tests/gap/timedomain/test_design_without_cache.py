@@ -36,3 +36,22 @@ def test_design_without_a_cache_is_the_cached_one():
     got = build(Base("linear"), ["hardening"], {}, d)
     for a, b in zip(got, ref):
         assert np.array_equal(a, b)
+
+
+def test_column_cache_keeps_what_fits_and_drops_the_oldest_first():
+    calls = []
+
+    def make(n):
+        def f():
+            calls.append(n)
+            return np.zeros(n)
+        return f
+
+    cache = ColumnCache(max_bytes=8 * 100)  # room for 100 float64s
+    a = cache.get(("a",), make(60))
+    assert cache.get(("a",), make(60)) is a and calls == [60]  # kept: made once
+    big = cache.get(("big",), make(101))  # larger than the whole cache: returned, never kept
+    assert big.size == 101 and ("big",) not in cache.store and cache.nbytes == 480
+    cache.get(("b",), make(50))  # 480 + 400 > 800: the oldest (a) is dropped to make room
+    assert list(cache.store) == [("b",)] and cache.nbytes == 400
+    assert cache.get(("b",), make(50)) is cache.store[("b",)] and calls == [60, 101, 50]

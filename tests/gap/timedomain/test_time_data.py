@@ -149,3 +149,16 @@ def test_time_data_blocks_and_properties():
     q = max(1, min(int(fs / (40 * d.f_band)), int(math.ceil(n / 4000))))
     assert list(d.fit_idx) == list(range(0, n, q))
     assert d.window == f"time domain, {n} samples, band {d.f_band:.3g} Hz, 3 blocks"
+
+
+def test_low_edge_of_a_motion_without_variance_above_its_floor_is_the_first_bin_without_a_warning():
+    # a displacement that never moves: no variance at all, so no share of it lies anywhere; the band's lower edge
+    # is the record's lowest resolvable frequency fs/n (a 0/0 share would be a NaN and numpy's warning)
+    import warnings
+
+    from chainid.gap.timedomain.data import low_edge
+
+    t = np.arange(1000) / 100.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert low_edge(t, np.zeros(t.size)) == pytest.approx(100.0 / 1000, rel=1e-9)
