@@ -48,10 +48,12 @@ def test_column_cache_keeps_what_fits_and_drops_the_oldest_first():
         return f
 
     cache = ColumnCache(max_bytes=8 * 100)  # room for 100 float64s
-    a = cache.get(("a",), make(60))
-    assert cache.get(("a",), make(60)) is a and calls == [60]  # kept: made once
+    a = cache.get(("a",), make(30))
+    assert cache.get(("a",), make(30)) is a and calls == [30]  # kept: made once
     big = cache.get(("big",), make(101))  # larger than the whole cache: returned, never kept
-    assert big.size == 101 and ("big",) not in cache.store and cache.nbytes == 480
-    cache.get(("b",), make(50))  # 480 + 400 > 800: the oldest (a) is dropped to make room
-    assert list(cache.store) == [("b",)] and cache.nbytes == 400
-    assert cache.get(("b",), make(50)) is cache.store[("b",)] and calls == [60, 101, 50]
+    assert big.size == 101 and ("big",) not in cache.store and cache.nbytes == 240
+    cache.get(("b",), make(30))  # 240 + 240 <= 800: both kept
+    assert list(cache.store) == [("a",), ("b",)] and cache.nbytes == 480
+    cache.get(("c",), make(50))  # 480 + 400 > 800: the oldest (a) alone is dropped to make room
+    assert list(cache.store) == [("b",), ("c",)] and cache.nbytes == 640
+    assert cache.get(("b",), make(30)) is cache.store[("b",)] and calls == [30, 101, 30, 50]

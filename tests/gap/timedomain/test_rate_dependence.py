@@ -176,3 +176,10 @@ def test_a_loop_whose_amplitude_follows_an_operating_condition_is_checked_as_its
     assert seen == ["hysteresis"] and step == 2
     assert finding["effect"] == "hysteresis" and finding["name"] == "hysteresis@p"
     assert [c["name"] for c in checks] == ["hysteresis@p"]
+
+
+def test_z_values_go_to_json_as_none_for_not_computed_and_one_million_for_no_scatter():
+    from chainid.gap.timedomain.ratecheck import _json_z
+
+    got = _json_z({"a": math.nan, "b": math.inf, "c": 2.5, "d": 3e7})
+    assert got == {"a": None, "b": 1e6, "c": 2.5, "d": 1e6}
