@@ -436,3 +436,25 @@ def test_sliding_median_clips_windows_and_gives_nan_for_an_empty_one_as_numpy_do
     P[99] = 30.0  # a line at 100 Hz
     P[9] = np.nan  # 10 Hz: in the octaves of 5–20 Hz only
     assert _local_peak(f, P, 5.0) == (100.0, 30.0)
+
+
+def test_level_finding_pools_the_records_noise_variances_by_their_samples():
+    """The first finding of ``localise_time`` is the residual's level: its RMS over the pooled noise σ, the root of
+    the sample-weighted mean of the records' σ² (records of 1000 and 1500 samples, σ ≈ 0.1 N and 0.3 N)."""
+    import recovery_cases as rc
+    from chainid.gap.timedomain.data import prepare_time
+    from chainid.gap.timedomain.where import localise_time
+
+    recs = rc.linear_random(n_rec=1, n=1000) + rc.linear_random(n_rec=1, n=1500, sigma_F=0.3, seed=1)
+    data = [prepare_time(r, 4) for r in recs]
+    data[1].test = "s"  # both simulated as "r0"
+    rng = np.random.default_rng(2)
+    res = {d.test: rng.normal(0.0, 0.5, d.t.size) for d in data}
+    lev = [f for f in localise_time(data, res, {d.test: d.F for d in data}) if f["kind"] == "level"][0]
+    n1, n2 = data[0].t.size, data[1].t.size
+    s2 = (n1 * data[0].sigma ** 2 + n2 * data[1].sigma ** 2) / (n1 + n2)
+    assert 0.05 < data[0].sigma < 0.2 and 0.2 < data[1].sigma < 0.45  # the two records' own noise, as drawn
+    assert lev["noise_floor_N"] == pytest.approx(math.sqrt(s2), rel=1e-12)
+    rms = math.sqrt(float(np.mean(np.concatenate([res["r0"], res["s"]]) ** 2)))
+    assert lev["rms_N"] == pytest.approx(rms, rel=1e-12)
+    assert f"{20 * math.log10(rms / math.sqrt(s2)):.1f} dB over the noise" in lev["finding"]
