@@ -369,6 +369,20 @@ def test_chain_check_by_hand():
     assert math.isnan(bad["ratio"]) and bad["is_chain"] is False
 
 
+def test_chain_check_of_a_model_that_refuses_the_median_x_is_no_chain_rather_than_an_error():
+    class Rec:
+        def __init__(self, x, F):
+            self.x, self.F = np.asarray(x, float), np.asarray(F, float)
+
+    class Refuses:  # a model whose force is not defined at the records' median x (outside its range)
+        def force(self, x):
+            raise ValueError("x = 2 mm is outside the model's range")
+
+    chk = report_steps.chain_check([Rec([2.0, 2.0], [100.0, 100.0])], Refuses())
+    assert math.isnan(chk["F_k_at_median_x_N"]) and math.isnan(chk["ratio"]) and chk["is_chain"] is False
+    assert chk["median_F_N"] == 100.0
+
+
 def test_data_section_with_unreadable_records_says_so(tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("test,t,x,F\n1,0,1,2\n1,0.1,1,abc\n")
