@@ -3,6 +3,7 @@ Newton and modes against independent numbers.  Units mm, N, s, kg; energies N·m
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -246,3 +247,18 @@ def test_the_peak_change_under_halving_is_relative_to_the_peak_also_below_one_ne
     assert whole.slack_substeps > 0 and refined.refinements == 1 and half.peak_tension < 1.0
     assert refined.peak_change == pytest.approx(abs(half.peak_tension - whole.peak_tension) / half.peak_tension,
                                                 rel=1e-12)
+
+
+@pytest.mark.parametrize("kw", [dict(t_end=0.0), dict(t_end=-0.5), dict(t_end=0.01, dt=0.0), dict(t_end=0.01, dt=-0.5)])
+def test_a_zero_or_negative_time_is_refused_with_its_name(kw):
+    name = "dt" if "dt" in kw else "t_end"
+    with pytest.raises(ValueError, match=re.escape(f"{name} = {kw[name]!r} is invalid: valid range > 0 s")):
+        simulate(_small(), Drive("ramp", v=100.0), **kw)
+
+
+def test_a_newton_failure_at_the_shortest_sub_step_names_that_sub_step():
+    """A stiff Bouc–Wen element (F_y = 500 N yielding over 1 µm) under a fast sine with implicit steps of 1 ms and one
+    halving allowed: Newton fails at dt/2 too, and the error gives that sub-step, 1 ms / 2¹ = 0.0005 s."""
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=50.0, bouc_wen=[[500.0, 0.001, 2.0, 0.5]])
+    with pytest.raises(SimulationError, match=re.escape("did not converge even at dt/2 = 0.0005 s (dt = 0.001 s)")):
+        simulate(line, Drive("sine", A=5.0, omega=300.0), 0.05, dt=1e-3, scheme="implicit", substep_levels=1)

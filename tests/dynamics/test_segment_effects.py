@@ -52,6 +52,15 @@ def run_specimen(cycles=2, scheme="explicit", **kw):
     return res, e0 + A * np.sin(W * t), A * W * np.cos(W * t), e0
 
 
+def test_a_play_element_stores_no_energy_of_its_own():
+    """At the pretension F0, before the first reversal, the specimen with backlash stores the spring's energy alone:
+    U(F0) = ∫ F dx for x = CL·F + CH·F^(2/3), i.e. CL·F0²/2 + (2/5)·CH·F0^(5/3) (the play element itself holds
+    none, so the stored energy is the plain specimen's to rounding)."""
+    res, *_ = run_specimen(backlash_mm=0.06)
+    U = CL * F0**2 / 2 + 0.4 * CH * F0 ** (5 / 3)
+    assert res.elastic[0] == pytest.approx(U, rel=1e-9)
+
+
 def test_stiffness_level_scales_the_link_term():
     """ea_scale = 2.5 (effect stiffness_level): the spring is x = CL/2.5·F + CH·F^(2/3) (Eq. 15 by hand) along the
     whole path, and the static tangent at the pretension is 1/(CL/2.5 + ⅔·CH·F0^(−1/3)), with the link term's

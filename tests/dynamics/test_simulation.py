@@ -378,6 +378,22 @@ def test_work_estimate_counts_an_implicit_node_step_as_eight_explicit():
     assert imp["node_steps"] == 48_000.0 and imp["seconds"] == pytest.approx(48_000.0 / 3e7, rel=1e-12)
 
 
+def test_memory_estimate_per_stored_sample_covers_the_result_it_returns():
+    """``estimate``'s bytes grow by the outputs of a stored sample: at least what the returned SimResult holds per
+    sample (t, drive force and 4 energies, a tension per segment, u and v per node: 8·(2·nodes + segments + 6)
+    bytes), and not more than half as much again (the run's own buffers per stored sample)."""
+    from chainid.dynamics import ChainLine
+    from chainid.dynamics.simulation import estimate
+
+    line = ChainLine(n_links=40, n_masses=4, pretension_N=1_000.0)
+    res = simulate(line, Drive("ramp", v=100.0), 0.01, dt=1e-4, n_out=10)
+    n = res.t.size
+    held = sum(v.nbytes for v in vars(res).values() if isinstance(v, np.ndarray) and v.shape[0] == n) / n
+    assert held == 8 * (2 * line.n_nodes + line.n_masses + 6)
+    per = estimate(line, 100, 2000)["bytes"] - estimate(line, 100, 1000)["bytes"]
+    assert held <= per / 1000 <= 1.5 * held
+
+
 def test_an_explicit_step_above_the_stable_one_names_the_load_it_was_computed_at():
     """``simulate(..., scheme="explicit", dt=...)`` with dt at twice the stable step is refused before any work,
     the message giving the valid range and the load the stable step belongs to: "at peak_force = 5000 N" when a

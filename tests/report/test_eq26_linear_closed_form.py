@@ -45,3 +45,21 @@ def test_the_eq26_numbers_of_a_linear_spring_are_their_closed_forms():
     assert h["h1_x"] == pytest.approx(FA * math.cos(phi) - K * A + M * w * w * A * 1e-3, rel=1e-10)
     assert h["h1_xdot"] == pytest.approx(FA * math.sin(phi), rel=1e-10)
     assert max(h["h2"], h["h3"], h["h4"], h["h5"]) < 1e-9 * h["h1"]
+
+
+def test_residual_panel_labels_give_its_harmonics_in_kN(tmp_path, monkeypatch):
+    """The residual panel's legend reads the harmonics in kN to one decimal: 2449 N in phase with x is "+2.4 kN"
+    (a value where dividing by anything but 1000 shows), −14 471.66 N in phase with ẋ "−14.5 kN"."""
+    import matplotlib.figure
+
+    from chainid.report.eq26 import plot_eq26
+
+    d = eq26_analysis(Linear())
+    d["residual_harmonics"] = dict(d["residual_harmonics"], h1_x=2449.0, h1_xdot=-14471.66)
+    seen = []
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig",
+                        lambda fig, *a, **k: seen.extend(t.get_text() for ax in fig.axes if ax.get_legend()
+                                                         for t in ax.get_legend().get_texts()))
+    plot_eq26(tmp_path / "eq26.png", Linear(), d)
+    assert "in phase with x: +2.4 kN (stiffness)" in seen
+    assert "in phase with ẋ: -14.5 kN (damping)" in seen

@@ -374,13 +374,17 @@ def test_chain_check_of_a_model_that_refuses_the_median_x_is_no_chain_rather_tha
         def __init__(self, x, F):
             self.x, self.F = np.asarray(x, float), np.asarray(F, float)
 
-    class Refuses:  # a model whose force is not defined at the records' median x (outside its range)
-        def force(self, x):
-            raise ValueError("x = 2 mm is outside the model's range")
+    class Refuses:  # a model whose force is not defined at the records' median x (outside its range, or no number)
+        def __init__(self, exc):
+            self.exc = exc
 
-    chk = report_steps.chain_check([Rec([2.0, 2.0], [100.0, 100.0])], Refuses())
-    assert math.isnan(chk["F_k_at_median_x_N"]) and math.isnan(chk["ratio"]) and chk["is_chain"] is False
-    assert chk["median_F_N"] == 100.0
+        def force(self, x):
+            raise self.exc("x = 2 mm is outside the model's range")
+
+    for exc in (ValueError, TypeError):
+        chk = report_steps.chain_check([Rec([2.0, 2.0], [100.0, 100.0])], Refuses(exc))
+        assert math.isnan(chk["F_k_at_median_x_N"]) and math.isnan(chk["ratio"]) and chk["is_chain"] is False
+        assert chk["median_F_N"] == 100.0
 
 
 def test_data_section_with_unreadable_records_says_so(tmp_path):

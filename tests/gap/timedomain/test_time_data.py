@@ -162,3 +162,20 @@ def test_low_edge_of_a_motion_without_variance_above_its_floor_is_the_first_bin_
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert low_edge(t, np.zeros(t.size)) == pytest.approx(100.0 / 1000, rel=1e-9)
+
+
+def test_lag_range_is_half_the_longest_useful_period_or_a_quarter_of_the_shortest_record():
+    # the delay's scale (the largest lag searched): min(0.5 / lowest band edge, 0.25 · shortest duration).  Random
+    # motion over 0.2–4 Hz, 20 s records: the band edge binds (0.5/f_low ≈ 2.5 s < 5 s); records of 4 s: the
+    # duration binds (1 s)
+    import recovery_cases as rc
+    from chainid.gap.timedomain.data import low_edge, prepare_time
+    from chainid.gap.timedomain.problem import TimeProblem
+
+    for n, binds in ((4000, "band"), (800, "duration")):
+        data = [prepare_time(r, 4) for r in rc.linear_random(n_rec=3, n=n)]
+        f_low = min(low_edge(d.t, d.x) for d in data)
+        dur = min(float(d.t[-1] - d.t[0]) for d in data)
+        want = min(0.5 / f_low, 0.25 * dur)
+        assert (want == 0.5 / f_low) == (binds == "band")
+        assert TimeProblem(data, None, ["r2"], 0).scales["tau"] == pytest.approx(want, rel=1e-12)
