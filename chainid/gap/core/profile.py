@@ -16,8 +16,10 @@ both (:func:`merge`).
 The scan walks out from the estimate on each side, doubling its step (the first is the resampling interval's
 half-width, at least 10⁻⁴ of the bounds' span, or of the estimate where a bound is infinite) until χ²_p exceeds
 the level or the bound is reached, then bisects the bracket [last point inside, first point outside] at least
-:data:`BISECT` times, and on until it is no wider than its inside end's distance from the estimate (at most
-:data:`BISECT_MAX` times), so a first step far wider than the interval still finds it.  The edge is the crossing
+:data:`BISECT` times, and on until it is no wider than an eighth (2^−:data:`RESOLVE`) of its inside end's distance
+from the estimate (at most :data:`BISECT_MAX` times), so a first step far wider than the interval still finds it
+and a profile that is not quadratic is read within that bracket.  A refit that fails (a NaN χ²) counts as
+outside the level.  The edge is the crossing
 interpolated in that bracket on √(χ²_p − χ²_min), which is linear in the parameter where the profile is quadratic
 (:func:`crossing`): the interval is not cut short to the last point scanned inside it.  A lower χ² met on the way
 (the fit had stopped short of the optimum) lowers χ²_min, and the edges are read at the end against the least χ²
@@ -37,15 +39,17 @@ from typing import Any, Callable, Sequence
 
 from chainid.infra.forkpool import fork_map
 
-__all__ = ["Q90", "BISECT", "BISECT_MAX", "MAX_DOUBLINGS", "level", "crossing", "scan_side", "profile_interval",
-           "project", "merge", "problem_hooks", "attach_profiles"]
+__all__ = ["Q90", "BISECT", "BISECT_MAX", "RESOLVE", "MAX_DOUBLINGS", "level", "crossing", "scan_side",
+           "profile_interval", "project", "merge", "problem_hooks", "attach_profiles"]
 
 #: the 90 % point of χ² with one degree of freedom (scipy.stats.chi2.ppf(0.9, 1))
 Q90 = 2.705543454095404
 #: least bisections of a crossing's bracket
 BISECT = 4
-#: most bisections of a crossing's bracket (a first step 2¹⁰ times wider than the interval still resolves it)
-BISECT_MAX = 10
+#: most bisections of a crossing's bracket (a first step 2⁹ times wider than the interval still resolves it)
+BISECT_MAX = 12
+#: the bracket is bisected until it is no wider than 2^−RESOLVE of its inside end's distance from the estimate
+RESOLVE = 3
 #: most doublings of the step on one side before the scan gives up (the interval then reaches the last point)
 MAX_DOUBLINGS = 14
 
@@ -67,8 +71,10 @@ def crossing(bracket: tuple[float, float, float, float], chi2_min: float, lev: f
     not outside it."""
     v_in, c_in, v_out, c_out = bracket
     d_in, d_out = max(c_in - chi2_min, 0.0), c_out - chi2_min
-    if d_in > lev or d_out <= lev:
+    if not d_in <= lev < d_out:  # a NaN at either end: no crossing to read
         return None
+    if not math.isfinite(d_out):
+        return v_in
     r_in, r_out, r_lev = math.sqrt(d_in), math.sqrt(d_out), math.sqrt(lev)
     return v_in + (v_out - v_in) * (r_lev - r_in) / (r_out - r_in)
 
@@ -77,8 +83,8 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
               lev: Callable[[], float], pts: list[tuple[float, float, dict[str, float]]]
               ) -> tuple[float, float, float, float] | None:
     """Walk from ``est[key]`` towards ``bound`` until χ²_p passes ``lev()`` above the least χ² seen, then bisect
-    the bracket (at least :data:`BISECT` times, on while it is wider than its inside end's distance from the start,
-    at most :data:`BISECT_MAX`).
+    the bracket (at least :data:`BISECT` times, on while it is wider than 2^−RESOLVE of its inside end's distance
+    from the start, at most :data:`BISECT_MAX`); a NaN χ² counts as outside.
 
     Every point scanned is appended to ``pts`` as (value, χ²_p, parameters).  Returns the final bracket
     (v_in, χ²_in, v_out, χ²_out) for :func:`crossing`; None when the scan reached the bound inside the level or
@@ -95,7 +101,7 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
         p = refit(key, v, p_in)
         c = chi2(p)
         pts.append((v, c, p))
-        if c - min(q[1] for q in pts) > lev():
+        if not c - min(q[1] for q in pts) <= lev():  # a failed refit's NaN χ² counts as outside
             out, c_out = v, c
             break
         inside, p_in, c_in = v, p, c
@@ -105,13 +111,13 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
     if out is None:
         return None
     for k in range(BISECT_MAX):
-        if k >= BISECT and abs(out - inside) <= abs(inside - v0):
+        if k >= BISECT and abs(out - inside) * 2**RESOLVE <= abs(inside - v0):
             break
         v = 0.5 * (inside + out)
         p = refit(key, v, p_in)
         c = chi2(p)
         pts.append((v, c, p))
-        if c - min(q[1] for q in pts) > lev():
+        if not c - min(q[1] for q in pts) <= lev():
             out, c_out = v, c
         else:
             inside, p_in, c_in = v, p, c

@@ -232,22 +232,26 @@ def _summarise(chains: list[list[str]], params: list[list[dict[str, float]]], st
             "chains": [{"chain": k, "share": v / n} for k, v in top], "same_chain": same}
 
 
-def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], key: str = "bias_dt") -> None:
+def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], key: str = "bias_dt",
+          bounds: Sequence[dict[str, Any]] | None = None) -> None:
     """Widen each step's 90 % interval by a bias that resampling cannot see (the same in every resample).
 
     ``shifts[k][param]`` is the estimated bias of step k's parameter [its unit] (the time sampling's,
     :mod:`chainid.gap.timedomain.discretisation`; the displacement noise's, :mod:`chainid.gap.timedomain.simex`);
     the interval [lo, hi] becomes the union of itself and [lo − bias, hi − bias], so a bias within the resampling
     spread changes little and a larger one is taken in.  Widening by two biases in turn takes in their sum where
-    they share a sign and each alone where they do not.  The biases are kept per step under ``key``, and the
-    intervals before any widening under ``params_ci90_percentile``."""
-    for row, sh in zip(stab["steps"], shifts):
+    they share a sign and each alone where they do not; a widened edge stops at the parameter's bound (``bounds[k]``:
+    step k's ``{param: (lo, hi)}``, when given).  The biases are kept per step under ``key``, and the intervals
+    before any widening under ``params_ci90_percentile``."""
+    for k, (row, sh) in enumerate(zip(stab["steps"], shifts)):
         row[key] = dict(sh)
-        row.setdefault("params_ci90_percentile", {k: list(v) for k, v in row["params_ci90"].items()})
+        row.setdefault("params_ci90_percentile", {n: list(v) for n, v in row["params_ci90"].items()})
         for name, (lo, hi) in list(row["params_ci90"].items()):
             b = sh.get(name)
             if b is not None and math.isfinite(b):
-                row["params_ci90"][name] = [min(lo, lo - b), max(hi, hi - b)]
+                blo, bhi = (bounds[k].get(name) if bounds is not None and k < len(bounds) else None) or (-math.inf,
+                                                                                                        math.inf)
+                row["params_ci90"][name] = [max(min(lo, lo - b), min(blo, lo)), min(max(hi, hi - b), max(bhi, hi))]
 
 
 def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:

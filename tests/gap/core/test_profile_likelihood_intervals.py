@@ -136,3 +136,31 @@ def test_projection_takes_the_width_a_partner_profile_found():
 def test_merge_is_the_union_of_both_intervals():
     got = P.merge({"a": [1.0, 2.0], "b": [0.0, 1.0]}, {"a": {"ci90": [1.5, 2.5]}, "c": {"ci90": [3.0, 4.0]}})
     assert got == {"a": [1.0, 2.5], "b": [0.0, 1.0], "c": [3.0, 4.0]}
+
+
+@pytest.mark.parametrize("first_step", [1.0, 30.0, 300.0])
+def test_a_quartic_profile_is_read_within_its_bracket_whatever_the_first_step(first_step):
+    # χ²_p(v) = v⁴ (one parameter, no partner): the level 2.7055 is crossed at ±2.7055^¼ = ±1.2825.  The bracket is
+    # bisected until it is an eighth of its inside end's distance, so the √-interpolated edge (exact only for a
+    # quadratic) is within 1 % of the crossing even when the first step is 300 times the interval
+    def chi2(q):
+        return q["v"] ** 4
+
+    r = P.profile_interval("v", {"v": 0.0}, (-1e3, 1e3), first_step * 1.2825, chi2, lambda k, v, s: {"v": v},
+                           100, 1)
+    edge = P.Q90 ** 0.25
+    assert r["ci90"][0] == pytest.approx(-edge, rel=0.01) and r["ci90"][1] == pytest.approx(edge, rel=0.01)
+
+
+def test_a_failed_refit_counts_as_outside_the_level():
+    # a straight line's profile, with every refit at |b − b̂| in (0.8, 1.2)·se failing (NaN χ²): those points are
+    # outside, so the scan stops short of them and never reads a NaN as an edge
+    est, cov, chi2, refit, n = _line(1)
+    se = math.sqrt(cov[1, 1])
+
+    def flaky(p):
+        return math.nan if 0.8 * se < abs(p["b"] - est["b"]) < 1.2 * se else chi2(p)
+
+    r = P.profile_interval("b", est, (-100.0, 100.0), se, flaky, refit, n, 2)
+    assert all(math.isfinite(v) for v in r["ci90"])
+    assert est["b"] - 1.2 * se < r["ci90"][0] < est["b"] and est["b"] < r["ci90"][1] < est["b"] + 1.2 * se
