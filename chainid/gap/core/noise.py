@@ -207,9 +207,11 @@ def displacement_noise(x: np.ndarray, xs: np.ndarray, fs: float, f_cut: float) -
     passes 1 − |H|², (2/fs)·∫₀^{fs/2} (1 − |H(f)|²)² df, is σ_x.  0 when the record is not smoothed (cut at or
     above 0.45·fs) or has no displacement noise."""
     gain = _smoothing_gain(fs, f_cut, np.asarray(x).size)
-    if gain is None:
-        return 0.0
-    f, h2 = gain
+    return 0.0 if gain is None else _sigma_x(x, xs, fs, *gain)
+
+
+def _sigma_x(x: np.ndarray, xs: np.ndarray, fs: float, f: np.ndarray, h2: np.ndarray) -> float:
+    """:func:`displacement_noise` with the low-pass's power gain ``h2`` at ``f`` [Hz] given."""
     r = np.asarray(x, float) - np.asarray(xs, float)
     return 1.4826 * float(np.median(np.abs(r - np.median(r)))) / math.sqrt(_noise_share(f, (1.0 - h2) ** 2, fs))
 
@@ -226,7 +228,7 @@ def velocity_noise(x: np.ndarray, xs: np.ndarray, fs: float, f_cut: float) -> fl
     if gain is None:
         return 0.0
     f, h2 = gain
-    sig_x = displacement_noise(x, xs, fs, f_cut)
+    sig_x = _sigma_x(x, xs, fs, f, h2)
     return sig_x * math.sqrt(_noise_share(f, (fs * np.sin(2 * np.pi * f / fs)) ** 2 * h2 ** 2, fs))
 
 
