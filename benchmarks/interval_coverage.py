@@ -7,7 +7,8 @@ diagnosed with ``--resamples`` resamples (the library restricted to ``friction``
 not the selection).  Printed: the share of intervals that contain F_c = 2 N, the seed-to-seed spread of the
 estimate, its mean error, and the median half-width of the intervals: the resampling's percentiles alone, and the
 reported interval (widened by the sampling's and the displacement noise's biases,
-:mod:`chainid.gap.timedomain.discretisation`, :mod:`chainid.gap.timedomain.simex`, and joined with the profile's).  A calibrated 90 % interval covers in 85–95 %.
+:mod:`chainid.gap.timedomain.discretisation`, :mod:`chainid.gap.timedomain.simex`, and joined with the profile's).
+A calibrated 90 % interval covers in 85–95 %.
 
 Usage (from the repository root)::
 

@@ -246,12 +246,13 @@ def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], key: str = "
     for k, (row, sh) in enumerate(zip(stab["steps"], shifts)):
         row[key] = dict(sh)
         row.setdefault("params_ci90_percentile", {n: list(v) for n, v in row["params_ci90"].items()})
+        lims = bounds[k] if bounds is not None and k < len(bounds) else {}
         for name, (lo, hi) in list(row["params_ci90"].items()):
             b = sh.get(name)
             if b is not None and math.isfinite(b):
-                blo, bhi = (bounds[k].get(name) if bounds is not None and k < len(bounds) else None) or (-math.inf,
-                                                                                                        math.inf)
-                row["params_ci90"][name] = [max(min(lo, lo - b), min(blo, lo)), min(max(hi, hi - b), max(bhi, hi))]
+                blo, bhi = lims.get(name, (-math.inf, math.inf))
+                # widened towards the bias, never past the bound, never narrowed
+                row["params_ci90"][name] = [min(lo, max(lo - b, blo)), max(hi, min(hi - b, bhi))]
 
 
 def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:

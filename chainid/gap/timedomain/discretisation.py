@@ -31,7 +31,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-__all__ = ["ORDER", "MIN_PER_PERIOD", "METHOD", "decimated", "richardson_shifts"]
+__all__ = ["ORDER", "MIN_PER_PERIOD", "METHOD", "decimated", "refit_shifts", "richardson_shifts"]
 
 #: the assumed order of the discretisation bias in Δt
 ORDER = 2
@@ -57,6 +57,17 @@ def too_coarse(prob: Any, q: int = 2) -> str | None:
     return None
 
 
+def refit_shifts(prob: Any, steps: Sequence[Any]) -> list[dict[str, float]]:
+    """Per step of the chain, how far each parameter moves when the step is refitted on ``prob`` from its estimates
+    (shapes polished, amplitudes exact): θ_refit − θ [its unit], for the parameters finite in both."""
+    out = []
+    for c in steps:
+        th = prob.fit(c.names, start=c.params, polish_only=True).params
+        out.append({k: float(th[k]) - float(v) for k, v in c.params.items()
+                    if k in th and np.isfinite(th[k]) and np.isfinite(v)})
+    return out
+
+
 def richardson_shifts(records: Sequence[Any], prob: Any, steps: Sequence[Any], build: Any
                       ) -> tuple[list[dict[str, float]], str | None]:
     """Per step of the chain, the estimated discretisation bias of every parameter.
@@ -78,12 +89,8 @@ def richardson_shifts(records: Sequence[Any], prob: Any, steps: Sequence[Any], b
     if why is not None:
         return [{} for _ in steps], why
     try:
-        coarse = build(decimated(records))
-        out = []
-        for c in steps:
-            th2 = coarse.fit(c.names, start=c.params, polish_only=True).params
-            out.append({k: (float(th2[k]) - float(v)) / (2 ** ORDER - 1) for k, v in c.params.items()
-                        if k in th2 and np.isfinite(th2[k]) and np.isfinite(v)})
+        moved = refit_shifts(build(decimated(records)), steps)
+        out = [{k: d / (2 ** ORDER - 1) for k, d in sh.items()} for sh in moved]
     except (ValueError, np.linalg.LinAlgError) as exc:
         return [{} for _ in steps], f"the decimated records could not be refitted ({exc})"
     return out, None

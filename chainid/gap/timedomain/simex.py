@@ -42,6 +42,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from chainid.gap.core.noise import CUT_FACTOR, displacement_noise, excitation_band, lowpass, sample_rate
+from chainid.gap.timedomain.discretisation import refit_shifts
 
 __all__ = ["DRAWS", "LAMBDA", "METHOD", "record_sigma_x", "noisier", "simex_shifts"]
 
@@ -96,12 +97,9 @@ def simex_shifts(records: Sequence[Any], steps: Sequence[Any], build: Callable[[
     got: list[dict[str, list[float]]] = [{} for _ in steps]
     try:
         for _ in range(DRAWS):
-            prob = build(noisier(records, sigmas, rng))
-            for acc, c in zip(got, steps):
-                th = prob.fit(c.names, start=c.params, polish_only=True).params
-                for k, v in c.params.items():
-                    if k in th and np.isfinite(th[k]) and np.isfinite(v):
-                        acc.setdefault(k, []).append(float(th[k]) - float(v))
+            for acc, sh in zip(got, refit_shifts(build(noisier(records, sigmas, rng)), steps)):
+                for k, d in sh.items():
+                    acc.setdefault(k, []).append(d)
     except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError) as exc:
         return [{} for _ in steps], f"the records with added displacement noise could not be refitted ({exc})"
     why = f"no measurable displacement noise in {', '.join(none)}: no noise added there" if none else None
