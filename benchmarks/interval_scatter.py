@@ -7,7 +7,7 @@ holds the parameter (``--param``): the estimate's mean error and its standard de
 each part of the interval over 1.645 (the sd a calibrated 90 % interval implies: the profile's and the
 resampling's) and its ratio to the estimate's rms error, and how often each part and the reported interval
 contain the truth.  ``--untied`` reports the fit with each test's own c_e instead of the step's tie to its damping
-law (:mod:`chainid.gap.harmonic.tie`): the estimator the intervals described before they were the tie's.
+law (:mod:`chainid.gap.harmonic.tie`): the estimator whose refits and profile the intervals are.
 
 Usage (from the repository root)::
 

@@ -3,13 +3,12 @@
 A resample gives every training test a multiplicity (a multinomial draw of as many tests as there are; held-out
 tests stay out).  :func:`rescore` scores a fitted candidate on a resample at its fitted parameters: each test's
 c_e is its own projection (as in the selection's fits), the damping law is refitted on the drawn tests by weighted
-least squares and each drawn test's error is that of the law refitted without it, weighted by its multiplicity.  When the other
-drawn tests are fewer than the law's coefficients (a 5-coefficient law and few distinct tests in the draw), the
-law without that test is fitted on every other training test instead (the plain leave-one-test-out): a resample
-never loses a test, so the steps' stability is not diluted by draws that could score nothing.  :func:`refit`
-polishes a candidate's parameters on the drawn tests (each weighted by its multiplicity) as its point estimate was
-fitted: each test's c_e free, or tied to its law for a step whose point estimate tied them
-(:func:`chainid.gap.harmonic.tie.fitted_as`).
+least squares and each drawn test's error is that of the law refitted without it, weighted by its multiplicity.
+When the other drawn tests are fewer than the law's coefficients (a 5-coefficient law and few distinct tests in
+the draw), the law without that test is fitted on every other training test instead (the plain leave-one-test-out):
+a resample never loses a test, so the steps' stability is not diluted by draws that could score nothing.
+:func:`refit` polishes a candidate's parameters on the drawn tests (each weighted by its multiplicity; each test's
+c_e free, also for a step whose point estimate tied them to its law, :mod:`chainid.gap.harmonic.tie`).
 
 Units: N² for the errors; each parameter's own unit.
 """
@@ -22,7 +21,6 @@ from typing import Any
 import numpy as np
 
 from chainid.gap.harmonic import law_choice as L
-from chainid.gap.harmonic.tie import fitted_as
 
 __all__ = ["unit_keys", "draw", "identity", "rescore", "refit"]
 
@@ -81,7 +79,6 @@ def rescore(prob: Any, cand: Any, mult: np.ndarray) -> tuple[dict[str, float], f
 def refit(prob: Any, cand: Any, mult: np.ndarray) -> dict[str, float]:
     """A candidate's parameters polished on a resample's tests (each weighted by its multiplicity)."""
     drawn = [(d, float(m)) for d, m in zip(prob.train, mult) if m > 0]
-    with fitted_as(prob, cand):
-        c = prob.fit(cand.names, train_only=[d for d, _ in drawn], weights=[m for _, m in drawn],
-                     start=cand.params, polish_only=True)
+    c = prob.fit(cand.names, train_only=[d for d, _ in drawn], weights=[m for _, m in drawn], start=cand.params,
+                 polish_only=True)
     return dict(c.params)

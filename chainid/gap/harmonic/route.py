@@ -20,13 +20,13 @@ from chainid.gap.core import selection as fw
 from chainid.gap.core.candidate import Candidate, jackknife_sd
 from chainid.gap.core.interpret import interpretation, separating_test
 from chainid.gap.core.openworld import open_world
-from chainid.gap.core.profile import attach_profiles
+from chainid.gap.core.profile import attach_profiles, problem_hooks
 from chainid.gap.core.resample import attach, resample
 from chainid.infra.progress import stage
 from chainid.gap.core.stationarity import check as stationarity_check
 from chainid.gap.core.verdict import contract, decide, joint_notes, overfit_warning, trusted_path
 from chainid.gap.harmonic.problem import Problem, damping_separable
-from chainid.gap.harmonic.tie import profile_hooks, tie_path
+from chainid.gap.harmonic.tie import tie_path
 from chainid.gap.harmonic.where import localise
 
 __all__ = ["diagnose_harmonic", "jackknife"]
@@ -108,7 +108,7 @@ def diagnose_harmonic(data: Sequence[Any], hold: Sequence[str], model: Any, *, e
 
         stab = resample(prob, resampling, fwd, ok_path, n=resamples, seed=seed, max_effects=int(max_combo))
         stage("profile likelihood")
-        attach_profiles(stab, ok_path, lambda c: profile_hooks(prob, c))
+        attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))
         attach(out, stab)
     return out
 
