@@ -123,3 +123,62 @@ def test_force_driven_stick_slip_is_named_friction_with_its_parameters(resonant_
     assert p["friction.x_s"] == pytest.approx(fr["x_s"], rel=0.05)
     assert p["mass.m"] == pytest.approx(base["m"], rel=0.01)
     assert res["steps"][-1]["base"]["k"] == pytest.approx(base["k"], rel=0.01)
+
+
+def _white(n: int, sd: float = 1.0, seed: int = 21) -> np.ndarray:
+    return np.random.default_rng(seed).normal(0.0, sd, n)
+
+
+def _ratio_by_hand(F: np.ndarray, fs: float, f_a: float, sigma: float) -> tuple[float, int]:
+    """The docstring's R and N: the mean over the bins above f_a of |rfft(Hann·(F − linear fit))|² / (σ²·Σw²),
+    with scipy's detrend for the trend (independent of the module's psd)."""
+    from scipy.signal import detrend
+
+    w = np.hanning(F.size)
+    P = np.abs(np.fft.rfft(detrend(F, type="linear") * w)) ** 2 / (sigma ** 2 * float(np.sum(w ** 2)))
+    above = np.fft.rfftfreq(F.size, 1.0 / fs) > f_a
+    return float(np.mean(P[above])), int(above.sum())
+
+
+@pytest.mark.parametrize("k, kept", [(4.6, True), (5.4, False)])
+def test_the_force_is_band_limited_below_five_standard_deviations_of_the_noise_ratio(k, kept):
+    """σ chosen so that the ratio R of the force's power above f_a to its white noise sits at 1 + k·√(1.5/N), by
+    hand (:func:`_ratio_by_hand`): 4.6 is below the rule's 5 (the cut is f_a), 5.4 above it (the whole band)."""
+    fs, f_a = 1000.0, 200.0
+    F = _white(4096)
+    r1, N = _ratio_by_hand(F, fs, f_a, 1.0)
+    sigma = math.sqrt(r1 / (1.0 + k * math.sqrt(1.5 / N)))  # R ∝ 1/σ²
+    assert _ratio_by_hand(F, fs, f_a, sigma)[0] == pytest.approx(1.0 + k * math.sqrt(1.5 / N), rel=1e-12)
+    got = residual_cut(F, fs, f_a, sigma, beyond_a=True)
+    assert (got == f_a) if kept else math.isnan(got)
+
+
+def test_a_force_of_256_samples_is_judged_and_one_of_255_is_not():
+    """White force noise of the stated σ (R ≈ 1): 256 samples at 1 kHz above f_a = 100 Hz are 103 bins, enough
+    (>= 64), so the cut is f_a; 255 samples are too short a record for the test (NaN)."""
+    F = _white(256)
+    assert _ratio_by_hand(F, 1000.0, 100.0, 1.0)[1] == 103
+    assert residual_cut(F, 1000.0, 100.0, 1.0, beyond_a=True) == 100.0
+    assert math.isnan(residual_cut(F[:255], 1000.0, 100.0, 1.0, beyond_a=True))
+
+
+def test_the_force_test_needs_64_bins_above_the_cut():
+    """1024 samples at 1024 Hz have bins at every whole Hz up to 512: above 448 Hz lie 449 … 512, 64 bins (judged),
+    above 449 Hz 63 (not judged: NaN); both cuts are below 0.45·fs = 460.8 Hz."""
+    F = _white(1024)
+    assert _ratio_by_hand(F, 1024.0, 448.0, 1.0)[1] == 64 and _ratio_by_hand(F, 1024.0, 449.0, 1.0)[1] == 63
+    assert residual_cut(F, 1024.0, 448.0, 1.0, beyond_a=True) == 448.0
+    assert math.isnan(residual_cut(F, 1024.0, 449.0, 1.0, beyond_a=True))
+
+
+def test_no_cut_at_zero_at_045_fs_or_without_a_noise_level():
+    """The cut must lie strictly inside (0, 0.45·fs) and σ must be positive: f_a = 0, f_a = 450 Hz at 1 kHz and
+    σ = 0 all give NaN on a white force that f_a = 449 Hz with σ = 1 judges band-limited (σ = 0 without dividing
+    by it: no warning)."""
+    F = _white(8192)
+    assert residual_cut(F, 1000.0, 449.0, 1.0, beyond_a=True) == 449.0
+    assert math.isnan(residual_cut(F, 1000.0, 450.0, 1.0, beyond_a=True))
+    assert math.isnan(residual_cut(F, 1000.0, 0.0, 1.0, beyond_a=True))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert math.isnan(residual_cut(F, 1000.0, 100.0, 0.0, beyond_a=True))

@@ -12,6 +12,8 @@ import warnings
 from dataclasses import replace
 from types import SimpleNamespace
 
+import numpy as np
+
 import recovery_cases as rc
 from chainid.gap.timedomain.basechoice import MIN_LAW_RECORDS, distinct_covariates, law_choice
 from chainid.gap.timedomain.route import build_problem
@@ -54,3 +56,22 @@ def test_a_set_and_a_measured_condition_are_one_condition():
     recs = [SimpleNamespace(covariates={"p_bar": p, "p_mean": 0.98 * p + 0.01, "T": 20.0})
             for p in (1.0, 3.0, 5.0, 7.0)]
     assert distinct_covariates(recs, ["p_bar", "p_mean", "T"]) == ["p_bar"]
+
+
+def _recs(**cols):
+    n = len(next(iter(cols.values())))
+    return [SimpleNamespace(covariates={k: v[i] for k, v in cols.items()}) for i in range(n)]
+
+
+def test_a_covariate_falling_as_another_rises_is_the_same_condition():
+    """p_mean = 10 − 2·p_bar exactly: correlation −1, |r| > 0.999, so one condition (the sign does not matter)."""
+    recs = _recs(p_bar=[1.0, 2.0, 4.0, 5.0], p_mean=[8.0, 6.0, 2.0, 0.0])
+    assert distinct_covariates(recs, ["p_bar", "p_mean"]) == ["p_bar"]
+
+
+def test_a_covariate_not_known_for_every_record_or_constant_is_not_a_condition():
+    """A NaN in one record, or the same value in all, does not make an operating condition; a loosely related one
+    (correlation 0.98 by numpy) is a condition of its own."""
+    recs = _recs(i=[0.0, 0.5, 1.0, 1.5], p=[1.0, float("nan"), 2.0, 3.0], T=[20.0] * 4, q=[0.1, 0.5, 1.2, 1.4])
+    assert abs(np.corrcoef([0.0, 0.5, 1.0, 1.5], [0.1, 0.5, 1.2, 1.4])[0, 1] - 0.98) < 0.01
+    assert distinct_covariates(recs, ["p", "T", "i", "q"]) == ["i", "q"]

@@ -122,3 +122,40 @@ def test_the_diagnosis_of_a_law_extrapolated_is_none_with_the_finding():
     assert res["verdict"] == "none", (res["chain_text"], res["warnings"])
     assert res["where"][0]["kind"] == "damping_extrapolation" and res["none_reading"] == "damping_extrapolation"
     assert any("damping law extrapolated" in w and "r3" in w for w in res["warnings"])
+
+
+@pytest.mark.parametrize("v, out", [(3.2, False), (3.21, True), (0.8, False), (0.79, True), (2.0, False)])
+def test_a_record_is_beyond_the_range_only_past_a_tenth_of_its_span(v, out):
+    """Training range ω_c ∈ (1, 3): span 2, margin 0.1·2 = 0.2, so beyond means below 0.8 or above 3.2 (strictly);
+    the amplitude is in range throughout."""
+    from types import SimpleNamespace
+
+    from chainid.gap.timedomain.lawreach import MARGIN, beyond
+
+    assert MARGIN == 0.1
+    rec = SimpleNamespace(omega_c=v, A_c=1.0)
+    assert beyond({"omega_c": (1.0, 3.0), "A_c": (0.5, 1.5)}, rec) == (["omega_c"] if out else [])
+
+
+def test_the_refitted_record_loses_one_cell_and_keeps_the_least_squares_residual():
+    """r3 wholly held out and beyond the range: its own dashpot is one least-squares parameter on the held-out
+    residual, so its mean square is numpy's lstsq residual of r on the dashpot column over n, and its independent
+    cells are ρ·n − 1 (one degree of freedom for the dashpot)."""
+    prob, base = _baseline(_records())
+    names = list(base.names)
+    own = own_damping(prob, names, base.params)
+    (r3,) = own["records"]
+    from chainid.gap.timedomain.design import amplitude_names
+
+    amps = amplitude_names(prob.base, names)
+    a = np.array([base.params[k] for k in amps])
+    i = [q.test for q in prob.tdata].index("r3")
+    d = prob.tdata[i]
+    f, Phi, y = prob.columns(names, base.params)[i]
+    r, v = y - f - Phi @ a, Phi[:, amps.index("damping.c")]
+    _, res, *_ = np.linalg.lstsq(v[:, None], r, rcond=None)
+    assert r3["r2"] == pytest.approx(float(res[0]) / r.size, rel=1e-9)
+    assert r3["c_own"] - r3["c_law"] == pytest.approx(float(np.linalg.lstsq(v[:, None], r, rcond=None)[0][0]),
+                                                        rel=1e-9)
+    assert r3["n_record"] == N and r3["n_cells"] == int(d.rho * N) - 1 and own["n_cells"] == int(d.rho * N) - 1
+    assert own["r2"] == pytest.approx(r3["r2"], rel=1e-12)  # the only held-out record: pooled = its own

@@ -125,3 +125,51 @@ def test_two_widenings_take_in_the_sum_of_biases_of_one_sign_and_each_of_opposit
     assert row["params_ci90"]["b"] == pytest.approx([0.75, 2.5])
     assert row["params_ci90_percentile"] == {"a": [1.0, 2.0], "b": [1.0, 2.0]}
     assert row["bias_dt"] == {"a": -0.5, "b": -0.5} and row["bias_x"] == {"a": -0.25, "b": 0.25}
+
+
+class _Rate:
+    def __init__(self, test, fs, fb):
+        self.test, self.fs, self.f_band = test, fs, fb
+
+
+def test_exactly_the_fewest_samples_per_period_after_decimation_is_enough():
+    """160 Hz with a 10 Hz band top: 160/(2·10) = 8 = MIN_PER_PERIOD samples per period after decimating by 2, which
+    is enough (the rule is "fewer than 8"); by 4 it is 4 per period, too few, and the message says by 4."""
+    P = type("P", (), {"tdata": [_Rate("edge", 160.0, 10.0)]})
+    assert MIN_PER_PERIOD == 8
+    assert too_coarse(P()) is None
+    why = too_coarse(P(), q=4)
+    assert why == ("test edge: 4 samples per period of its band top (10 Hz) after decimating by 4; at least 8 are "
+                   "needed")
+
+
+@pytest.mark.parametrize("exc", [ValueError("too short"), np.linalg.LinAlgError("singular")])
+def test_a_decimated_problem_that_cannot_be_built_gives_no_shift_and_says_why(exc):
+    """The builder raising ValueError (too few samples) or LinAlgError (a singular fit) on the decimated records:
+    no shift for any step, and the reason quotes the error."""
+    def build(rs):
+        raise exc
+
+    P = type("P", (), {"tdata": [_Rate("a", 200.0, 4.0)]})
+    steps = [type("S", (), {"names": [], "params": {}})(), type("S", (), {"names": ["p"], "params": {"p.a": 1.0}})()]
+    t = np.arange(40) * 0.005
+    shifts, why = richardson_shifts([Record("a", t, np.sin(t), np.cos(t))], P(), steps, build)
+    assert shifts == [{}, {}]
+    assert why == f"the decimated records could not be refitted ({exc})"
+
+
+def test_refit_shifts_skip_parameters_not_finite_in_either_fit():
+    """θ_refit − θ per parameter (2.5 − 2 = 0.5), leaving out one the refit lacks, one NaN in the refit and one
+    infinite in the step; the refit starts from the step's own parameters and only polishes."""
+    from chainid.gap.timedomain.discretisation import refit_shifts
+
+    seen = []
+
+    class P:
+        def fit(self, names, start=None, polish_only=False):
+            seen.append((list(names), dict(start), polish_only))
+            return type("C", (), {"params": {"a.x": 2.5, "a.y": float("nan"), "a.w": 1.0}})()
+
+    step = type("S", (), {"names": ["a"], "params": {"a.x": 2.0, "a.y": 1.0, "a.z": 3.0, "a.w": float("inf")}})()
+    assert refit_shifts(P(), [step]) == [{"a.x": 0.5}]
+    assert seen == [(["a"], step.params, True)]

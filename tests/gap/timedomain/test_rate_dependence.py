@@ -183,3 +183,114 @@ def test_z_values_go_to_json_as_none_for_not_computed_and_one_million_for_no_sca
 
     got = _json_z({"a": math.nan, "b": math.inf, "c": 2.5, "d": 3e7})
     assert got == {"a": None, "b": 1e6, "c": 2.5, "d": 1e6}
+
+
+def test_the_exponent_is_read_from_four_splits_without_the_unread_ones():
+    """Four finite splits are enough (three are not); a split whose parameter was not read (NaN) is left out: the
+    exponent is then numpy's least-squares slope over the other four, through 0."""
+    ev = np.array([1.0, 0.5, -0.5, 0.2, -0.3])
+    es = np.array([0.1, -0.4, 0.3, 0.5, 0.2])
+    L = 0.8 * ev + 0.3 * es + np.array([0.05, -0.03, 0.02, math.nan, 0.01])
+    ok = np.isfinite(L)
+    beta, *_ = np.linalg.lstsq(np.column_stack([ev[ok], es[ok]]), L[ok], rcond=None)
+    p, z = rate_exponent(ev, es, L)
+    assert p == pytest.approx(beta[0], rel=1e-10) and math.isfinite(z)
+
+
+@pytest.mark.parametrize("c, judged", [(0.94, True), (0.96, False)])
+def test_speed_and_stroke_ratios_alike_beyond_095_are_not_separated(c, judged):
+    """ℓ_v = (1, 0, 1, 0, 1, 0), ℓ_s = (c, s, c, s, c, s) with s = √(1 − c²): their correlation through 0 is
+    3c/√(3·3) = c; the plane is fitted at 0.94 and refused at 0.96 (MAX_CORRELATION = 0.95)."""
+    s = math.sqrt(1.0 - c * c)
+    ev = np.array([1.0, 0.0] * 3)
+    es = np.array([c, s] * 3)
+    L = 0.7 * ev + np.array([0.01, -0.02, 0.03, 0.0, -0.01, 0.02])
+    p, _ = rate_exponent(ev, es, L)
+    assert math.isfinite(p) is judged
+
+
+def test_no_speed_spread_no_exponent():
+    """ℓ_v all 0 (Σℓ_v² = 0): no exponent, without dividing by zero."""
+    ev = np.zeros(5)
+    es = np.array([0.1, -0.4, 0.3, 0.5, 0.2])
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert all(math.isnan(v) for v in rate_exponent(ev, es, es))
+
+
+def test_log_ratio_is_the_log_of_the_second_over_the_first_for_positive_values_only():
+    from chainid.gap.timedomain.ratecheck import _log_ratio
+
+    assert _log_ratio(2.0, 6.0) == pytest.approx(math.log(3.0), rel=1e-15)
+    assert all(math.isnan(_log_ratio(a, b)) for a, b in ((0.0, 1.0), (1.0, 0.0), (-1.0, -2.0)))
+
+
+def test_random_halves_are_distinct_partitions_other_than_the_speed_split():
+    """Blocks 0 … 3 split 2 + 2 have three partitions; the speed split {0, 1} | {2, 3} is taken, so at most two
+    random halves exist, each a different partition, named by the half holding block 0; eight blocks give the
+    ten asked for, each half of four blocks, sorted."""
+    from chainid.gap.timedomain.ratecheck import N_RANDOM, _random_halves
+
+    got = _random_halves(np.arange(4), np.array([0, 1]), 10)
+    parts = {frozenset(h.tolist()) if 0 in h else frozenset({0, 1, 2, 3} - set(h.tolist())) for h in got}
+    assert len(got) == 2 and parts == {frozenset({0, 2}), frozenset({0, 3})}
+    got = _random_halves(np.arange(8), np.arange(4), N_RANDOM)
+    assert N_RANDOM == 10 and len(got) == 10
+    assert all(h.size == 4 and np.all(np.diff(h) > 0) for h in got)
+    keys = {frozenset(h.tolist()) if 0 in h else frozenset(set(range(8)) - set(h.tolist())) for h in got}
+    assert len(keys) == 10 and frozenset(range(4)) not in keys
+
+
+def test_an_empty_block_has_no_speed_and_no_stroke():
+    """Blocks 0 and 2 of a record hold samples, block 1 none: its RMS speed and stroke are 0; the others are
+    √mean(ẋ²) and the standard deviation of x, by hand."""
+    d = SimpleNamespace(n_blocks=3, block=np.array([0, 0, 2, 2]), xd=np.array([3.0, -4.0, 1.0, 1.0]),
+                        x=np.array([1.0, 3.0, 5.0, 5.0]))
+    v, st = block_stats(SimpleNamespace(tdata=[d]))
+    np.testing.assert_allclose(v, [math.sqrt(12.5), 0.0, 1.0], rtol=1e-15)
+    np.testing.assert_allclose(st, [1.0, 0.0, 0.0], rtol=1e-15)
+
+
+def _read(z_fh, z_xh, p):
+    return {"v_slow_mm_s": 2.0, "v_fast_mm_s": 5.0, "on_slow": {"hysteresis.F_h": 1.5, "hysteresis.x_h": 0.1},
+            "on_fast": {"hysteresis.F_h": 3.0, "hysteresis.x_h": 0.12}, "exponent": {"hysteresis.F_h": p,
+                                                                                    "hysteresis.x_h": 0.2},
+            "z": {"hysteresis.F_h": z_fh, "hysteresis.x_h": z_xh}, "dependent": ["hysteresis.F_h", "hysteresis.x_h"]}
+
+
+@pytest.mark.parametrize("p, grows", [(0.76, True), (-0.76, False)])
+def test_the_finding_reads_the_parameter_with_the_largest_z_and_the_exponents_sign(p, grows):
+    """F_h with z 7.5 against x_h with z 3: F_h is named; speeds 2 and 5 mm/s give ×2.50; an unbounded z of x_h
+    would be written 1e6, a finite one as it is; a positive exponent is a loop that grows with the speed."""
+    from chainid.gap.timedomain.ratecheck import _finding
+
+    f = _finding(3, "hysteresis", "hysteresis@p", _read(7.5, 3.0, p))
+    assert f["parameter"] == "hysteresis.F_h" and f["z"] == 7.5 and f["score"] == 7.5 and f["step"] == 3
+    assert f["speed_ratio"] == pytest.approx(2.5, rel=1e-15) and f["exponent"] == p and f["name"] == "hysteresis@p"
+    assert f["finding"].startswith(
+        "hysteresis (step 3) is not rate-independent as its form says: refitted on the slower and faster halves of "
+        "the training blocks (RMS speed 2 vs 5 mm/s, ×2.50), hysteresis.F_h goes from 1.5 to 3; over these and 10 "
+        f"random halves its rate exponent is {p:.2f} (z 7.5, the stroke's part apart): the loop ")
+    assert ("grows with the speed" in f["finding"]) is grows and ("shrinks" in f["finding"]) is not grows
+    assert _finding(1, "hysteresis", "hysteresis", _read(2.0, math.inf, p))["z_all"]["hysteresis.x_h"] == 1e6
+
+
+def test_the_chain_is_cut_at_the_earliest_step_that_added_a_rate_dependent_loop(monkeypatch):
+    """Both loops of the last fit are rate-dependent: the cut is at step 1 (the hysteresis, added first), not at
+    step 2 (the Bouc–Wen); a loop the blocks cannot judge is a row with ``judged`` False and no cut; a chain of the
+    baseline alone has no checks."""
+    from chainid.gap.timedomain import ratecheck
+
+    monkeypatch.setattr(ratecheck, "rate_test", lambda prob, cand, effect: _read(5.0, 1.0, 1.0))
+    path = [SimpleNamespace(names=[]), SimpleNamespace(names=["hysteresis"]),
+            SimpleNamespace(names=["hysteresis", "bouc_wen"])]
+    step, finding, rows = rate_cut(None, path)
+    assert step == 1 and finding["effect"] == "hysteresis" and [r["step"] for r in rows] == [1, 2]
+    assert rows[0]["speed_ratio"] == pytest.approx(2.5) and rows[0]["z"]["hysteresis.F_h"] == 5.0
+    monkeypatch.setattr(ratecheck, "rate_test", lambda prob, cand, effect: None)
+    step, finding, rows = rate_cut(None, path)
+    assert (step, finding) == (None, None) and [r["judged"] for r in rows] == [False, False]
+    assert "dependent" not in rows[0]
+    assert rate_cut(None, path[:1]) == (None, None, [])

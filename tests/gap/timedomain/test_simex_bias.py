@@ -117,3 +117,75 @@ def test_a_widened_edge_stops_at_the_parameters_bound():
     widen(stab, [{"friction.x_s": 0.2, "friction.F_c": 1.5}], "bias_x",
           [{"friction.x_s": (0.0, 0.5), "friction.F_c": (0.0, 1e6)}])
     assert stab["steps"][0]["params_ci90"] == {"friction.x_s": [0.0, 0.05], "friction.F_c": [2.5, 5.0]}
+
+
+def _noisy_record(test: str, seed: int, n: int = 8000) -> Record:
+    """A smooth unit-RMS motion with 0.02 mm of white displacement noise (σ_x measurable)."""
+    t = np.arange(n) / FS
+    x = _smooth(seed)[:n] + np.random.default_rng(seed + 100).normal(0.0, 0.02, n)
+    return Record(test, t, x, BETA * x)
+
+
+def test_the_added_noise_is_the_seeded_draw_of_each_records_own_sigma():
+    """The first draw's added noise is exactly numpy's default_rng(seed).normal(0, √λ·σ_x, n) per record in
+    order (λ = 1, σ_x of each record by :func:`simex.record_sigma_x`): the shifts are reproducible from the seed."""
+    recs = [_noisy_record("a", 1), _noisy_record("b", 2)]
+    sig = [simex.record_sigma_x(r.t, r.x) for r in recs]
+    assert all(s > 0.0 for s in sig)
+    seen = []
+
+    def build(rs):
+        seen.append([r.x for r in rs])
+        return SimpleNamespace(fit=lambda names, start, polish_only: SimpleNamespace(params={}))
+
+    simex.simex_shifts(recs, [SimpleNamespace(names=[], params={})], build, seed=7)
+    rng = np.random.default_rng(7)
+    assert len(seen) == simex.DRAWS == 2 and simex.LAMBDA == 1.0
+    for r, s, x in zip(recs, sig, seen[0]):
+        np.testing.assert_allclose(x - r.x, rng.normal(0.0, s, r.x.size), rtol=0, atol=1e-12)
+
+
+def test_the_shift_is_the_mean_over_draws_of_parameters_refitted_in_every_draw():
+    """Draw 1 refits b = 1.5 and c = 2, draw 2 only b = 2.5; the step has b = c = 1: the shift of b is
+    mean(0.5, 1.5) = 1.0, c is refitted in one draw of 2 and has none."""
+    fits = iter([{"p.b": 1.5, "p.c": 2.0}, {"p.b": 2.5}])
+
+    def build(rs):
+        params = next(fits)
+        return SimpleNamespace(fit=lambda names, start, polish_only: SimpleNamespace(params=params))
+
+    step = SimpleNamespace(names=["p"], params={"p.b": 1.0, "p.c": 1.0})
+    shifts, why = simex.simex_shifts([_noisy_record("a", 3)], [step], build)
+    assert why is None
+    assert shifts == [{"p.b": pytest.approx(1.0, rel=1e-12)}]
+
+
+def test_a_record_without_displacement_noise_gets_none_and_is_named():
+    """One record with σ_x (smooth motion plus noise) and one of white x (not smoothed: σ_x = 0): the second keeps
+    its x in every draw, and the reason names it."""
+    t = np.arange(8000) / FS
+    white = Record("w", t, np.random.default_rng(9).normal(0.0, 1.0, t.size), np.zeros(t.size))
+    assert simex.record_sigma_x(white.t, white.x) == 0.0
+    seen = []
+
+    def build(rs):
+        seen.append(rs[1].x)
+        return SimpleNamespace(fit=lambda names, start, polish_only: SimpleNamespace(params={}))
+
+    shifts, why = simex.simex_shifts([_noisy_record("a", 4), white], [SimpleNamespace(names=[], params={})], build)
+    assert why == "no measurable displacement noise in w: no noise added there"
+    assert all(np.array_equal(x, white.x) for x in seen) and len(seen) == 2
+
+
+@pytest.mark.parametrize("exc", [ValueError("bad"), ZeroDivisionError("zero"), FloatingPointError("fp"),
+                                 RuntimeError("no convergence"), np.linalg.LinAlgError("singular")])
+def test_a_failed_refit_with_added_noise_gives_no_shift_and_says_why(exc):
+    """A refit that raises a value, arithmetic, runtime or linear-algebra error: no shift for any step, and the
+    reason quotes it."""
+    def build(rs):
+        raise exc
+
+    steps = [SimpleNamespace(names=[], params={}), SimpleNamespace(names=["p"], params={"p.b": 1.0})]
+    shifts, why = simex.simex_shifts([_noisy_record("a", 5)], steps, build)
+    assert shifts == [{}, {}]
+    assert why == f"the records with added displacement noise could not be refitted ({exc})"

@@ -179,3 +179,54 @@ def test_lag_range_is_half_the_longest_useful_period_or_a_quarter_of_the_shortes
         want = min(0.5 / f_low, 0.25 * dur)
         assert (want == 0.5 / f_low) == (binds == "band")
         assert TimeProblem(data, None, ["r2"], 0).scales["tau"] == pytest.approx(want, rel=1e-12)
+
+
+@pytest.mark.parametrize("fraction, edge", [(None, 0.9), (0.5, 1.0), (0.9, 1.1), (0.95, 5.0)])
+def test_low_edge_is_where_the_stated_share_of_the_variance_is_reached(fraction, edge):
+    """x = 2 + cos(2π·1 Hz·t) + 0.3·cos(2π·5 Hz·t), 10 s at 100 Hz (bins every 0.1 Hz, both lines on the grid).  The
+    Hann window spreads each line over its bin and the two neighbours with powers 1/4, 1, 1/4 (window DFT
+    0.5, −0.25), and the lines hold 1/1.09 and 0.09/1.09 of the variance: cumulative shares 0.153 (0.9 Hz),
+    0.765 (1.0), 0.917 (1.1), 0.931 (4.9), 0.986 (5.0).  So 1 % (the default) is reached at 0.9 Hz, 50 % at 1.0,
+    90 % at 1.1, 95 % at 5.0 (within rounding of the bin frequencies)."""
+    from chainid.gap.timedomain.data import low_edge
+
+    t = np.arange(1000) / 100.0
+    x = 2.0 + np.cos(2 * np.pi * t) + 0.3 * np.cos(2 * np.pi * 5.0 * t)
+    got = low_edge(t, x) if fraction is None else low_edge(t, x, fraction)
+    assert got == pytest.approx(edge, abs=1e-9)
+
+
+def test_low_edge_of_a_record_with_fewer_than_eight_bins_is_its_first_bin():
+    """A cosine on bin 3 of the record's spectrum.  12 samples at 100 Hz have 7 bins: too few to read, the edge is
+    the first bin, 100/12 Hz.  14 samples have 8 bins: read; the Hann window spreads the line over bins 2–4 (powers
+    1/4, 1, 1/4), so bin 2 holds about 1/6 of the variance, past 1 %: the edge is 2·100/14 Hz."""
+    from chainid.gap.timedomain.data import low_edge
+
+    for n, want in ((12, 100.0 / 12), (14, 200.0 / 14)):
+        t = np.arange(n) / 100.0
+        assert low_edge(t, np.cos(2 * np.pi * (3 * 100.0 / n) * t)) == pytest.approx(want, rel=1e-9), n
+
+
+@pytest.mark.parametrize("n, edge, want", [(200, 50, (50, 150)), (100, 50, (18, 82)), (64, 50, (0, 64)),
+                                           (60, 5, (0, 60))])
+def test_the_compared_interior_leaves_the_edges_but_keeps_the_fewest_samples(n, edge, want):
+    """All but the kinematics' edge samples at each end, but at most (n − 64)//2 of them: n = 200, edge 50:
+    50 … 149; n = 100: only 18 each side (64 kept); n = 64 or fewer: nothing left out."""
+    from chainid.gap.timedomain.data import MIN_SAMPLES, interior
+
+    assert MIN_SAMPLES == 64
+    kin = SimpleNamespace(edge_samples=lambda fs: edge)
+    assert interior(kin, 100.0, n) == want
+
+
+def test_a_force_without_noise_gets_the_floor_of_a_millionth_of_its_spread():
+    """F a straight line in time: its second difference is 0 (force noise 0) and its detrended spectrum is 0
+    (spectral floor 0), so σ is the floor 1e-6·std(F) + 1e-9 N of the whole record's F; a constant force: 1e-9 N."""
+    from chainid.gap.timedomain.data import prepare_time
+    from chainid.records.record import Record
+
+    t = np.arange(400) / 100.0
+    x = 0.5 * np.sin(2 * np.pi * 1.5 * t)
+    F = 20.0 + 1000.0 * t
+    assert prepare_time(Record("r", t, x, F), 1).sigma == pytest.approx(1e-6 * float(np.std(F)) + 1e-9, rel=1e-9)
+    assert prepare_time(Record("r", t, x, np.full(t.size, 3.0)), 1).sigma == pytest.approx(1e-9, rel=1e-9)
