@@ -27,8 +27,8 @@ def resolution_warnings(drive: Drive, pitch: float, dt: float, dt_out: float) ->
             else f"the drive ({drive.law}, v = {drive.v:.4g} mm/s, one pitch") + f": period {T:.3g} s)"
     out = []
     if dt > T / MIN_STEPS_PER_PERIOD:
-        out.append(f"{what} is not resolved by the time step dt = {dt:.3g} s ({T / dt:.3g} steps per period; valid "
-                   f">= {MIN_STEPS_PER_PERIOD}): the chain does not follow the drive and the result is meaningless; "
+        out.append(f"{what} is not resolved by the time step dt = {dt:.3g} s ({T / dt:.4g} steps per period, fewer "
+                   f"than {MIN_STEPS_PER_PERIOD}; valid >= {MIN_STEPS_PER_PERIOD}): the chain does not follow the drive and the result is meaningless; "
                    f"give dt <= {T / MIN_STEPS_PER_PERIOD:.3g} s (--dt) or a slower drive")
     elif dt_out > T / 2:
         out.append(f"{what} is sampled every {dt_out:.3g} s by the outputs ({T / dt_out:.3g} per period; valid >= 2): "

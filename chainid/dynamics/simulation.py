@@ -178,7 +178,8 @@ def estimate(line: ChainLine, n_steps: float, n_rec: float, scheme: str = "expli
     n_el = (len(line.specimen_elements()) + len(line.dahl) + len(line.stribeck) + len(line.bouc_wen)
             + (line.backlash_mm > 0))
     work = float(n_steps) * nn * (IMPLICIT_COST if scheme == "implicit" else 1.0)
-    mem = 8.0 * (float(n_rec) * (3 * nn + N + 5) + 40 * nn + 4 * N * n_el)
+    # per element and segment: the tables hf, hx, hd and hq's 3 columns, and the state's two copies in the loop
+    mem = 8.0 * (float(n_rec) * (3 * nn + N + 5) + 40 * nn + 8 * N * n_el)
     return {"node_steps": work, "seconds": work / NODE_STEPS_PER_S, "bytes": mem}
 
 

@@ -118,3 +118,43 @@ def test_resistance_is_shared_over_the_moving_nodes_by_mass(far_end):
         w[-1] = 0.0
     np.testing.assert_allclose(line.resistance_per_node(), 100.0 * w / w.sum(), rtol=1e-12)
     assert line.resistance_per_node().sum() == pytest.approx(100.0, rel=1e-12)
+
+
+def test_zero_links_and_a_zero_length_are_refused_by_their_own_names():
+    """n_links = 0 is refused as n_links (an int >= 1), before the n_masses check; a chain of length 0 mm is
+    refused by from_length (> 0 mm), not rounded up to one link.
+    Bugs caught: ``n_links < 1`` → ``< 0`` (the error then names n_masses), ``length_mm > 0`` → ``>= 0``."""
+    with pytest.raises(ValueError) as exc:
+        ChainLine(n_links=0, n_masses=1)
+    assert str(exc.value) == "n_links = 0 is invalid: valid range an int >= 1 (chain length / pitch > 0)"
+    with pytest.raises(ValueError) as exc:
+        ChainLine.from_length(0.0, 1)
+    assert str(exc.value) == "length_mm = 0.0 is invalid: valid range > 0 mm"
+
+
+def test_a_line_without_a_moving_node_shares_no_resistance():
+    """One segment with a fixed far end: node 0 is the drive's and node 1 is anchored, so no node moves and the
+    resistance R = 100 N goes nowhere: R_i = 0 on both nodes (not 0/0).  Bug caught: ``tot > 0`` → ``tot >= 0``."""
+    line = ChainLine(n_links=10, n_masses=1, far_end="fixed", resistance_N=100.0)
+    r = line.resistance_per_node()
+    assert r.tolist() == [0.0, 0.0]
+
+
+def test_the_coulomb_element_defaults_to_the_specimens_link_stiffness():
+    """specimen_elements: no Coulomb element without coulomb_N; with coulomb_N = 50 N its stick stiffness defaults to
+    the specimen's link stiffness 1/c_lin with c_lin of Eq. 15 by hand (tests/paper_forms.py: c_lin ∝ n, so an
+    8-link specimen is twice as stiff), c_lin/ea_scale and + compliance applied each on its own; a given
+    coulomb_stiffness is used as it is, after the hysteresis elements.
+    Bugs caught: ``coulomb_N > 0`` → ``>= 0``, the reference links, ``ea_scale != 1 or compliance`` → ``and``."""
+    import paper_forms
+
+    cl16, cl8 = paper_forms.coefficients(n=16)[0], paper_forms.coefficients(n=8)[0]
+    kw = dict(n_links=32, n_masses=2)
+    assert ChainLine(**kw).specimen_elements() == []
+    cases = [(dict(), 1 / cl16), (dict(damping_ref_links=8), 1 / cl8), (dict(ea_scale=2.0), 2 / cl16),
+             (dict(compliance=1e-6), 1 / (cl16 + 1e-6)), (dict(ea_scale=2.0, compliance=1e-6), 1 / (cl16 / 2 + 1e-6))]
+    for extra, k in cases:
+        (el,) = ChainLine(**kw, coulomb_N=50.0, **extra).specimen_elements()
+        assert el[0] == pytest.approx(k, rel=1e-9) and el[1] == 50.0, extra
+    els = ChainLine(**kw, coulomb_N=50.0, coulomb_stiffness=5_000.0, hysteresis=((2_000.0, 100.0),)).specimen_elements()
+    assert els == [(2_000.0, 100.0), (5_000.0, 50.0)]

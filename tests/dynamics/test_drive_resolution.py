@@ -27,7 +27,7 @@ def test_an_unresolved_sine_drive_warns():
     msg = [m for m in res.warnings if "is not resolved by the time step" in m]
     assert len(msg) == 1
     assert f"period {T:.3g} s" in msg[0] and f"dt = {res.dt:.3g} s" in msg[0]
-    assert f"({T / res.dt:.3g} steps per period; valid >= 20)" in msg[0]
+    assert f"({T / res.dt:.4g} steps per period, fewer than 20; valid >= 20)" in msg[0]
 
 
 def test_an_unresolved_polygon_drive_warns():
@@ -50,3 +50,37 @@ def test_outputs_that_alias_a_resolved_drive_warn():
 def test_a_resolved_drive_gives_no_resolution_warning(drive):
     res = _run(drive, 0.5)
     assert not [m for m in res.warnings if "resolved" in m or "by the outputs" in m]
+
+
+def test_resolution_thresholds_are_20_steps_and_2_samples_per_period_exactly():
+    """resolution_warnings on a sine of ω = 123.456 rad/s (T = 2π/ω = 0.050894 s, by hand): a step of exactly T/20
+    and outputs exactly T/2 apart are resolved (no warning); outputs 0.45·T apart (2.2 per period) are too; a step
+    5 % above T/20 (20/1.05 = 19.05 steps per period, to 4 digits) warns once, naming ω to 4 digits (123.5) and the largest valid step
+    T/20 = 0.00254 s; outputs 0.55·T apart warn once with their interval and 1.82 samples per period.  A ramp has
+    no period: never a warning.
+    Bugs caught: the bounds made inclusive, the sample bound T/2 → T/3, the 20 steps, the hint's T/20, the digits."""
+    from chainid.dynamics.resolution import resolution_warnings
+
+    w = 123.456
+    T = 2 * math.pi / w
+    d = Drive("sine", A=0.1, omega=w)
+    assert resolution_warnings(d, 50.0, T / 20, T / 2) == []
+    assert resolution_warnings(d, 50.0, T / 40, 0.45 * T) == []
+    (msg,) = resolution_warnings(d, 50.0, 1.05 * T / 20, 1e-9)
+    assert msg.startswith("the drive (sine, ω = 123.5 rad/s: period 0.0509 s) is not resolved by the time step dt = "
+                          "0.00267 s (19.05 steps per period, fewer than 20; valid >= 20)")
+    assert f"give dt <= {T / 20:.3g} s (--dt)" in msg and f"{T / 20:.3g}" == "0.00254"
+    (msg,) = resolution_warnings(d, 50.0, T / 40, 0.55 * T)
+    assert msg.startswith("the drive (sine, ω = 123.5 rad/s: period 0.0509 s) is sampled every 0.028 s by the "
+                          "outputs (1.82 per period; valid >= 2)")
+    assert resolution_warnings(Drive("ramp", v=1e9, t_ramp=0.0), 50.0, 1.0, 1.0) == []
+
+
+def test_an_unresolved_polygon_warning_names_the_mean_speed_and_one_pitch():
+    """A polygon drive at v̄ = 1234.56 mm/s on a 50 mm pitch has the period p/v̄ = 0.0405 s (by hand); a step of
+    0.01 s is 4.05 steps per period: one warning naming the speed to 4 digits (1235 mm/s) and 'one pitch'."""
+    from chainid.dynamics.resolution import resolution_warnings
+
+    (msg,) = resolution_warnings(Drive("polygon", v=1234.56, z=8), 50.0, 0.01, 0.01)
+    assert msg.startswith("the drive (polygon, v = 1235 mm/s, one pitch: period 0.0405 s) is not resolved by the "
+                          "time step dt = 0.01 s (4.05 steps per period, fewer than 20; valid >= 20)")

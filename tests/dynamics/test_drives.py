@@ -99,3 +99,19 @@ def test_drive_max_speed_closed_form_and_sampled(z):
     assert Drive(law="polygon", v=v, z=z, pitch=20.0).polygon_period(pitch) == pytest.approx(0.02, rel=1e-12)
     assert Drive(law="sine", A=3.0, omega=7.0).max_speed(pitch) == pytest.approx(21.0, rel=1e-12)
     assert Drive(law="ramp", v=250.0, t_ramp=1.0).max_speed(pitch) == 250.0
+
+
+def test_only_a_moving_drive_has_a_speed_and_only_a_sine_with_amplitude_or_a_polygon_a_period():
+    """Drive.max_speed of a held end ("none") is 0 whatever its v field; Drive.period is 2π/ω only for a sine of
+    amplitude A > 0 (ω = 4 rad/s: 1.5708 s), p/v̄ for the polygon (50 mm at 400 mm/s: 0.125 s; its own pitch 20 mm:
+    0.05 s), inf for a ramp or a held end even with A and ω set, and inf for a sine of zero amplitude (no periodic
+    excitation, the docstring).
+    Bugs caught: the held end's speed constant, ``A > 0`` → ``A >= 0``, the sine test's ``and`` → ``or``."""
+    pitch = 50.0
+    assert Drive("none", v=250.0).max_speed(pitch) == 0.0
+    assert Drive("sine", A=0.5, omega=4.0).period(pitch) == pytest.approx(2 * math.pi / 4.0, rel=1e-15)
+    assert Drive("sine", A=0.0, omega=4.0).period(pitch) == math.inf
+    assert Drive("ramp", v=100.0, A=2.0, omega=10.0).period(pitch) == math.inf
+    assert Drive("none", A=2.0, omega=10.0).period(pitch) == math.inf
+    assert Drive("polygon", v=400.0, z=8, A=2.0, omega=10.0).period(pitch) == pytest.approx(0.125, rel=1e-15)
+    assert Drive("polygon", v=400.0, z=8, pitch=20.0).period(pitch) == pytest.approx(0.05, rel=1e-15)

@@ -44,3 +44,30 @@ def test_figures_show_the_result_in_kN_and_m():
     np.testing.assert_allclose(lines[1].get_xdata(), [0.0, 1.0, 2.0])
     np.testing.assert_allclose(lines[1].get_ydata(), [0.0, 1.0, -1.0])
     plt.close(fig)
+
+
+def test_save_writes_the_figure_at_120_dpi_and_refuses_to_overwrite(tmp_path):
+    """plots.save writes the drive-tension figure (8.0 × 3.6 in) as a PNG of 960 × 432 pixels at the default
+    120 dpi (by hand), refuses an existing file without ``force`` (a ValueError naming it, file untouched) and
+    overwrites it with ``force``; the figure is closed either way.
+    Bugs caught: the default dpi, ``force`` not passed on, the figure left open."""
+    from types import SimpleNamespace
+
+    import matplotlib.pyplot as plt
+
+    from chainid.dynamics.plots import plot_drive_tension, save
+
+    res = SimpleNamespace(t=np.array([0.0, 0.1]), tension=np.array([[1e3], [2e3]]), drive_force=np.array([0.0, 1e3]),
+                          static_tension=0.0, peak_tension=2e3, dynamic_factor=float("nan"))
+    out = tmp_path / "drive.png"
+    fig = plot_drive_tension(res)
+    assert save(fig, out) == out and not plt.fignum_exists(fig.number)
+    assert plt.imread(out).shape[:2] == (432, 960)
+    before = out.read_bytes()
+    fig = plot_drive_tension(res)
+    with pytest.raises(ValueError, match="exists"):
+        save(fig, out)
+    assert out.read_bytes() == before and not plt.fignum_exists(fig.number)
+    fig = plot_drive_tension(res)
+    save(fig, out, force=True, dpi=60)
+    assert plt.imread(out).shape[:2] == (216, 480)

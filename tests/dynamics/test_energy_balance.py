@@ -99,3 +99,33 @@ def test_balance_reports_the_final_energies_and_the_worst_residual():
     assert (eb["work_in"], eb["kinetic"], eb["elastic"], eb["dissipated"]) == (130.0, 125.0, 3.0, 4.0)
     assert (eb["residual"], eb["worst_residual"], eb["worst_t_s"]) == (-2.0, 4.0, 1.0)
     assert eb["relative_error"] == pytest.approx(4.0 / 130.0, rel=1e-15)
+
+
+@pytest.mark.parametrize("W, kin, el, D", [
+    ([0.0, -30.0], [0.0, -20.0], [0.0, -13.0], [0.0, 0.0]),  # the chain did work on the drive: W = −30 leads
+    ([0.0, 0.0], [30.0, 0.0], [0.0, 20.0], [0.0, 7.0]),  # ΔE_kin = −30 leads
+    ([0.0, 0.0], [0.0, 20.0], [30.0, 0.0], [0.0, 7.0]),  # ΔE_el = −30 leads
+    ([0.0, 0.0], [0.0, 20.0], [0.0, 7.0], [0.0, -30.0]),  # a play returned 30 N·mm (negative dissipation) leads
+])
+def test_balance_scale_takes_each_energy_by_its_magnitude(W, kin, el, D):
+    """The scale is the largest |W|, |ΔE_kin|, |ΔE_el|, |D| (balance docstring): in each case one of them is −30 N·mm
+    and the others at most 20 in magnitude, the residual W − ΔE_kin − ΔE_el − D is 3 N·mm at the end (by hand), so
+    the scale is 30 and the relative error 0.1.  Bug caught: an ``abs`` dropped from one of the four maxima (the
+    scale would be 20: 0.15)."""
+    from chainid.dynamics.energy import balance
+
+    eb = balance(*(np.array(a) for a in (W, kin, el, D)))
+    assert eb["residual"] == pytest.approx(3.0, abs=1e-12) and eb["scale"] == 30.0
+    assert eb["relative_error"] == pytest.approx(0.1, rel=1e-12)
+
+
+def test_balance_worst_residual_keeps_its_sign():
+    """W = 0, 10, 10, 10 and E_kin = 0, 9, 13, 8 [N·mm] (nothing else): the residual is 0, 1, −3, 2 (by hand), so the
+    worst is −3 (signed, docstring) at t = 0.2 s, not the largest positive 2, and the relative error |−3| / 13 (the
+    scale: ΔE_kin = 13).  Bugs caught: argmax of the signed residual, the relative error not taken in magnitude."""
+    from chainid.dynamics.energy import balance
+
+    z = np.zeros(4)
+    eb = balance(np.array([0.0, 10.0, 10.0, 10.0]), np.array([0.0, 9.0, 13.0, 8.0]), z, z, np.array([0, 0.1, 0.2, 0.3]))
+    assert (eb["worst_residual"], eb["worst_t_s"], eb["residual"]) == (-3.0, 0.2, 2.0)
+    assert eb["relative_error"] == pytest.approx(3.0 / 13.0, rel=1e-15)

@@ -44,3 +44,15 @@ def test_mode_shapes_normalised_positive_at_their_largest_and_placed_at_the_free
     for bad in (0, 2.0, True):
         with pytest.raises(ValueError, match=rf"^n_modes = {bad!r} is invalid: valid range None or an int >= 1$"):
             modes(line, n_modes=bad)
+
+
+def test_an_unloaded_chain_has_no_stiffness_and_zero_frequencies():
+    """Without pretension every segment sits at F = 0, where the Hertz contact's tangent dF/dx = 0 (x ∝ F^(2/3)):
+    the tangent stiffness is 0 and every natural frequency of the 4 free nodes is exactly 0 rad/s (no clipping
+    away from 0).  Bug caught: the clip of the eigenvalues at 0 moved."""
+    from chainid.dynamics.modes import modes
+
+    line = ChainLine(n_links=20, n_masses=4)
+    assert line.static_tangent().tolist() == [0.0] * 4
+    md = modes(line)
+    assert md.omega.tolist() == [0.0] * 4 and md.frequency_hz.tolist() == [0.0] * 4

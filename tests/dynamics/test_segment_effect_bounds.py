@@ -45,3 +45,36 @@ def test_the_bounds_pass_and_tuples_are_normalised():
     assert line.deadband == (0.0, 0.0, 1.0, -3.0) and line.stribeck == ((10.0, 0.0, 1e-9, -10.0),)
     assert line.bouc_wen == ((1e-9, 1e-9, 0.1, 0.0),)
     ChainLine(**KW, ea_scale=1000.0, contact_exponent=1.5, deadband=(1.0, 0.0, 6.0, 0.0), bouc_wen=((1, 1, 20, 1),))
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(ea_scale=True), "ea_scale = True is invalid: valid range 0.001 to 1000"),
+    (dict(deadband=(-0.5, 0.1, 2.0, 0.0)), "deadband = (-0.5, 0.1, 2.0, 0.0) is invalid: valid range () or (k_d >= 0"),
+    (dict(deadband=(1.0, 0.1, 6.5, 0.0)), "deadband = (1.0, 0.1, 6.5, 0.0) is invalid"),
+    (dict(deadband=(1.0, 0.1, 2.0, float("inf"))), "deadband = (1.0, 0.1, 2.0, inf) is invalid"),
+    (dict(deadband=("x", 0.1, 2.0, 0.0)), "deadband = ('x', 0.1, 2.0, 0.0) is invalid: valid range () or (k_d >= 0"),
+    (dict(deadband=(None, 0.1, 2.0, 0.0)), "deadband = (None, 0.1, 2.0, 0.0) is invalid: valid range () or (k_d"),
+    (dict(stribeck=((10.0, -0.5, 1.0, 0.0),)), "stribeck = (10.0, -0.5, 1.0, 0.0) is invalid: valid range tuples"),
+    (dict(stribeck=((10.0, 5.0, float("inf"), 0.0),)), "stribeck = (10.0, 5.0, inf, 0.0) is invalid"),
+    (dict(stribeck=(("a", 5.0, 1.0, 0.0),)), "stribeck = (('a', 5.0, 1.0, 0.0),) is invalid: valid range tuples"),
+    (dict(stribeck=((None, 5.0, 1.0, 0.0),)), "stribeck = ((None, 5.0, 1.0, 0.0),) is invalid: valid range tuples"),
+    (dict(bouc_wen=((5.0, 0.0, 1.0, 1.0),)), "bouc_wen = (5.0, 0.0, 1.0, 1.0) is invalid: valid range tuples"),
+    (dict(bouc_wen=((5.0, 0.1, 20.5, 1.0),)), "bouc_wen = (5.0, 0.1, 20.5, 1.0) is invalid"),
+    (dict(bouc_wen=((5.0, 0.1, 2.0, -0.5),)), "bouc_wen = (5.0, 0.1, 2.0, -0.5) is invalid"),
+])
+def test_values_just_past_a_bound_or_not_numbers_are_refused_as_value_errors(kw, message):
+    """Past each bound by less than one unit (k_d = −0.5, dF_s = −0.5, r = −0.5 below 0; p = 6.5 above 6; n = 20.5
+    above 20; x_y = 0 not > 0), a non-finite entry, a bool scale and entries that are not numbers (a string: float()
+    raises ValueError; None: TypeError) are each refused with a ValueError naming the field, the value and the range.
+    Bugs caught: a bound shifted by one (0 → −1, 6 → 7, 20 → 21), ``x_y > 0`` → ``>= 0``, the finiteness test
+    dropped, the bool test dropped, one exception type dropped from ``except (TypeError, ValueError)``."""
+    with pytest.raises(ValueError) as exc:
+        ChainLine(**KW, **kw)
+    assert str(exc.value).startswith(message)
+
+
+def test_a_stribeck_element_without_kinetic_force_is_valid():
+    """F_c = 0 N is inside F_c >= 0 (with dF = 0, |dF| <= F_c): a purely static (Stribeck) excess of 5 N is valid.
+    Bug caught: ``F_c >= 0`` → ``F_c > 0``."""
+    line = ChainLine(**KW, stribeck=((0.0, 5.0, 1.0, 0.0),))
+    assert line.stribeck == ((0.0, 5.0, 1.0, 0.0),)

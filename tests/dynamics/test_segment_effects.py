@@ -233,3 +233,27 @@ def test_fixture_mass_adds_its_inertia_to_the_drive_force_only(scheme):
     a0 = -Am * w * w * np.sin(w * res.t)
     np.testing.assert_allclose(res.drive_force, 1e-3 * (0.5 + 5.0) * a0 + res.tension[:, 0], rtol=1e-12, atol=1e-9)
     assert res.energy_balance()["relative_error"] < 1e-3
+
+
+def test_static_tangent_adds_the_engaged_dead_band_to_the_shifted_spring():
+    """One 16-link segment at F0 = 2 kN with slack s = 0.05 mm and a dead band (k_d = 3e3 N/mm^1.5, g = 0.1 mm,
+    p = 1.5) centred at x_c = s + x(F0) − 0.25 mm, engaged at rest: the static elongation e solves
+    F_s(e − s) + k_d·(e − x_c − g)^1.5 = F0 (bisection here, F_s the inverse of Eq. 15), and the static tangent is
+    the spring's 1/(CL + ⅔·CH·F_s^(−1/3)) at its share F_s plus the band's k_d·p·(e − x_c − g)^(p−1) (by hand).
+    Bugs caught: the band's tangent dropped or taken as its force, the spring's argument not shifted by s."""
+    s, kd, g, p = 0.05, 3e3, 0.1, 1.5
+    xc = s + CL * F0 + CH * F0 ** (2 / 3) - 0.25
+    lo, hi = s, s + 2.0
+    for _ in range(200):
+        e = 0.5 * (lo + hi)
+        if f_hand(e - s)[0] + kd * max(e - xc - g, 0.0) ** p < F0:
+            lo = e
+        else:
+            hi = e
+    e = 0.5 * (lo + hi)
+    Fs = f_hand(e - s)[0]
+    assert e - xc - g > 0.05 and Fs < F0 - 100.0  # the band is engaged and carries part of the pretension
+    line = ChainLine(n_links=16, n_masses=1, pretension_N=F0, far_end="fixed", slack=s, deadband=(kd, g, p, xc))
+    assert line.pretension_elongation()[0] == pytest.approx(e, rel=1e-9)
+    want = 1.0 / (CL + (2.0 / 3.0) * CH * Fs ** (-1.0 / 3.0)) + kd * p * (e - xc - g) ** (p - 1.0)
+    assert line.static_tangent()[0] == pytest.approx(want, rel=1e-7)

@@ -8,7 +8,9 @@ c + b_w·(ω − w_ref) + b_A·(A − A_ref); the refusals and notes named.  And
 Units mm, N, s, kg.
 """
 import json
+import math
 
+import numpy as np
 import pytest
 
 import paper_forms
@@ -197,3 +199,80 @@ def test_the_operating_elongation_is_the_chains_own_at_the_pretension(pretension
                                               xtol=1e-15, rtol=1e-14)
     assert x0 == pytest.approx(want, rel=1e-12, abs=1e-15)
     assert ke == pytest.approx(float(kernels.stiffness(max(want, 1e-6), base.chain)), rel=1e-9)
+
+
+def _plain(tmp_path, text, name="p.toml"):
+    """The 16-link specimen (no modifiers: its link stiffness is 1/CL) with ``text`` appended."""
+    p = tmp_path / name
+    p.write_text(SPECIMEN + text)
+    return p
+
+
+def test_damping_forms_take_their_own_defaults(tmp_path):
+    """A ``dahl`` damping with only F_h = 20 N gets x_h = 1 mm (the damping form's default, not the effect's
+    0.05 mm); a ``coulomb`` damping with only F_c = 30 N has a rigid stick (x_s = 0): the line's Coulomb element,
+    with a note giving x_s = 0 mm and the link stiffness 1/CL (Eq. 15 by hand, 4 digits).
+    Bugs caught: the defaults 1.0 and 0.0 changed, the note's digits."""
+    kw, notes = segment_kwargs(_plain(tmp_path, '[damping]\nform = "dahl"\n[damping.params]\nF_h = 20.0\n'))
+    assert kw["dahl"] == ((20.0, 1.0),) and notes == []
+    kw, notes = segment_kwargs(_plain(tmp_path, '[damping]\nform = "coulomb"\n[damping.params]\nF_c = 30.0\n'))
+    assert kw["coulomb_N"] == 30.0 and kw["hysteresis"] == ()
+    assert notes == [f"--segment-model {str(tmp_path / 'p.toml')!r}: damping (coulomb): stick travel x_s = 0 mm is "
+                     f"stiffer than the link ({1 / CL:.4g} N/mm): Coulomb friction 30 N with the link stiffness as "
+                     "stick stiffness"]
+
+
+def test_a_stribeck_effect_with_only_a_static_excess_or_dF_at_F_c_is_carried(tmp_path):
+    """Stribeck with F_c = 0 and dF_s = 5 N (static excess only) is an element, its stick the link stiffness 1/CL
+    (Eq. 15 by hand); dF = F_c = 10 N is inside |dF| <= F_c; with F_c = dF_s = 0 there is none.
+    Bugs caught: ``F_c > 0 or dF_s > 0`` → ``and``, ``abs(dF) > F_c`` → ``>=``."""
+    kw, _ = segment_kwargs(_plain(tmp_path, _effect("stribeck", F_c=0.0, dF_s=5.0, v_s=1.0, dF=0.0)))
+    assert kw["stribeck"] == ((0.0, 5.0, 1.0, 0.0),)
+    assert kw["stribeck_stiffness"] == pytest.approx(1.0 / CL, rel=1e-9)
+    kw, _ = segment_kwargs(_plain(tmp_path, _effect("stribeck", F_c=10.0, dF_s=5.0, v_s=1.0, dF=10.0)))
+    assert kw["stribeck"] == ((10.0, 5.0, 1.0, 10.0),)
+    kw, _ = segment_kwargs(_plain(tmp_path, _effect("stribeck", F_c=0.0, dF_s=0.0, v_s=1.0, dF=0.0)))
+    assert kw["stribeck"] == () and kw["stribeck_stiffness"] is None
+
+
+def test_an_operating_point_and_covariates_must_be_finite_and_positive(tmp_path):
+    """A law damping needs ω > 0 and A > 0: ω = 0 and A = inf are refused naming them; a covariate value must be a
+    finite number (nan refused naming it).  Bugs caught: ``v > 0`` → ``v >= 0``, the finiteness tests dropped."""
+    law = '[damping]\nform = "law"\nlaw = "coulomb"\ncoefficients = [50.0]\nrule = "viscous"\n'
+    p = _plain(tmp_path, law)
+    with pytest.raises(ValueError, match=r"give its operating point: omega = 0.0 is invalid: valid range > 0 "):
+        segment_kwargs(p, omega=0.0, amplitude=0.2)
+    with pytest.raises(ValueError, match=r"give its operating point: amplitude = inf is invalid: valid range > 0 "):
+        segment_kwargs(p, omega=40.0, amplitude=float("inf"))
+    with pytest.raises(ValueError, match=r": covariate i = nan is invalid: valid range a finite number$"):
+        segment_kwargs(p, omega=40.0, amplitude=0.2, covariates={"i": float("nan")})
+
+
+def test_a_law_resolved_at_the_pretension_names_its_operating_point_and_tangent(tmp_path):
+    """A Coulomb-equivalent law c_e = 50·4/(π ω A) resolved (rule viscous) at ω = 40 rad/s, A = 0.2 mm with a
+    2 kN pretension: the note names the point and the specimen's tangent there, k_e = 1/(CL + ⅔·CH·F^(−1/3)) at
+    F = 2000 N (Eq. 15 differentiated by hand), and the viscous c it gives, 7.95775 N·s/mm.
+    Bugs caught: the tangent not taken at the pretension, the note's numbers."""
+    law = '[damping]\nform = "law"\nlaw = "coulomb"\ncoefficients = [50.0]\nrule = "viscous"\n'
+    kw, notes = segment_kwargs(_plain(tmp_path, law), pretension_N=2000.0, omega=40.0, amplitude=0.2)
+    ke = 1.0 / (CL + (2.0 / 3.0) * CH * 2000.0 ** (-1.0 / 3.0))
+    c = 50.0 * 4.0 / (math.pi * 40.0 * 0.2)
+    assert kw["damping"] == pytest.approx(c, rel=1e-12)
+    assert notes[0].startswith(f"damping law 'coulomb' resolved by rule 'viscous' at omega = 40 rad/s, A = 0.2 mm, "
+                               f"k_e = {ke:.6g} N/mm: viscous ")
+
+
+def test_a_hysteretic_rule_gives_iwan_elements_and_a_note_for_its_compensating_spring(tmp_path):
+    """The same law resolved by rule hysteretic: η·k = c·ω = 50·4/(π·0.2) N/mm and x_max = A = 0.2 mm, as 32 Iwan
+    elements of slip force (π/2)·η·k·x_max/32 and stick travels (i − ½)·x_max/32 (by hand; each a Jenkins element
+    of stiffness F_c/x_s), and a note that the rule's compensating spring k_comp is not carried.
+    Bug caught: the k_comp note's condition inverted."""
+    law = '[damping]\nform = "law"\nlaw = "coulomb"\ncoefficients = [50.0]\nrule = "hysteretic"\n'
+    kw, notes = segment_kwargs(_plain(tmp_path, law), pretension_N=2000.0, omega=40.0, amplitude=0.2)
+    eta_k = 50.0 * 4.0 / (math.pi * 0.2)
+    Fc = 0.5 * math.pi * eta_k * 0.2 / 32
+    xs = (np.arange(32) + 0.5) * 0.2 / 32
+    np.testing.assert_allclose(np.array(kw["hysteresis"]), np.column_stack([Fc / xs, np.full(32, Fc)]), rtol=1e-9)
+    assert len(notes) == 2 and notes[1].startswith("the hysteretic rule's compensating spring k_comp = ")
+    assert notes[1].endswith("N/mm is not carried by dynamics segments: the Iwan elements keep their in-phase "
+                             "stiffness")

@@ -440,3 +440,29 @@ def test_stable_step_of_a_damped_line_by_hand():
     zeta = max(2e3 * (c[0] + c[1]) / m[1], 2e3 * c[1] / m[2]) / (2.0 * w)
     assert zeta > 1e-3  # the damping shortens the step measurably
     assert stable_step(line) == pytest.approx((2.0 / w) * (math.sqrt(1.0 + zeta**2) - zeta), rel=1e-9)
+
+
+def test_stable_step_of_a_dead_band_at_twice_the_static_load_by_hand():
+    """A dead band (k_d = 400 N/mm^1.5 of the 16-link specimen, p = 1.5) stiffens without bound, so without
+    peak_force stable_step takes its tangent where it carries twice the static load: F_ref = 2·(pretension +
+    resistance + Σ|load steps|) = 2·(1000 + 200 + |−300|) = 3000 N on a tensioner line, and 2·max(0, 1 N) = 2 N on
+    an unloaded one; with peak_force = 5 kN, there.  By hand, on two segments of 8 links (r = 1/2): k_d,seg =
+    400·2^1.5, its tangent k_d·p·(F/k_d)^((p−1)/p), added to the load-independent 1/c_lin (or the Hertz tangent at the
+    peak force); Gershgorin over node 1 (2e3·(k_1 + k_2)/m_1) and the tensioner node (2e3·k_2/m_2), dt = 2/ω.
+    Bugs caught: the factor 2, the |load| (a negative load step), the 1 N floor, resistance or loads dropped."""
+    kd = 400.0 * 2.0 ** 1.5
+
+    def hand(line, F_ref, spring_k):
+        k = spring_k + kd * 1.5 * (F_ref / kd) ** (0.5 / 1.5)
+        m = line.node_masses()
+        w2 = max(2e3 * (k[0] + k[1]) / m[1], 2e3 * k[1] / m[2])
+        return 2.0 / math.sqrt(w2)
+
+    loaded = ChainLine(n_links=16, n_masses=2, pretension_N=1_000.0, resistance_N=200.0,
+                       loads=(LoadStep(2, -300.0, 0.1),), deadband=(400.0, 0.05, 1.5, 0.0))
+    cl, ch = loaded.segment_coefficients()
+    assert stable_step(loaded) == pytest.approx(hand(loaded, 3_000.0, 1.0 / cl), rel=1e-12)
+    bare = ChainLine(n_links=16, n_masses=2, deadband=(400.0, 0.05, 1.5, 0.0))
+    assert stable_step(bare) == pytest.approx(hand(bare, 2.0, 1.0 / cl), rel=1e-12)
+    k_peak = 1.0 / (cl + (2.0 / 3.0) * ch * 5_000.0 ** (-1.0 / 3.0))
+    assert stable_step(loaded, peak_force=5_000.0) == pytest.approx(hand(loaded, 5_000.0, k_peak), rel=1e-12)
