@@ -24,8 +24,8 @@ not lean on the tie: the resampled interval, recentred on the reported estimate 
 the free fit, and the profile is the free fit's.  That is wider than the tied estimate's own scatter where the tie
 holds (backlash on the harmonic grid: the free profile's half-width over 1.645 is 1.6 times the tied estimate's rms
 error over 25 noise seeds, ``python benchmarks/interval_scatter.py --case harmonic/single/backlash --param
-backlash.b``), and the intervals of the tied fit itself were tried: on the harmonic grid's seed 0 (``chainid benchmark-gap
---excitations harmonic --resamples 200 --seed 0``) they covered backlash in 30 of 33 cases (32 free) but friction's
+backlash.b``), and the intervals of the tied fit itself were tried: on the harmonic grid's seed 0
+(``chainid benchmark-gap --excitations harmonic --resamples 200 --seed 0``) they covered backlash in 30 of 33 cases (32 free) but friction's
 F_c in 21 of 32 (31 free), every miss on the low side.  F_c is biased low by the noise where its partners μ and
 x_s sit at their bound of no effect, as they do in the grid's truth: without noise the tied fit is exact
 (``tests/gap/harmonic/test_damping_tie.py``); with 1 % force noise one case's F_c came out 1.1 % low with
