@@ -14,22 +14,22 @@ varies with ω or A can take up part of a dissipative effect's first harmonic, w
 Coulomb law exactly, the paper's Eq. 21 polynomial in part over a plan's range — so a tie to it would move the
 effect instead of informing it.
 
-The tie is kept when the tests do not refute it: the nested-model F test of the training χ² with each test's own
-c_e (n_train of them) against the law's coefficients (fewer), at :data:`LEVEL`; the noise scale is the free fit's
-χ² per degree of freedom.  A tie that pins a parameter at a bound the free fit did not, or under which the chain
-would not pass the step rule, is not kept.  A kept tie gives the step's parameters (the point estimate), and the
-step is scored again with them.  Everything else keeps each test's own c_e: the selection (its fits, its scores,
-the resamples' replay of it) and the uncertainty (jack-knife, resample refits, profiles).  The intervals thus do
-not lean on the tie: the resampled interval, recentred on the reported estimate as every one is, has the width of
-the free fit, and the profile is the free fit's.  That is wider than the tied estimate's own scatter where the tie
-holds (backlash on the harmonic grid: the free profile's half-width over 1.645 is 1.6 times the tied estimate's rms
-error over 25 noise seeds, ``python benchmarks/interval_scatter.py --case harmonic/single/backlash --param
-backlash.b``), and the intervals of the tied fit itself were tried: on the harmonic grid's seed 0
-(``chainid benchmark-gap --excitations harmonic --resamples 200 --seed 0``) they covered backlash in 30 of 33 cases (32 free) but friction's
-F_c in 21 of 32 (31 free), every miss on the low side.  F_c is biased low by the noise where its partners μ and
-x_s sit at their bound of no effect, as they do in the grid's truth: without noise the tied fit is exact
-(``tests/gap/harmonic/test_damping_tie.py``); with 1 % force noise one case's F_c came out 1.1 % low with
-μ = 1.0·10⁻⁴, and the tied χ² put the true F_c (μ refitted to its bound) just past the level.  A bound of no effect
+The tie is kept when the tests do not refute it: the nested-model F test of the training χ² with each test's own c_e
+(n_train of them) against the law's coefficients (fewer), at :data:`LEVEL`; the noise scale is the free fit's χ² per
+degree of freedom.  A tie that pins a parameter at a bound the free fit did not, or under which the chain would not
+pass the step rule, is not kept.  A kept tie gives the step's parameters (the point estimate), and the step is
+scored again with them.  Everything else keeps each test's own c_e: the selection (its fits, its scores, the
+resamples' replay of it) and the uncertainty (jack-knife, resample refits, profiles).  The intervals thus do not
+lean on the tie: the resampled interval, recentred on the reported estimate as every one is, has the width of the
+free fit, and the profile is the free fit's.  That is wider than the tied estimate's own scatter where the tie holds
+(backlash on the harmonic grid: the free profile's half-width over 1.645 is 1.6 times the tied estimate's rms error
+over 25 noise seeds, ``python benchmarks/interval_scatter.py --case harmonic/single/backlash --param backlash.b``),
+and the intervals of the tied fit itself were tried: on the harmonic grid's seed 0 (``chainid benchmark-gap
+--excitations harmonic --resamples 200 --seed 0``) they covered backlash in 30 of 33 cases (32 free) but friction's
+F_c in 21 of 32 (31 free), every miss on the low side.  F_c is biased low by the noise where its partners μ and x_s
+sit at their bound of no effect, as they do in the grid's truth: without noise the tied fit is exact
+(``tests/gap/harmonic/test_damping_tie.py``); with 1 % force noise one case's F_c came out 1.1 % low with μ =
+1.0·10⁻⁴, and the tied χ² put the true F_c (μ refitted to its bound) just past the level.  A bound of no effect
 makes the profile's χ² steeper on the side the bound blocks.  No resample sees a bias that every fit shares; the
 free fit's wider intervals take it in.
 
