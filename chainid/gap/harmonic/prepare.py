@@ -292,7 +292,7 @@ def not_a_sine(t: np.ndarray, x: np.ndarray, omega: float, theta: float, x0: flo
     if dist > SINE_DISTORTION_MAX:
         return (f"not a sine test: the displacement departs from its fitted sine by {100 * dist:.1f} % of the "
                 f"amplitude (RMS; a sine test departs by at most {100 * SINE_DISTORTION_MAX:.0f} %, a triangle by "
-                "8.5 %): time-domain route")
+                "8.6 %): time-domain route")
     return ""
 
 
