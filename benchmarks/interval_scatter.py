@@ -29,20 +29,26 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def realisations(case: dict, seeds: int, resamples: int, key: str) -> list[tuple[float, float, list, list, list]]:
-    """(estimate, truth, profile, resampled, reported interval) of every realisation that estimates ``key``."""
+def realisations(case: dict, seeds: int, resamples: int, key: str) -> tuple[list[tuple], dict[str, int]]:
+    """(estimate, truth, profile, resampled, reported interval) of every realisation whose verdict is exactly the
+    case's truth and which estimates ``key`` (the grid scores only those), and the count of the others by why."""
     from chainid.gap.benchmark.grid import run_case
+    from chainid.gap.benchmark.report import row_param_scores
 
-    out = []
+    out, left = [], {"error": 0, "other verdict": 0, "no estimate": 0}
     for s in range(seeds):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             r = run_case(case | {"seed": 1000 + 7919 * s, "resamples": resamples})
-        if key in (r.get("params") or {}):
+        if str(r.get("verdict", "")).startswith("error"):
+            left["error"] += 1
+        elif not any(sc["param"] == key for sc in row_param_scores(r)):
+            left["other verdict" if not row_param_scores(r) else "no estimate"] += 1
+        else:
             parts = r.get("params_ci90_parts") or {}
             out.append((r["params"][key], r["true_params"][key], (parts.get("profile") or {}).get(key),
                         (parts.get("resampled") or {}).get(key), (r.get("params_ci90") or {}).get(key)))
-    return out
+    return out, left
 
 
 def report(rows: list[tuple[float, float, list, list, list]]) -> str:
@@ -59,7 +65,8 @@ def report(rows: list[tuple[float, float, list, list, list]]) -> str:
             continue
         hw = float(np.median([(b - a) / 2 for a, b in ivs])) / 1.645
         cov = np.mean([a <= truth <= b for a, b in ivs])
-        lines.append(f"  {name:10s} median half-width/1.645 {hw:.3g} (x{hw / rms:.2f} the rms error); "
+        ratio = f"x{hw / rms:.2f} the rms error" if rms > 0 else "no error to compare"
+        lines.append(f"  {name:10s} median half-width/1.645 {hw:.3g} ({ratio}); "
                      f"covers {100 * cov:.0f} % of {len(ivs)}")
     return "\n".join(lines)
 
@@ -83,16 +90,22 @@ def main(argv: list[str] | None = None) -> int:
         import chainid.gap.harmonic.tie as tie
 
         tie.tie_damping = lambda *args, **kw: None
-    cases = [c for c in selected_cases(False, 0, ("harmonic",), None, a.case)
-             if c["levels"][0] == a.level and c["noise"] == a.noise and c["chain"] == a.chain and c["plan"] == a.plan]
-    if not cases:
-        ap.error(f"no harmonic case {a.case} at level {a.level}, noise {a.noise}, chain {a.chain}, plan {a.plan}")
-    rows = realisations(cases[0], a.seeds, a.resamples, a.param)
+    try:
+        cases = [c for c in selected_cases(False, 0, ("harmonic",), None, a.case) if c["label"] == a.case
+                 and c["levels"][:1] == [a.level] and c["noise"] == a.noise and c["chain"] == a.chain
+                 and c["plan"] == a.plan]
+    except ValueError as exc:  # no case label holds the text
+        ap.error(str(exc))
+    if len(cases) != 1:
+        ap.error(f"{len(cases)} harmonic cases labelled exactly {a.case} at level {a.level}, noise {a.noise}, chain "
+                 f"{a.chain}, plan {a.plan} (one wanted; labels: chainid benchmark-gap --excitations harmonic)")
+    rows, left = realisations(cases[0], a.seeds, a.resamples, a.param)
     if len(rows) < 3:
-        ap.error(f"only {len(rows)} of {a.seeds} realisations estimate {a.param}")
+        ap.error(f"only {len(rows)} of {a.seeds} realisations estimate {a.param} with the right verdict ({left})")
     print(f"{a.case} {a.param}: level {a.level}, noise {a.noise}, chain {a.chain}, plan {a.plan}, "
           f"{a.resamples} resamples{', untied' if a.untied else ''}")
     print(report(rows))
+    print(f"  left out: {left}")
     return 0
 
 

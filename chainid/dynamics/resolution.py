@@ -16,6 +16,11 @@ __all__ = ["MIN_STEPS_PER_PERIOD", "resolution_warnings"]
 MIN_STEPS_PER_PERIOD = 20
 
 
+def _short(count: float) -> str:
+    """A count below its threshold as text, cut (not rounded) to two decimals: 19.998 reads 19.99, never 20."""
+    return f"{math.floor(100.0 * count) / 100.0:.4g}"
+
+
 def resolution_warnings(drive: Drive, pitch: float, dt: float, dt_out: float) -> list[str]:
     """Warnings when the drive's period (:meth:`Drive.period` [s]) is not resolved by the time step ``dt`` [s]
     (fewer than :data:`MIN_STEPS_PER_PERIOD` steps) or by the output interval ``dt_out`` [s] (fewer than 2 samples:
@@ -27,11 +32,11 @@ def resolution_warnings(drive: Drive, pitch: float, dt: float, dt_out: float) ->
             else f"the drive ({drive.law}, v = {drive.v:.4g} mm/s, one pitch") + f": period {T:.3g} s)"
     out = []
     if dt > T / MIN_STEPS_PER_PERIOD:
-        out.append(f"{what} is not resolved by the time step dt = {dt:.3g} s ({T / dt:.4g} steps per period, fewer "
-                   f"than {MIN_STEPS_PER_PERIOD}; valid >= {MIN_STEPS_PER_PERIOD}): the chain does not follow the drive and the result is meaningless; "
-                   f"give dt <= {T / MIN_STEPS_PER_PERIOD:.3g} s (--dt) or a slower drive")
+        out.append(f"{what} is not resolved by the time step dt = {dt:.3g} s ({_short(T / dt)} steps per period; "
+                   f"valid >= {MIN_STEPS_PER_PERIOD}): the chain does not follow the drive and the result is "
+                   f"meaningless; give dt <= {T / MIN_STEPS_PER_PERIOD:.3g} s (--dt) or a slower drive")
     elif dt_out > T / 2:
-        out.append(f"{what} is sampled every {dt_out:.3g} s by the outputs ({T / dt_out:.3g} per period; valid >= 2): "
-                   "the stored tension series alias the drive (the peak and the energies are computed at every "
-                   "step and are not affected); use a shorter t_end for a resolved series")
+        out.append(f"{what} is sampled every {dt_out:.3g} s by the outputs ({_short(T / dt_out)} per period; valid "
+                   ">= 2): the stored tension series alias the drive (the peak and the energies are computed at "
+                   "every step and are not affected); use a shorter t_end for a resolved series")
     return out

@@ -27,7 +27,7 @@ def test_an_unresolved_sine_drive_warns():
     msg = [m for m in res.warnings if "is not resolved by the time step" in m]
     assert len(msg) == 1
     assert f"period {T:.3g} s" in msg[0] and f"dt = {res.dt:.3g} s" in msg[0]
-    assert f"({T / res.dt:.4g} steps per period, fewer than 20; valid >= 20)" in msg[0]
+    assert f"({math.floor(100 * T / res.dt) / 100:.4g} steps per period; valid >= 20)" in msg[0]
 
 
 def test_an_unresolved_polygon_drive_warns():
@@ -55,9 +55,9 @@ def test_a_resolved_drive_gives_no_resolution_warning(drive):
 def test_resolution_thresholds_are_20_steps_and_2_samples_per_period_exactly():
     """resolution_warnings on a sine of ω = 123.456 rad/s (T = 2π/ω = 0.050894 s, by hand): a step of exactly T/20
     and outputs exactly T/2 apart are resolved (no warning); outputs 0.45·T apart (2.2 per period) are too; a step
-    5 % above T/20 (20/1.05 = 19.05 steps per period, to 4 digits) warns once, naming ω to 4 digits (123.5) and the largest valid step
-    T/20 = 0.00254 s; outputs 0.55·T apart warn once with their interval and 1.82 samples per period.  A ramp has
-    no period: never a warning.
+    5 % above T/20 (20/1.05 = 19.047…, cut to 19.04 steps per period: never rounded up to the threshold) warns once,
+    naming ω to 4 digits (123.5) and the largest valid step T/20 = 0.00254 s; outputs 0.55·T apart warn once with
+    their interval and 1/0.55 = 1.818…, cut to 1.81 samples per period.  A ramp has no period: never a warning.
     Bugs caught: the bounds made inclusive, the sample bound T/2 → T/3, the 20 steps, the hint's T/20, the digits."""
     from chainid.dynamics.resolution import resolution_warnings
 
@@ -68,11 +68,11 @@ def test_resolution_thresholds_are_20_steps_and_2_samples_per_period_exactly():
     assert resolution_warnings(d, 50.0, T / 40, 0.45 * T) == []
     (msg,) = resolution_warnings(d, 50.0, 1.05 * T / 20, 1e-9)
     assert msg.startswith("the drive (sine, ω = 123.5 rad/s: period 0.0509 s) is not resolved by the time step dt = "
-                          "0.00267 s (19.05 steps per period, fewer than 20; valid >= 20)")
+                          "0.00267 s (19.04 steps per period; valid >= 20)")
     assert f"give dt <= {T / 20:.3g} s (--dt)" in msg and f"{T / 20:.3g}" == "0.00254"
     (msg,) = resolution_warnings(d, 50.0, T / 40, 0.55 * T)
     assert msg.startswith("the drive (sine, ω = 123.5 rad/s: period 0.0509 s) is sampled every 0.028 s by the "
-                          "outputs (1.82 per period; valid >= 2)")
+                          "outputs (1.81 per period; valid >= 2)")
     assert resolution_warnings(Drive("ramp", v=1e9, t_ramp=0.0), 50.0, 1.0, 1.0) == []
 
 
@@ -83,4 +83,14 @@ def test_an_unresolved_polygon_warning_names_the_mean_speed_and_one_pitch():
 
     (msg,) = resolution_warnings(Drive("polygon", v=1234.56, z=8), 50.0, 0.01, 0.01)
     assert msg.startswith("the drive (polygon, v = 1235 mm/s, one pitch: period 0.0405 s) is not resolved by the "
-                          "time step dt = 0.01 s (4.05 steps per period, fewer than 20; valid >= 20)")
+                          "time step dt = 0.01 s (4.05 steps per period; valid >= 20)")
+
+
+def test_a_count_just_under_the_threshold_is_cut_not_rounded_up_to_it():
+    """A step of T/19.998 gives 19.998 steps per period: the warning reads 19.99, never 20 (rounded, it would say
+    "20 steps per period; valid >= 20", which reads as no fault)."""
+    from chainid.dynamics.resolution import resolution_warnings
+
+    T = 2 * math.pi / 100.0
+    (msg,) = resolution_warnings(Drive("sine", A=0.1, omega=100.0), 50.0, T / 19.998, 1e-9)
+    assert "(19.99 steps per period; valid >= 20)" in msg

@@ -306,7 +306,7 @@ def test_the_ends_of_the_option_ranges_run():
     res = simulate(line, Drive("ramp", v=100.0, t_ramp=0.005), 0.01, refine=10, substep_levels=0)
     assert res.t[-1] == pytest.approx(0.01, rel=1e-12) and res.refinements == 0
     dts = stable_step(line)
-    res = simulate(line, Drive("ramp", v=100.0, t_ramp=0.005), 0.01, dt=dts, n_out=2)
+    res = simulate(line, Drive("ramp", v=100.0, t_ramp=0.005), 0.01, dt=dts, n_out=100_000)  # every step stored
     assert res.dt <= dts and res.dt == pytest.approx(0.01 / math.ceil(0.01 / dts - 1e-9), rel=1e-12)
 
 
@@ -375,7 +375,10 @@ def test_the_memory_estimate_counts_every_element_kind_once_per_segment():
              dict(stribeck=((80.0, 60.0, 2.0, 15.0),)), dict(bouc_wen=((150.0, 0.04, 2.5, 0.6),)),
              dict(backlash_mm=0.08)]
     d = extra(4, **kinds[0])
-    assert d == 8 * 4 * 8
+    line = ChainLine(n_links=16, n_masses=4, pretension_N=1_000.0, **kinds[0])
+    hf, hx, hd, hq, _ = line.segment_element_arrays()
+    assert hf.size + hx.size + hd.size + hq.size == 6 * 4 * 1  # the tables: 6 values per element and segment
+    assert d == 8 * (hf.size + hx.size + hd.size + hq.size + 2 * hf.size)  # and the loop's two state copies
     for kw in kinds[1:]:
         assert extra(4, **kw) == d, kw
     assert extra(4, dahl=((30.0, 0.2), (10.0, 0.1))) == 2 * d

@@ -26,8 +26,8 @@ free fit, and the profile is the free fit's.  That is wider than the tied estima
 over 25 noise seeds, ``python benchmarks/interval_scatter.py --case harmonic/single/backlash --param backlash.b``),
 and the intervals of the tied fit itself were tried: on the harmonic grid's seed 0 (``chainid benchmark-gap
 --excitations harmonic --resamples 200 --seed 0``) they covered backlash in 30 of 33 cases (32 free) but friction's
-F_c in 21 of 32 (31 free), every miss on the low side.  F_c is biased low by the noise where its partners μ and x_s
-sit at their bound of no effect, as they do in the grid's truth: without noise the tied fit is exact
+F_c in 21 of 32 (31 free), every miss on the low side.  F_c is biased low by the noise where its partner μ sits
+at its bound of no effect, as it does in the grid's truth: without noise the fit is exact
 (``tests/gap/harmonic/test_damping_tie.py``); with 1 % force noise one case's F_c came out 1.1 % low with μ =
 1.0·10⁻⁴, and the tied χ² put the true F_c (μ refitted to its bound) just past the level.  A bound of no effect
 makes the profile's χ² steeper on the side the bound blocks.  No resample sees a bias that every fit shares; the

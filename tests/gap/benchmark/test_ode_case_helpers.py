@@ -31,6 +31,8 @@ def test_end_stop_cubic_and_contact_strengths_by_hand():
 
 @pytest.mark.parametrize("level, scale", [(0.5, 0.94), (2.0, 0.76), (2.5, 1.3)])
 def test_stiffness_level_softens_by_twelve_per_cent_per_level_up_to_two(level, scale):
+    """scale = 1 − 0.12·level up to level 2 (0.94 at 0.5, 0.76 at 2); above level 2 the case is a stiffer base,
+    scale 1.3 (odecases: the level-2.5 strength)."""
     assert _eff("stiffness_level", level)["scale"] == pytest.approx(scale, rel=1e-12)
 
 
@@ -46,7 +48,7 @@ def test_sensor_delay_is_a_signed_fifteen_centiradian_lag_at_the_band_edge_and_d
 
 def test_friction_slips_harder_one_way_in_a_third_of_draws_by_thirty_per_cent():
     """2000 draws: the share with dF ≠ 0 is 1/3 ± 0.035 (3.3 binomial sd), dF = ±0.3·F_c both ways,
-    F_c = 0.1·level·S = 80 N, x_s = 0.02·A = 0.008 mm; stribeck F_s = 2·F_c, v_s = 0.2·v, v_e = 0.02·v_s."""
+    F_c = 0.1·level·S = 80 N, x_s = 0.02·A = 0.008 mm; stribeck F_c = 0.05·level·S = 40 N, F_s = 2·F_c, v_s = 0.2·v, v_e = 0.02·v_s."""
     rng = np.random.default_rng(12)
     draws = [oc.effect_params("friction", 1.0, SC, rng) for _ in range(2000)]
     asym = [d["dF"] for d in draws if d["dF"] != 0.0]
@@ -118,9 +120,9 @@ def test_force_driven_sine_plan_sets_the_displacement_amplitude_and_rings_in():
 
 
 def test_force_driven_multisine_plan_counts_periods_and_rings_in():
-    """4–8 records of 4000–20000 samples; n_periods p (+0.5 sometimes) with T/p·(f_hi − f_lo) ≥ 8 lines;
-    pre-roll ⌈1.5/(ζ ω_n) / (T/p)⌉ periods; force RMS × the band's RMS gain = A·(0.7–1.3); the band edges the
-    base's × 0.9–1.1, f_hi ≤ fs/10."""
+    """4–8 records of 4000–20000 samples; n_periods p (+0.5 sometimes) with T/p·(f_hi − f_lo) ≥ 8 lines unless
+    the record holds a single period; pre-roll ⌈1.5/(ζ ω_n) / (T/p)⌉ periods; force RMS × the band's RMS gain =
+    A·(0.7–1.3); f_lo within the base's × 0.9–1.1, f_hi at most the base's × 1.1 and fs/10."""
     rng = np.random.default_rng(3)
     ratios, halves = [], 0
     for _ in range(25):

@@ -117,9 +117,9 @@ def test_initial_states_put_the_slider_at_the_start_after_the_other_states():
 
 
 @pytest.mark.parametrize("F", [-45.0, 0.0, 60.0])
-def test_equilibrium_solves_the_static_spring_with_the_cubic_and_the_end_stop(F):
+def test_equilibrium_solves_the_static_spring_with_the_cubic(F):
     """k = 10, x_ref = 1, cubic 2·u³ + 0.5·u² about x_m = 1: the real root of 2u³ + 0.5u² + 10u − F (numpy.roots),
-    x = 1 + u; the bracket grows from ±1 mm to reach it (−45 N: x ≈ −1.7)."""
+    x = 1 + u; the bracket grows from ±1 mm to reach it (−45 N: u = −2.31, x ≈ −1.31)."""
     dev = Device("linear", k=10.0, x_ref=1.0, m=1.0, effects={"hardening": {"k3": 2.0, "k2": 0.5, "x_m": 1.0}})
     r = np.roots([2.0, 0.5, 10.0, -F])
     u = float(r[np.abs(r.imag) < 1e-9].real[0])

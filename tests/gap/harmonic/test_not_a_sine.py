@@ -46,7 +46,7 @@ def test_white_displacement_noise_is_not_distortion():
 
 def test_distortion_under_the_noise_is_still_found():
     """A 3rd harmonic of 0.06 (departure 0.06/√2 = 4.24 %) under σ = 0.05 mm noise: the noise's share is removed, the
-    distortion's is left and flagged (4.2 ± 0.2 %); a noise estimate too large (e.g. MAD/√2) would hide it."""
+    distortion's is left and flagged (4.24 ± 0.25 %); a noise estimate too large (e.g. MAD/√2) would hide it."""
     x = np.sin(W * T) + 0.06 * np.sin(3 * W * T) + 0.05 * np.random.default_rng(2).normal(size=T.size)
     msg = not_a_sine(T, x, W, 0.0, 0.0, 1.0)
     got = float(re.search(r"by ([0-9.]+) % of the amplitude", msg).group(1))

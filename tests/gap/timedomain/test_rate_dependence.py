@@ -195,6 +195,9 @@ def test_the_exponent_is_read_from_four_splits_without_the_unread_ones():
     beta, *_ = np.linalg.lstsq(np.column_stack([ev[ok], es[ok]]), L[ok], rcond=None)
     p, z = rate_exponent(ev, es, L)
     assert p == pytest.approx(beta[0], rel=1e-10) and math.isfinite(z)
+    L3 = L.copy()
+    L3[0] = math.nan  # three finite splits left: not enough to read an exponent
+    assert all(math.isnan(v) for v in rate_exponent(ev, es, L3))
 
 
 @pytest.mark.parametrize("c, judged", [(0.94, True), (0.96, False)])
