@@ -34,8 +34,8 @@ from chainid.gap.core.steprule import (FAMILIES, SIMPLER, look_ahead, near_tie_f
                                       refuted_member, split_acceptable, step_test, swap_acceptable, takes)
 from chainid.infra.forkpool import can_fork, fork_map
 
-__all__ = ["CONFIDENT", "RESAMPLES", "SHIFT_Z", "resample", "replay", "exchange_replay", "split_replay",
-           "order_replay", "widen", "attach"]
+__all__ = ["CONFIDENT", "RESAMPLES", "resample", "replay", "exchange_replay", "split_replay", "order_replay", "widen",
+           "attach"]
 
 #: a step is named as confident when at least this share of resamples chooses it
 CONFIDENT = 0.8
@@ -43,9 +43,6 @@ CONFIDENT = 0.8
 RESAMPLES = 200
 #: fewest resamples worth a process pool
 POOL_MIN = 40
-#: standard deviations of its own noise within which an estimated bias is not taken (:func:`widen`; the 90 %
-#: point of a normal, two-sided)
-SHIFT_Z = 1.6448536269514722
 
 def replay(prob: Any, hooks: Any, cache: dict[tuple[str, ...], Any], base: Any, mult: np.ndarray,
            max_effects: int) -> list[str]:
@@ -236,7 +233,7 @@ def _summarise(chains: list[list[str]], params: list[list[dict[str, float]]], st
 
 
 def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], key: str = "bias_dt",
-          bounds: Sequence[dict[str, Any]] | None = None, noise: float = 0.0) -> None:
+          bounds: Sequence[dict[str, Any]] | None = None) -> None:
     """Widen each step's 90 % interval by a bias that resampling cannot see (the same in every resample).
 
     ``shifts[k][param]`` is the estimated bias of step k's parameter [its unit] (the time sampling's,
@@ -244,32 +241,18 @@ def widen(stab: dict[str, Any], shifts: Sequence[dict[str, float]], key: str = "
     the interval [lo, hi] becomes the union of itself and [lo − bias, hi − bias], so a bias within the resampling
     spread changes little and a larger one is taken in.  Widening by two biases in turn takes in their sum where
     they share a sign and each alone where they do not; a widened edge stops at the parameter's bound (``bounds[k]``:
-    step k's ``{param: (lo, hi)}``, when given).
-
-    An estimated bias is itself noisy: the refit that measures it sees other noise (half the samples, or noise
-    added).  ``noise`` is that estimate's standard deviation in units of the parameter's own σ, read from the
-    percentile interval before any widening (its width / (2·:data:`SHIFT_Z`)); a shift no larger than
-    :data:`SHIFT_Z` of those standard deviations is not a bias the data show and is not taken (a noise-only shift
-    still passes in 10 % of cases, a real one larger than the threshold is taken whole).  The biases are kept per
-    step under ``key``, the thresholds under ``key + "_threshold"``, and the intervals before any widening under
-    ``params_ci90_percentile``."""
+    step k's ``{param: (lo, hi)}``, when given).  The biases are kept per step under ``key``, and the intervals
+    before any widening under ``params_ci90_percentile``."""
     for k, (row, sh) in enumerate(zip(stab["steps"], shifts)):
         row[key] = dict(sh)
-        pct = row.setdefault("params_ci90_percentile", {n: list(v) for n, v in row["params_ci90"].items()})
+        row.setdefault("params_ci90_percentile", {n: list(v) for n, v in row["params_ci90"].items()})
         lims = bounds[k] if bounds is not None and k < len(bounds) else {}
-        row[key + "_threshold"] = {}
         for name, (lo, hi) in list(row["params_ci90"].items()):
             b = sh.get(name)
-            if b is None or not math.isfinite(b):
-                continue
-            p_lo, p_hi = pct.get(name, (lo, hi))
-            thr = noise * (p_hi - p_lo) / 2.0  # SHIFT_Z · noise · σ, σ = width / (2·SHIFT_Z)
-            row[key + "_threshold"][name] = thr
-            if abs(b) <= thr:
-                continue
-            blo, bhi = lims.get(name, (-math.inf, math.inf))
-            # widened towards the bias, never past the bound, never narrowed
-            row["params_ci90"][name] = [min(lo, max(lo - b, blo)), max(hi, min(hi - b, bhi))]
+            if b is not None and math.isfinite(b):
+                blo, bhi = lims.get(name, (-math.inf, math.inf))
+                # widened towards the bias, never past the bound, never narrowed
+                row["params_ci90"][name] = [min(lo, max(lo - b, blo)), max(hi, min(hi - b, bhi))]
 
 
 def attach(result: dict[str, Any], stab: dict[str, Any]) -> None:

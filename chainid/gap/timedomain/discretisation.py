@@ -15,9 +15,7 @@ samples within a third of a step of a reversal were given the stick force 0, F_c
 the model's error, not the sampling's.)
 
 The shift θ(Δt) − bias is reported, and the 90 % interval is widened to take in the interval shifted by it
-(:func:`chainid.gap.core.resample.widen`): a bias smaller than the resampling spread changes little.  The half
-samples carry their own noise, so the estimated bias varies by about σ/(2^p − 1) (σ the parameter's standard
-deviation) when there is none: a shift within 1.645 of those is not taken (:data:`SHIFT_NOISE`).
+(:func:`chainid.gap.core.resample.widen`): a bias smaller than the resampling spread changes nothing.
 
 Decimation needs the records sampled well above their band: it is skipped (no shift, the reason said) when a
 decimated record would have fewer than :data:`MIN_PER_PERIOD` samples per period of its band's top, or too few
@@ -33,19 +31,14 @@ from typing import Any, Sequence
 
 import numpy as np
 
-__all__ = ["ORDER", "MIN_PER_PERIOD", "METHOD", "SHIFT_NOISE", "decimated", "refit_shifts",
-           "richardson_shifts"]
+__all__ = ["ORDER", "MIN_PER_PERIOD", "METHOD", "decimated", "refit_shifts", "richardson_shifts"]
 
 #: the assumed order of the discretisation bias in Δt
 ORDER = 2
 #: the fewest samples per period of a record's band top after decimation
 MIN_PER_PERIOD = 8
 #: how the bias is estimated (``stability.discretisation.method`` of a result)
-METHOD = (f"Richardson extrapolation in the sampling interval (records decimated by 2), bias order {ORDER}; "
-          "a shift within 1.645 of its own noise's standard deviations is not taken")
-#: the estimated bias' own noise in units of the parameter's σ: θ(2Δt) is fitted on half the samples, so
-#: θ(2Δt) − θ(Δt) varies as √(2σ² − σ²) = σ from the noise alone, and the bias is that over 2^ORDER − 1
-SHIFT_NOISE = 1.0 / (2 ** ORDER - 1)
+METHOD = f"Richardson extrapolation in the sampling interval (records decimated by 2), bias order {ORDER}"
 
 
 def decimated(records: Sequence[Any], q: int = 2) -> list[Any]:

@@ -235,11 +235,11 @@ def _trust(prob: TimeProblem, records: Sequence[Any], rebuild: Any, fwd: dict[st
     stage("discretisation bias", "records decimated by 2")
     bounds = [prob.param_bounds(list(c.names)) for c in ok_path]
     shifts, why = discretisation.richardson_shifts(records, prob, ok_path, rebuild)
-    widen(stab, shifts, "bias_dt", bounds, noise=discretisation.SHIFT_NOISE)
+    widen(stab, shifts, "bias_dt", bounds)
     stab["discretisation"] = {"method": discretisation.METHOD, "skipped": why}
     stage("displacement-noise bias", f"SIMEX, {simex.DRAWS} draws")
     shifts, why = simex.simex_shifts(records, ok_path, rebuild, seed)
-    widen(stab, shifts, "bias_x", bounds, noise=simex.SHIFT_NOISE)
+    widen(stab, shifts, "bias_x", bounds)
     stab["displacement_noise"] = {"method": simex.METHOD, "skipped": why}
     stage("profile likelihood")
     attach_profiles(stab, ok_path, lambda c: problem_hooks(prob, c))

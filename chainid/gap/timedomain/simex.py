@@ -25,11 +25,8 @@ the sampling, or its noise hides the band's top) gets no noise, and the reason s
 
 The shift is reported, and the 90 % interval is widened to take in the interval shifted by it
 (:func:`chainid.gap.core.resample.widen`), with the time sampling's bias (:mod:`.discretisation`): a bias smaller
-than the resampling spread changes little.  The added noise moves each refit by chance as well, by up to √λ·σ (σ the
-parameter's standard deviation: the whole of it when the displacement noise is all of its noise), so the mean of the
-draws varies by up to √(λ/DRAWS)·σ when there is no bias: a shift within 1.645 of those is not taken
-(:data:`SHIFT_NOISE`).  With two draws that is 1.16·σ, about 0.7 of the interval's half-width.  Nothing is estimated
-for records with no measurable displacement noise (σ_x = 0: noise-free or unsmoothed records).
+than the resampling spread changes nothing.  Nothing is estimated for records with no measurable displacement
+noise (σ_x = 0: noise-free or unsmoothed records).
 
 Checked on a closed form (a straight line fitted to a regressor with noise: the attenuation σ_x²/(σ_ξ² + σ_x²)
 of the slope) and on Coulomb friction with noise in x (tests/gap/timedomain/test_simex_bias.py).
@@ -47,7 +44,7 @@ import numpy as np
 from chainid.gap.core.noise import CUT_FACTOR, displacement_noise, excitation_band, lowpass, sample_rate
 from chainid.gap.timedomain.discretisation import refit_shifts
 
-__all__ = ["DRAWS", "LAMBDA", "METHOD", "SHIFT_NOISE", "record_sigma_x", "noisier", "simex_shifts"]
+__all__ = ["DRAWS", "LAMBDA", "METHOD", "record_sigma_x", "noisier", "simex_shifts"]
 
 #: independent draws of the added noise (their mean shift is the bias; each draw is one refit of every step)
 DRAWS = 2
@@ -55,10 +52,7 @@ DRAWS = 2
 LAMBDA = 1.0
 #: how the bias is estimated (``stability.displacement_noise.method`` of a result)
 METHOD = (f"SIMEX: each record's own displacement noise added again to x ({DRAWS} draws), every step refitted, "
-          "extrapolated linearly to no noise; a shift within 1.645 of its own noise's standard deviations is not taken")
-#: the estimated bias' own noise in units of the parameter's σ: each draw's refit moves by the added noise's share
-#: of the sampling variance, at most √LAMBDA·σ, and the bias is the mean of DRAWS draws
-SHIFT_NOISE = float(np.sqrt(LAMBDA / DRAWS))
+          "extrapolated linearly to no noise")
 
 
 def record_sigma_x(t: np.ndarray, x: np.ndarray) -> float:
