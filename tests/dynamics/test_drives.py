@@ -115,3 +115,11 @@ def test_only_a_moving_drive_has_a_speed_and_only_a_sine_with_amplitude_or_a_pol
     assert Drive("none", A=2.0, omega=10.0).period(pitch) == math.inf
     assert Drive("polygon", v=400.0, z=8, A=2.0, omega=10.0).period(pitch) == pytest.approx(0.125, rel=1e-15)
     assert Drive("polygon", v=400.0, z=8, pitch=20.0).period(pitch) == pytest.approx(0.05, rel=1e-15)
+
+
+@pytest.mark.parametrize("pitch", [0.0, -50.0, math.inf, math.nan])
+def test_a_drive_pitch_that_is_not_a_positive_length_is_refused(pitch):
+    """A sprocket's pitch is a length: 0, a negative value, inf and NaN are refused by name with the valid range."""
+    with pytest.raises(ValueError, match=r"drive pitch = .* is invalid: valid range > 0 mm"):
+        Drive("polygon", v=100.0, z=8, pitch=pitch)
+    assert Drive("polygon", v=100.0, z=8, pitch=50.0).pitch == 50.0

@@ -257,3 +257,40 @@ def test_static_tangent_adds_the_engaged_dead_band_to_the_shifted_spring():
     assert line.pretension_elongation()[0] == pytest.approx(e, rel=1e-9)
     want = 1.0 / (CL + (2.0 / 3.0) * CH * Fs ** (-1.0 / 3.0)) + kd * p * (e - xc - g) ** (p - 1.0)
     assert line.static_tangent()[0] == pytest.approx(want, rel=1e-7)
+
+
+def test_an_element_column_that_is_not_a_play_leaves_the_springs_argument_alone():
+    """A line with one Jenkins element (kind 0) and no backlash: the spring's argument is the elongation e − s itself
+    (here e = e₀ + 0.01 mm), the spring force F_k(e − s), the element loop starts at column 0 and no element state
+    is written; only a play (kind 4) in the first column lags the argument and takes that column."""
+    from chainid.dynamics.segments import _elastic
+    from chainid.dynamics.simulation import core_arguments
+    from chainid.dynamics.springs import spring_force
+
+    line = ChainLine(n_links=16, n_masses=4, pretension_N=1_000.0, hysteresis=((2_000.0, 0.05),))
+    args, _ = core_arguments(line, Drive("none"), 1e-5, 10, 10)
+    cl, ch, hx, hd, sp = args[3], args[4], args[7], args[8], args[10]
+    assert hd[0, 0] == 0
+    e = float(line.pretension_elongation()[0]) + 0.01
+    ys, y = np.zeros((4, 1)), np.zeros((4, 1))
+    f, a, *_, first = _elastic(0, e, 0.01, ys, y, cl, ch, hx, hd, sp, False)
+    assert a == pytest.approx(e - sp[0, 1], rel=1e-15) and first == 0 and y[0, 0] == 0.0
+    assert f == pytest.approx(spring_force(e - sp[0, 1], cl[0], ch[0], sp[0, 0]), rel=1e-15)
+
+
+@pytest.mark.parametrize("ev", [2.0, 4.0, 7.0])
+def test_a_sliding_stribeck_elements_rate_tangent_is_the_derivative_of_its_force(ev):
+    """Sliding (a large step at ė = ev mm/s), the Stribeck element's force is F_c + ΔF_s·exp(−(ė/v_s)²) and its
+    tangent dT/dė = −2ė/v_s²·ΔF_s·exp(−(ė/v_s)²) (F_c = 50 N, ΔF_s = 30 N, v_s = 5 mm/s: −4.090 N·s/mm at 2 mm/s),
+    equal to a central difference of the force (h = 10⁻⁵ mm/s).  The implicit scheme's Newton step uses it."""
+    from chainid.dynamics.segments import _element
+
+    q, tabs = np.array([30.0, 5.0, 0.0]), np.zeros((0, 2, 2))
+    _, force, _, _, tangent = _element(2, 0.0, 10.0, 0.1, ev, 50.0, 1000.0, q, tabs)
+    w = math.exp(-(ev / 5.0) ** 2)
+    assert force == pytest.approx(50.0 + 30.0 * w, rel=1e-12)
+    assert tangent == pytest.approx(-2.0 * ev / 25.0 * 30.0 * w, rel=1e-12)
+    h = 1e-5
+    fd = (_element(2, 0.0, 10.0, 0.1, ev + h, 50.0, 1000.0, q, tabs)[1]
+          - _element(2, 0.0, 10.0, 0.1, ev - h, 50.0, 1000.0, q, tabs)[1]) / (2 * h)
+    assert tangent == pytest.approx(fd, rel=1e-6)

@@ -268,3 +268,16 @@ def test_logger_adds_drift_and_offset_on_the_record_times():
     t = s.t[idx]
     np.testing.assert_allclose(rec.F, F[idx] + 2.0 - 0.25 * t + 0.5, rtol=0, atol=1e-12)
     np.testing.assert_array_equal(rec.x, 0.1 * s.y[idx])
+
+
+@pytest.mark.parametrize("small", [True, False])
+def test_every_effect_of_a_single_or_pair_case_has_a_strength(small):
+    """An effect at strength 0 is no effect: the case would be a control under an effect's name, and a right
+    `none` would be scored as a miss.  Every single and pair case of both worlds names its effects with strengths
+    above 0, and both worlds hold every family (single, pair, control, outside, covariate)."""
+    from chainid.gap.benchmark.odefamilies import world_cases
+
+    cases = world_cases(small)
+    named = [c for c in cases if c["family"] in ("single", "pair")]
+    assert named and all(c["effects"] and all(lv > 0 for lv in c["effects"].values()) for c in named)
+    assert {c["family"] for c in cases} == {"single", "pair", "control", "outside", "covariate"}

@@ -174,3 +174,31 @@ def test_problem_keys_spring_bounds_and_no_damping_law_parameters_by_hand():
     keys, lo, hi, x0 = Problem._keys(fake, ["friction"])
     assert keys == [f"friction.{k}" for k in fr.param_names] and x0 == list(fr.x0_guess)
     assert lo == [b[0] for b in fr.bounds] and hi == [b[1] for b in fr.bounds]
+
+
+def test_the_learners_travel_is_the_distance_since_the_last_reversal():
+    """The model-free check's state feature 'travel' on sine tests about x0 = 0 (the linear device of the recovery
+    cases, amplitudes 0.6–1.5 mm): the distance moved since the last reversal of a sine lies in [0, 2A], and in the
+    bin before the next reversal (its samples within one bin, δ ≤ 2π/B, of it) it is A·(1 + cos δ) ≥ 2A·(1 − (π/B)²)
+    (B phase bins).  Read per training test, in the table's order (B rows each)."""
+    import warnings
+
+    import recovery_cases as rc
+    from chainid.gap.core.selection import baseline_candidate
+    from chainid.gap.diagnose import fit_linear_model
+    from chainid.gap.harmonic.prepare import prepare_test
+
+    recs = rc.harmonic_set(lambda mo, t, f, A: rc.K_LIN * mo(t)[0] + rc.C_LIN * mo(t)[1])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        prob = Problem([prepare_test(r) for r in recs], fit_linear_model(recs, ["h3"], 0.0), ["h3"], fit_mass=True)
+    st = prob.state_table(baseline_candidate(prob)._ev)  # type: ignore[attr-defined]
+    travel = st["X_train"][:, st["names"].index("travel")]
+    start = 0
+    for d in prob.train:
+        B = d.counts.size
+        tr = travel[start:start + B]
+        start += B
+        assert tr.min() >= -1e-9 and tr.max() <= 2 * d.A + 1e-9, d.test
+        assert tr.max() >= (1 - (math.pi / B) ** 2) * 2 * d.A, d.test
+    assert start == travel.size

@@ -230,3 +230,18 @@ def test_a_force_without_noise_gets_the_floor_of_a_millionth_of_its_spread():
     F = 20.0 + 1000.0 * t
     assert prepare_time(Record("r", t, x, F), 1).sigma == pytest.approx(1e-6 * float(np.std(F)) + 1e-9, rel=1e-9)
     assert prepare_time(Record("r", t, x, np.full(t.size, 3.0)), 1).sigma == pytest.approx(1e-9, rel=1e-9)
+
+
+def test_fit_windows_take_one_band_centre_period_of_lead_in_before_each_window_but_the_first():
+    """4000 samples at 100 Hz, all training, half of them kept (2000): windows of min(4 periods of f_low = 0.5 Hz =
+    800, 2000 // 4 blocks = 500) = 500 samples, 4 of them, starting at linspace(0, 3500, 4) = 0, 1166, 2333, 3500;
+    each but the first after a lead-in of one period of the band centre (2 Hz: 50 samples), weighed 0.  So
+    500 + 3 × 550 = 2150 samples, 150 of them lead."""
+    from chainid.gap.timedomain.data import windows
+
+    d = SimpleNamespace(fit_idx=np.arange(4000), t=np.arange(4000) / 100.0, f_low=0.5, n_blocks=4,
+                        omega_c=2 * math.pi * 2.0)
+    idx, lead = windows(d, 0.5, np.ones(4000, bool))
+    want = np.concatenate([np.arange(0, 500), np.arange(1116, 1666), np.arange(2283, 2833), np.arange(3450, 4000)])
+    np.testing.assert_array_equal(idx, want)
+    assert int(lead.sum()) == 150 and not lead[:500].any() and lead[500:550].all() and not lead[550:1050].any()
