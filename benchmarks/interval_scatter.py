@@ -40,10 +40,11 @@ def realisations(case: dict, seeds: int, resamples: int, key: str) -> tuple[list
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             r = run_case(case | {"seed": 1000 + 7919 * s, "resamples": resamples})
+        scores = row_param_scores(r)
         if str(r.get("verdict", "")).startswith("error"):
             left["error"] += 1
-        elif not any(sc["param"] == key for sc in row_param_scores(r)):
-            left["other verdict" if not row_param_scores(r) else "no estimate"] += 1
+        elif not any(sc["param"] == key for sc in scores):
+            left["no estimate" if scores else "other verdict"] += 1
         else:
             parts = r.get("params_ci90_parts") or {}
             out.append((r["params"][key], r["true_params"][key], (parts.get("profile") or {}).get(key),
@@ -53,6 +54,8 @@ def realisations(case: dict, seeds: int, resamples: int, key: str) -> tuple[list
 
 def report(rows: list[tuple[float, float, list, list, list]]) -> str:
     """The scatter, the implied sds and the coverages of a list of realisations."""
+    from chainid.gap.benchmark.paramscore import Z90
+
     est = np.array([r[0] for r in rows])
     truth = rows[0][1]
     err = est - truth
@@ -63,7 +66,7 @@ def report(rows: list[tuple[float, float, list, list, list]]) -> str:
         ivs = [r[j] for r in rows if r[j] is not None]
         if not ivs:
             continue
-        hw = float(np.median([(b - a) / 2 for a, b in ivs])) / 1.645
+        hw = float(np.median([(b - a) / 2 for a, b in ivs])) / Z90
         cov = np.mean([a <= truth <= b for a, b in ivs])
         ratio = f"x{hw / rms:.2f} the rms error" if rms > 0 else "no error to compare"
         lines.append(f"  {name:10s} median half-width/1.645 {hw:.3g} ({ratio}); "

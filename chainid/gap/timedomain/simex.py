@@ -25,7 +25,7 @@ the sampling, or its noise hides the band's top) gets no noise, and the reason s
 
 The shift is reported, and the 90 % interval is widened to take in the interval shifted by it
 (:func:`chainid.gap.core.resample.widen`), with the time sampling's bias (:mod:`.discretisation`): a bias smaller
-than the resampling spread changes nothing.  Nothing is estimated for records with no measurable displacement
+than the resampling spread changes little.  Nothing is estimated for records with no measurable displacement
 noise (σ_x = 0: noise-free or unsmoothed records).
 
 Checked on a closed form (a straight line fitted to a regressor with noise: the attenuation σ_x²/(σ_ξ² + σ_x²)
