@@ -78,13 +78,15 @@ def trusted_fields(res: dict[str, Any]) -> dict[str, Any]:
     """The diagnosis' numbers of its last trusted step (the verdict's chain, ``res["trusted_steps"]``; steps after
     the held-out minimum are over-fitted and never in the verdict): ``params`` and ``params_ci90`` (the 90 %
     intervals, the union of the resampling's and the profile's; {} without resamples) and ``params_ci90_parts``
-    (:func:`interval_parts`), each keyed ``effect.param``."""
+    (:func:`interval_parts`), each keyed ``effect.param``, and ``resample_units`` (the training units the
+    resampling drew; None without one)."""
     i = trusted_index(res)
+    units = (res.get("stability") or {}).get("units")
     if i is None:
-        return {"params": None, "params_ci90": {}, "params_ci90_parts": {}}
+        return {"params": None, "params_ci90": {}, "params_ci90_parts": {}, "resample_units": units}
     last = res["steps"][i]
     return {"params": last.get("params"), "params_ci90": last.get("params_ci90") or {},
-            "params_ci90_parts": interval_parts(res, i)}
+            "params_ci90_parts": interval_parts(res, i), "resample_units": units}
 
 
 def trusted_index(res: dict[str, Any]) -> int | None:

@@ -189,7 +189,8 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
     dict
         ``resamples``, ``seed``, ``confident_at``, ``steps`` (per step: ``effect``, ``stability`` — the share of
         resamples whose chain contains it —, ``chosen_at_step``, ``params_ci90``), ``chains`` (the commonest
-        chains and their shares), ``same_chain`` (the share of resamples choosing exactly the diagnosis' chain).
+        chains and their shares), ``same_chain`` (the share of resamples choosing exactly the diagnosis' chain),
+        ``units`` (the training units drawn: tests or time blocks).
     """
     rng = np.random.default_rng(seed)
     mult = [hooks.draw(prob, rng) for _ in range(n)]
@@ -200,7 +201,8 @@ def resample(prob: Any, hooks: Any, fwd: dict[str, Any], steps: Sequence[Any], n
                max_effects=max_effects, cut=(fwd.get("rate_dependence") or {}).get("name"))
     out = fork_map(lambda i: _one(job, i), range(n), workers, min_items=POOL_MIN,
                    chunksize=max(1, n // (4 * (can_fork(workers) or 1))))
-    return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed, shift)
+    return _summarise([o[0] for o in out], [o[1] for o in out], steps, n, seed, shift) | {
+        "units": int(np.count_nonzero(ident))}
 
 
 def _summarise(chains: list[list[str]], params: list[list[dict[str, float]]], steps: Sequence[Any], n: int,

@@ -87,10 +87,13 @@ def test_trusted_fields_are_the_last_trusted_steps():
              {"effect": "friction", "params": {"friction.F_c": 9.0}, "params_ci90": {"friction.F_c": [8.0, 10.0]}},
              {"effect": "slack", "params": {"friction.F_c": 7.0, "slack.s": 0.1}}]
     assert trusted_fields({"steps": steps, "trusted_steps": 2}) == {
-        "params": {"friction.F_c": 9.0}, "params_ci90": {"friction.F_c": [8.0, 10.0]}, "params_ci90_parts": {}}
+        "params": {"friction.F_c": 9.0}, "params_ci90": {"friction.F_c": [8.0, 10.0]}, "params_ci90_parts": {},
+        "resample_units": None}
     assert trusted_fields({"steps": steps, "trusted_steps": 3})["params"] == {"friction.F_c": 7.0, "slack.s": 0.1}
     assert trusted_fields({"steps": steps, "trusted_steps": 3})["params_ci90"] == {}
-    assert trusted_fields({"steps": []}) == {"params": None, "params_ci90": {}, "params_ci90_parts": {}}
+    assert trusted_fields({"steps": []}) == {"params": None, "params_ci90": {}, "params_ci90_parts": {},
+                                             "resample_units": None}
+    assert trusted_fields({"steps": steps, "stability": {"units": 12}})["resample_units"] == 12
 
 
 def test_interval_parts_are_read_from_the_resamplings_row_of_the_trusted_step():

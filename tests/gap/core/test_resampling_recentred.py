@@ -44,3 +44,17 @@ def test_percentile_interval_is_shifted_onto_the_estimate():
     assert out["steps"][0]["params_ci90"]["a"] == pytest.approx([lo, hi], abs=1e-12)
     assert lo <= 1.0 <= hi
     assert not (lo + 0.5 <= 1.0 <= hi + 0.5)  # the refits as they come would miss the estimate
+
+
+class HeldOutHooks(Hooks):
+    """Two of the five units are held out: the data as they are draw three."""
+
+    @staticmethod
+    def identity(prob):
+        return np.array([1.0, 0.0, 1.0, 0.0, 1.0])
+
+
+def test_resampling_reports_the_training_units_it_draws():
+    step = SimpleNamespace(names=(), params={"a": 1.0}, at_bound=(), n_params=1, bic=0.0)
+    out = resample(None, HeldOutHooks, {"_cache": {}, "path": [step]}, [step], n=20, seed=3, workers=1)
+    assert out["units"] == 3  # held-out units (multiplicity 0) are not training units
