@@ -10,10 +10,17 @@ excess over its noise when the model does not reach it (the misfit is read as no
 No linearisation: the profile is scanned, so a parameter in a flat or rough valley (a sensor delay against a sharp
 friction, whose χ² steps as a switch crosses a sample) gets the width the data allow.  Resampling the training
 units cannot see that width when every refit, polished from the full fit, stays in the same flat spot; the
-profile cannot see the variation between units that the resampling does.  The reported interval is the union of
-both (:func:`merge`).
+profile cannot see the variation between units that the resampling does, beyond the pooled residual.  The reported
+interval (:func:`merge`) is the union of both where the units are evidently heterogeneous (:func:`heterogeneous`:
+the resampling's spread exceeds the profile's by more than its own scatter from m units), and otherwise the
+profile's alone, widened by the biases that widened the resampling's: two intervals that each cover 90 % cover
+more together.
 
-The scan walks out from the estimate on each side, doubling its step (the first is the resampling interval's
+Before the scan, the least χ²_p near the estimate is searched for (:func:`refine_minimum`, a bounded Brent search
+within the first step): where χ² is not smooth in a parameter (a play's or a friction's switch crossing samples)
+the fit's own search can stop short of it, and every edge is read against the least χ².
+
+The scan walks out from that minimum on each side, doubling its step (the first is the resampling interval's
 half-width, at least 10⁻⁴ of the bounds' span, or of the estimate where a bound is infinite) until χ²_p exceeds
 the level or the bound is reached, then bisects the bracket [last point inside, first point outside] at least
 :data:`BISECT` times, and on until it is no wider than an eighth (2^−:data:`RESOLVE`) of its inside end's distance
@@ -39,11 +46,13 @@ from typing import Any, Callable, Sequence
 
 from chainid.infra.forkpool import fork_map
 
-__all__ = ["Q90", "BISECT", "BISECT_MAX", "RESOLVE", "MAX_DOUBLINGS", "level", "crossing", "scan_side",
-           "profile_interval", "project", "merge", "problem_hooks", "attach_profiles"]
+__all__ = ["Q90", "BISECT", "BISECT_MAX", "RESOLVE", "MAX_DOUBLINGS", "REFINE", "level", "crossing", "scan_side",
+           "refine_minimum", "profile_interval", "project", "heterogeneous", "merge", "problem_hooks", "attach_profiles"]
 
 #: the 90 % point of χ² with one degree of freedom (scipy.stats.chi2.ppf(0.9, 1))
 Q90 = 2.705543454095404
+#: the one-sided 95 % point of the standard normal (scipy.stats.norm.ppf(0.95))
+Z95 = 1.6448536269514722
 #: least bisections of a crossing's bracket
 BISECT = 4
 #: most bisections of a crossing's bracket (a first step 2⁹ times wider than the interval still resolves it)
@@ -52,6 +61,8 @@ BISECT_MAX = 12
 RESOLVE = 3
 #: most doublings of the step on one side before the scan gives up (the interval then reaches the last point)
 MAX_DOUBLINGS = 14
+#: most refits of the search for the least χ² near the estimate before the scan (:func:`refine_minimum`)
+REFINE = 8
 
 Chi2 = Callable[[dict[str, float]], float]
 Refit = Callable[[str, float, dict[str, float]], dict[str, float]]
@@ -80,17 +91,18 @@ def crossing(bracket: tuple[float, float, float, float], chi2_min: float, lev: f
 
 
 def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: Chi2, refit: Refit,
-              lev: Callable[[], float], pts: list[tuple[float, float, dict[str, float]]]
+              lev: Callable[[], float], pts: list[tuple[float, float, dict[str, float]]], c0: float | None = None
               ) -> tuple[float, float, float, float] | None:
     """Walk from ``est[key]`` towards ``bound`` until χ²_p passes ``lev()`` above the least χ² seen, then bisect
     the bracket (at least :data:`BISECT` times, on while it is wider than 2^−RESOLVE of its inside end's distance
     from the start, at most :data:`BISECT_MAX`); a NaN χ² counts as outside.
 
-    Every point scanned is appended to ``pts`` as (value, χ²_p, parameters).  Returns the final bracket
+    Every point scanned is appended to ``pts`` as (value, χ²_p, parameters); ``c0`` is χ² at ``est`` (default
+    ``pts[0]``'s).  Returns the final bracket
     (v_in, χ²_in, v_out, χ²_out) for :func:`crossing`; None when the scan reached the bound inside the level or
     never left it."""
     v0 = est[key]
-    inside, p_in, c_in = v0, est, pts[0][1]
+    inside, p_in, c_in = v0, est, pts[0][1] if c0 is None else c0
     sign = 1.0 if bound >= v0 else -1.0
     h = abs(step)
     out = None
@@ -124,6 +136,35 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
     return inside, c_in, out, c_out
 
 
+def refine_minimum(key: str, est: dict[str, float], bounds: tuple[float, float], step: float, chi2: Chi2,
+                   refit: Refit, pts: list[tuple[float, float, dict[str, float]]]) -> dict[str, float]:
+    """The parameters at the least χ²_p within ``step`` of ``est[key]``: a bounded Brent search of χ²_p(v) on
+    [est − step, est + step] ∩ ``bounds`` (at most :data:`REFINE` refits, to 2^−RESOLVE of ``step``); ``est`` when
+    no point is lower.
+
+    A fit's search can stop short of the least χ² along one parameter where χ² is not smooth (the switch of a play
+    or a friction moves across samples), and every profile edge is read against the least χ²: a χ²_min too high
+    by δ widens the interval as a level too high by δ does.  The points are appended to ``pts``, whose first
+    point is ``est``'s."""
+    from scipy.optimize import minimize_scalar
+
+    v0 = est[key]
+    lo, hi = max(bounds[0], v0 - step), min(bounds[1], v0 + step)
+    if not lo < hi:
+        return est
+
+    def f(v: float) -> float:
+        q = refit(key, float(v), est)
+        c = chi2(q)
+        pts.append((float(v), c, q))
+        return c if math.isfinite(c) else math.inf
+
+    minimize_scalar(f, bounds=(lo, hi), method="bounded",
+                    options={"maxiter": REFINE, "xatol": step * 2.0**-RESOLVE})
+    best = min(pts, key=lambda q: q[1] if math.isfinite(q[1]) else math.inf)
+    return best[2] if best[1] < pts[0][1] else est
+
+
 def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float], step: float, chi2: Chi2,
                      refit: Refit, n: int, p: int) -> dict[str, Any]:
     """The 90 % profile interval of one parameter.
@@ -149,7 +190,9 @@ def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float
     lev = lambda: level(min(q[1] for q in pts), n, p)  # noqa: E731
     span = bounds[1] - bounds[0]
     step = max(abs(step), 1e-4 * (span if math.isfinite(span) else max(abs(est[key]), 1e-12)))
-    brackets = [scan_side(key, est, b, step, chi2, refit, lev, pts) for b in bounds if b != est[key]]
+    start = refine_minimum(key, est, bounds, step, chi2, refit, pts)
+    c0 = min(q[1] for q in pts if q[2] is start)
+    brackets = [scan_side(key, start, b, step, chi2, refit, lev, pts, c0) for b in bounds if b != start[key]]
     cmin = min(q[1] for q in pts)
     edges = [v for v, c, _ in pts if c - cmin <= lev()]
     edges += [v for v in (crossing(b, cmin, lev()) for b in brackets if b is not None) if v is not None]
@@ -159,14 +202,50 @@ def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float
             "points": [(float(c), q) for _, c, q in pts]}
 
 
-def merge(resampled: dict[str, list[float]], profiled: dict[str, dict[str, Any]]) -> dict[str, list[float]]:
-    """The reported 90 % intervals: per parameter the union of the resampling's and the profile's (either alone
-    where the other has none)."""
+def heterogeneous(percentile: Sequence[float], profiled: Sequence[float], units: int | None) -> bool:
+    """Whether the training units vary more than the profile allows: the resamples' percentile interval is wider
+    than the profile's by more than a spread read from ``units`` units scatters,
+
+        width(percentile) > (1 + z₉₅ / √(2·(m − 1))) · width(profile),
+
+    1/√(2(m − 1)) the relative standard deviation of a spread estimated from m units (that of a sample standard
+    deviation), z₉₅ = 1.6449 (a one-sided 5 % test).  Without a count of units (None) or with fewer than 2, always
+    True: nothing can show the units alike."""
+    if units is None or units < 2:
+        return True
+    g = 1.0 + Z95 / math.sqrt(2.0 * (units - 1))
+    return (percentile[1] - percentile[0]) > g * (profiled[1] - profiled[0])
+
+
+def merge(resampled: dict[str, list[float]], profiled: dict[str, dict[str, Any]],
+          percentile: dict[str, list[float]] | None = None, units: int | None = None
+          ) -> tuple[dict[str, list[float]], dict[str, bool]]:
+    """The reported 90 % intervals from the resampling's (``resampled``: the percentile intervals, on the time route
+    widened by the biases resampling cannot see; ``percentile``: those before widening, default ``resampled``) and
+    the profile's (``profiled[k]["ci90"]``), per parameter:
+
+    * where the units are :func:`heterogeneous` (or ``units`` is None): the union of both, since the profile reads
+      the units' scatter only as noise of the pooled residual;
+    * else the profile's interval, widened on each side as far as the biases widened the resampling's
+      (``resampled`` beyond ``percentile``): both measure the same spread, and the union of two intervals that each
+      cover 90 % covers more.
+
+    Either alone where the other has none.  Returns the intervals and, per parameter, whether the union was taken."""
     out = {k: list(v) for k, v in resampled.items()}
+    union: dict[str, bool] = {}
     for k, pr in profiled.items():
         lo, hi = pr["ci90"]
-        out[k] = [min(lo, out[k][0]), max(hi, out[k][1])] if k in out else [lo, hi]
-    return out
+        if k not in out:
+            out[k] = [lo, hi]
+            continue
+        r = out[k]
+        pc = (percentile or {}).get(k, r)
+        union[k] = heterogeneous(pc, [lo, hi], units)
+        if union[k]:
+            out[k] = [min(lo, r[0]), max(hi, r[1])]
+        else:
+            out[k] = [lo - max(0.0, pc[0] - r[0]), hi + max(0.0, r[1] - pc[1])]
+    return out, union
 
 
 def project(points: Sequence[tuple[float, dict[str, float]]], keys: Sequence[str], n: int, p: int
@@ -214,7 +293,9 @@ def attach_profiles(stab: dict[str, Any], steps: Sequence[Any], hooks_for: Calla
                     workers: int | None = None) -> None:
     """Profile every fitted parameter of every step of the chain and merge the intervals into a resampling's
     numbers: per step ``params_ci90_resampled`` (the percentile intervals), ``params_ci90_profile`` (with the scan's
-    χ²_min, level and refits) and ``params_ci90`` (their union, :func:`merge`); ``stab["profile"]`` says how.
+    χ²_min, level and refits), ``params_ci90`` (the two merged, :func:`merge`, with ``stab["units"]`` training
+    units) and ``units_heterogeneous`` (per parameter, whether the merge took the union); ``stab["profile"]`` says
+    how.
 
     ``hooks_for(candidate)`` gives ``chi2``, ``refit``, ``bounds``, ``n``, ``p`` (:func:`problem_hooks`).  The
     parameters are profiled in parallel (:func:`chainid.infra.forkpool.fork_map`)."""
@@ -236,7 +317,10 @@ def attach_profiles(stab: dict[str, Any], steps: Sequence[Any], hooks_for: Calla
         pts = [pt for _, r in mine for pt in r.pop("points")]
         proj = project(pts, [k for k, _ in mine], hooks[i]["n"], hooks[i]["p"]) if pts else {}
         row["params_ci90_profile"] = {k: r | {"ci90": _hull(proj.get(k), r["ci90"])} for k, r in mine}
-        row["params_ci90"] = merge(row["params_ci90_resampled"], row["params_ci90_profile"])
+        row["params_ci90"], row["units_heterogeneous"] = merge(
+            row["params_ci90_resampled"], row["params_ci90_profile"], row.get("params_ci90_percentile"),
+            stab.get("units"))
     stab["profile"] = {"method": "profile likelihood: χ²_p(v) − χ²_min ≤ 2.7055·max(1, χ²_min/(n − p)), the others "
-                                 "refitted; the reported interval is the union with the resampling's",
+                                 "refitted; the reported interval is the union with the resampling's where the "
+                                 "units are heterogeneous, else the profile's widened by the same biases",
                        "refits": int(sum(r["refits"] for r in res))}

@@ -133,9 +133,44 @@ def test_projection_takes_the_width_a_partner_profile_found():
     assert out == {"u": [0.0, 3.0], "v": [0.0, 1.0]}
 
 
-def test_merge_is_the_union_of_both_intervals():
-    got = P.merge({"a": [1.0, 2.0], "b": [0.0, 1.0]}, {"a": {"ci90": [1.5, 2.5]}, "c": {"ci90": [3.0, 4.0]}})
+def test_merge_without_a_count_of_units_is_the_union_of_both_intervals():
+    got, union = P.merge({"a": [1.0, 2.0], "b": [0.0, 1.0]}, {"a": {"ci90": [1.5, 2.5]}, "c": {"ci90": [3.0, 4.0]}})
     assert got == {"a": [1.0, 2.5], "b": [0.0, 1.0], "c": [3.0, 4.0]}
+    assert union == {"a": True}  # c has no resampled interval to merge with
+
+
+@pytest.mark.parametrize("ratio, m, heterogeneous", [(1.2, 9, False), (1.5, 9, True), (1.2, 51, True),
+                                                      (1.0, None, True), (1.0, 1, True)])
+def test_units_are_heterogeneous_beyond_the_scatter_of_a_spread_read_from_m_units(ratio, m, heterogeneous):
+    # the threshold 1 + 1.6449/√(2(m − 1)): 1.4112 at m = 9, 1.1645 at m = 51; without m (or m < 2) nothing can
+    # show the units alike
+    assert P.heterogeneous([0.0, ratio], [3.0, 4.0], m) is heterogeneous
+
+
+def test_merge_of_alike_units_is_the_profile_widened_by_the_resampling_biases():
+    # percentile [1, 2], widened low by a bias of 0.2 to [0.8, 2]; the profile [1.1, 2.1] is as wide as the
+    # percentile interval (ratio 1 < 1.4112 at m = 9): reported [1.1 − 0.2, 2.1], not the union [0.8, 2.1]
+    got, union = P.merge({"a": [0.8, 2.0]}, {"a": {"ci90": [1.1, 2.1]}}, {"a": [1.0, 2.0]}, units=9)
+    assert got["a"] == pytest.approx([0.9, 2.1], abs=1e-12) and union == {"a": False}
+    # heterogeneous units (percentile width 3 against 1): the union
+    got, union = P.merge({"a": [-0.5, 3.0]}, {"a": {"ci90": [1.0, 2.0]}}, {"a": [0.0, 3.0]}, units=9)
+    assert got["a"] == [-0.5, 3.0] and union == {"a": True}
+    # the harmonic route has no widening: alike units give the profile alone
+    got, _ = P.merge({"a": [1.0, 2.0]}, {"a": {"ci90": [1.2, 2.2]}}, units=9)
+    assert got["a"] == [1.2, 2.2]
+
+
+def test_the_least_chi2_near_a_start_off_the_optimum_is_found_before_the_scan():
+    # a start 0.6 se off the optimum (χ² 0.36 above it): the first scan steps (±1 se) meet χ² 0.16 and 2.56 above it
+    # and would read the edges 1.693 se out instead of 1.645 se; the search before the scan finds the optimum to
+    # well within 0.01 se, so both edges are the closed form est ± √q₉₀·se
+    est, cov, chi2, refit, n = _line(4)
+    se = math.sqrt(cov[1, 1])
+    off = refit("b", est["b"] + 0.6 * se, est)
+    r = P.profile_interval("b", off, (-100.0, 100.0), se, chi2, refit, n, 2)
+    half = math.sqrt(P.Q90) * se * max(1.0, math.sqrt(chi2(est) / (n - 2)))
+    assert r["ci90"] == pytest.approx([est["b"] - half, est["b"] + half], abs=0.01 * se)
+    assert r["chi2_min"] == pytest.approx(chi2(est), abs=1e-3)
 
 
 @pytest.mark.parametrize("first_step", [1.0, 30.0, 300.0])
