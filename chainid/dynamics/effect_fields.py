@@ -4,6 +4,7 @@ its valid range.  Units: mm, N, s, kg (see the ChainLine docstring for each fiel
 from __future__ import annotations
 
 import math
+import numbers
 from typing import Any
 
 __all__ = ["check_effects"]
@@ -14,7 +15,8 @@ def _bad(field_name: str, value: object, valid: str) -> ValueError:
 
 
 def _real(v: Any) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(float(v))
+    """A finite real number, numpy scalars included (as ChainLine's other fields), not a bool."""
+    return isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(float(v))
 
 
 def _tuples(line: Any, name: str, width: int, ok: Any, valid: str) -> None:

@@ -58,7 +58,9 @@ def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissi
         time, or its output index without ``t``), ``relative_error`` (|worst_residual| / the energy scale),
         ``scale`` (the energy scale: the largest over the run of |W|, |ΔE_kin|, |ΔE_el| and |D|, N·mm; so
         that a free vibration without work input is measured too) and ``finite`` (all energies finite).
-        ``relative_error`` is 0 when nothing happened (scale 0) and nan when an energy is not finite.
+        ``relative_error`` is 0 when nothing happened (scale 0) and nan when an energy is not finite.  Its
+        denominator is at least 1e-9 of the largest stored energy |E_kin|, |E_el|: the round-off of the stored
+        energies (a chain at rest) is not an integration error.
     """
     dk = kinetic - kinetic[0]
     de = elastic - elastic[0]
@@ -70,6 +72,7 @@ def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissi
                 "worst_t_s": math.nan, "relative_error": math.nan, "scale": math.nan, "finite": False}
     scale = float(max(np.max(np.abs(work_in)), np.max(np.abs(dk)), np.max(np.abs(de)), np.max(np.abs(dissipated))))
     k = int(np.argmax(np.abs(res)))
+    den = max(scale, 1e-9 * float(max(np.max(np.abs(kinetic)), np.max(np.abs(elastic)))))
     return {
         "work_in": float(work_in[-1]),
         "kinetic": float(dk[-1]),
@@ -78,7 +81,7 @@ def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissi
         "residual": float(res[-1]),
         "worst_residual": float(res[k]),
         "worst_t_s": float(t[k]) if t is not None else float(k),
-        "relative_error": float(abs(res[k]) / scale) if scale > 0 else 0.0,
+        "relative_error": float(abs(res[k]) / den) if den > 0 else 0.0,
         "scale": scale,
         "finite": True,
     }
