@@ -134,7 +134,8 @@ def _elastic(j, e, de, ys, y, cl, ch, hx, hd, sp, tangent):
     f = spring_force(a, cl[j], ch[j], beta)
     if not moved:
         loss = f * rest
-    elif abs(rest) > 1e-12 * (abs(e) + hx[j, 0]):  # the step that engages (not round-off of an engaged step)
+    elif q0 == 1 and abs(rest) > 1e-12 * (abs(e) + hx[j, 0]):  # the step that engages (not round-off of it);
+        # q0 == 1 first: without a play there is no column 0 to read
         loss = spring_force(ys[j, 0] - s, cl[j], ch[j], beta) * rest
     kf = spring_stiffness(a, cl[j], ch[j], beta) if (moved and tangent) else 0.0
     return f, a, fd, kf, kdb, loss, q0

@@ -255,3 +255,21 @@ def test_memory_elements_start_unstressed_so_a_pretensioned_line_stays_at_rest(k
     res = _quiet(line, Drive("none"), 0.01, scheme=scheme, n_out=20)
     assert np.max(np.abs(res.u)) < 1e-9
     np.testing.assert_allclose(res.tension, 1_000.0, rtol=1e-9)
+
+
+def test_newton_on_a_damped_two_mass_linear_line_converges_after_one_solve():
+    """Two free nodes joined by a damped linear segment that stays taut (c = 5 N·s/mm, a few µm of motion: the
+    damper's force stays far below the 1 kN pretension, so no tension is clipped at 0): the residual is linear in
+    (u, v), so with the exact tridiagonal tangent (the segment's c·h/2 and k·h²/4 in both off-diagonals) one Newton
+    solve is exact and every step takes 2 iterations: work = 2 nodes × 2 iterations × ITERATION_COST 2 = 8 per
+    step, 320 for 40.  Bugs caught: a wrong damping or stiffness term in the tangent's lower or upper diagonal
+    (Newton then needs more iterations to the same answer)."""
+    line = ChainLine(n_links=8, n_masses=2, pretension_N=P, contact_exponent=1.0, tensioner_stiffness=KT,
+                     tail_mass_kg=TAIL, damping=5.0)
+    h = 2e-4
+    res = _quiet(line, Drive("none"), 40 * h, dt=h, scheme="implicit", n_out=40,
+                 initial_u=np.array([0.0, 0.001, 0.003]), peak_force=P)
+    assert res.n_steps == 40 and res.rejected == 0
+    assert res.tension.min() > 0.5 * P  # taut throughout: the law is linear
+    assert np.ptp(res.u[:, 1]) > 5e-4  # the nodes move: the damper's tangent terms are exercised
+    assert res.work == 320.0
