@@ -4,7 +4,9 @@ A reported 90 % interval is made of parts that ``chainid benchmark-gap --json`` 
 (``params_ci90_parts``): ``percentile`` (the resamples' percentiles, time route only; on the harmonic route it is
 ``resampled`` itself), ``resampled`` (those widened by the time sampling's and the displacement noise's biases) and
 ``profile`` (profile likelihood).  Every rule below is computed from those parts alone, so it is scored on runs
-already made, with no re-run; the rows' own reported interval is the ``union`` rule.
+already made, with no re-run.  Rows written before commit 2bb3e55 reported the ``union`` rule; since then they
+report ``gated`` (:func:`chainid.gap.core.profile.merge`, which also stops a widened edge at the parameter's bound,
+a clip that the rows cannot replay and that never moves a covered truth out).
 
 Rules, per parameter (P percentile, R resampled, Q profile; B the bias widening R − P, applied edge by edge):
 
@@ -12,12 +14,14 @@ Rules, per parameter (P percentile, R resampled, Q profile; B the bias widening 
 * ``profile``, ``resampled``: Q, R alone;
 * ``gated``: R ∪ Q where the training units are heterogeneous — the percentile interval is wider than the profile's
   by more than its own sampling scatter allows, width(P) > (1 + z₉₅/√(2(m − 1)))·width(Q), m the training units
-  (the relative sd of a spread read from m units is about 1/√(2(m − 1))); else Q widened by B;
+  (the relative sd of a spread read from m units is about 1/√(2(m − 1))), or m < 2; else Q widened by B and
+  holding the estimate;
 * ``gated_plain``: as ``gated``, but Q alone where the units are not heterogeneous;
 * ``shifted``: P and Q both moved by the net bias (not widened), and their hull.
 
 m is the row's ``resample_units`` (rows written since it was recorded); for older rows the harmonic plans' training
-tests (grid3x3: 8, grid4x3: 9, measured) and ``--time-units`` on the time route (12 on the cases measured).
+tests (grid3x3: 8, grid4x3: 9, measured) and ``--time-units`` otherwise (12 on the time route's cases; rows of
+the ODE world name no plan and take it too), each such row counted as a fallback.
 
 Usage (from the repository root)::
 
@@ -41,9 +45,9 @@ PLAN_UNITS = {"grid3x3": 8, "grid4x3": 9}
 Z95 = 1.6448536269514722
 
 
-def rules(parts: dict, key: str, m: int) -> dict[str, list[float]] | None:
-    """Every rule's interval for parameter ``key`` from a row's parts; None without both a resampled and a profile
-    interval."""
+def rules(parts: dict, key: str, m: int, est: float) -> dict[str, list[float]] | None:
+    """Every rule's interval for parameter ``key`` (estimate ``est``) from a row's parts; None without both a
+    resampled and a profile interval."""
     R = (parts.get("resampled") or {}).get(key)
     Q = (parts.get("profile") or {}).get(key)
     if R is None or Q is None:
@@ -51,10 +55,10 @@ def rules(parts: dict, key: str, m: int) -> dict[str, list[float]] | None:
     P = (parts.get("percentile") or {}).get(key) or R
     b_lo, b_hi = max(0.0, P[0] - R[0]), max(0.0, R[1] - P[1])
     union = [min(R[0], Q[0]), max(R[1], Q[1])]
-    het = (P[1] - P[0]) > (1.0 + Z95 / math.sqrt(2.0 * max(m - 1, 1))) * (Q[1] - Q[0])
+    het = m < 2 or (P[1] - P[0]) > (1.0 + Z95 / math.sqrt(2.0 * (m - 1))) * (Q[1] - Q[0])
     net = b_hi - b_lo
     shifted = [min(P[0], Q[0]) + net, max(P[1], Q[1]) + net]
-    return {"union": union, "profile": Q, "resampled": R, "gated": union if het else [Q[0] - b_lo, Q[1] + b_hi],
+    return {"union": union, "profile": Q, "resampled": R, "gated": union if het else [min(Q[0] - b_lo, est), max(Q[1] + b_hi, est)],
             "gated_plain": union if het else Q, "shifted": shifted}
 
 
@@ -69,10 +73,12 @@ def tally(files: list[str], time_units: int) -> tuple[dict, dict, int]:
     fallback = 0
     for f in files:
         for j, row in enumerate(json.loads(Path(f).read_text())["rows"]):
-            m = row.get("resample_units") or PLAN_UNITS.get(row.get("plan")) or time_units
-            fallback += row.get("resample_units") is None
+            m = row.get("resample_units")
+            if m is None:
+                m = PLAN_UNITS.get(row.get("plan")) or time_units
+                fallback += 1
             for s in row_param_scores(row):
-                iv = rules(row.get("params_ci90_parts") or {}, s["param"], m)
+                iv = rules(row.get("params_ci90_parts") or {}, s["param"], m, s["estimate"])
                 if iv is None:
                     continue
                 eff = s["param"].split(".")[0]

@@ -15,7 +15,7 @@ def _bad(field_name: str, value: object, valid: str) -> ValueError:
 
 
 def _real(v: Any) -> bool:
-    """A finite real number, numpy scalars included (as ChainLine's other fields), not a bool."""
+    """A finite real number, Python's or numpy's, never a bool."""
     return isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(float(v))
 
 

@@ -60,6 +60,7 @@ the motion.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -79,6 +80,11 @@ LUMPINGS: tuple[str, ...] = ("half", "drive")
 def _bad(field_name: str, value: object, valid: str) -> ValueError:
     return ValueError(f"{field_name} = {value!r} is invalid: valid range {valid}")
 
+
+
+def _number(v: object) -> bool:
+    """A finite real number: Python's or numpy's, integer or float, never a bool."""
+    return isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_)) and math.isfinite(float(v))
 
 @dataclass(frozen=True)
 class LoadStep:
@@ -215,7 +221,7 @@ class ChainLine:
         kernels.variant_module(self.variant)
         for name in ("pretension_N", "tensioner_stiffness", "tail_mass_kg", "damping", "resistance_N"):
             v = getattr(self, name)
-            if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v >= 0):
+            if not (_number(v) and v >= 0):
                 raise _bad(name, v, ">= 0 (finite)")
         if not (math.isfinite(self.resistance_v_eps) and self.resistance_v_eps > 0):
             raise _bad("resistance_v_eps", self.resistance_v_eps, "> 0 mm/s")
@@ -235,8 +241,7 @@ class ChainLine:
             if len(el) != 2 or not all(math.isfinite(x) and x > 0 for x in el):
                 raise _bad("dahl", el, "pairs (F_h > 0 N, x_h > 0 mm), finite")
         object.__setattr__(self, "dahl", dahl)
-        if not (isinstance(self.coulomb_N, (int, float, np.floating)) and not isinstance(self.coulomb_N, bool)
-                and math.isfinite(self.coulomb_N) and self.coulomb_N >= 0):
+        if not (_number(self.coulomb_N) and self.coulomb_N >= 0):
             raise _bad("coulomb_N", self.coulomb_N, ">= 0 N (finite)")
         if self.coulomb_stiffness is not None and not (math.isfinite(self.coulomb_stiffness)
                                                        and self.coulomb_stiffness > 0):
@@ -257,7 +262,7 @@ class ChainLine:
     def from_length(cls, length_mm: float, n_masses: int, chain: ChainSpec | None = None, **kw: object) -> "ChainLine":
         """A chain of total length ``length_mm`` [mm] (> 0; rounded to whole links of ``chain.pitch``)."""
         chain = chain or default_chain()
-        if not (isinstance(length_mm, (int, float, np.floating)) and math.isfinite(length_mm) and length_mm > 0):
+        if not (_number(length_mm) and length_mm > 0):
             raise _bad("length_mm", length_mm, "> 0 mm")
         n_links = max(1, int(round(length_mm / chain.pitch)))
         return cls(n_links=n_links, n_masses=n_masses, chain=chain, **kw)
@@ -410,8 +415,12 @@ def viscous_equivalent(law_or_ce: object, omega: float, A: float, x0: float) -> 
         raise _bad("A", A, "> 0 mm")
     if not (math.isfinite(x0) and x0 >= 0):
         raise _bad("x0", x0, ">= 0 mm")
-    if isinstance(law_or_ce, (int, float)):
+    if isinstance(law_or_ce, bool) or (isinstance(law_or_ce, np.bool_)):
+        raise _bad("law_or_ce", law_or_ce, "a damping law or a number >= 0 N·s/mm")
+    if isinstance(law_or_ce, numbers.Real):
         c = float(law_or_ce)
+    elif not hasattr(law_or_ce, "predict"):
+        raise _bad("law_or_ce", law_or_ce, "a damping law (with predict) or a number >= 0 N·s/mm")
     else:
         c = float(np.asarray(law_or_ce.predict(omega, A, x0)).reshape(-1)[0])
     if not (math.isfinite(c) and c >= 0):

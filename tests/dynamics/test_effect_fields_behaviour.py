@@ -57,9 +57,9 @@ def test_numpy_scalars_inside_the_range_are_accepted():
     np.testing.assert_allclose(line.spring_table()[:, 0], 0.9, rtol=1e-12)
     np.testing.assert_allclose(line.spring_table()[:, 1], 0.25 * 8 / 16, rtol=1e-7)
     assert line.node_masses()[0] == pytest.approx(1.0 + 0.5 * 4.0 * 0.4, rel=1e-12)
-    with pytest.raises(ValueError, match=r"^hertz_scale = np\.float32\(0\.0\) is invalid: valid range > 0$"):
+    with pytest.raises(ValueError, match=r"^hertz_scale = .*0\.0\)? is invalid: valid range > 0$"):  # any numpy repr
         ChainLine(**KW, hertz_scale=np.float32(0.0))
-    with pytest.raises(ValueError, match=r"^slack = np\.True_ is invalid"):
+    with pytest.raises(ValueError, match=r"^slack = (np\.)?True_? is invalid"):
         ChainLine(**KW, slack=np.bool_(True))
 
 

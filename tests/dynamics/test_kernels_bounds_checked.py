@@ -3,8 +3,8 @@
 Compiled numba code does not check bounds: a read past an array's end returns whatever lies there, silently.  Run
 as plain Python (NUMBA_DISABLE_JIT=1, in a subprocess so this process' compiled kernels are untouched), the same
 kernels raise IndexError on such a read.  A few steps of short lines through both schemes and the spring paths (the
-plain chain kernel, a contact exponent with and without a play, every element kind, a dead band, slack, the resistance and
-the take-up) must run to the end.
+plain chain kernel, a contact exponent with and without a play, every element kind, a dead band, slack, the resistance
+and the take-up) must run to the end.
 """
 from __future__ import annotations
 

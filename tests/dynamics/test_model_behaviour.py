@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import paper_forms
-from chainid.dynamics import ChainLine, LoadStep
+from chainid.dynamics import ChainLine, LoadStep, viscous_equivalent
 from chainid.chain.spec import default_chain
 
 PITCH, MASS_PER_M = 50.0, 4.0  # the built-in 14x50 chain: 50 mm pitch, 4 kg/m
@@ -161,3 +161,26 @@ def test_a_fixed_end_or_a_tail_mass_allows_drive_lumping_and_the_refusal_names_t
     with pytest.raises(ValueError, match=r"^tail_mass_kg = 0 is invalid: valid range > 0 kg with lumping='drive'"):
         ChainLine(n_links=10, n_masses=2, lumping="drive", tail_mass_kg=0)
     assert ChainLine(n_links=10, n_masses=2, lumping="drive", tail_mass_kg=1e-9).node_masses()[-1] == 1e-9
+
+
+@pytest.mark.parametrize("kw", [dict(pretension_N=np.int64(100)), dict(coulomb_N=np.int64(5)),
+                                dict(pretension_N=np.float32(3.0)), dict(damping=np.float64(2.5))])
+def test_numpy_numbers_are_accepted_as_the_lines_fields(kw):
+    line = ChainLine(n_links=4, n_masses=2, **kw)
+    (name, v), = kw.items()
+    assert getattr(line, name) == float(v)
+
+
+@pytest.mark.parametrize("kw", [dict(pretension_N=True), dict(damping=np.bool_(True)), dict(coulomb_N=False)])
+def test_a_bool_is_refused_where_a_number_belongs(kw):
+    (name, _), = kw.items()
+    with pytest.raises(ValueError, match=name):
+        ChainLine(n_links=4, n_masses=2, **kw)
+
+
+def test_a_line_from_a_numpy_length_and_a_numpy_viscous_constant():
+    # 1000 mm of 50 mm links: 20 links, by hand; a numpy constant c_e is itself at any operating point
+    assert ChainLine.from_length(np.int64(1000), 2).n_links == round(1000 / default_chain().pitch)
+    assert viscous_equivalent(np.float32(3.0), 10.0, 0.1, 0.0) == 3.0
+    with pytest.raises(ValueError, match="law_or_ce"):
+        viscous_equivalent("3", 10.0, 0.1, 0.0)

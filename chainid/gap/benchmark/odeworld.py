@@ -196,7 +196,8 @@ def _result_row(res: dict[str, Any]) -> dict[str, Any]:
             "steps": [s["effect"] for s in steps[1:]], "params": kept.get("params") or {},
             "params_sd": kept.get("params_sd") or {}, "params_ci90": kept.get("params_ci90") or {},
             "params_ci90_parts": interval_parts(res, i) if i is not None else {},
-            "resample_units": (res.get("stability") or {}).get("units"), "route": res.get("route", "harmonic"), "base_law": b.get("damping_law"),
+            "resample_units": (res.get("stability") or {}).get("units"), "route": res.get("route", "harmonic"),
+            "base_law": b.get("damping_law"),
             "excluded": [e["test"] for e in res.get("excluded", [])],
             "open_world": open_world_row(res)}
 

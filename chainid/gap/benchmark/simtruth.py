@@ -77,9 +77,9 @@ def nested(true_params: dict[str, float]) -> dict[str, Any]:
 def trusted_fields(res: dict[str, Any]) -> dict[str, Any]:
     """The diagnosis' numbers of its last trusted step (the verdict's chain, ``res["trusted_steps"]``; steps after
     the held-out minimum are over-fitted and never in the verdict): ``params`` and ``params_ci90`` (the 90 %
-    intervals, the union of the resampling's and the profile's; {} without resamples) and ``params_ci90_parts``
-    (:func:`interval_parts`), each keyed ``effect.param``, and ``resample_units`` (the training units the
-    resampling drew; None without one)."""
+    intervals, the resampling's and the profile's merged, :func:`chainid.gap.core.profile.merge`; {} without
+    resamples) and ``params_ci90_parts`` (:func:`interval_parts`), each keyed ``effect.param``, and
+    ``resample_units`` (the training units the resampling drew; None without one)."""
     i = trusted_index(res)
     units = (res.get("stability") or {}).get("units")
     if i is None:
@@ -109,7 +109,7 @@ def interval_parts(res: dict[str, Any], i: int) -> dict[str, dict[str, list[floa
     refits, recentred; the time route alone keeps it apart, before :func:`chainid.gap.core.resample.widen`),
     ``resampled`` (those widened by the time sampling's and the displacement noise's biases; the percentiles
     themselves on the harmonic route) and
-    ``profile`` (the profile-likelihood intervals); the reported interval is the union of the last two
+    ``profile`` (the profile-likelihood intervals); the reported interval merges the last two
     (:func:`chainid.gap.core.profile.merge`).  Each part is ``{effect.param: [lo, hi]}``; a part the step lacks is
     left out ({} without a resampling)."""
     rows = (res.get("stability") or {}).get("steps") or []

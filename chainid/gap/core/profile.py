@@ -24,7 +24,7 @@ The scan walks out from that minimum on each side, doubling its step (the first 
 half-width, at least 10⁻⁴ of the bounds' span, or of the estimate where a bound is infinite) until χ²_p exceeds
 the level or the bound is reached, then bisects the bracket [last point inside, first point outside] at least
 :data:`BISECT` times, and on until it is no wider than an eighth (2^−:data:`RESOLVE`) of its inside end's distance
-from the estimate (at most :data:`BISECT_MAX` times), so a first step far wider than the interval still finds it
+from the scan's start (at most :data:`BISECT_MAX` times), so a first step far wider than the interval still finds it
 and a profile that is not quadratic is read within that bracket.  A refit that fails (a NaN χ²) counts as
 outside the level.  The edge is the crossing
 interpolated in that bracket on √(χ²_p − χ²_min), which is linear in the parameter where the profile is quadratic
@@ -46,8 +46,9 @@ from typing import Any, Callable, Sequence
 
 from chainid.infra.forkpool import fork_map
 
-__all__ = ["Q90", "BISECT", "BISECT_MAX", "RESOLVE", "MAX_DOUBLINGS", "REFINE", "level", "crossing", "scan_side",
-           "refine_minimum", "profile_interval", "project", "heterogeneous", "merge", "problem_hooks", "attach_profiles"]
+__all__ = ["Q90", "BISECT", "BISECT_MAX", "RESOLVE", "MAX_DOUBLINGS", "REFINE", "least", "level", "crossing",
+           "scan_side", "refine_minimum", "profile_interval", "project", "heterogeneous", "merge", "problem_hooks",
+           "attach_profiles"]
 
 #: the 90 % point of χ² with one degree of freedom (scipy.stats.chi2.ppf(0.9, 1))
 Q90 = 2.705543454095404
@@ -57,7 +58,7 @@ Z95 = 1.6448536269514722
 BISECT = 4
 #: most bisections of a crossing's bracket (a first step 2⁹ times wider than the interval still resolves it)
 BISECT_MAX = 12
-#: the bracket is bisected until it is no wider than 2^−RESOLVE of its inside end's distance from the estimate
+#: the bracket is bisected until it is no wider than 2^−RESOLVE of its inside end's distance from the scan's start
 RESOLVE = 3
 #: most doublings of the step on one side before the scan gives up (the interval then reaches the last point)
 MAX_DOUBLINGS = 14
@@ -66,6 +67,12 @@ REFINE = 8
 
 Chi2 = Callable[[dict[str, float]], float]
 Refit = Callable[[str, float, dict[str, float]], dict[str, float]]
+
+
+def least(pts: Sequence[tuple[float, float, Any]]) -> float:
+    """The least finite χ² among scanned points (value, χ², parameters); inf when none is finite (a failed refit's
+    NaN never becomes the minimum)."""
+    return min((q[1] for q in pts if math.isfinite(q[1])), default=math.inf)
 
 
 def level(chi2_min: float, n: int, p: int) -> float:
@@ -113,7 +120,7 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
         p = refit(key, v, p_in)
         c = chi2(p)
         pts.append((v, c, p))
-        if not c - min(q[1] for q in pts) <= lev():  # a failed refit's NaN χ² counts as outside
+        if not c - least(pts) <= lev():  # a failed refit's NaN χ² counts as outside
             out, c_out = v, c
             break
         inside, p_in, c_in = v, p, c
@@ -129,7 +136,7 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
         p = refit(key, v, p_in)
         c = chi2(p)
         pts.append((v, c, p))
-        if not c - min(q[1] for q in pts) <= lev():
+        if not c - least(pts) <= lev():
             out, c_out = v, c
         else:
             inside, p_in, c_in = v, p, c
@@ -162,7 +169,7 @@ def refine_minimum(key: str, est: dict[str, float], bounds: tuple[float, float],
     minimize_scalar(f, bounds=(lo, hi), method="bounded",
                     options={"maxiter": REFINE, "xatol": step * 2.0**-RESOLVE})
     best = min(pts, key=lambda q: q[1] if math.isfinite(q[1]) else math.inf)
-    return best[2] if best[1] < pts[0][1] else est
+    return best[2] if math.isfinite(best[1]) and not best[1] >= pts[0][1] else est  # a NaN at est: any finite
 
 
 def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float], step: float, chi2: Chi2,
@@ -172,7 +179,7 @@ def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float
     Parameters
     ----------
     key : the parameter (``effect.param``)
-    est : the fitted parameters (the scan's start)
+    est : the fitted parameters (the scan starts from the least χ² found near them, :func:`refine_minimum`)
     bounds : the parameter's bounds [its unit]
     step : the first step [its unit] (> 0)
     chi2 : χ² of the training data at a parameter set
@@ -182,21 +189,22 @@ def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float
     Returns
     -------
     dict
-        ``ci90`` [lo, hi], ``chi2_min`` (the least χ² seen), ``level`` (q₉₀·s² at it), ``refits``, ``to_bound``
+        ``ci90`` [lo, hi] ([nan, nan] when no refit gave a finite χ²), ``chi2_min`` (the least finite χ² seen),
+        ``level`` (q₉₀·s² at it), ``refits``, ``to_bound``
         (the sides whose scan reached the parameter's bound inside the level), ``points`` (χ², parameters) of
         every point scanned.
     """
     pts: list[tuple[float, float, dict[str, float]]] = [(est[key], chi2(est), est)]
-    lev = lambda: level(min(q[1] for q in pts), n, p)  # noqa: E731
+    lev = lambda: level(least(pts), n, p)  # noqa: E731
     span = bounds[1] - bounds[0]
     step = max(abs(step), 1e-4 * (span if math.isfinite(span) else max(abs(est[key]), 1e-12)))
     start = refine_minimum(key, est, bounds, step, chi2, refit, pts)
     c0 = min(q[1] for q in pts if q[2] is start)
     brackets = [scan_side(key, start, b, step, chi2, refit, lev, pts, c0) for b in bounds if b != start[key]]
-    cmin = min(q[1] for q in pts)
+    cmin = least(pts)
     edges = [v for v, c, _ in pts if c - cmin <= lev()]
     edges += [v for v in (crossing(b, cmin, lev()) for b in brackets if b is not None) if v is not None]
-    lo, hi = min(edges), max(edges)
+    lo, hi = (min(edges), max(edges)) if edges else (math.nan, math.nan)  # no finite χ² anywhere: no interval
     return {"ci90": [float(lo), float(hi)], "chi2_min": float(cmin), "level": float(lev()), "refits": len(pts) - 1,
             "to_bound": [s for s, b, v in (("low", bounds[0], lo), ("high", bounds[1], hi)) if v == b],
             "points": [(float(c), q) for _, c, q in pts]}
@@ -218,23 +226,28 @@ def heterogeneous(percentile: Sequence[float], profiled: Sequence[float], units:
 
 
 def merge(resampled: dict[str, list[float]], profiled: dict[str, dict[str, Any]],
-          percentile: dict[str, list[float]] | None = None, units: int | None = None
+          percentile: dict[str, list[float]] | None = None, units: int | None = None,
+          estimates: dict[str, float] | None = None, bounds: dict[str, tuple[float, float]] | None = None
           ) -> tuple[dict[str, list[float]], dict[str, bool]]:
     """The reported 90 % intervals from the resampling's (``resampled``: the percentile intervals, on the time route
     widened by the biases resampling cannot see; ``percentile``: those before widening, default ``resampled``) and
-    the profile's (``profiled[k]["ci90"]``), per parameter:
+    the profile's (``profiled[k]["ci90"]``; one that is not finite, a profile with no finite χ², is left out), per
+    parameter:
 
     * where the units are :func:`heterogeneous` (or ``units`` is None): the union of both, since the profile reads
       the units' scatter only as noise of the pooled residual;
-    * else the profile's interval, widened on each side as far as the biases widened the resampling's
-      (``resampled`` beyond ``percentile``): both measure the same spread, and the union of two intervals that each
-      cover 90 % covers more.
+    * else the profile's interval, widened on each side as far as the biases widened the resampling's (a widened
+      edge stops at the parameter's ``bounds``), and holding the reported estimate (``estimates``; the profile is
+      centred on the least χ² found, which can lie off the fit's own estimate): both measure the same spread, and
+      the union of two intervals that each cover 90 % covers more.
 
     Either alone where the other has none.  Returns the intervals and, per parameter, whether the union was taken."""
     out = {k: list(v) for k, v in resampled.items()}
     union: dict[str, bool] = {}
     for k, pr in profiled.items():
         lo, hi = pr["ci90"]
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            continue
         if k not in out:
             out[k] = [lo, hi]
             continue
@@ -243,8 +256,11 @@ def merge(resampled: dict[str, list[float]], profiled: dict[str, dict[str, Any]]
         union[k] = heterogeneous(pc, [lo, hi], units)
         if union[k]:
             out[k] = [min(lo, r[0]), max(hi, r[1])]
-        else:
-            out[k] = [lo - max(0.0, pc[0] - r[0]), hi + max(0.0, r[1] - pc[1])]
+            continue
+        blo, bhi = (bounds or {}).get(k, (-math.inf, math.inf))
+        lo, hi = min(lo, max(lo - max(0.0, pc[0] - r[0]), blo)), max(hi, min(hi + max(0.0, r[1] - pc[1]), bhi))
+        e = (estimates or {}).get(k)
+        out[k] = [min(lo, e), max(hi, e)] if e is not None and math.isfinite(e) else [lo, hi]
     return out, union
 
 
@@ -256,7 +272,9 @@ def project(points: Sequence[tuple[float, dict[str, float]]], keys: Sequence[str
     The profile interval is the projection of the region χ² − χ²_min ≤ q₉₀·s² on the parameter's axis, so a point
     of another parameter's profile inside that region belongs to it too: a parameter whose own profile's refits
     cannot move a rough partner (a delay against a sharp friction) gets the width the partner's profile found."""
-    cmin = min(c for c, _ in points)
+    cmin = min((c for c, _ in points if math.isfinite(c)), default=math.inf)
+    if not math.isfinite(cmin):
+        return {}
     lev = level(cmin, n, p)
     inside = [q for c, q in points if c - cmin <= lev]
     return {k: [float(min(q[k] for q in inside)), float(max(q[k] for q in inside))] for k in keys
@@ -294,8 +312,8 @@ def attach_profiles(stab: dict[str, Any], steps: Sequence[Any], hooks_for: Calla
     """Profile every fitted parameter of every step of the chain and merge the intervals into a resampling's
     numbers: per step ``params_ci90_resampled`` (the percentile intervals), ``params_ci90_profile`` (with the scan's
     χ²_min, level and refits), ``params_ci90`` (the two merged, :func:`merge`, with ``stab["units"]`` training
-    units) and ``units_heterogeneous`` (per parameter, whether the merge took the union); ``stab["profile"]`` says
-    how.
+    units, the step's estimates and its parameters' bounds) and ``units_heterogeneous`` (per parameter, whether the
+    merge took the union); ``stab["profile"]`` says how.
 
     ``hooks_for(candidate)`` gives ``chi2``, ``refit``, ``bounds``, ``n``, ``p`` (:func:`problem_hooks`).  The
     parameters are profiled in parallel (:func:`chainid.infra.forkpool.fork_map`)."""
@@ -319,8 +337,9 @@ def attach_profiles(stab: dict[str, Any], steps: Sequence[Any], hooks_for: Calla
         row["params_ci90_profile"] = {k: r | {"ci90": _hull(proj.get(k), r["ci90"])} for k, r in mine}
         row["params_ci90"], row["units_heterogeneous"] = merge(
             row["params_ci90_resampled"], row["params_ci90_profile"], row.get("params_ci90_percentile"),
-            stab.get("units"))
+            stab.get("units"), dict(steps[i].params), hooks[i]["bounds"])
     stab["profile"] = {"method": "profile likelihood: χ²_p(v) − χ²_min ≤ 2.7055·max(1, χ²_min/(n − p)), the others "
                                  "refitted; the reported interval is the union with the resampling's where the "
-                                 "units are heterogeneous, else the profile's widened by the same biases",
+                                 "units are heterogeneous, else the profile's widened by the same biases (within "
+                                 "the bounds) and holding the estimate",
                        "refits": int(sum(r["refits"] for r in res))}

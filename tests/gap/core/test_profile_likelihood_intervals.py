@@ -147,6 +147,43 @@ def test_units_are_heterogeneous_beyond_the_scatter_of_a_spread_read_from_m_unit
     assert P.heterogeneous([0.0, ratio], [3.0, 4.0], m) is heterogeneous
 
 
+@pytest.mark.parametrize("ratio, heterogeneous", [(1.3506, False), (1.3508, True)])
+def test_the_heterogeneity_threshold_at_twelve_units_is_1_3507(ratio, heterogeneous):
+    # 1 + 1.6448536/√22 = 1 + 1.6448536/4.6904158 = 1.3506840 (by hand): just below and just above it
+    assert P.heterogeneous([0.0, ratio], [0.0, 1.0], 12) is heterogeneous
+
+
+def test_merge_stops_a_widened_edge_at_the_bound_and_holds_the_estimate():
+    # alike units (widths 0.25 and 0.3 at m = 12): the profile [0, 0.3] widened down by the bias 0.05 would reach
+    # −0.05, a negative play; it stops at the bound 0
+    got, union = P.merge({"b": [0.0, 0.3]}, {"b": {"ci90": [0.0, 0.3]}}, {"b": [0.05, 0.3]}, units=12,
+                         bounds={"b": (0.0, math.inf)})
+    assert got["b"] == [0.0, 0.3] and union == {"b": False}
+    # a profile centred on a lower χ² than the fit's estimate (0, at its bound) still holds the reported estimate
+    got, _ = P.merge({"b": [-0.1, 0.1]}, {"b": {"ci90": [0.035, 0.365]}}, units=12, estimates={"b": 0.0},
+                     bounds={"b": (0.0, 1.0)})
+    assert got["b"] == [0.0, 0.365]
+
+
+def test_a_profile_without_a_finite_chi2_is_left_out_of_the_merge():
+    got, union = P.merge({"a": [1.0, 2.0]}, {"a": {"ci90": [math.nan, math.nan]}, "c": {"ci90": [math.nan, 1.0]}})
+    assert got == {"a": [1.0, 2.0]} and union == {}
+
+
+def test_a_nan_chi2_at_the_estimate_still_gives_the_closed_form_interval():
+    # a failed evaluation exactly at the start (NaN): the search before the scan finds finite points and the scan
+    # reads the edges against them, the straight line's est ± √q₉₀·se·s to 0.01 se
+    est, cov, chi2, refit, n = _line(4)
+    se = math.sqrt(cov[1, 1])
+
+    def flaky(q):
+        return math.nan if q["b"] == est["b"] else chi2(q)
+
+    r = P.profile_interval("b", est, (-100.0, 100.0), se, flaky, refit, n, 2)
+    half = math.sqrt(P.Q90) * se * max(1.0, math.sqrt(chi2(est) / (n - 2)))
+    assert r["ci90"] == pytest.approx([est["b"] - half, est["b"] + half], abs=0.01 * se)
+
+
 def test_merge_of_alike_units_is_the_profile_widened_by_the_resampling_biases():
     # percentile [1, 2], widened low by a bias of 0.2 to [0.8, 2]; the profile [1.1, 2.1] is as wide as the
     # percentile interval (ratio 1 < 1.4112 at m = 9): reported [1.1 − 0.2, 2.1], not the union [0.8, 2.1]
@@ -162,8 +199,8 @@ def test_merge_of_alike_units_is_the_profile_widened_by_the_resampling_biases():
 
 def test_the_least_chi2_near_a_start_off_the_optimum_is_found_before_the_scan():
     # a start 0.6 se off the optimum (χ² 0.36 above it): the first scan steps (±1 se) meet χ² 0.16 and 2.56 above it
-    # and would read the edges 1.693 se out instead of 1.645 se; the search before the scan finds the optimum to
-    # well within 0.01 se, so both edges are the closed form est ± √q₉₀·se
+    # and would read the edges √(2.7055 + 0.16) = 1.693 (times s) se out instead of 1.645 (times s); the search
+    # before the scan finds the optimum to well within 0.01 se, so both edges are the closed form est ± √q₉₀·se·s
     est, cov, chi2, refit, n = _line(4)
     se = math.sqrt(cov[1, 1])
     off = refit("b", est["b"] + 0.6 * se, est)
