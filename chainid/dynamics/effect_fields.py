@@ -7,15 +7,15 @@ import math
 import numbers
 from typing import Any
 
-__all__ = ["check_effects"]
+__all__ = ["check_effects", "finite_real"]
 
 
 def _bad(field_name: str, value: object, valid: str) -> ValueError:
     return ValueError(f"{field_name} = {value!r} is invalid: valid range {valid}")
 
 
-def _real(v: Any) -> bool:
-    """A finite real number, Python's or numpy's, never a bool."""
+def finite_real(v: Any) -> bool:
+    """A finite real number, Python's or numpy's (integer or float), never a bool (numpy's bool is no Real)."""
     return isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(float(v))
 
 
@@ -36,19 +36,19 @@ def check_effects(line: Any) -> None:
     for name, lo, hi, valid in (("ea_scale", 1e-3, 1e3, "0.001 to 1000"), ("hertz_scale", 0.0, math.inf, "> 0"),
                                 ("contact_ref_force", 0.0, math.inf, "> 0 N (finite)")):
         v = getattr(line, name)
-        if not (_real(v) and lo <= v <= hi and v > 0):
+        if not (finite_real(v) and lo <= v <= hi and v > 0):
             raise _bad(name, v, valid)
     beta = line.contact_exponent
-    if beta is not None and not (_real(beta) and 0.2 <= beta <= 1.5):
+    if beta is not None and not (finite_real(beta) and 0.2 <= beta <= 1.5):
         raise _bad("contact_exponent", beta, "None (Hertz) or 0.2 to 1.5")
     for name, valid in (("compliance", ">= 0 mm/N (finite)"), ("backlash_mm", ">= 0 mm (finite)"),
                         ("drive_mass_kg", ">= 0 kg (finite)")):
         v = getattr(line, name)
-        if not (_real(v) and v >= 0):
+        if not (finite_real(v) and v >= 0):
             raise _bad(name, v, valid)
-    if not _real(line.slack):
+    if not finite_real(line.slack):
         raise _bad("slack", line.slack, "a finite number of mm")
-    if line.stribeck_stiffness is not None and not (_real(line.stribeck_stiffness) and line.stribeck_stiffness > 0):
+    if line.stribeck_stiffness is not None and not (finite_real(line.stribeck_stiffness) and line.stribeck_stiffness > 0):
         raise _bad("stribeck_stiffness", line.stribeck_stiffness, "> 0 N/mm (finite) or None")
     db = tuple(line.deadband)
     if db:

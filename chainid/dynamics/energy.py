@@ -55,7 +55,8 @@ def balance(work_in: np.ndarray, kinetic: np.ndarray, elastic: np.ndarray, dissi
     dict
         ``work_in``, ``kinetic``, ``elastic``, ``dissipated`` (final values, changes for the stored energies),
         ``residual`` (at the end, N·mm), ``worst_residual`` (the largest |r|, signed, N·mm), ``worst_t_s`` (its
-        time, or its output index without ``t``), ``relative_error`` (|worst_residual| / the energy scale, floored as below),
+        time, or its output index without ``t``), ``relative_error`` (|worst_residual| / the energy scale,
+        floored as below),
         ``scale`` (the energy scale: the largest over the run of |W|, |ΔE_kin|, |ΔE_el| and |D|, N·mm; so
         that a free vibration without work input is measured too) and ``finite`` (all energies finite).
         ``relative_error`` is 0 when nothing happened (scale 0) and nan when an energy is not finite.  Its

@@ -66,7 +66,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from chainid.dynamics import line_tables
-from chainid.dynamics.effect_fields import check_effects
+from chainid.dynamics.effect_fields import check_effects, finite_real
 from chainid.dynamics.springs import deadband, spring_stiffness, static_elongations
 from chainid.model import kernels
 from chainid.chain.spec import ChainSpec, default_chain
@@ -80,11 +80,6 @@ LUMPINGS: tuple[str, ...] = ("half", "drive")
 def _bad(field_name: str, value: object, valid: str) -> ValueError:
     return ValueError(f"{field_name} = {value!r} is invalid: valid range {valid}")
 
-
-
-def _number(v: object) -> bool:
-    """A finite real number: Python's or numpy's, integer or float, never a bool."""
-    return isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_)) and math.isfinite(float(v))
 
 @dataclass(frozen=True)
 class LoadStep:
@@ -221,7 +216,7 @@ class ChainLine:
         kernels.variant_module(self.variant)
         for name in ("pretension_N", "tensioner_stiffness", "tail_mass_kg", "damping", "resistance_N"):
             v = getattr(self, name)
-            if not (_number(v) and v >= 0):
+            if not (finite_real(v) and v >= 0):
                 raise _bad(name, v, ">= 0 (finite)")
         if not (math.isfinite(self.resistance_v_eps) and self.resistance_v_eps > 0):
             raise _bad("resistance_v_eps", self.resistance_v_eps, "> 0 mm/s")
@@ -241,7 +236,7 @@ class ChainLine:
             if len(el) != 2 or not all(math.isfinite(x) and x > 0 for x in el):
                 raise _bad("dahl", el, "pairs (F_h > 0 N, x_h > 0 mm), finite")
         object.__setattr__(self, "dahl", dahl)
-        if not (_number(self.coulomb_N) and self.coulomb_N >= 0):
+        if not (finite_real(self.coulomb_N) and self.coulomb_N >= 0):
             raise _bad("coulomb_N", self.coulomb_N, ">= 0 N (finite)")
         if self.coulomb_stiffness is not None and not (math.isfinite(self.coulomb_stiffness)
                                                        and self.coulomb_stiffness > 0):
@@ -262,7 +257,7 @@ class ChainLine:
     def from_length(cls, length_mm: float, n_masses: int, chain: ChainSpec | None = None, **kw: object) -> "ChainLine":
         """A chain of total length ``length_mm`` [mm] (> 0; rounded to whole links of ``chain.pitch``)."""
         chain = chain or default_chain()
-        if not (_number(length_mm) and length_mm > 0):
+        if not (finite_real(length_mm) and length_mm > 0):
             raise _bad("length_mm", length_mm, "> 0 mm")
         n_links = max(1, int(round(length_mm / chain.pitch)))
         return cls(n_links=n_links, n_masses=n_masses, chain=chain, **kw)
@@ -415,7 +410,7 @@ def viscous_equivalent(law_or_ce: object, omega: float, A: float, x0: float) -> 
         raise _bad("A", A, "> 0 mm")
     if not (math.isfinite(x0) and x0 >= 0):
         raise _bad("x0", x0, ">= 0 mm")
-    if isinstance(law_or_ce, bool) or (isinstance(law_or_ce, np.bool_)):
+    if isinstance(law_or_ce, (bool, np.bool_)):
         raise _bad("law_or_ce", law_or_ce, "a damping law or a number >= 0 N·s/mm")
     if isinstance(law_or_ce, numbers.Real):
         c = float(law_or_ce)

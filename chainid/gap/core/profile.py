@@ -144,10 +144,11 @@ def scan_side(key: str, est: dict[str, float], bound: float, step: float, chi2: 
 
 
 def refine_minimum(key: str, est: dict[str, float], bounds: tuple[float, float], step: float, chi2: Chi2,
-                   refit: Refit, pts: list[tuple[float, float, dict[str, float]]]) -> dict[str, float]:
-    """The parameters at the least χ²_p within ``step`` of ``est[key]``: a bounded Brent search of χ²_p(v) on
-    [est − step, est + step] ∩ ``bounds`` (at most :data:`REFINE` refits, to 2^−RESOLVE of ``step``); ``est`` when
-    no point is lower.
+                   refit: Refit, pts: list[tuple[float, float, dict[str, float]]]
+                   ) -> tuple[dict[str, float], float]:
+    """The parameters at the least χ²_p within ``step`` of ``est[key]``, and that χ²: a bounded Brent search of
+    χ²_p(v) on [est − step, est + step] ∩ ``bounds`` (at most :data:`REFINE` refits, to 2^−RESOLVE of ``step``);
+    ``est`` and its χ² when no point is lower.
 
     A fit's search can stop short of the least χ² along one parameter where χ² is not smooth (the switch of a play
     or a friction moves across samples), and every profile edge is read against the least χ²: a χ²_min too high
@@ -158,7 +159,7 @@ def refine_minimum(key: str, est: dict[str, float], bounds: tuple[float, float],
     v0 = est[key]
     lo, hi = max(bounds[0], v0 - step), min(bounds[1], v0 + step)
     if not lo < hi:
-        return est
+        return est, pts[0][1]
 
     def f(v: float) -> float:
         q = refit(key, float(v), est)
@@ -169,7 +170,9 @@ def refine_minimum(key: str, est: dict[str, float], bounds: tuple[float, float],
     minimize_scalar(f, bounds=(lo, hi), method="bounded",
                     options={"maxiter": REFINE, "xatol": step * 2.0**-RESOLVE})
     best = min(pts, key=lambda q: q[1] if math.isfinite(q[1]) else math.inf)
-    return best[2] if math.isfinite(best[1]) and not best[1] >= pts[0][1] else est  # a NaN at est: any finite
+    if math.isfinite(best[1]) and not best[1] >= pts[0][1]:  # a NaN at est: any finite χ² is lower
+        return best[2], best[1]
+    return est, pts[0][1]
 
 
 def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float], step: float, chi2: Chi2,
@@ -198,8 +201,7 @@ def profile_interval(key: str, est: dict[str, float], bounds: tuple[float, float
     lev = lambda: level(least(pts), n, p)  # noqa: E731
     span = bounds[1] - bounds[0]
     step = max(abs(step), 1e-4 * (span if math.isfinite(span) else max(abs(est[key]), 1e-12)))
-    start = refine_minimum(key, est, bounds, step, chi2, refit, pts)
-    c0 = min(q[1] for q in pts if q[2] is start)
+    start, c0 = refine_minimum(key, est, bounds, step, chi2, refit, pts)
     brackets = [scan_side(key, start, b, step, chi2, refit, lev, pts, c0) for b in bounds if b != start[key]]
     cmin = least(pts)
     edges = [v for v, c, _ in pts if c - cmin <= lev()]
