@@ -82,13 +82,15 @@ def chain_random(extra: Callable[[sd.MotionFn, np.ndarray], np.ndarray] | None =
 
 def harmonic_set(force: Callable[[sd.MotionFn, np.ndarray, float, float], np.ndarray], pairs=HARMONIC_PAIRS,
                  cycles: int = 8, per_cycle: int = 64, sigma_x: float = SX_LIN, sigma_F: float = SF_LIN,
-                 x0: float = 0.0, seed: int = 0) -> list:
-    """Steady sine tests: ``force(motion, t, f, A)`` the device's force [N] on x = x0 + A·sin(2πft)."""
+                 x0: float = 0.0, seed: int = 0, phase: float = 0.0) -> list:
+    """Steady sine tests: ``force(motion, t, f, A)`` the device's force [N] on x = x0 + A·sin(2πft + φ), φ = ``phase``
+    [rad] (default 0: with a whole number of samples per quarter cycle, a sample on every reversal; π/per_cycle puts
+    them half a step off, as a rig's clock, not locked to its actuator, does)."""
     recs = []
     for i, (f, A) in enumerate(pairs):
         fs = per_cycle * f
         t = sd.sample_times(cycles * per_cycle, fs)
-        mo = sd.sine(f, A, x0)
+        mo = sd.sine(f, A, x0, phase)
         recs.append(sd.noisy(f"h{i}", t, mo(t)[0], force(mo, t, f, A), sigma_x, sigma_F, seed * 100 + i))
     return recs
 

@@ -3,8 +3,9 @@
 Each test's steady window (:mod:`chainid.records`) is folded into ``B`` phase
 bins of ψ = ωt + θ (x = x0 + A sin ψ).  The cycle-averaged force per bin is the
 "measured" force used for all errors (noise averaged over the cycles); the
-noise σ [N] is the cycle-to-cycle scatter within the bins (a local regression on
-phase and time removed), so the noise floor of a bin mean is σ/√n_bin.
+noise σ [N] is the cycle-to-cycle scatter at the same phase, within the model
+grid's cells (:mod:`chainid.gap.harmonic.cyclenoise`), so the noise floor of a
+bin mean is σ/√n_bin.
 
 Per whole cycle the mean force and the force's first harmonic (in phase with x
 and with ẋ) are kept: a displacement-controlled test whose x is periodic must
@@ -23,6 +24,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from chainid.gap.harmonic.cyclenoise import cycle_noise
 from chainid.signal.cycles import segment_lstsq
 
 
@@ -261,7 +263,7 @@ def prepare_test(rec: Any, n_bins: int = 64, allow_compression: bool = True,
     psi = np.mod(est.omega * t + est.theta, 2 * math.pi)
     bins = np.minimum((psi / (2 * math.pi) * B).astype(np.int64), B - 1)
     counts = np.bincount(bins, minlength=B).astype(float)
-    sigma = _bin_noise(t, F, psi, bins, B)
+    sigma = cycle_noise(t, F, psi, bins, B, Q)
     sigma = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
     Fbar = np.bincount(bins, weights=F, minlength=B) / np.maximum(counts, 1)
     describe = getattr(win, "describe", None)
@@ -316,28 +318,3 @@ def other_plateau(win: Any) -> str:
     return (f"not one steady harmonic test: cycle {i} oscillates at the plateau amplitude ({A[i]:.3g} mm) about "
             f"x = {m[i]:.4g} mm, {abs(m[i] - pl_m):.3g} mm from the steady window's mean (a load step or another "
             f"plateau)")
-
-
-def _bin_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray, B: int) -> float:
-    """Pooled within-bin scatter of F [N] after removing a local linear trend in phase and time (O(N))."""
-    cnt = np.bincount(bins, minlength=B).astype(float)
-    ok = cnt >= 5
-    if not np.any(ok):
-        return float(np.std(F))
-    # per-bin centred moments, all by bincount (linear in the number of samples)
-    def bmean(y: np.ndarray) -> np.ndarray:
-        return np.bincount(bins, weights=y, minlength=B) / np.maximum(cnt, 1)
-
-    u = psi - bmean(psi)[bins]
-    v = t - bmean(t)[bins]
-    f = F - bmean(F)[bins]
-    suu, svv, suv = bmean(u * u), bmean(v * v), bmean(u * v)
-    suf, svf, sff = bmean(u * f), bmean(v * f), bmean(f * f)
-    det = suu * svv - suv**2
-    good = ok & (det > 1e-300 * np.maximum(suu * svv, 1e-300))
-    cu = np.where(good, (svv * suf - suv * svf) / np.where(good, det, 1.0), 0.0)
-    cv = np.where(good, (suu * svf - suv * suf) / np.where(good, det, 1.0), 0.0)
-    rss_b = np.maximum(sff - cu * suf - cv * svf, 0.0) * cnt
-    dof = float(np.sum(cnt[good] - 3)) + float(np.sum(cnt[ok & ~good] - 1))
-    rss = float(np.sum(rss_b[good])) + float(np.sum((sff * cnt)[ok & ~good]))
-    return math.sqrt(rss / dof) if dof > 0 else float(np.std(F))

@@ -52,3 +52,18 @@ def test_a_stick_travel_of_a_few_micrometres_is_fitted_with_its_sliding_force():
     # F_c within 2 % and x_s within 10 % (the noise σ_F = 5 N is 5 % of F_c on each sample; 6 tests × 512)
     assert p["friction.F_c"] == pytest.approx(F_C, rel=0.02), p
     assert p["friction.x_s"] == pytest.approx(X_S, rel=0.10), p
+
+
+@pytest.mark.xfail(strict=True, reason="the same tests sampled half a step off the reversals (phase π/64): x_s comes "
+                   "back 6.0e-5 mm for 1e-3 (F_c 99.8 N, 8.1 dB over the noise on the held-out tests), as it did "
+                   "before the noise σ was read from the cycles' scatter (8.2 dB): the fit stays in the sliding "
+                   "basin of the module docstring; why the samples' phase decides it is not known")
+def test_a_stick_travel_sampled_off_the_reversals_is_fitted_with_its_sliding_force():
+    import math
+
+    recs = rc.harmonic_set(_force, PAIRS, x0=rc.X0_CHAIN, sigma_x=rc.SX_CHAIN, sigma_F=rc.SF_CHAIN, seed=3,
+                           phase=math.pi / 64)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = diagnose(recs, ["h2", "h5"], CHAIN, quiet=True, effects=["friction"], max_combo=1, uncertainty=False)
+    assert res["steps"][-1]["params"]["friction.x_s"] == pytest.approx(X_S, rel=0.10)

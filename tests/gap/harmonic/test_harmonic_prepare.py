@@ -88,7 +88,7 @@ def test_prepare_test_bins_and_noise_of_a_clean_record():
 def test_bin_noise_removes_a_local_linear_trend_in_phase_and_time():
     """F exactly linear in phase and time inside every bin (a slope and a drift): the pooled scatter is 0; pure
     white noise of SD 2 N gives 2 N within a few %.  Bug caught: the 2×2 normal-equation solution garbled."""
-    from chainid.gap.harmonic.prepare import _bin_noise
+    from chainid.gap.harmonic.cyclenoise import bin_noise as _bin_noise
 
     rng = np.random.default_rng(5)
     B = 16
@@ -204,7 +204,7 @@ def test_bin_noise_is_the_pooled_scatter_after_a_per_bin_linear_fit():
     """σ = sqrt(Σ RSS_b / Σ(n_b − 3)) with RSS_b of a least-squares fit of F on (1, ψ, t) within each bin
     (computed here by numpy.linalg.lstsq per bin; the code uses running moments); bins with fewer than 5
     samples do not count; with none left, σ is the plain standard deviation of F."""
-    from chainid.gap.harmonic.prepare import _bin_noise
+    from chainid.gap.harmonic.cyclenoise import bin_noise as _bin_noise
 
     rng = np.random.default_rng(5)
     B, n = 4, 200

@@ -4,14 +4,21 @@ within 10 % of the truth of an independent simulation (:mod:`sim_devices`).
 
 Linear device F = 10·x + 0.2·ẋ + effect at (f [Hz], A [mm]) = :data:`recovery_cases.HARMONIC_PAIRS`, 8 cycles of 64
 samples, σ_x = 1 µm, σ_F = 0.1 N; the built-in chain about x0 = 2 mm (σ_x = 0.2 µm, σ_F = 5 N) for
-``fixture_mass`` and ``sensor_delay``.  Test h3 is held out.
+``fixture_mass`` and ``sensor_delay``.  Test h3 is held out.  The samples sit half a step off the reversals
+(:data:`OFF_REVERSALS`), as a rig's clock, not locked to its actuator, does; locked to them, the Stribeck chain
+differs (:func:`test_stribeck_on_samples_locked_to_the_reversals`, xfail).
 """
 from __future__ import annotations
+
+import math
 
 import pytest
 
 import recovery_cases as rc
 import sim_devices as sd
+
+#: the sines' phase [rad]: half a sample step of 64 a cycle, so no sample falls on a reversal
+OFF_REVERSALS = math.pi / 64
 
 pytestmark = pytest.mark.slow
 
@@ -22,7 +29,7 @@ def _lin(mo, t):
 
 
 def _linear_set(extra):
-    return rc.harmonic_set(lambda mo, t, f, A: _lin(mo, t) + extra(mo, t)), ["h3"], None
+    return rc.harmonic_set(lambda mo, t, f, A: _lin(mo, t) + extra(mo, t), phase=OFF_REVERSALS), ["h3"], None
 
 
 def _chain_set(pairs, tau=0.0, extra_mass=0.0):
@@ -34,13 +41,22 @@ def _chain_set(pairs, tau=0.0, extra_mass=0.0):
         x, xd, xdd = mo(t - tau)  # the force channel shows the force at t − τ
         return m.force(x) + (m.mass_kg + extra_mass) * xdd * 1e-3 + rc.C_CHAIN * xd
 
-    return rc.harmonic_set(force, pairs=pairs, x0=rc.X0_CHAIN, sigma_x=rc.SX_CHAIN, sigma_F=rc.SF_CHAIN), ["h3"], m
+    return rc.harmonic_set(force, pairs=pairs, x0=rc.X0_CHAIN, sigma_x=rc.SX_CHAIN, sigma_F=rc.SF_CHAIN,
+                           phase=OFF_REVERSALS), ["h3"], m
+
+
+#: the named chain's held-out residual power over the bins' noise floor σ²/n [dB]: within twice the floor.  A
+#: held-out test carries the prediction's own error (the fitted parameters' and the damping law's), above the
+#: floor of its bin means: on the deadband the fit's ±0.035 in p alone moves h3's peak force by ±0.19 N against a
+#: floor of 0.025 N.  (The earlier 1 dB held against a σ that the force's shape within a bin inflated up to 3.7
+#: times, 11 dB; :mod:`chainid.gap.harmonic.cyclenoise`.)
+NEAR_FLOOR_DB = 3.0
 
 
 def _run(key, build):
     res, _, _ = rc.diagnosed(key, build)
     assert res.get("route") != "time", "a set of steady sines at one condition takes the harmonic route"
-    assert res["residual"]["db_over_noise"] <= 1.0, res["chain_text"]  # the named chain reaches the noise floor
+    assert res["residual"]["db_over_noise"] <= NEAR_FLOOR_DB, res["chain_text"]  # the chain explains the effect
     return res, rc.final_params(res)
 
 
@@ -66,6 +82,21 @@ def test_deadband_recovered_on_sines():
 
 def _stribeck_set():
     return _linear_set(lambda mo, t: sd.stribeck_force(mo(t)[1], 2.0, 1.5, 3.0))
+
+
+@pytest.mark.xfail(strict=True, reason="samples locked to the reversals (x = A·sin 2πft sampled 64 times a cycle "
+                   "from t = 0: one sample on each turning point): the F test refutes the tie of the step's c_e to "
+                   "one viscous c, F_c comes from the loop's corners alone, 1.773 N (11 % low, as untied), and a "
+                   "damping_law step follows, 6.8 dB over the noise on h3, where the true law's own residual is at "
+                   "the noise (χ²/n = 0.96); half a step off the reversals the tie holds and F_c is within 0.2 %")
+def test_stribeck_on_samples_locked_to_the_reversals():
+    def build():
+        force = lambda mo, t, f, A: _lin(mo, t) + sd.stribeck_force(mo(t)[1], 2.0, 1.5, 3.0)  # noqa: E731
+        return rc.harmonic_set(force, phase=0.0), ["h3"], None
+
+    res, p = _run("harm_stribeck_locked", build)
+    assert res["verdict"] == "stribeck", res["chain_text"]
+    assert rc.rel_err(p["stribeck.F_c"], 2.0) <= 0.10, p
 
 
 def test_stribeck_recovered_on_sines():
