@@ -164,6 +164,7 @@ def _diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None,
 
     # records that are not steady harmonic tests go to the time-domain route when long enough for it
     time_ids = {r.test for r in records if r.t.size >= MIN_SAMPLES} & {e["test"] for e in excluded}
+    reasons = {e["test"]: e["reason"] for e in excluded}
     excluded = [e for e in excluded if e["test"] not in time_ids]
     if strict and excluded:
         e = excluded[0]
@@ -174,13 +175,14 @@ def _diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None,
     ex_ids = {e["test"] for e in excluded}
     usable = [r for r in records if r.test not in ex_ids]
     hold_ok = [h for h in holdout if h not in ex_ids]
-    if time_ids or holdout_blocks or _operating_conditions_differ(usable):
+    why = _why_time_route(sorted(time_ids), reasons, holdout_blocks, usable)
+    if why:
         from chainid.gap.timedomain.route import diagnose_any
 
         res = diagnose_any(usable, hold_ok, model if is_chain else None, holdout_blocks=holdout_blocks,
                            effects=effects, max_combo=max_combo, excluded=excluded, quiet=quiet, mass_kg=mass_kg,
                            warn=[f"test {e['test']} excluded: {e['reason']}" for e in excluded],
-                           resamples=resamples, seed=seed, damping_law=damping_law)
+                           resamples=resamples, seed=seed, damping_law=damping_law, why=why)
     else:
         if not hold_ok:
             raise ValueError(f"--holdout: every held-out test was excluded ({', '.join(holdout)}); "
@@ -201,6 +203,22 @@ def _diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None,
         stage("transfer")
         res["transfer"] = transfer(res, validate, n_bins=n_bins, steady_tol=steady_tol)
     return res
+
+
+def _why_time_route(time_ids: Sequence[str], reasons: dict[str, str], holdout_blocks: int,
+                    records: Sequence[Any]) -> str:
+    """Why a set takes the time-domain route, in words (empty: it takes the phase-bin route): a record that is not
+    a steady harmonic test (the first, with its reason, and how many), held-out blocks, or operating conditions
+    that differ between the records."""
+    if time_ids:
+        more = f" and {len(time_ids) - 1} more" if len(time_ids) > 1 else ""
+        reason = reasons.get(time_ids[0], "").removesuffix(": time-domain route")
+        return f"test {time_ids[0]}{more} is not a steady harmonic test ({reason})"
+    if holdout_blocks:
+        return f"--holdout-blocks {holdout_blocks}"
+    if _operating_conditions_differ(records):
+        return "the records' operating conditions (covariates) differ"
+    return ""
 
 
 def _operating_conditions_differ(records: Sequence[Any]) -> bool:

@@ -7,7 +7,8 @@ force's shape, which the model is evaluated on (:func:`chainid.gap.harmonic.prep
 every 1/q of a bin).  A scatter read within whole bins after a straight line in phase (:func:`bin_noise`) counts
 any curvature of the shape as noise, and a jump worst of all: a Coulomb force's 2·F_c step at a reversal put σ at
 2.1 times the added noise on the benchmark's strongest friction, and at 1.0–5.6 times (median 1.7) what the
-cycles repeat to on the 15 shared MR-damper records (a magneto-rheological fluid's step at each reversal).
+cycles repeat to on the 15 shared MR-damper records, each read as one harmonic test (a magneto-rheological fluid's
+step at each reversal; a diagnosis of the set takes the time-domain route, its coil currents differing).
 
 :func:`cycle_noise` reads the scatter within the model grid's own cells (the samples of one bin that fall in the
 same 1/q of it: the same phase, on different cycles), after a straight line in time shared by the cells of a bin

@@ -112,7 +112,7 @@ def read_as_none(prob: TimeProblem, base_c: Candidate, final: Candidate | None, 
 def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, holdout_blocks: int = 0,
                  effects: Sequence[str] | None = None, max_combo: int = 3, excluded: Sequence[dict[str, str]] = (),
                  quiet: bool = False, mass_kg: float | None = None, warn: list[str] | None = None,
-                 resamples: int = 0, seed: int = 0, damping_law: str = "auto") -> dict[str, Any]:
+                 resamples: int = 0, seed: int = 0, damping_law: str = "auto", why: str = "") -> dict[str, Any]:
     """Diagnose records in the time domain (see the module docstring); returns the JSON contract dict.
 
     Parameters
@@ -127,9 +127,12 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
         (:mod:`chainid.gap.core.resample`; 0: none)
     damping_law : ``viscous``: one dashpot for every record; otherwise the dashpot follows the records' features
         where they separate it (:func:`chainid.gap.timedomain.basechoice.law_choice`)
+    why : why the set takes this route, said once on stderr (empty: nothing said)
     """
     warn = list(warn or [])
     if not quiet:
+        if why:
+            print(f"chainid diagnose: every record takes the time-domain route: {why}", file=sys.stderr)
         for r in records:
             print(f"chainid diagnose: test {r.test}: time-domain route", file=sys.stderr)
     stage("preparing", f"{len(records)} records")

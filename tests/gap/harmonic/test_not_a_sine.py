@@ -59,3 +59,29 @@ def test_too_short_or_no_amplitude_is_not_judged():
     assert not_a_sine(t16[:15], _tri(t16[:15]), W, 0.0, 0.0, 1.0) == ""
     assert not_a_sine(t16, _tri(t16), W, 0.0, 0.0, 1.0).startswith("not a sine test")
     assert not_a_sine(T, _tri(T), W, 0.0, 0.0, 0.0) == ""
+
+
+def test_a_set_with_one_triangle_says_once_why_every_record_takes_the_time_route(capsys):
+    """Three sine tests and one triangle test of a linear spring (F = 50 + 100·x N, 0.5 N of noise), 10 cycles of
+    400 samples: the triangle is not a sine test, so the whole set takes the time-domain route, and stderr says so
+    once, naming the triangle and its reason (a departure over 3 %), before the records' own lines."""
+    import warnings
+
+    from chainid.gap.diagnose import diagnose
+    from chainid.records.record import Record
+
+    rng = np.random.default_rng(4)
+    recs = []
+    for i, (amp, shape) in enumerate([(1.0, np.sin), (2.0, np.sin), (1.5, np.sin), (1.0, None)]):
+        x = 3.0 + amp * (np.sin(W * T) if shape is not None else _tri(T))
+        recs.append(Record(f"r{i}", T, x, 50.0 + 100.0 * x + 0.5 * rng.normal(size=T.size)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = diagnose(recs, ["r1"], None, effects=["friction"], max_combo=1, uncertainty=False)
+    assert res["route"] == "time"
+    err = capsys.readouterr().err.splitlines()
+    said = [ln for ln in err if "every record takes the time-domain route" in ln]
+    assert len(said) == 1 and err.index(said[0]) < err.index("chainid diagnose: test r0: time-domain route")
+    head = "test r3 is not a steady harmonic test (not a sine test: the displacement departs from its fitted sine by "
+    assert head in said[0]
+    assert float(said[0].split(head)[1].split(" %")[0]) > 100 * SINE_DISTORTION_MAX
