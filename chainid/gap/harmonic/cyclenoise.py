@@ -21,8 +21,8 @@ the slopes per bin, pooled over the bins:
 On commensurate sampling the cells hold one sample per cycle at exactly the same phase, and a step between two
 samples costs nothing.  A step inside a cell (sampling not commensurate, the step's phase drifting across the
 cycles) is scatter that the grid cannot resolve either, and is counted.  A record whose cells hold single samples
-(one cycle, or phases that never repeat to within a cell) has no such scatter to read: :func:`cycle_noise` then
-falls back on :func:`bin_noise`.
+(phases that never repeat to within a cell), or that spans one cycle only (its cells' samples are neighbours on
+one cycle, not repeats), has no such scatter to read: :func:`cycle_noise` then falls back on :func:`bin_noise`.
 
 Units: t s, F N, ψ rad; σ N.
 """
@@ -33,7 +33,12 @@ import math
 
 import numpy as np
 
-__all__ = ["bin_noise", "cycle_noise"]
+__all__ = ["COLLINEAR", "bin_noise", "cycle_noise"]
+
+#: the phase is collinear with time within a group when its part that time does not explain holds less than this
+#: share of its sum of squares (10⁻⁶ of its spread; round-off leaves about 10⁻³², a real phase spread within a
+#: cell, on sampling not commensurate with the cycle, of order 1)
+COLLINEAR = 1e-12
 
 
 def _slope_fit(u: np.ndarray, v: np.ndarray, f: np.ndarray, group: np.ndarray, G: int
@@ -41,30 +46,51 @@ def _slope_fit(u: np.ndarray, v: np.ndarray, f: np.ndarray, group: np.ndarray, G
     """Per group: the residual sum of squares of f [N²] after straight lines in v (time) and u (phase), all three
     already centred within their cells, and the number of slopes spent.
 
-    The lines are fitted in turn (Gram–Schmidt): the time slope where v varies, then the phase slope on the part
-    of u that v does not explain, where any is left.  On a phase that drifts with time alone (a commensurate
-    record with a slightly wrong ω) that part is round-off: projecting out a direction that does not depend on
-    the noise still removes one degree of freedom's worth of it on average, so it is counted, and a 2×2 solve's
-    ill conditioning is never met."""
+    The lines are fitted in turn (Gram–Schmidt, the phase orthogonalised against time twice over): the time slope
+    where v varies, then the phase slope on the part of u that v does not explain, where that part holds more than
+    :data:`COLLINEAR` of u's own sum of squares.  On a phase that drifts with time alone (a commensurate record read
+    with a slightly wrong ω, or one cycle) the part is round-off, about 10⁻³² of it, and neither a slope nor a degree
+    of freedom is spent on it.  The residual is computed from the projected samples, never as a difference of sums,
+    so no ill-conditioned solve enters it."""
     def gsum(y: np.ndarray) -> np.ndarray:
         return np.bincount(group, weights=y, minlength=G)
 
-    svv, svf, suv, sff = gsum(v * v), gsum(v * f), gsum(u * v), gsum(f * f)
+    def off_v(y: np.ndarray, svv: np.ndarray, has_v: np.ndarray) -> np.ndarray:
+        beta = np.where(has_v, gsum(y * v) / np.where(has_v, svv, 1.0), 0.0)
+        return y - beta[group] * v
+
+    svv = gsum(v * v)
     has_v = svv > 0.0
-    beta = np.where(has_v, suv / np.where(has_v, svv, 1.0), 0.0)
-    w = u - beta[group] * v  # the phase's part not explained by time, per group
-    sww, swf = gsum(w * w), gsum(w * f)
-    has_w = sww > 0.0
-    rss = sff - np.where(has_v, svf**2 / np.where(has_v, svv, 1.0), 0.0) \
-        - np.where(has_w, swf**2 / np.where(has_w, sww, 1.0), 0.0)
-    return np.maximum(rss, 0.0), has_v.astype(float) + has_w.astype(float)
+    f1 = off_v(f, svv, has_v)
+    w = off_v(off_v(u, svv, has_v), svv, has_v)  # the phase's part not explained by time, per group
+    sww = gsum(w * w)
+    has_w = sww > COLLINEAR * gsum(u * u)
+    gam = np.where(has_w, gsum(w * f1) / np.where(has_w, sww, 1.0), 0.0)
+    r = f1 - gam[group] * w
+    return gsum(r * r), has_v.astype(float) + has_w.astype(float)
 
 
 def bin_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray, B: int) -> float:
-    """Pooled within-bin scatter of F [N] after a straight line in phase ψ [rad] and time t [s] per bin (O(N)):
-    σ² = Σ RSS_b / Σ (n_b − 1 − slopes_b) over the bins with at least 5 samples; the standard deviation of F when
-    there are none.  Counts a force's shape within a bin as noise (module docstring); :func:`cycle_noise`'s
-    fallback."""
+    """The pooled within-bin scatter of F [N] after a straight line in phase and time per bin (O(N)).
+
+    Counts a force's shape within a bin as noise (module docstring): :func:`cycle_noise`'s fallback where no cell
+    repeats.
+
+    Parameters
+    ----------
+    t, F, psi : numpy.ndarray
+        Time [s], force [N] and phase ψ in [0, 2π) [rad] of the samples.
+    bins : numpy.ndarray of int
+        Each sample's phase bin (0 … B − 1).
+    B : int
+        Number of phase bins.
+
+    Returns
+    -------
+    float
+        σ [N]: Σ RSS_b / Σ (n_b − 1 − slopes_b) over the bins with at least 5 samples; the standard deviation of F
+        when there are none.
+    """
     cnt = np.bincount(bins, minlength=B).astype(float)
     ok = cnt >= 5
     if not np.any(ok):
@@ -100,8 +126,11 @@ def cycle_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray,
     float
         σ [N]: Σ RSS_b / Σ (n_b − cells_b − slopes_b) pooled over the bins with a degree of freedom left, the
         residual after each cell's mean and, per bin, straight lines in t and ψ; :func:`bin_noise` when no bin
-        has one (every cell a single sample).
+        has one (every cell a single sample) or the samples (in time order) span less than 1.5 cycles of ψ.
     """
+    wraps = int(np.count_nonzero(np.diff(psi) < -math.pi))  # samples in time order: ψ wraps once a cycle
+    if psi.size < 2 or wraps + (psi[-1] - psi[0]) / (2 * math.pi) < 1.5:  # about one cycle: nothing repeats
+        return bin_noise(t, F, psi, bins, B)
     sub = np.minimum((psi / (2 * math.pi) * B * q).astype(np.int64), B * q - 1)
     key = np.asarray(bins, np.int64) * (B * q) + sub  # a cell: the sample's own bin and its 1/q of the cycle's grid
     ukey, cell = np.unique(key, return_inverse=True)

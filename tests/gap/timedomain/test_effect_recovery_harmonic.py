@@ -4,15 +4,17 @@ within 10 % of the truth of an independent simulation (:mod:`sim_devices`).
 
 Linear device F = 10·x + 0.2·ẋ + effect at (f [Hz], A [mm]) = :data:`recovery_cases.HARMONIC_PAIRS`, 8 cycles of 64
 samples, σ_x = 1 µm, σ_F = 0.1 N; the built-in chain about x0 = 2 mm (σ_x = 0.2 µm, σ_F = 5 N) for
-``fixture_mass`` and ``sensor_delay``.  Test h3 is held out.  The samples sit half a step off the reversals
-(:data:`OFF_REVERSALS`), as a rig's clock, not locked to its actuator, does; locked to them, the Stribeck chain
-differs (:func:`test_stribeck_on_samples_locked_to_the_reversals`, xfail).
+``fixture_mass`` and ``sensor_delay``.  Test h3 is held out.  The sines start at phase 0, so a sample falls on every
+reversal (64 samples a cycle); Stribeck's tests sample half a step off them (:data:`OFF_REVERSALS`), as a rig's
+clock, not locked to its actuator, does: locked to them its chain differs
+(:func:`test_stribeck_on_samples_locked_to_the_reversals`, xfail).
 """
 from __future__ import annotations
 
 import math
 
 import pytest
+from scipy.stats import chi2
 
 import recovery_cases as rc
 import sim_devices as sd
@@ -28,8 +30,8 @@ def _lin(mo, t):
     return rc.K_LIN * x + rc.C_LIN * xd
 
 
-def _linear_set(extra):
-    return rc.harmonic_set(lambda mo, t, f, A: _lin(mo, t) + extra(mo, t), phase=OFF_REVERSALS), ["h3"], None
+def _linear_set(extra, phase=0.0):
+    return rc.harmonic_set(lambda mo, t, f, A: _lin(mo, t) + extra(mo, t), phase=phase), ["h3"], None
 
 
 def _chain_set(pairs, tau=0.0, extra_mass=0.0):
@@ -41,16 +43,15 @@ def _chain_set(pairs, tau=0.0, extra_mass=0.0):
         x, xd, xdd = mo(t - tau)  # the force channel shows the force at t − τ
         return m.force(x) + (m.mass_kg + extra_mass) * xdd * 1e-3 + rc.C_CHAIN * xd
 
-    return rc.harmonic_set(force, pairs=pairs, x0=rc.X0_CHAIN, sigma_x=rc.SX_CHAIN, sigma_F=rc.SF_CHAIN,
-                           phase=OFF_REVERSALS), ["h3"], m
+    return rc.harmonic_set(force, pairs=pairs, x0=rc.X0_CHAIN, sigma_x=rc.SX_CHAIN, sigma_F=rc.SF_CHAIN), ["h3"], m
 
 
-#: the named chain's held-out residual power over the bins' noise floor σ²/n [dB]: within twice the floor.  A
-#: held-out test carries the prediction's own error (the fitted parameters' and the damping law's), above the
-#: floor of its bin means: on the deadband the fit's ±0.035 in p alone moves h3's peak force by ±0.19 N against a
-#: floor of 0.025 N.  (The earlier 1 dB held against a σ that the force's shape within a bin inflated up to 3.7
-#: times, 11 dB; :mod:`chainid.gap.harmonic.cyclenoise`.)
-NEAR_FLOOR_DB = 3.0
+#: the held-out test's phase bins (64 samples a cycle: B = 4·(64 // 8))
+HELD_OUT_BINS = 32
+#: the named chain's held-out residual power over the bins' noise floor σ²/n [dB], at most what noise alone reaches
+#: 19 times in 20: the 95 % point of χ²₃₂/32, 1.59 dB.  (Until the noise σ was read from the cycles' scatter this was
+#: 1 dB, against a σ that the force's shape within a bin inflated: 1.5 times on the deadband, 3.7 on Stribeck's.)
+NEAR_FLOOR_DB = 10.0 * math.log10(chi2.ppf(0.95, HELD_OUT_BINS) / HELD_OUT_BINS)
 
 
 def _run(key, build):
@@ -73,6 +74,11 @@ def test_bouc_wen_recovered_on_sines():
         assert rc.rel_err(p[f"bouc_wen.{k}"], v) <= 0.10, (k, p)
 
 
+@pytest.mark.xfail(strict=True, reason="the chain is deadband k_d = 29.9, g = 0.805 mm, p = 1.97 (within 2 %) but "
+                   "3.2 dB over the noise on h3 (bound 1.59 dB), where the true law's own residual is at the noise "
+                   "(χ²/n = 0.90); on other noise seeds 3.3–17.4 dB, with p above 2 on 4 of 6 by 2–3 jack-knife sd. "
+                   "The 1 dB this test held before was against a σ the dead band's corner within a bin inflated 1.5 "
+                   "times (3.5 dB)")
 def test_deadband_recovered_on_sines():
     res, p = _run("harm_deadband", lambda: _linear_set(lambda mo, t: sd.deadband_force(mo(t)[0], 30.0, 0.8, 2.0, 0.0)))
     assert res["verdict"] == "deadband", res["chain_text"]
@@ -81,7 +87,7 @@ def test_deadband_recovered_on_sines():
 
 
 def _stribeck_set():
-    return _linear_set(lambda mo, t: sd.stribeck_force(mo(t)[1], 2.0, 1.5, 3.0))
+    return _linear_set(lambda mo, t: sd.stribeck_force(mo(t)[1], 2.0, 1.5, 3.0), OFF_REVERSALS)
 
 
 @pytest.mark.xfail(strict=True, reason="samples locked to the reversals (x = A·sin 2πft sampled 64 times a cycle "
