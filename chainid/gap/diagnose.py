@@ -175,7 +175,7 @@ def _diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None,
     ex_ids = {e["test"] for e in excluded}
     usable = [r for r in records if r.test not in ex_ids]
     hold_ok = [h for h in holdout if h not in ex_ids]
-    why = _why_time_route(sorted(time_ids), reasons, holdout_blocks, usable)
+    why = _why_time_route([r.test for r in records if r.test in time_ids], reasons, holdout_blocks, usable)
     if why:
         from chainid.gap.timedomain.route import diagnose_any
 
@@ -208,12 +208,12 @@ def _diagnose(records: Sequence[Any], holdout: Sequence[str], model: Any | None,
 def _why_time_route(time_ids: Sequence[str], reasons: dict[str, str], holdout_blocks: int,
                     records: Sequence[Any]) -> str:
     """Why a set takes the time-domain route, in words (empty: it takes the phase-bin route): a record that is not
-    a steady harmonic test (the first, with its reason, and how many), held-out blocks, or operating conditions
-    that differ between the records."""
+    a steady harmonic test (the first in the records' order, with its reason, and how many more), held-out blocks,
+    or operating conditions that differ between the records."""
     if time_ids:
-        more = f" and {len(time_ids) - 1} more" if len(time_ids) > 1 else ""
+        more = f" (and {len(time_ids) - 1} more)" if len(time_ids) > 1 else ""
         reason = reasons.get(time_ids[0], "").removesuffix(": time-domain route")
-        return f"test {time_ids[0]}{more} is not a steady harmonic test ({reason})"
+        return f"test {time_ids[0]}{more}: {reason}"
     if holdout_blocks:
         return f"--holdout-blocks {holdout_blocks}"
     if _operating_conditions_differ(records):

@@ -131,10 +131,7 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     """
     warn = list(warn or [])
     if not quiet:
-        if why:
-            print(f"chainid diagnose: every record takes the time-domain route: {why}", file=sys.stderr)
-        for r in records:
-            print(f"chainid diagnose: test {r.test}: time-domain route", file=sys.stderr)
+        _say_route(records, why)
     stage("preparing", f"{len(records)} records")
     prob = build_problem(records, holdout, holdout_blocks, model, mass_kg, damping_law)
     stage("baseline")
@@ -190,6 +187,14 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
                        else "none", "covariates": list(prob.covariates)}
     summary["noise"] = _noise_method(prob)
     return summary
+
+
+def _say_route(records: Sequence[Any], why: str) -> None:
+    """On stderr: why the set takes the time-domain route (once, when given), then each record's line."""
+    if why:
+        print(f"chainid diagnose: every record takes the time-domain route: {why}", file=sys.stderr)
+    for r in records:
+        print(f"chainid diagnose: test {r.test}: time-domain route", file=sys.stderr)
 
 
 def _reading(prob: TimeProblem, base_c: Candidate, final: Candidate | None, floors: tuple[float, float, float],

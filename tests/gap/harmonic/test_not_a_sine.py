@@ -82,6 +82,6 @@ def test_a_set_with_one_triangle_says_once_why_every_record_takes_the_time_route
     err = capsys.readouterr().err.splitlines()
     said = [ln for ln in err if "every record takes the time-domain route" in ln]
     assert len(said) == 1 and err.index(said[0]) < err.index("chainid diagnose: test r0: time-domain route")
-    head = "test r3 is not a steady harmonic test (not a sine test: the displacement departs from its fitted sine by "
+    head = "time-domain route: test r3: not a sine test: the displacement departs from its fitted sine by "
     assert head in said[0]
     assert float(said[0].split(head)[1].split(" %")[0]) > 100 * SINE_DISTORTION_MAX
