@@ -204,9 +204,10 @@ def _independent_holdout_nrmse(holdout, params, best_law="polynomial", nb=64):
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, reason="since the harmonic noise is read from the cycles' scatter (c01efe3) the fit "
-                   "puts friction.x_s at 1.4e-05 mm, off its bound, where the cost is flat in it (a stick travel under "
-                   "about 1e-4 of the stroke), and every leave-one-test-out refit, polished from the full fit, leaves it "
-                   "there: its jack-knife sd is exactly 0, a certainty the refits cannot give; the report prints it")
+                   "puts friction.x_s at 1.4e-05 mm, off its bound, where the cost is flat in it (a stick travel "
+                   "under about 1e-4 of the stroke), and every leave-one-test-out refit, polished from the full fit, "
+                   "leaves it there: its jack-knife sd is exactly 0, a certainty the refits cannot give; the report "
+                   "prints it")
 def test_simulated_check_quotes_the_diagnosis_jackknife_sd(builtin):
     """Part 4a's check against the hidden truth gives, per friction parameter, the true value, the recovered one and
     the diagnosis's own jack-knife sd (``best.params_sd``), in the JSON and in the markdown table (2 significant
