@@ -29,21 +29,14 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
-from scipy.stats import beta
-
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
 
-
-def clopper_pearson(k: int, n: int) -> tuple[float, float]:
-    """The exact 95 % range of a binomial rate with k successes of n trials."""
-    lo = 0.0 if k == 0 else float(beta.ppf(0.025, k, n - k + 1))
-    hi = 1.0 if k == n else float(beta.ppf(0.975, k + 1, n - k))
-    return lo, hi
+from chainid.gap.benchmark.paramscore import rate_range  # noqa: E402  (the repository's own package first)
 
 
 def one(case: dict[str, Any]) -> list[dict[str, Any]]:
     """Run one case blind; per scored parameter: truth, estimate, reported interval and its parts."""
-    sys.path.insert(0, str(ROOT))
     from chainid.gap.benchmark.grid import run_case
     from chainid.gap.benchmark.report import row_param_scores
 
@@ -79,7 +72,7 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
         for part in ("ci", "profile", "resampled"):
             ok = [r for r in rs if r[part] is not None]
             hit = sum(r[part][0] <= r["truth"] <= r[part][1] for r in ok)
-            lo, hi = clopper_pearson(hit, len(ok)) if ok else (math.nan, math.nan)
+            lo, hi = rate_range(hit / len(ok), len(ok)) if ok else (math.nan, math.nan)
             cells.append(f"{hit:3d}/{len(ok):<3d} {100 * lo:3.0f}-{100 * hi:3.0f} %")
         z = [(r["truth"] - (r["profile"][0] + r["profile"][1]) / 2) / ((r["profile"][1] - r["profile"][0]) / 2)
              for r in rs if r["profile"] is not None and r["profile"][1] > r["profile"][0]]

@@ -33,12 +33,36 @@ import math
 
 import numpy as np
 
-__all__ = ["COLLINEAR", "bin_noise", "cycle_noise"]
+__all__ = ["COLLINEAR", "grid_cells", "bin_noise", "cycle_noise"]
 
 #: the phase is collinear with time within a group when its part that time does not explain holds less than this
 #: share of its sum of squares (10⁻⁶ of its spread; round-off leaves about 10⁻³², a real phase spread within a
 #: cell, on sampling not commensurate with the cycle, of order 1)
 COLLINEAR = 1e-12
+
+
+def grid_cells(psi: np.ndarray, bins: np.ndarray, B: int, q: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The model grid's cells of the samples: a cell is a sample's own phase bin and its 1/q of that bin (the
+    samples' bins decide membership, so a phase rounded across a bin edge stays in its bin).
+
+    Parameters
+    ----------
+    psi : numpy.ndarray
+        Phase ψ in [0, 2π) [rad] of the samples.
+    bins : numpy.ndarray of int
+        Each sample's phase bin (0 … B − 1).
+    B, q : int
+        Phase bins per cycle and cells per bin.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The cells' keys (bin·B·q + the sample's 1/(B·q) of the cycle, ascending; a cell's bin is key // (B·q)), each
+        sample's cell index into them, and each cell's count of samples.
+    """
+    sub = np.minimum((psi / (2 * math.pi) * B * q).astype(np.int64), B * q - 1)
+    key = np.asarray(bins, np.int64) * (B * q) + sub
+    return np.unique(key, return_inverse=True, return_counts=True)
 
 
 def _slope_fit(u: np.ndarray, v: np.ndarray, f: np.ndarray, group: np.ndarray, G: int
@@ -131,10 +155,8 @@ def cycle_noise(t: np.ndarray, F: np.ndarray, psi: np.ndarray, bins: np.ndarray,
     wraps = int(np.count_nonzero(np.diff(psi) < -math.pi))  # samples in time order: ψ wraps once a cycle
     if psi.size < 2 or wraps + (psi[-1] - psi[0]) / (2 * math.pi) < 1.5:  # about one cycle: nothing repeats
         return bin_noise(t, F, psi, bins, B)
-    sub = np.minimum((psi / (2 * math.pi) * B * q).astype(np.int64), B * q - 1)
-    key = np.asarray(bins, np.int64) * (B * q) + sub  # a cell: the sample's own bin and its 1/q of the cycle's grid
-    ukey, cell = np.unique(key, return_inverse=True)
-    cc = np.bincount(cell, minlength=ukey.size).astype(float)
+    ukey, cell, counts = grid_cells(psi, bins, B, q)
+    cc = counts.astype(float)
 
     def cmean(y: np.ndarray) -> np.ndarray:
         return np.bincount(cell, weights=y, minlength=ukey.size) / cc

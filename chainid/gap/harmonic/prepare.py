@@ -24,7 +24,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from chainid.gap.harmonic.cyclenoise import cycle_noise
+from chainid.gap.harmonic.cyclenoise import cycle_noise, grid_cells
 from chainid.signal.cycles import segment_lstsq
 
 
@@ -85,12 +85,9 @@ def phase_grid(psi: np.ndarray, B: int, theta: float, omega: float, xfun: Callab
     longer grows with the record length.  A point on a reversal within the
     smooth ẋ's standard error ``v_sd`` [mm/s] has ẋ = 0 (:func:`on_reversal`).
     """
-    q = np.minimum((psi / (2 * math.pi) * B * Q).astype(np.int64), B * Q - 1)
     if bins is None:
-        bins = q // Q
-    # a cell is (the sample's own phase bin, its 1/Q sub-cell): bin membership is exactly the samples'
-    key = bins.astype(np.int64) * (B * Q) + q
-    ukey, inv, w = np.unique(key, return_inverse=True, return_counts=True)
+        bins = np.minimum((psi / (2 * math.pi) * B * Q).astype(np.int64), B * Q - 1) // Q
+    ukey, inv, w = grid_cells(psi, bins, B, Q)  # a cell: the sample's own phase bin and its 1/Q of the bin
     # the mean sample phase of each cell (exact when the sampling is commensurate with the cycle: a switch
     # of sgn(ẋ) then falls between the same samples as in the record)
     pg = np.bincount(inv, weights=psi, minlength=ukey.size) / w

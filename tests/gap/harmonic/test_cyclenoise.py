@@ -54,18 +54,9 @@ def test_cycle_noise_is_a_least_squares_fit_with_cell_means_and_bin_slopes():
     psi, bins = _phase(t, 2 * math.pi, 0.3, B)
     F = 50.0 * np.sin(psi) ** 3 + 0.8 * t + rng.normal(0.0, 0.5, t.size)
     cell = np.minimum((psi / (2 * math.pi) * B * Q).astype(np.int64), B * Q - 1)
-    rss = dof = 0.0
-    for b in range(B):
-        m = bins == b
-        cells = np.unique(cell[m])
-        X = np.column_stack([(cell[m] == c).astype(float) for c in cells] + [psi[m], t[m]])
-        rank = np.linalg.matrix_rank(X)
-        if m.sum() - rank <= 0:
-            continue
-        r = F[m] - X @ np.linalg.lstsq(X, F[m], rcond=None)[0]
-        rss += float(r @ r)
-        dof += m.sum() - rank
-    assert cycle_noise(t, F, psi, bins, B, Q) == pytest.approx(math.sqrt(rss / dof), rel=1e-9)
+    ref = _lstsq_sigma(t, F, bins, [*(lambda m, c=c: (cell[m] == c).astype(float) for c in np.unique(cell)),
+                                    lambda m: psi[m], lambda m: t[m]])
+    assert cycle_noise(t, F, psi, bins, B, Q) == pytest.approx(ref, rel=1e-9)
 
 
 def test_cycle_noise_is_blind_to_a_linear_drift_over_the_record():
