@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import argparse
 import collections
-import math
 import sys
 from pathlib import Path
 
@@ -42,7 +41,6 @@ ROOT = Path(__file__).resolve().parents[1]
 RULES = ("union", "profile", "resampled", "gated", "gated_plain", "shifted")
 #: training tests of the harmonic plans (their held-out tests excluded)
 PLAN_UNITS = {"grid3x3": 8, "grid4x3": 9}
-Z95 = 1.6448536269514722
 
 
 def rules(parts: dict, key: str, m: int, est: float) -> dict[str, list[float]] | None:
@@ -55,7 +53,9 @@ def rules(parts: dict, key: str, m: int, est: float) -> dict[str, list[float]] |
     P = (parts.get("percentile") or {}).get(key) or R
     b_lo, b_hi = max(0.0, P[0] - R[0]), max(0.0, R[1] - P[1])
     union = [min(R[0], Q[0]), max(R[1], Q[1])]
-    het = m < 2 or (P[1] - P[0]) > (1.0 + Z95 / math.sqrt(2.0 * (m - 1))) * (Q[1] - Q[0])
+    from chainid.gap.core.profile import heterogeneous
+
+    het = heterogeneous(P, Q, m)  # the code's own gate
     net = b_hi - b_lo
     shifted = [min(P[0], Q[0]) + net, max(P[1], Q[1]) + net]
     return {"union": union, "profile": Q, "resampled": R, "gated": union if het else [min(Q[0] - b_lo, est), max(Q[1] + b_hi, est)],
