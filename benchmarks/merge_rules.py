@@ -10,10 +10,11 @@ a clip that the rows cannot replay and that never moves a covered truth out).
 
 Rules, per parameter (P percentile, R resampled, Q profile; B the bias widening R − P, applied edge by edge):
 
-* ``union``: R ∪ Q, what the code reports;
+* ``union``: R ∪ Q, what the code reported before 2bb3e55;
 * ``profile``, ``resampled``: Q, R alone;
-* ``gated``: R ∪ Q where the training units are heterogeneous — the percentile interval is wider than the profile's
-  by more than its own sampling scatter allows, width(P) > (1 + z₉₅/√(2(m − 1)))·width(Q), m the training units
+* ``gated`` (what the code reports; its gate is :func:`chainid.gap.core.profile.heterogeneous`): R ∪ Q where the
+  training units are heterogeneous — the percentile interval is wider than the profile's by more than its own
+  sampling scatter allows, width(P) > (1 + z₉₅/√(2(m − 1)))·width(Q), m the training units
   (the relative sd of a spread read from m units is about 1/√(2(m − 1))), or m < 2; else Q widened by B and
   holding the estimate;
 * ``gated_plain``: as ``gated``, but Q alone where the units are not heterogeneous;
