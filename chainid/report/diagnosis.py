@@ -26,6 +26,8 @@ MIN_TESTS = 7
 # -- Markdown of a diagnosis ------------------------------------------------------
 
 def _fmt_params(params: dict[str, Any], sd: dict[str, Any] | None = None) -> str:
+    """``k = v ± sd`` per parameter; "(sd not resolved)" where ``sd`` holds None for it (the refits did not move it,
+    :func:`chainid.gap.core.candidate.jackknife_sd`)."""
     sd = sd or {}
     out = []
     for k, v in params.items():
@@ -34,6 +36,8 @@ def _fmt_params(params: dict[str, Any], sd: dict[str, Any] | None = None) -> str
         s = f"{k} = {v:.4g}"
         if sd.get(k) is not None:
             s += f" ± {sd[k]:.2g}"
+        elif k in sd:
+            s += " (sd not resolved)"
         out.append(s)
     return ", ".join(out) or "–"
 

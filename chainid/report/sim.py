@@ -92,7 +92,8 @@ def simulated_records(model: Any, effect: str = SIM_EFFECT, noise_F: float = SIM
 
 
 def _recovery(res: dict[str, Any], hook: Any, model: Any, x0: float) -> dict[str, Any]:
-    """True vs recovered parameters of the hidden effect."""
+    """True vs recovered parameters of the hidden effect, each with the diagnosis's jack-knife sd; ``sd`` None with
+    ``sd_resolved`` False: the leave-one-test-out refits did not move it (no spread to quote)."""
     name = hook.effect_name
     true = {f"{name}.{k}": float(v) for k, v in hook.effect_params.items()}
     verdict = res["verdict"]
@@ -101,7 +102,8 @@ def _recovery(res: dict[str, Any], hook: Any, model: Any, x0: float) -> dict[str
     sd = best.get("params_sd", {}) or {}
     rows = []
     for k, v in true.items():
-        rows.append({"param": k, "true": v, "recovered": rec.get(k), "sd": sd.get(k)})
+        rows.append({"param": k, "true": v, "recovered": rec.get(k), "sd": sd.get(k),
+                     "sd_resolved": sd.get(k) is not None or k not in sd})
     out: dict[str, Any] = {"effect": name, "verdict": verdict, "matches": verdict == name,
                            "contains": name in verdict.split("+"), "params": rows}
     if name == "friction" and rec:
@@ -150,7 +152,8 @@ def simulated_section(folder: Path, model: Any, say: Progress) -> str:
             f"`{check['verdict']}` {'matches' if check['matches'] else ('contains' if check['contains'] else 'does NOT match')}"
             f" the hidden effect `{check['effect']}`.\n"]
     prow = [[r["param"], f"{r['true']:.4g}", "–" if r["recovered"] is None else f"{r['recovered']:.4g}",
-             "–" if r["sd"] is None else f"{r['sd']:.2g}"] for r in check["params"]]
+             f"{r['sd']:.2g}" if r["sd"] is not None else ("–" if r["sd_resolved"] else "not resolved")]
+            for r in check["params"]]
     tail.append(md_table(["parameter", "true", "recovered", "jackknife sd"], prow))
     ff = check.get("friction_force_at_x0")
     if ff:

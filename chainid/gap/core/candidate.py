@@ -21,12 +21,22 @@ __all__ = ["MIN_TRAIN", "Candidate", "Problem", "jackknife_sd"]
 MIN_TRAIN = 3
 
 
+#: a leave-one-out spread at or under this fraction of the estimate is the refits not moving it, not a certainty
+UNRESOLVED = 1e-9
+
+
 def jackknife_sd(values: np.ndarray) -> np.ndarray:
     """Jack-knife standard deviation per column of leave-one-out estimates ``values`` (n rows, n >= 2):
-    √((n−1)/n · Σ(θ_(i) − θ̄)²) (Efron & Stein; units of the estimates)."""
+    √((n−1)/n · Σ(θ_(i) − θ̄)²) (Efron & Stein; units of the estimates).
+
+    A column whose spread is at or under :data:`UNRESOLVED` · |θ̄| (e.g. every refit, polished from the full fit,
+    leaves a parameter where the cost is flat in it) gets NaN, "not resolved": a spread of 0 would claim a
+    certainty the refits cannot give.  Serialised as None."""
     v = np.asarray(values, float)
     n = v.shape[0]
-    return np.sqrt((n - 1) / n * np.sum((v - v.mean(axis=0)) ** 2, axis=0))
+    mean = v.mean(axis=0)
+    sd = np.sqrt((n - 1) / n * np.sum((v - mean) ** 2, axis=0))
+    return np.where(sd <= UNRESOLVED * np.abs(mean), np.nan, sd)
 
 
 @dataclass

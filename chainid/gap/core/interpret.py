@@ -69,7 +69,8 @@ def separating_test(a: str, b: str) -> str:
 
 
 def _fmt(v: float | None, sd: float | None = None, ci: Any = None) -> str:
-    """A value with its spread: the resampled 90 % interval ``ci`` [lo, hi] when given, else ± ``sd``."""
+    """A value with its spread: the resampled 90 % interval ``ci`` [lo, hi] when given, else ± ``sd``; an ``sd`` of
+    NaN is one the refits did not resolve (:func:`chainid.gap.core.candidate.jackknife_sd`) and says so."""
     if v is None:
         return "?"
     s = f"{v:.4g}"
@@ -77,6 +78,8 @@ def _fmt(v: float | None, sd: float | None = None, ci: Any = None) -> str:
         s += f" [{ci[0]:.4g}, {ci[1]:.4g}]"
     elif sd is not None and math.isfinite(sd) and sd > 0:
         s += f" ± {sd:.2g}"
+    elif sd is not None and math.isnan(sd):
+        s += " (sd not resolved)"
     return s
 
 
@@ -105,7 +108,7 @@ def step_text(step: dict[str, Any], kept: bool = False) -> str:
     head = e.split("@", 1)[0]  # an effect with its amplitudes following a covariate: the effect's parameters
     pre = head + "." if "." not in head else head
     mine = {k[len(pre):]: v for k, v in p.items() if k.startswith(pre)}
-    msd = {k[len(pre):]: v for k, v in sd.items() if k.startswith(pre)}
+    msd = {k[len(pre):]: (math.nan if v is None else v) for k, v in sd.items() if k.startswith(pre)}
     mci = {k[len(pre):]: v for k, v in (step.get("params_ci90") or {}).items() if k.startswith(pre)}
     if e == "stiffness_level" and mine.get("scale") is not None:
         sc = mine["scale"]

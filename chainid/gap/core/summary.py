@@ -38,16 +38,21 @@ def write_json(result: dict[str, Any], path: str | Path, overwrite: bool = False
 def _params(p: dict[str, Any], sd: dict[str, Any] | None = None, bound: Any = (),
             ci: dict[str, Any] | None = None) -> str:
     """``name=value`` of each parameter with its spread: the resampled 90 % interval ``[lo, hi]`` where ``ci`` has
-    one (a resampled diagnosis), else ``±`` the jack-knife standard deviation ``sd``; "(at bound)" on a bound."""
+    one (a resampled diagnosis), else ``±`` the jack-knife standard deviation ``sd``; "(at bound)" on a bound;
+    "(sd not resolved)" where ``sd`` holds None for it (the refits did not move it:
+    :func:`chainid.gap.core.candidate.jackknife_sd`)."""
     sd, ci = sd or {}, ci or {}
     out = []
     for k, v in p.items():
         if v is None or k.startswith("law.") or k.startswith("spring."):
             continue
         s = f"{k}={v:.4g}"
-        at_bound = k in bound or (v == 0 and sd.get(k) == 0)  # a zero estimate that no resample moves sits on a bound
+        unmoved = k in sd and (sd[k] is None or sd[k] == 0 or not math.isfinite(sd[k]))
+        at_bound = k in bound or (v == 0 and unmoved)  # a zero estimate that no refit moves sits on a bound
         if ci.get(k) is not None and not at_bound:
             s += f" [{ci[k][0]:.4g}, {ci[k][1]:.4g}]"
+        elif unmoved and not at_bound:
+            s += " (sd not resolved)"
         elif sd.get(k) is not None and not at_bound:
             s += f"±{sd[k]:.2g}"
         if at_bound:

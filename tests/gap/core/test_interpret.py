@@ -28,6 +28,9 @@ def test_step_texts_by_hand():
     assert step_text({"effect": "sensor_delay", "params": {"sensor_delay.tau": 0.0021},
                       "params_sd": {"sensor_delay.tau": 0.0001}}) == "sensor_delay tau = 0.0021 ± 0.0001 s"
     assert step_text({"effect": "slack", "params": {"slack.s": None}}) == "slack s = ? mm"
+    # an sd the refits did not resolve (None in the JSON) says so, never "± 0"
+    assert step_text({"effect": "friction", "params": {"friction.x_s": 1.4e-05},
+                      "params_sd": {"friction.x_s": None}}) == "friction x_s = 1.4e-05 (sd not resolved) mm"
 
 
 def test_mechanism_joins_families_once_and_separating_test_of_stiffness_pairs():

@@ -15,10 +15,11 @@ def test_g_says_n_a_at_the_width_of_the_spec():
 
 
 def test_params_zero_estimate_unmoved_by_resamples_is_at_bound():
-    """v = 0 with sd = 0: "(at bound)" and no spread; v = 0 with sd 0.1 is an estimate; an interval wins over sd."""
+    """v = 0 with sd = 0: "(at bound)" and no spread; v = 0 with sd 0.1 is an estimate; an interval wins over sd;
+    a non-zero v with sd 0 is a spread the refits did not resolve, not a certainty."""
     assert sm._params({"a.x": 0.0}, {"a.x": 0.0}) == "a.x=0 (at bound)"
     assert sm._params({"a.x": 0.0}, {"a.x": 0.1}) == "a.x=0±0.1"
-    assert sm._params({"a.x": 2.0}, {"a.x": 0.0}) == "a.x=2±0"
+    assert sm._params({"a.x": 2.0}, {"a.x": 0.0}) == "a.x=2 (sd not resolved)"  # never ±0
     assert sm._params({"a.x": 2.0}, {"a.x": 0.1234}) == "a.x=2±0.12"  # two significant digits
     assert sm._params({"a.x": 2.0}, {"a.x": 0.1}, ci={"a.x": [1.5, 2.5]}) == "a.x=2 [1.5, 2.5]"
     assert sm._params({"a.x": 2.0}, {"a.x": 0.1}, ("a.x",), {"a.x": [1.5, 2.5]}) == "a.x=2 (at bound)"
@@ -86,3 +87,11 @@ def test_named_lines_state_the_share_of_the_gap_above_the_kinematic_floor():
                                        "NRMSE 0.1), residual 1.00× the noise floor")
     res["residual"]["shrinkage_above_kinematic_floor"] = math.nan
     assert "kinematic floor" not in sm._named_lines(res)[1]
+
+
+def test_params_says_an_unmoved_sd_is_not_resolved():
+    """An sd of None (the refits did not move the parameter) prints "(sd not resolved)", never ±0; on an estimate
+    of 0 it is the bound; an interval still wins."""
+    assert sm._params({"a.x": 1e-5}, {"a.x": None}) == "a.x=1e-05 (sd not resolved)"
+    assert sm._params({"a.x": 0.0}, {"a.x": None}) == "a.x=0 (at bound)"
+    assert sm._params({"a.x": 2.0}, {"a.x": None}, (), {"a.x": [1.5, 2.5]}) == "a.x=2 [1.5, 2.5]"

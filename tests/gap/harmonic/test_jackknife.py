@@ -45,3 +45,14 @@ def test_jackknife_sd_by_hand():
     sd = _jackknife(prob, cand)
     assert sd == {"friction.F_c": pytest.approx(math.sqrt(2 / 3 * 42 / 9), rel=1e-12)}
     assert [s[0] for s in seen] == [["B", "C"], ["A", "C"], ["A", "B"]] and all(s[1] for s in seen)
+
+
+def test_jackknife_sd_of_an_unmoved_parameter_is_not_resolved():
+    """Leave-one-out values all 1.4e-05 (or within 1e-9 of it relatively): NaN, "not resolved", not 0; a column
+    that moves keeps its sd; a column all at 0 (on a bound) is NaN too."""
+    from chainid.gap.core.candidate import jackknife_sd
+
+    v = np.array([[1.4e-05, 1.0, 0.0], [1.4e-05 * (1 + 1e-12), 2.0, 0.0], [1.4e-05, 4.0, 0.0]])
+    sd = jackknife_sd(v)
+    assert math.isnan(sd[0]) and math.isnan(sd[2])
+    assert sd[1] == pytest.approx(math.sqrt(2 / 3 * 42 / 9), rel=1e-12)
