@@ -41,7 +41,7 @@ import numpy as np
 
 from chainid.gap.core.noise import lowpass_sos, psd
 
-__all__ = ["residual_cut", "noise_share", "runs", "band_limited"]
+__all__ = ["residual_cut", "noise_share", "difference_share", "runs", "band_limited"]
 
 
 def residual_cut(F: np.ndarray, fs: float, f_a: float, sigma: float, beyond_a: bool) -> float:
@@ -90,6 +90,20 @@ def noise_share(fs: float, f_cut: float) -> float:
 
     _, h = sosfreqz(sos, worN=8192, fs=fs)
     return float(np.mean(np.abs(h) ** 4))
+
+
+def difference_share(fs: float, f_cut: float) -> float:
+    """The share of a white noise's second-difference power that the zero-phase filter at ``f_cut`` [Hz] keeps
+    (1 when none): mean(|H|⁴·(2 sin πf/fs)⁴) / 6 over 0 … fs/2, the second difference's own gain (2 sin πf/fs)⁴
+    averaging 6 there.  A record compared below the cut has a residual whose second difference holds this share of
+    the noise's (:mod:`.noisecheck`)."""
+    sos = _sos(float(fs), float(f_cut)) if math.isfinite(f_cut) else None
+    if sos is None:
+        return 1.0
+    from scipy.signal import sosfreqz
+
+    f, h = sosfreqz(sos, worN=8192, fs=fs)
+    return float(np.mean(np.abs(h) ** 4 * (2.0 * np.sin(np.pi * f / fs)) ** 4) / 6.0)
 
 
 def _pad(sos: np.ndarray) -> int:

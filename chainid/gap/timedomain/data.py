@@ -81,6 +81,8 @@ class TimeData:
     f_res: float = float("nan")
     #: the share of the force noise's power the comparison keeps (1: the whole band)
     rho: float = 1.0
+    #: σ [N] as read from the record's force alone, before a fitted chain's residual capped it (:mod:`.noisecheck`)
+    sigma_read: float = float("nan")
 
     @property
     def omega(self) -> float:
@@ -131,7 +133,7 @@ def interior(kin: Any, fs: float, n: int) -> tuple[int, int]:
     return e, n - e
 
 
-def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
+def prepare_time(rec: Any, n_blocks: int = 4, sigma_cap: float | None = None) -> TimeData:
     """Prepare one record for the time domain: band, smooth kinematics, force noise, features, blocks, fit subset.
 
     Parameters
@@ -140,6 +142,9 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
         t [s] (increasing), x [mm], F [N]; its ``covariates`` (name → value) when it has them.
     n_blocks : int
         Contiguous time blocks of the record (>= 1).
+    sigma_cap : float, optional
+        An upper bound on the force noise σ [N]: the noise a fitted chain's residual leaves room for
+        (:mod:`.noisecheck`); the σ read from the force is kept where it is smaller.
 
     Raises
     ------
@@ -168,7 +173,9 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     sigma = nz.force_noise(F)
     if math.isfinite(sigma_hf) and sigma_hf > 0:
         sigma = min(sigma, sigma_hf)
-    sigma = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
+    sigma = sigma_read = max(sigma, 1e-6 * float(np.std(F)) + 1e-9)
+    if sigma_cap is not None and math.isfinite(sigma_cap) and 0.0 < sigma_cap < sigma:
+        sigma = float(sigma_cap)
     # the ends, where the kinematics rest on the padding, are estimated but not compared (:func:`interior`); the
     # record's features are the whole record's
     omega_c, A_c = record_features(t, kin.x)
@@ -183,7 +190,7 @@ def prepare_time(rec: Any, n_blocks: int = 4) -> TimeData:
     return TimeData(rec.test, t, xs, xd, xdd, F, x_meas, sigma, fb, fs,
                     sigma_hf, block, n_blocks, np.arange(0, t.size, q, dtype=np.int64), kin=kin,
                     covariates=cov, omega_c=omega_c, A_c=A_c, f_low=low_edge(t, xs), f_res=f_res,
-                    rho=noise_share(fs, f_res))
+                    rho=noise_share(fs, f_res), sigma_read=sigma_read)
 
 
 def fit_subsets(data: Sequence[TimeData], train: dict[str, np.ndarray], total: int = FIT_TOTAL

@@ -33,6 +33,7 @@ from chainid.gap.core.resample import attach, resample, widen
 from chainid.infra.progress import stage
 from chainid.gap.core.verdict import (contract, decide, fallback_best, joint_notes, kept_path, overfit_warning,
                                       trusted_path)
+from chainid.gap.timedomain import noisecheck
 from chainid.gap.timedomain.data import prepare_time
 from chainid.gap.timedomain.lawreach import law_extrapolation
 from chainid.gap.timedomain.problem import TimeProblem
@@ -46,10 +47,12 @@ LOO_BLOCKS = 4
 
 
 def build_problem(records: Sequence[Any], holdout: Sequence[str], holdout_blocks: int, model: Any,
-                  mass_kg: float | None = None, damping_law: str = "auto") -> TimeProblem:
-    """The time-domain problem of ``records`` (every one sample by sample), cut in blocks."""
+                  mass_kg: float | None = None, damping_law: str = "auto",
+                  sigma_caps: dict[str, float] | None = None) -> TimeProblem:
+    """The time-domain problem of ``records`` (every one sample by sample), cut in blocks; ``sigma_caps``: per test,
+    an upper bound on its force noise [N] (:mod:`.noisecheck`)."""
     nb = holdout_blocks if holdout_blocks > 0 else LOO_BLOCKS
-    tdata = [prepare_time(r, nb) for r in records]
+    tdata = [prepare_time(r, nb, (sigma_caps or {}).get(r.test)) for r in records]
     return TimeProblem(tdata, model, holdout, holdout_blocks, mass_kg=mass_kg, damping_law=damping_law)
 
 
@@ -129,23 +132,24 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
         where they separate it (:func:`chainid.gap.timedomain.basechoice.law_choice`)
     why : why the set takes this route, said once on stderr (empty: nothing said)
     """
-    warn = list(warn or [])
     if not quiet:
         _say_route(records, why)
-    stage("preparing", f"{len(records)} records")
-    prob = build_problem(records, holdout, holdout_blocks, model, mass_kg, damping_law)
-    stage("baseline")
-    base_c = fw.baseline_candidate(prob)
+    build = partial(build_problem, holdout=holdout, holdout_blocks=holdout_blocks, model=model, mass_kg=mass_kg,
+                    damping_law=damping_law)  # also the decimated and noisier records' problem (_trust)
+    sel = _select(records, build, effects, max_combo, list(warn or []))
+    capped = noisecheck.caps(sel.prob.tdata, (sel.final or sel.base_c)._ev["res"])
+    if capped:  # the σ read from a force that switches on the sample scale is refuted by the chain's residual
+        build = partial(build, sigma_caps=capped)
+        sel = _select(records, build, effects, max_combo, list(warn or []) + [noisecheck.note(sel.prob.tdata,
+                                                                                                  capped)])
+    prob, base_c, where, fwd, ok_path, final, rate, warn = (sel.prob, sel.base_c, sel.where, sel.fwd, sel.ok_path,
+                                                            sel.final, sel.rate, sel.warn)
+    path: list[Candidate] = fwd["path"]
     bev = base_c._ev  # type: ignore[attr-defined]
-    where = localise_time(prob.tdata, bev["res"], bev["force"])
     r2, f2, db0 = prob.noise_db(bev, "hold")
     sig = prob.sigma_raw
     excess = math.sqrt(max(r2 - f2, 0.0))
     consistent = fw.at_noise_floor(r2, f2, math.sqrt(f2), prob.n_cells("hold"), prob.floor_rel_sd("hold"))
-    lib = fw.library(prob, effects) + prob.covariate_terms()
-    fwd = fw.forward_select(prob, lib, base_c, base_c.nrmse_holdout, max_effects=int(max_combo))
-    path: list[Candidate] = fwd["path"]
-    ok_path, final, rate = _kept_chain(prob, path, fwd, where, warn)
     left = final if final is not None else base_c
     lev = left._ev  # type: ignore[attr-defined]
     stat = drift(prob.tdata, lev["res"])
@@ -179,14 +183,30 @@ def diagnose_any(records: Sequence[Any], holdout: Sequence[str], model: Any, *, 
     summary["open_world"] = ow
     summary["none_reading"] = reading if verdict == "none" else None
     if resamples:
-        rebuild = partial(build_problem, holdout=holdout, holdout_blocks=holdout_blocks, model=model,
-                          mass_kg=mass_kg, damping_law=damping_law)  # the records decimated, the same problem
-        attach(summary, _trust(prob, records, rebuild, fwd, ok_path, resamples, seed, int(max_combo)))
+        attach(summary, _trust(prob, records, build, fwd, ok_path, resamples, seed, int(max_combo)))
     summary["holdout_blocks"] = holdout_blocks  # > 0: the last of that many blocks of every record is held out
     summary["base"] = {"model": prob.base.kind, "mass_given_kg": mass_kg, "offsets": "per test" if prob.base.offsets
                        else "none", "covariates": list(prob.covariates)}
     summary["noise"] = _noise_method(prob)
     return summary
+
+
+def _select(records: Sequence[Any], build: Any, effects: Sequence[str] | None, max_combo: int,
+            warn: list[str]) -> SimpleNamespace:
+    """One pass of the diagnosis up to its kept chain, on the problem ``build(records)`` makes: the baseline, its
+    ``where`` findings, the forward selection ``fwd`` and the kept chain (:func:`_kept_chain`: ``ok_path``,
+    ``final``, ``rate``), with ``warn`` (the list given, added to)."""
+    stage("preparing", f"{len(records)} records")
+    prob = build(records)
+    stage("baseline")
+    base_c = fw.baseline_candidate(prob)
+    bev = base_c._ev  # type: ignore[attr-defined]
+    where = localise_time(prob.tdata, bev["res"], bev["force"])
+    lib = fw.library(prob, effects) + prob.covariate_terms()
+    fwd = fw.forward_select(prob, lib, base_c, base_c.nrmse_holdout, max_effects=int(max_combo))
+    ok_path, final, rate = _kept_chain(prob, fwd["path"], fwd, where, warn)
+    return SimpleNamespace(prob=prob, base_c=base_c, where=where, fwd=fwd, ok_path=ok_path, final=final, rate=rate,
+                           warn=warn)
 
 
 def _say_route(records: Sequence[Any], why: str) -> None:
@@ -312,8 +332,11 @@ def _noise_method(prob: TimeProblem) -> dict[str, Any]:
                       "kinematics' predicted errors through the fitted base (c*e_v, m*e_a, k*e_x); sigma_hf from the "
                       "force spectrum above 4x the excitation band (a check); a record whose motion has content above "
                       "the acceleration's cut and whose force has none is compared below that cut (compared_below_Hz), "
-                      "its noise floor the filter's noise_share of sigma^2",
-            "tests": {d.test: {"sigma_N": d.sigma, "sigma_hf_N": d.sigma_hf, "band_Hz": d.f_band,
+                      "its noise floor the filter's noise_share of sigma^2; where a fitted chain's residual holds "
+                      "under half the noise power so read, sigma is capped by the residual (sigma_read_N: before) and "
+                      "the diagnosis run again",
+            "tests": {d.test: {"sigma_N": d.sigma, "sigma_read_N": d.sigma_read, "sigma_hf_N": d.sigma_hf,
+                               "band_Hz": d.f_band,
                                "compared_below_Hz": d.f_res if math.isfinite(d.f_res) else None,
                                "noise_share": d.rho,
                                "kinematics": d.kin.info() if d.kin is not None else None} for d in prob.tdata}}
