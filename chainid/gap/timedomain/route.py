@@ -9,7 +9,9 @@ the start, those of an effect once it is chosen.  A loop effect of the kept chai
 the speed is cut from it (:mod:`.ratecheck`: it stands in for a rate-dependent mechanism).  The result has the
 JSON contract keys, plus ``route``, ``noise`` (per record: force noise and the kinematics' estimator and predicted
 errors) and the time-domain ``where`` findings (state maps, spectrum, ringing/chatter, backbone, drift, rate
-dependence).
+dependence).  Where the fitted chain's residual refutes a record's force noise as read from its force (a force
+that switches on the sample scale, :mod:`.noisecheck`), the noise is read again from that residual and the
+diagnosis runs once more.
 
 Units: mm, N, s, kg.
 """
