@@ -56,8 +56,11 @@ from the chain; a fixture is ``fixture_mass``).
 from __future__ import annotations
 
 import math
+import numbers
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from chainid.model.effects import check_params, modify_model
 from chainid.model.effects.library import STIFFNESS_SIDE
@@ -90,12 +93,27 @@ def _add_jenkins(out: dict[str, Any], els: list[tuple[float, float]], F_c: float
                  f"friction {F_c:.6g} N with the link stiffness as stick stiffness")
 
 
+def _real_number(v: Any) -> float | None:
+    """``v`` as a float when it is a real number (a Python or numpy int or float, or a 0-d numeric array), else
+    None (a bool, a string, a sequence)."""
+    if isinstance(v, (bool, np.bool_)):
+        return None
+    if isinstance(v, numbers.Real):
+        return float(v)
+    if isinstance(v, np.ndarray) and v.ndim == 0 and np.issubdtype(v.dtype, np.number) \
+            and not np.issubdtype(v.dtype, np.complexfloating):
+        return float(v)
+    return None
+
+
 def _at_conditions(m: Any, covariates: dict[str, float] | None, src: str, notes: list[str]) -> Any:
     """The model with its covariate terms resolved at the given operating conditions (a note lists them)."""
-    cov = dict(covariates or {})
-    for k, v in cov.items():
-        if not (isinstance(v, (int, float)) and math.isfinite(v)):
+    cov = {}
+    for k, v in dict(covariates or {}).items():
+        x = _real_number(v)
+        if x is None or not math.isfinite(x):
             raise ValueError(f"{src}: covariate {k} = {v!r} is invalid: valid range a finite number")
+        cov[k] = x
     need = sorted({t.partition("@")[2] for t in m.covariate_terms})
     extra = sorted(set(cov) - set(need))
     if extra:

@@ -118,6 +118,21 @@ def test_covariate_terms_are_resolved_at_the_given_conditions(tmp_path):
         segment_kwargs(p, covariates={"p": 1.0})
 
 
+def test_covariates_given_as_numpy_numbers_are_taken_as_floats(tmp_path):
+    """An operating condition from a numpy array (np.float32, np.int64, a 0-d array) resolves F_c = 100 + 40·(2 − 1)
+    = 140 N as the float 2.0 does; a bool, a string, a NaN or a sequence is refused naming the covariate."""
+    import numpy as np
+
+    cov = '[covariates.refs]\ni = 1.0\n[covariates.terms]\n"friction.F_c@i" = 40.0\n'
+    p = _file(tmp_path, _effect("friction", F_c=100.0, x_s=0.02) + cov)
+    want = ((pytest.approx(140.0 / 0.02, rel=1e-12), pytest.approx(140.0, rel=1e-12)),)
+    for v in (2.0, np.float32(2.0), np.int64(2), np.array(2.0)):
+        assert segment_kwargs(p, covariates={"i": v})[0]["hysteresis"] == want, type(v)
+    for v in (True, "2", float("nan"), [2.0], np.array([2.0])):
+        with pytest.raises(ValueError, match=r"covariate i = .* is invalid: valid range a finite number"):
+            segment_kwargs(p, covariates={"i": v})
+
+
 def test_feature_damping_is_resolved_at_the_operating_point(tmp_path):
     """damping feature c = 3, b_w = 0.01, b_A = 5, w_ref = 50 rad/s, A_ref = 0.2 mm at ω = 80 rad/s, A = 0.3 mm:
     c = 3 + 0.01·30 + 5·0.1 = 3.8 N·s/mm, with a note; without the operating point it is refused naming it."""
