@@ -69,10 +69,14 @@ def test_build_problem_routes_harmonic_tests_by_the_documented_rule(monkeypatch)
     assert run(differ, ["h4"]) == ("time", ["h1", "h2", "h3", "h4"], ["h4"], 0)
 
     made = []
-    monkeypatch.setattr(dt, "prepare_time", lambda r, nb: SimpleNamespace(test=r.test, nb=nb))
+    monkeypatch.setattr(dt, "prepare_time", lambda r, nb, cap=None: SimpleNamespace(test=r.test, nb=nb, cap=cap))
     monkeypatch.setattr(dt, "TimeProblem", lambda tdata, model, hold, blocks, mass_kg=None, damping_law="auto":
-                        made.append(([(d.test, d.nb) for d in tdata], model, hold, blocks, mass_kg)) or made[-1])
+                        made.append(([(d.test, d.nb) for d in tdata], model, hold, blocks, mass_kg, [d.cap for d in
+                                                                                                     tdata]))
+                        or made[-1][:5])
     assert dt.LOO_BLOCKS == 4
     assert dt.build_problem(harm + [_rec("r1")], ["h4"], 0, "M", 2.0) == (
         [("h1", 4), ("h2", 4), ("h3", 4), ("h4", 4), ("r1", 4)], "M", ["h4"], 0, 2.0)
     assert dt.build_problem(harm, [], 3, None)[0] == [("h1", 3), ("h2", 3), ("h3", 3), ("h4", 3)]
+    dt.build_problem(harm, [], 3, None, sigma_caps={"h2": 4.0})  # a record's noise cap reaches its preparation only
+    assert made[-1][5] == [None, 4.0, None, None]
