@@ -108,3 +108,39 @@ def test_a_record_sampled_70_times_its_band_keeps_its_first_reading():
     for t in res["tests"]:
         assert res["noise"]["tests"][t["test"]]["sigma_read_N"] == t["sigma_N"]
         assert abs(t["sigma_N"] / rc.SF_CHAIN - 1.0) <= 0.25, t
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "force noise behind a causal 4th-order Butterworth anti-alias filter at 0.15·fs (1000 Hz, the chain under random "
+    "motion 1-15 Hz, nothing added, 5 N of noise): the second difference reads the noise's top octaves only, and the "
+    "spectrum above 4x the band is read by its median (white noise assumed), so sigma comes out 0.26-0.29 N and the "
+    "control reads 'unexplained', 25.1 dB over that noise, instead of 'none' (at 0.3·fs: 3.2 N and 3.9 dB). The noise "
+    "is white in every grid and test record; a reading that integrates the spectrum's shape is needed"))
+def test_force_noise_behind_an_anti_alias_filter_is_read_whole():
+    """A control whose force noise is low-passed the way a DAQ's anti-alias filter does it reads as ``none``, with σ
+    within 25 % of the 5 N simulated (the noise's whole variance, not its top octaves)."""
+    from scipy.signal import butter, sosfilt
+
+    import sim_devices as sd
+    from chainid.gap.diagnose import diagnose
+    from chainid.model import ChainModel
+    from chainid.records import Record
+
+    fs, n = 1000.0, 5000
+    model = ChainModel()
+    t = sd.sample_times(n, fs)
+    rng = np.random.default_rng(5)
+    sos = butter(4, 0.15 / 0.5, output="sos")
+    recs = []
+    for i, mo in enumerate(sd.random_motions(4, n, fs, 1.0, 15.0, rc.RMS_CHAIN, rc.X0_CHAIN, 3)):
+        x, xd, xdd = mo(t)
+        F = np.asarray(model.force(x), float) + model.mass_kg * xdd * 1e-3 + rc.C_CHAIN * xd
+        e = sosfilt(sos, rng.normal(0.0, 1.0, n))
+        recs.append(Record(f"r{i}", t, x + rng.normal(0.0, rc.SX_CHAIN, n), F + e * (rc.SF_CHAIN / np.std(e))))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = diagnose(recs, ["r3"], model, quiet=True)
+    for t_ in res["tests"]:
+        assert abs(t_["sigma_N"] / rc.SF_CHAIN - 1.0) <= 0.25, t_
+    assert res["verdict"] == "none", res["verdict"]
