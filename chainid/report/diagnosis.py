@@ -26,8 +26,8 @@ MIN_TESTS = 7
 # -- Markdown of a diagnosis ------------------------------------------------------
 
 def _fmt_params(params: dict[str, Any], sd: dict[str, Any] | None = None) -> str:
-    """``k = v ± sd`` per parameter; "(sd not resolved)" where ``sd`` holds None for it (the refits did not move it,
-    :func:`chainid.gap.core.candidate.jackknife_sd`)."""
+    """``k = v ± sd`` per parameter; where ``sd`` holds None for it (the refits did not move it,
+    :func:`chainid.gap.core.candidate.jackknife_sd`): "(at bound)" for a 0, else "(sd not resolved)"."""
     sd = sd or {}
     out = []
     for k, v in params.items():
@@ -36,8 +36,8 @@ def _fmt_params(params: dict[str, Any], sd: dict[str, Any] | None = None) -> str
         s = f"{k} = {v:.4g}"
         if sd.get(k) is not None:
             s += f" ± {sd[k]:.2g}"
-        elif k in sd:
-            s += " (sd not resolved)"
+        elif k in sd:  # no refit moved it: on a bound where it is 0 (as the terminal summary says), else unresolved
+            s += " (at bound)" if v == 0 else " (sd not resolved)"
         out.append(s)
     return ", ".join(out) or "–"
 

@@ -93,10 +93,24 @@ def noise_share(fs: float, f_cut: float) -> float:
 
 
 def difference_share(fs: float, f_cut: float) -> float:
-    """The share of a white noise's second-difference power that the zero-phase filter at ``f_cut`` [Hz] keeps
-    (1 when none): mean(|H|⁴·(2 sin πf/fs)⁴) / 6 over 0 … fs/2, the second difference's own gain (2 sin πf/fs)⁴
-    averaging 6 there.  A record compared below the cut has a residual whose second difference holds this share of
-    the noise's (:mod:`.noisecheck`)."""
+    """The share of a white noise's second-difference power that the zero-phase filter at ``f_cut`` keeps.
+
+    mean(|H|⁴·(2 sin πf/fs)⁴) / 6 over 0 … fs/2, the second difference's own gain (2 sin πf/fs)⁴ averaging 6 there.
+    A record compared below the cut has a residual whose second difference holds this share of the noise's
+    (:mod:`.noisecheck`).
+
+    Parameters
+    ----------
+    fs : float
+        Sampling rate [Hz].
+    f_cut : float
+        The comparison's cut [Hz] (NaN, or one the filter cannot make: no filter).
+
+    Returns
+    -------
+    float
+        The share, in (0, 1]; 1 without a filter.
+    """
     sos = _sos(float(fs), float(f_cut)) if math.isfinite(f_cut) else None
     if sos is None:
         return 1.0

@@ -15,11 +15,14 @@ band is smooth on the sample scale.  σ_c = 1.4826·MAD(Δ²r)/√6/√s, with s
 second-difference power a record compared below a cut keeps (:func:`.bandlimit.difference_share`; 1 on the whole
 band).  It is not the residual's size: a misfit within the band still shows as residual power over σ_c².
 
-Where σ_c² is under :data:`RATIO` of the power read first (3 dB under it), the first reading is refuted: that
-record's σ is capped at σ_c and the diagnosis runs once more on the capped σ
-(:func:`chainid.gap.timedomain.route.diagnose_any`).  A σ read right from thousands of samples agrees with σ_c to a
-few per cent (the estimator's standard error is about 1.7/√n), so the check does not fire by chance, and where it
-does not fire nothing changes.
+The residual read is the kept chain's (the baseline's when none is kept). A switching effect that the inflated σ
+itself kept out of the chain leaves its jumps in that residual, so the check does not fire there; a switching force
+strong enough to inflate σ is in practice far over it and is kept. Where σ_c² is under :data:`RATIO` of the power
+read first (3 dB under it), the first reading is refuted: that record's σ is capped at σ_c and the diagnosis runs
+once more on the capped σ (:func:`chainid.gap.timedomain.route.diagnose_any`), its comparison cut decided again on
+it (:func:`chainid.gap.timedomain.bandlimit.residual_cut`). A σ read right from thousands of samples agrees with σ_c
+to a few per cent (the estimator's standard error is about 1.7/√n), so the check does not fire by chance, and where
+it does not fire nothing changes.
 
 Units: σ, residuals N.
 """
@@ -42,9 +45,24 @@ RATIO = 0.5
 
 
 def residual_sigma(r: np.ndarray, fs: float, f_res: float) -> float:
-    """σ_c [N]: the force noise read from a fitted chain's residual ``r`` [N] (its robust second difference,
-    :func:`chainid.gap.core.noise.force_noise`), over the share of the noise's second-difference power kept by the
-    comparison below ``f_res`` [Hz] (NaN: the whole band) of a record sampled at ``fs`` [Hz]; NaN under 5 samples."""
+    """The force noise σ_c read from a fitted chain's residual: its robust second difference
+    (:func:`chainid.gap.core.noise.force_noise`) over the share of the noise's second-difference power that the
+    comparison keeps (:func:`chainid.gap.timedomain.bandlimit.difference_share`).
+
+    Parameters
+    ----------
+    r : ndarray
+        The residual [N] of one record, sample by sample (uniform sampling).
+    fs : float
+        Its sampling rate [Hz].
+    f_res : float
+        The cut [Hz] it is compared below (NaN: the whole band).
+
+    Returns
+    -------
+    float
+        σ_c [N]; NaN under 5 samples.
+    """
     r = np.asarray(r, float)
     if r.size < 5:
         return float("nan")
@@ -53,8 +71,20 @@ def residual_sigma(r: np.ndarray, fs: float, f_res: float) -> float:
 
 
 def caps(tdata: Sequence[Any], res: dict[str, np.ndarray]) -> dict[str, float]:
-    """The records whose first σ reading the residual ``res[test]`` of a fitted chain [N] refutes: ``{test: σ_c}``
-    where σ_c² < :data:`RATIO` · σ² (empty: every σ stands)."""
+    """The records whose first σ reading a fitted candidate's residual refutes.
+
+    Parameters
+    ----------
+    tdata : sequence of TimeData
+        The records as prepared (``test``, ``sigma`` [N] as read, ``fs`` [Hz], ``f_res`` [Hz]).
+    res : dict
+        Per test, the residual [N] sample by sample (:meth:`TimeProblem.evaluate`'s ``res``).
+
+    Returns
+    -------
+    dict
+        ``{test: σ_c}`` [N] where σ_c² < :data:`RATIO` · σ² (empty: every σ stands).
+    """
     out = {}
     for d in tdata:
         r = res.get(d.test)
@@ -67,8 +97,9 @@ def caps(tdata: Sequence[Any], res: dict[str, np.ndarray]) -> dict[str, float]:
 
 
 def note(tdata: Sequence[Any], capped: dict[str, float]) -> str:
-    """The warning that says which records' σ was refuted and read again, with both numbers [N]."""
+    """The warning that says which records' σ was refuted and read again, with both numbers [N] (``tdata`` the
+    records as prepared, ``capped`` :func:`caps`' result)."""
     parts = ", ".join(f"{d.test} {d.sigma:.3g} → {capped[d.test]:.3g} N" for d in tdata if d.test in capped)
-    return (f"force noise read again: on {len(capped)} record(s) the force switches on the sample scale and its "
-            f"noise read from the force took that for noise; read from the chain's residual it is under half that "
-            f"power ({parts}); the diagnosis was run again on the noise so read")
+    return (f"force noise read again: on {len(capped)} record(s) the noise read from the fitted chain's residual "
+            f"is under half the power read from the force ({parts}), which took force content for noise (a force "
+            f"that switches every few samples does this); the diagnosis was run again on the noise so read")
