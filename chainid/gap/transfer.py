@@ -31,11 +31,12 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from chainid.gap.core.noise import force_noise
+from chainid.gap.core.noise import force_noise, sample_rate
 from chainid.gap.core.selection import at_noise_floor
 from chainid.gap.core.verdict import MIN_SHRINK, trusted_path
 from chainid.gap.harmonic.prepare import Unusable, prepare_test
 from chainid.gap.modelio import compared, time_force
+from chainid.gap.timedomain import noisecheck
 from chainid.gap.timedomain.data import MIN_SAMPLES
 from chainid.model.augmented import AugmentedModel
 
@@ -77,6 +78,11 @@ def _score(model: AugmentedModel, rec: Any, n_bins: int, steady_tol: float | Non
     F, Fm = F[keep], Fm[keep]
     var = float(np.sum((F - F.mean()) ** 2))
     r, rr = F - Fm, _refit(F, Fm, kin.x[keep], kin.xd[keep])
+    # the noise read from the force, read again from the model's residual where that refutes it (a force that
+    # switches every few samples: chainid.gap.timedomain.noisecheck, as the diagnosis does)
+    s_c = noisecheck.residual_sigma(r, sample_rate(np.asarray(rec.t, float)), float("nan"))
+    if math.isfinite(s_c) and 0.0 < s_c * s_c < noisecheck.RATIO * sigma * sigma:
+        sigma = s_c
     return {"route": "time", "sse": float(np.sum(r**2)), "sse_refit": float(np.sum(rr**2)), "var": var,
             "r2": float(np.sum(r**2)), "f2": float(sigma**2 * r.size), "n": int(r.size), "sigma": float(sigma)}
 

@@ -129,3 +129,29 @@ def test_validate_record_too_short_for_the_time_domain(monkeypatch):
     short = Record("v", t, 2.0 + 0.1 * np.sin(8 * t), 1000.0 + 10 * np.sin(8 * t))
     with pytest.raises(ValueError, match=rf"--validate: test 'v' has 20 samples; need >= {MIN_SAMPLES}"):
         tr.transfer(_result([base, final], models), [short])
+
+
+@pytest.mark.slow
+def test_transfer_reads_the_other_sets_noise_again_where_its_force_switches_on_the_sample_scale():
+    """A 200 N friction on the chain sampled 13 times its band (200 Hz, 0.5–15 Hz; 5 N of noise), diagnosed on four
+    records and carried to two more: read from the force alone the other set's noise is 10–13 times 5 N, and the
+    model's residual came out 10.3 dB *under* it, "at its noise floor".  Read again from the model's residual (as
+    the diagnosis does, :mod:`chainid.gap.timedomain.noisecheck`) the residual is over the noise (the sample-scale
+    misfit of the friction's switch and of the estimated kinematics: 10.3 dB), not at the floor, and the chain
+    still transfers (shrinkage 85 %, after the refit 85 %)."""
+    import warnings
+
+    import recovery_cases as rc
+    from chainid.gap.diagnose import diagnose
+
+    def extra(mo, t):
+        return 200.0 * np.tanh(mo(t)[1] / 1e-3)
+
+    recs, model = rc.chain_random(extra=extra, band=(0.5, 15.0), fs=200.0, n=4000, n_rec=4)
+    other, _ = rc.chain_random(extra=extra, band=(0.5, 15.0), fs=200.0, n=4000, n_rec=2, seed=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tr = diagnose(recs, ["r3"], model, quiet=True, validate=other)["transfer"]
+    assert tr["pooled"]["model_db_over_noise"] > 3.0
+    assert not tr["pooled"]["model_at_noise_floor"]
+    assert tr["transfers"] and tr["pooled"]["shrinkage"] > 0.8
