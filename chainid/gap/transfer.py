@@ -80,9 +80,7 @@ def _score(model: AugmentedModel, rec: Any, n_bins: int, steady_tol: float | Non
     r, rr = F - Fm, _refit(F, Fm, kin.x[keep], kin.xd[keep])
     # the noise read from the force, read again from the model's residual where that refutes it (a force that
     # switches every few samples: chainid.gap.timedomain.noisecheck, as the diagnosis does)
-    s_c = noisecheck.residual_sigma(r, sample_rate(np.asarray(rec.t, float)), float("nan"))
-    if math.isfinite(s_c) and 0.0 < s_c * s_c < noisecheck.RATIO * sigma * sigma:
-        sigma = s_c
+    sigma = noisecheck.refuting(sigma, r, sample_rate(np.asarray(rec.t, float)), float("nan")) or sigma
     return {"route": "time", "sse": float(np.sum(r**2)), "sse_refit": float(np.sum(rr**2)), "var": var,
             "r2": float(np.sum(r**2)), "f2": float(sigma**2 * r.size), "n": int(r.size), "sigma": float(sigma)}
 

@@ -37,7 +37,7 @@ import numpy as np
 from chainid.gap.core.noise import force_noise
 from chainid.gap.timedomain.bandlimit import difference_share
 
-__all__ = ["RATIO", "caps", "note", "residual_sigma"]
+__all__ = ["RATIO", "caps", "note", "refuting", "residual_sigma"]
 
 #: the noise power read again from a chain's residual, as a share of the power first read from the force, under
 #: which that first reading is refuted
@@ -70,6 +70,13 @@ def residual_sigma(r: np.ndarray, fs: float, f_res: float) -> float:
     return force_noise(r) / math.sqrt(share) if share > 0.0 else float("nan")
 
 
+def refuting(sigma: float, r: np.ndarray, fs: float, f_res: float) -> float | None:
+    """σ_c [N] of the residual ``r`` [N] (:func:`residual_sigma`, ``fs`` [Hz], ``f_res`` [Hz]) where it refutes the
+    noise ``sigma`` [N] first read from the force, σ_c² < :data:`RATIO` · σ²; None where that reading stands."""
+    s_c = residual_sigma(r, fs, f_res)
+    return s_c if math.isfinite(s_c) and s_c > 0.0 and s_c * s_c < RATIO * sigma * sigma else None
+
+
 def caps(tdata: Sequence[Any], res: dict[str, np.ndarray]) -> dict[str, float]:
     """The records whose first σ reading a fitted candidate's residual refutes.
 
@@ -87,11 +94,8 @@ def caps(tdata: Sequence[Any], res: dict[str, np.ndarray]) -> dict[str, float]:
     """
     out = {}
     for d in tdata:
-        r = res.get(d.test)
-        if r is None:
-            continue
-        s_c = residual_sigma(r, d.fs, d.f_res)
-        if math.isfinite(s_c) and s_c > 0.0 and s_c * s_c < RATIO * d.sigma * d.sigma:
+        s_c = refuting(d.sigma, res[d.test], d.fs, d.f_res) if d.test in res else None
+        if s_c is not None:
             out[d.test] = s_c
     return out
 
